@@ -1,0 +1,111 @@
+"""Topology of triangle meshes: boundary edges and the order of nodes on Γc.
+
+The contact boundary Γc must be traversed in order (the thesis's spline of
+§2.1.3 runs through consecutive contact nodes, and the boundary matrix M of
+(80) couples neighbours), so problem files store the contact nodes ordered
+along Γc. These helpers find that order and check it, vectorised over the
+mesh (no Python loop over all nodes or cells).
+"""
+
+import numpy as np
+
+__all__ = ["boundary_edges", "order_along_boundary", "is_boundary_chain"]
+
+
+def boundary_edges(cells):
+    """Edges that belong to exactly one triangle, as sorted node pairs.
+
+    Parameters
+    ----------
+    cells : (n_cells, 3) int array
+        Triangle connectivity.
+
+    Returns
+    -------
+    (n_edges, 2) int64 array
+        Each row ``(a, b)`` with ``a < b``, rows in lexicographic order.
+    """
+    cells = np.asarray(cells, dtype=np.int64)
+    edges = np.concatenate([cells[:, [0, 1]], cells[:, [1, 2]],
+                            cells[:, [2, 0]]])
+    edges.sort(axis=1)
+    unique, counts = np.unique(edges, axis=0, return_counts=True)
+    return unique[counts == 1]
+
+
+def _edge_keys(edges, n):
+    edges = np.sort(np.asarray(edges, dtype=np.int64), axis=1)
+    return edges[:, 0] * n + edges[:, 1]
+
+
+def is_boundary_chain(chain, cells):
+    """True if consecutive nodes of ``chain`` are joined by boundary edges."""
+    chain = np.asarray(chain, dtype=np.int64)
+    if len(chain) < 2:
+        return len(chain) == 1
+    n = int(max(np.max(cells), np.max(chain))) + 1
+    known = _edge_keys(boundary_edges(cells), n)
+    pairs = np.stack([chain[:-1], chain[1:]], axis=1)
+    return bool(np.isin(_edge_keys(pairs, n), known).all())
+
+
+def order_along_boundary(nodes, cells, coordinates=None):
+    """Order a set of boundary nodes into one open chain along the boundary.
+
+    Parameters
+    ----------
+    nodes : int array
+        The (unordered) nodes of a connected, open piece of the boundary,
+        e.g. the vertices of the SfePy facet region ``Gamma_c``.
+    cells : (n_cells, 3) int array
+        Triangle connectivity of the whole mesh.
+    coordinates : (n_nodes, 2) array, optional
+        If given, the chain starts at the end with the smaller ``y`` (then
+        smaller ``x``), so that the order does not depend on node numbering.
+
+    Returns
+    -------
+    int64 array
+        ``nodes`` reordered so that consecutive entries share a boundary
+        edge.
+
+    Raises
+    ------
+    ValueError
+        If the nodes do not form one open chain of boundary edges.
+    """
+    nodes = np.unique(np.asarray(nodes, dtype=np.int64))
+    if len(nodes) < 2:
+        return nodes
+    edges = boundary_edges(cells)
+    inside = np.isin(edges, nodes).all(axis=1)
+    edges = edges[inside]
+    # Degree of each chain node; an open chain has two ends of degree 1.
+    degree = np.bincount(edges.ravel(), minlength=nodes.max() + 1)[nodes]
+    ends = nodes[degree == 1]
+    if len(edges) != len(nodes) - 1 or len(ends) != 2 or (degree > 2).any():
+        raise ValueError(
+            f"the {len(nodes)} nodes do not form one open chain of boundary "
+            f"edges ({len(edges)} boundary edges join them)")
+    if coordinates is not None:
+        xy = np.asarray(coordinates)[ends]
+        ends = ends[np.lexsort((xy[:, 0], xy[:, 1]))]
+    # Walk the chain through a neighbour table (two neighbours per node).
+    index = np.full(nodes.max() + 1, -1, dtype=np.int64)
+    index[nodes] = np.arange(len(nodes))
+    neighbours = np.full((len(nodes), 2), -1, dtype=np.int64)
+    slot = np.zeros(len(nodes), dtype=np.int64)
+    for a, b in edges:  # O(Nc): the chain itself, not the mesh
+        ia, ib = index[a], index[b]
+        neighbours[ia, slot[ia]] = b
+        neighbours[ib, slot[ib]] = a
+        slot[ia] += 1
+        slot[ib] += 1
+    chain = np.empty(len(nodes), dtype=np.int64)
+    chain[0], previous = ends[0], -1
+    for k in range(1, len(nodes)):
+        current = chain[k - 1]
+        a, b = neighbours[index[current]]
+        chain[k] = b if a == previous else a
+        previous = current
+    return chain

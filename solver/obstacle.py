@@ -1,0 +1,267 @@
+r"""Rigid parametric obstacles :math:`\Gamma_o(t) = (x(t), y(t))`.
+
+The thesis (§4) describes its obstacle by two expressions in a parameter *t*,
+
+.. math::  \Gamma_o(t) = [\,5.05 + 0.005\,t^2,\; t\,],
+
+and needs the curve and its derivative to compute gaps and normals (§2.1,
+(1)-(7)). Here the two expressions are given as text (they travel inside the
+``.npz`` problem file), parsed **without** :func:`eval`: the text is parsed by
+:func:`ast.parse` and every node is checked against a whitelist (numbers, the
+variable ``t``, the constants ``pi`` and ``e``, ``+ - * / **``, unary signs and
+a fixed set of elementary functions). The checked tree is translated node by
+node into a SymPy expression, which gives exact derivatives; numerical
+evaluation goes through :func:`sympy.lambdify` of that expression only.
+
+Example
+-------
+>>> curve = ParametricCurve("5.05 + 0.005*t**2", "t")
+>>> curve.point(0.0)
+array([5.05, 0.  ])
+>>> curve.derivative(2.0)
+array([0.02, 1.  ])
+"""
+
+import ast
+import math
+
+import numpy as np
+import sympy
+
+from .errors import ExpressionError
+
+__all__ = ["ALLOWED_FUNCTIONS", "ALLOWED_CONSTANTS", "parse_expression",
+           "ParametricCurve"]
+
+#: Functions an obstacle expression may call, by name (NumPy-style aliases
+#: included so that expressions copied from NumPy code keep working).
+ALLOWED_FUNCTIONS = {
+    "sin": sympy.sin, "cos": sympy.cos, "tan": sympy.tan,
+    "asin": sympy.asin, "acos": sympy.acos, "atan": sympy.atan,
+    "arcsin": sympy.asin, "arccos": sympy.acos, "arctan": sympy.atan,
+    "sinh": sympy.sinh, "cosh": sympy.cosh, "tanh": sympy.tanh,
+    "exp": sympy.exp, "log": sympy.log, "sqrt": sympy.sqrt, "abs": sympy.Abs,
+}
+
+#: Named constants an obstacle expression may use.
+ALLOWED_CONSTANTS = {"pi": sympy.pi, "e": sympy.E}
+
+_BINARY = {
+    ast.Add: lambda a, b: a + b,
+    ast.Sub: lambda a, b: a - b,
+    ast.Mult: lambda a, b: a * b,
+    ast.Div: lambda a, b: a / b,
+    ast.Pow: None,  # handled separately, see _power
+}
+_UNARY = {ast.UAdd: lambda a: a, ast.USub: lambda a: -a}
+_HINTS = {ast.BitXor: " (use ** for powers)"}
+
+#: Longest expression text accepted (a guard against pathological input).
+MAX_LENGTH = 1000
+
+
+def _power(base, exponent):
+    # Exact (or arbitrary-precision) powers of constants such as 9**9**9**9
+    # would take forever in SymPy; compute them in double precision instead,
+    # where they overflow at once.
+    if base.is_Number and exponent.is_Number:
+        try:
+            return sympy.Float(math.pow(float(base), float(exponent)))
+        except (OverflowError, ValueError, ZeroDivisionError):
+            raise ExpressionError(
+                f"constant power {float(base):g}**{float(exponent):g} is not "
+                "a finite real number") from None
+    return base ** exponent
+
+
+def _translate(node, variable, symbol, text):
+    """Translate one whitelisted AST node into a SymPy expression."""
+    if isinstance(node, ast.Expression):
+        return _translate(node.body, variable, symbol, text)
+    if isinstance(node, ast.Constant):
+        value = node.value
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            raise ExpressionError(
+                f"{text!r}: constant {value!r} is not a real number")
+        return sympy.Integer(value) if isinstance(value, int) \
+            else sympy.Float(value)
+    if isinstance(node, ast.Name):
+        if node.id == variable:
+            return symbol
+        if node.id in ALLOWED_CONSTANTS:
+            return ALLOWED_CONSTANTS[node.id]
+        raise ExpressionError(
+            f"{text!r}: unknown name {node.id!r} (allowed: {variable!r}, "
+            f"{', '.join(sorted(ALLOWED_CONSTANTS))})")
+    if isinstance(node, ast.BinOp):
+        op = type(node.op)
+        if op not in _BINARY:
+            raise ExpressionError(
+                f"{text!r}: operator {op.__name__} is not allowed"
+                + _HINTS.get(op, ""))
+        left = _translate(node.left, variable, symbol, text)
+        right = _translate(node.right, variable, symbol, text)
+        if op is ast.Pow:
+            return _power(left, right)
+        return _BINARY[op](left, right)
+    if isinstance(node, ast.UnaryOp):
+        op = type(node.op)
+        if op not in _UNARY:
+            raise ExpressionError(
+                f"{text!r}: unary operator {op.__name__} is not allowed")
+        return _UNARY[op](_translate(node.operand, variable, symbol, text))
+    if isinstance(node, ast.Call):
+        if not isinstance(node.func, ast.Name) \
+                or node.func.id not in ALLOWED_FUNCTIONS:
+            name = node.func.id if isinstance(node.func, ast.Name) \
+                else ast.unparse(node.func)
+            raise ExpressionError(
+                f"{text!r}: call of {name!r} is not allowed (allowed "
+                f"functions: {', '.join(sorted(ALLOWED_FUNCTIONS))})")
+        if node.keywords or len(node.args) != 1 \
+                or isinstance(node.args[0], ast.Starred):
+            raise ExpressionError(
+                f"{text!r}: {node.func.id}() takes exactly one positional "
+                "argument")
+        argument = _translate(node.args[0], variable, symbol, text)
+        return ALLOWED_FUNCTIONS[node.func.id](argument)
+    raise ExpressionError(
+        f"{text!r}: {type(node).__name__} is not allowed in an obstacle "
+        "expression (only numbers, t, pi, e, + - * / **, and elementary "
+        "functions)")
+
+
+def parse_expression(text, variable="t"):
+    """Parse an arithmetic expression in one variable into SymPy, safely.
+
+    Parameters
+    ----------
+    text : str
+        The expression, in Python syntax, e.g. ``"5.05 + 0.005*t**2"``.
+    variable : str
+        The name of the curve parameter.
+
+    Returns
+    -------
+    sympy.Expr
+        A real expression whose only free symbol (if any) is ``variable``.
+
+    Raises
+    ------
+    ExpressionError
+        If the text is not a string, is empty or too long, does not parse,
+        uses anything outside the whitelist (attribute access, subscripts,
+        lambdas, comprehensions, unknown names or functions, keyword
+        arguments), or evaluates to something not finite and real
+        (``1/0``, ``sqrt(-1)``).
+    """
+    if not isinstance(text, str):
+        raise ExpressionError(
+            f"expression must be a string, not {type(text).__name__}")
+    if not text.strip():
+        raise ExpressionError("expression is empty")
+    if len(text) > MAX_LENGTH:
+        raise ExpressionError(
+            f"expression is longer than {MAX_LENGTH} characters")
+    try:
+        tree = ast.parse(text.strip(), mode="eval")
+    except SyntaxError as exc:
+        raise ExpressionError(
+            f"{text!r}: syntax error ({exc.msg})") from None
+    symbol = sympy.Symbol(variable, real=True)
+    try:
+        expr = _translate(tree, variable, symbol, text)
+    except ExpressionError as exc:
+        if str(exc).startswith(repr(text)):
+            raise
+        raise ExpressionError(f"{text!r}: {exc}") from None
+    except RecursionError:
+        raise ExpressionError(f"{text!r}: expression nests too deeply") \
+            from None
+    except (OverflowError, ValueError, TypeError, ZeroDivisionError) as exc:
+        raise ExpressionError(f"{text!r}: cannot be evaluated ({exc})") \
+            from None
+    if expr.has(sympy.zoo, sympy.oo, -sympy.oo, sympy.nan):
+        raise ExpressionError(f"{text!r}: is not finite (division by zero?)")
+    if expr.has(sympy.I):
+        raise ExpressionError(f"{text!r}: is not real")
+    if expr.is_Number and not math.isfinite(float(expr)):
+        raise ExpressionError(f"{text!r}: is not finite")
+    return expr
+
+
+def _numeric(expr, symbol):
+    """A NumPy function of ``t`` for ``expr`` that broadcasts constants."""
+    function = sympy.lambdify([symbol], expr, modules="numpy")
+
+    def evaluate(t):
+        t = np.asarray(t, dtype=float)
+        with np.errstate(all="ignore"):
+            value = np.asarray(function(t), dtype=float)
+        return np.broadcast_to(value, t.shape).copy() if value.shape \
+            != t.shape else value
+
+    return evaluate
+
+
+class ParametricCurve:
+    r"""A rigid obstacle :math:`\Gamma_o(t) = (x(t), y(t))`, thesis §4.
+
+    Parameters
+    ----------
+    x, y : str
+        Expressions in ``t`` for the two coordinates (see
+        :func:`parse_expression` for what is allowed).
+    t_range : (float, float) or None
+        Admissible parameter interval ``[t0, t1]``; ``None`` means the whole
+        real line.
+
+    Attributes
+    ----------
+    x_text, y_text : str
+        The expressions as given (stored back into problem files verbatim).
+    x_expr, y_expr : sympy.Expr
+        The parsed expressions.
+    """
+
+    def __init__(self, x, y, t_range=None):
+        self.x_text, self.y_text = x, y
+        self.x_expr = parse_expression(x)
+        self.y_expr = parse_expression(y)
+        if t_range is not None:
+            t0, t1 = (float(v) for v in t_range)
+            if not (math.isfinite(t0) and math.isfinite(t1) and t0 < t1):
+                raise ExpressionError(
+                    f"t_range: need finite t0 < t1, got {tuple(t_range)}")
+            t_range = (t0, t1)
+        self.t_range = t_range
+        symbol = sympy.Symbol("t", real=True)
+        if self.x_expr.is_constant() and self.y_expr.is_constant():
+            raise ExpressionError(
+                f"obstacle ({x!r}, {y!r}) does not depend on t: it is a "
+                "point, not a curve")
+        derivatives = [[e, sympy.diff(e, symbol), sympy.diff(e, symbol, 2)]
+                       for e in (self.x_expr, self.y_expr)]
+        self._functions = [[_numeric(d, symbol) for d in pair]
+                           for pair in zip(*derivatives)]
+
+    def _evaluate(self, t, order):
+        fx, fy = self._functions[order]
+        return np.stack([fx(t), fy(t)], axis=-1)
+
+    def point(self, t):
+        r""":math:`\Gamma_o(t)`, shape ``t.shape + (2,)``."""
+        return self._evaluate(t, 0)
+
+    def derivative(self, t):
+        r"""Tangent :math:`\Gamma_o'(t)` (exact), shape ``t.shape + (2,)``."""
+        return self._evaluate(t, 1)
+
+    def second_derivative(self, t):
+        r""":math:`\Gamma_o''(t)` (exact), shape ``t.shape + (2,)``."""
+        return self._evaluate(t, 2)
+
+    def __repr__(self):
+        rng = "" if self.t_range is None else f", t_range={self.t_range}"
+        return (f"ParametricCurve(x={self.x_text!r}, y={self.y_text!r}"
+                f"{rng})")

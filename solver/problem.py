@@ -1,0 +1,535 @@
+r"""The ``.npz`` problem format: the one place that defines, writes and checks it.
+
+A problem file carries everything the contact solver needs and nothing it
+must guess. SfePy problem files (``sfepy_problems/``) write it through
+:func:`save_problem`; ``python -m solver`` reads it through
+:func:`load_problem`, which validates every key and raises
+:class:`~solver.errors.ProblemError` naming the offending key.
+
+Files are plain NumPy ``.npz`` archives of numeric and unicode arrays, so
+they load with ``allow_pickle=False`` (pickled objects are refused).
+
+Two kinds of problem share the format:
+
+``kind = "mesh"``
+    A 2D finite element model (the thesis's §4 body): the reduced stiffness
+    matrix, the mesh, the map from reduced DOFs to nodes, the contact nodes
+    ordered along Γc and a rigid parametric obstacle. Gaps and normals are
+    computed by the solver (thesis §2.1).
+``kind = "discrete"``
+    A small discrete system without a mesh (the thesis's 2-DOF bar of §6):
+    the stiffness, the load, and for each contact node its two DOFs, its
+    gap *s* and the unit normal ν along which *s* is measured.
+
+Notation (thesis §3.2): Ñ reduced DOFs (Dirichlet DOFs eliminated), Nc
+contact nodes. The thesis orders contact nodes first; this format does not
+need to: ``contact_dofs`` says where each contact node's DOFs are.
+
+Keys (format version 1)
+-----------------------
+The table :data:`KEYS` below is the specification; ``docs/npz-format.md``
+is generated from it (:func:`format_table`).
+"""
+
+import json
+import os
+import tempfile
+import zipfile
+import dataclasses
+from dataclasses import dataclass, field
+
+import numpy as np
+import scipy
+import scipy.sparse as sp
+
+from .errors import ProblemError
+from .mesh import is_boundary_chain
+from .obstacle import ParametricCurve
+
+__all__ = ["FORMAT_VERSION", "KEYS", "ContactProblem", "load_problem",
+           "save_problem", "validate_arrays", "format_table"]
+
+#: Version of the ``.npz`` layout written by :func:`save_problem`.
+FORMAT_VERSION = 1
+
+#: Relative tolerance of the symmetry check of K and M.
+SYMMETRY_RTOL = 1e-10
+
+#: Key specification: name -> (which kinds need it, dtype, shape, meaning).
+#: "all" = both kinds; "mesh"/"discrete" = required for that kind only and
+#: refused for the other; "optional" = may be absent in either kind.
+KEYS = {
+    "format_version": ("all", "int", "()", "layout version, = 1"),
+    "kind": ("all", "str", "()", '"mesh" or "discrete"'),
+    "meta": ("all", "str", "()",
+             "JSON object: E, nu, plane (strain|stress), load, mesh, "
+             "description, versions (required fields: E, nu, plane, load, "
+             "mesh for kind mesh; description for kind discrete)"),
+    "K_data": ("all", "float", "(nnz,)",
+               "reduced stiffness K (Ñ×Ñ, Dirichlet DOFs eliminated, "
+               "symmetric positive definite) in CSR: values"),
+    "K_indices": ("all", "int", "(nnz,)", "CSR column indices of K"),
+    "K_indptr": ("all", "int", "(Ñ+1,)", "CSR row pointers of K"),
+    "K_shape": ("all", "int", "(2,)", "(Ñ, Ñ)"),
+    "f": ("all", "float", "(Ñ,)",
+          "load vector for the full load (load step κ applies κ/κc·f)"),
+    "M_data": ("all", "float", "(nnzM,)",
+               "boundary matrix on Γc, M_ij = ∫Γc φi φj (thesis (80)), "
+               "Nc×Nc in CSR: values"),
+    "M_indices": ("all", "int", "(nnzM,)", "CSR column indices of M"),
+    "M_indptr": ("all", "int", "(Nc+1,)", "CSR row pointers of M"),
+    "M_shape": ("all", "int", "(2,)", "(Nc, Nc)"),
+    "contact_dofs": ("all", "int", "(Nc, 2)",
+                     "reduced DOF index of the x and y component of each "
+                     "contact node (in Γc order); -1 where the component is "
+                     "a Dirichlet DOF (such a node is a support, not a "
+                     "contact node, and only enters M)"),
+    "nodes": ("mesh", "float", "(n_nodes, 2)", "node coordinates"),
+    "cells": ("mesh", "int", "(n_cells, 3)", "triangles (node indices)"),
+    "dof_map": ("mesh", "int", "(Ñ, 2)",
+                "(node, component) of each reduced DOF; component 0 = x, "
+                "1 = y"),
+    "u_prescribed": ("mesh", "float", "(n_nodes, 2)",
+                     "values of the Dirichlet DOFs (entries of free DOFs "
+                     "are 0)"),
+    "contact_nodes": ("mesh", "int", "(Nc,)",
+                      "nodes of Γc, ordered along Γc (consecutive nodes "
+                      "share a boundary edge)"),
+    "obstacle_x": ("mesh", "str", "()", "x(t) of the obstacle Γo(t)"),
+    "obstacle_y": ("mesh", "str", "()", "y(t) of the obstacle Γo(t)"),
+    "obstacle_t_range": ("optional", "float", "(2,)",
+                         "admissible parameter interval [t0, t1] (mesh "
+                         "kind only; absent = unbounded)"),
+    "gap": ("discrete", "float", "(Nc,)",
+            "initial gap s of each contact node along its normal"),
+    "normal": ("discrete", "float", "(Nc, 2)",
+               "unit normal ν of each contact node, pointing from the body "
+               "towards the obstacle"),
+}
+
+KINDS = ("mesh", "discrete")
+_META_REQUIRED = {"mesh": ("E", "nu", "plane", "load", "mesh"),
+                  "discrete": ("description",)}
+
+
+@dataclass(eq=False)
+class ContactProblem:
+    r"""A contact problem as the solver sees it (one ``.npz`` file).
+
+    Array meanings and shapes are those of :data:`KEYS`; K and M are
+    :class:`scipy.sparse.csr_matrix`. Construct it directly (the arrays are
+    validated by :meth:`validate`) or with :func:`load_problem`.
+    """
+
+    K: sp.csr_matrix
+    f: np.ndarray
+    M: sp.csr_matrix
+    contact_dofs: np.ndarray
+    meta: dict
+    nodes: np.ndarray = None
+    cells: np.ndarray = None
+    dof_map: np.ndarray = None
+    u_prescribed: np.ndarray = None
+    contact_nodes: np.ndarray = None
+    obstacle: ParametricCurve = None
+    gap: np.ndarray = None
+    normal: np.ndarray = None
+    source: str = field(default=None, compare=False)
+
+    @property
+    def kind(self):
+        """``"mesh"`` if the problem carries a mesh, else ``"discrete"``."""
+        return "mesh" if self.nodes is not None else "discrete"
+
+    @property
+    def n_dofs(self):
+        """Ñ, the number of reduced DOFs."""
+        return self.K.shape[0]
+
+    @property
+    def n_contact(self):
+        """Nc, the number of nodes on Γc."""
+        return self.contact_dofs.shape[0]
+
+    def to_arrays(self):
+        """The ``.npz`` arrays of this problem, keyed as in :data:`KEYS`."""
+        K, M = sp.csr_matrix(self.K), sp.csr_matrix(self.M)
+        arrays = {
+            "format_version": np.array(FORMAT_VERSION, dtype=np.int64),
+            "kind": np.array(self.kind),
+            "meta": np.array(json.dumps(self.meta, sort_keys=True)),
+            "K_data": K.data, "K_indices": K.indices, "K_indptr": K.indptr,
+            "K_shape": np.array(K.shape, dtype=np.int64),
+            "f": self.f,
+            "M_data": M.data, "M_indices": M.indices, "M_indptr": M.indptr,
+            "M_shape": np.array(M.shape, dtype=np.int64),
+            "contact_dofs": self.contact_dofs,
+        }
+        if self.kind == "mesh":
+            arrays.update(nodes=self.nodes, cells=self.cells,
+                          dof_map=self.dof_map,
+                          u_prescribed=self.u_prescribed,
+                          contact_nodes=self.contact_nodes)
+            if self.obstacle is not None:
+                arrays["obstacle_x"] = np.array(self.obstacle.x_text)
+                arrays["obstacle_y"] = np.array(self.obstacle.y_text)
+                if self.obstacle.t_range is not None:
+                    arrays["obstacle_t_range"] = np.array(
+                        self.obstacle.t_range, dtype=float)
+        for name in ("gap", "normal"):
+            if getattr(self, name) is not None:
+                arrays[name] = getattr(self, name)
+        return arrays
+
+    def validate(self):
+        """Check every array; raise :class:`ProblemError` naming the key."""
+        validate_arrays(self.to_arrays())
+        return self
+
+    def full_displacement(self, u):
+        """Nodal displacements (n_nodes, 2) from a reduced vector ``u``.
+
+        Free DOFs take ``u``, Dirichlet DOFs take ``u_prescribed``.
+        """
+        if self.kind != "mesh":
+            raise ProblemError("full_displacement: a discrete problem has "
+                               "no mesh")
+        full = self.u_prescribed.copy()
+        full[self.dof_map[:, 0], self.dof_map[:, 1]] = u
+        return full
+
+    def summary(self):
+        """A dict of the problem's main figures (for ``--info``)."""
+        from scipy.sparse.linalg import norm as sparse_norm
+
+        active = (self.contact_dofs >= 0).all(axis=1)
+        info = {
+            "kind": self.kind,
+            "dofs": int(self.n_dofs),
+            "contact_nodes": int(self.n_contact),
+            "contact_nodes_free": int(active.sum()),
+            "K_nnz": int(self.K.nnz),
+            "K_norm_fro": float(sparse_norm(self.K)),
+            "K_norm_max": float(abs(self.K).max()),
+            "f_norm": float(np.linalg.norm(self.f)),
+            "M_sum": float(self.M.sum()),
+        }
+        if self.kind == "mesh":
+            info.update(nodes=int(len(self.nodes)),
+                        triangles=int(len(self.cells)),
+                        obstacle=[self.obstacle.x_text, self.obstacle.y_text],
+                        obstacle_t_range=self.obstacle.t_range)
+        else:
+            info.update(gap=self.gap.tolist(), normal=self.normal.tolist())
+        info["meta"] = self.meta
+        return info
+
+
+# ----------------------------------------------------------------------------
+# validation
+
+def _fail(key, message):
+    raise ProblemError(f"{key}: {message}")
+
+
+def _check_array(arrays, key, kind, ndim, shape=None):
+    """Generic checks of one key: dtype class, ndim, shape, finiteness."""
+    a = arrays[key]
+    if a.dtype == object:
+        _fail(key, "contains Python objects (refused)")
+    if kind == "str":
+        if a.dtype.kind != "U" or a.ndim != 0:
+            _fail(key, f"expected a text scalar, got dtype {a.dtype} with "
+                       f"shape {a.shape}")
+        return str(a)
+    if kind == "int" and a.dtype.kind not in "iu":
+        _fail(key, f"expected integers, got dtype {a.dtype}")
+    if kind == "float" and a.dtype.kind not in "fiu":
+        _fail(key, f"expected real numbers, got dtype {a.dtype}")
+    if a.ndim != ndim:
+        _fail(key, f"expected {ndim} dimension(s), got shape {a.shape}")
+    if shape is not None:
+        for axis, (want, got) in enumerate(zip(shape, a.shape)):
+            if want is not None and want != got:
+                _fail(key, f"expected shape {_shape_text(shape)}, got "
+                           f"{a.shape}")
+    if kind == "float":
+        a = a.astype(np.float64)
+        bad = ~np.isfinite(a)
+        if bad.any():
+            _fail(key, f"{int(bad.sum())} entries are NaN or infinite "
+                       f"(first at index {np.argwhere(bad)[0].tolist()})")
+    else:
+        a = a.astype(np.int64)
+    return a
+
+
+def _shape_text(shape):
+    return "(" + ", ".join("?" if s is None else str(s) for s in shape) + ")"
+
+
+def _check_range(key, a, low, high):
+    if a.size and (a.min() < low or a.max() >= high):
+        bad = a[(a < low) | (a >= high)][0]
+        _fail(key, f"index {int(bad)} out of range [{low}, {high})")
+
+
+def _csr(arrays, name, n=None):
+    """Validate and build the CSR matrix stored under ``name_*``."""
+    shape = _check_array(arrays, f"{name}_shape", "int", 1, (2,))
+    rows, cols = (int(v) for v in shape)
+    if rows != cols or rows < 1:
+        _fail(f"{name}_shape", f"expected a square non-empty matrix, got "
+                               f"{(rows, cols)}")
+    if n is not None and rows != n:
+        _fail(f"{name}_shape", f"expected ({n}, {n}), got {(rows, cols)}")
+    data = _check_array(arrays, f"{name}_data", "float", 1)
+    indices = _check_array(arrays, f"{name}_indices", "int", 1,
+                           (len(data),))
+    indptr = _check_array(arrays, f"{name}_indptr", "int", 1, (rows + 1,))
+    if indptr[0] != 0 or indptr[-1] != len(data) or (np.diff(indptr) < 0).any():
+        _fail(f"{name}_indptr", f"not a valid CSR row pointer (must rise "
+                                f"from 0 to nnz = {len(data)})")
+    _check_range(f"{name}_indices", indices, 0, cols)
+    A = sp.csr_matrix((data, indices, indptr), shape=(rows, cols))
+    A.sum_duplicates()
+    scale = abs(A).max() if A.nnz else 0.0
+    if scale == 0.0:
+        _fail(f"{name}_data", "the matrix is zero")
+    asym = abs(A - A.T).max()
+    if asym > SYMMETRY_RTOL * scale:
+        _fail(f"{name}_data", f"the matrix is not symmetric (max |A - Aᵀ| = "
+                              f"{asym:.3g}, max |A| = {scale:.3g})")
+    diagonal = A.diagonal()
+    if (diagonal <= 0).any():
+        i = int(np.argmax(diagonal <= 0))
+        _fail(f"{name}_data", f"diagonal entry {i} is {diagonal[i]:.3g}: the "
+                              "matrix is not positive definite")
+    return A
+
+
+def validate_arrays(arrays):
+    """Validate a dict of ``.npz`` arrays and build a :class:`ContactProblem`.
+
+    Raises
+    ------
+    ProblemError
+        Naming the first key found missing, unexpected or malformed.
+    """
+    arrays = {k: np.asanyarray(v) for k, v in arrays.items()}
+    for key in ("format_version", "kind"):
+        if key not in arrays:
+            _fail(key, "missing (is this a problem file of this solver?)")
+    version = _check_array(arrays, "format_version", "int", 0)
+    if int(version) != FORMAT_VERSION:
+        _fail("format_version", f"file has version {int(version)}, this "
+                                f"solver reads version {FORMAT_VERSION}")
+    kind = _check_array(arrays, "kind", "str", 0)
+    if kind not in KINDS:
+        _fail("kind", f"must be one of {KINDS}, got {kind!r}")
+    allowed = {k for k, (need, *_rest) in KEYS.items()
+               if need in ("all", kind, "optional")}
+    if kind == "discrete":
+        allowed.discard("obstacle_t_range")
+    for key in sorted(arrays):
+        if key not in allowed:
+            _fail(key, f"unexpected key in a {kind!r} problem file")
+    for key, (need, *_rest) in KEYS.items():
+        if need in ("all", kind) and key not in arrays:
+            _fail(key, f"missing (required in a {kind!r} problem file)")
+
+    meta_text = _check_array(arrays, "meta", "str", 0)
+    try:
+        meta = json.loads(meta_text)
+    except json.JSONDecodeError as exc:
+        _fail("meta", f"not valid JSON ({exc.msg})")
+    if not isinstance(meta, dict):
+        _fail("meta", "must be a JSON object")
+    for name in _META_REQUIRED[kind]:
+        if name not in meta:
+            _fail("meta", f"field {name!r} missing")
+    if kind == "mesh":
+        _check_material(meta)
+
+    K = _csr(arrays, "K")
+    n = K.shape[0]
+    f = _check_array(arrays, "f", "float", 1, (n,))
+    contact_dofs = _check_array(arrays, "contact_dofs", "int", 2, (None, 2))
+    nc = len(contact_dofs)
+    if nc < 1:
+        _fail("contact_dofs", "no contact nodes")
+    _check_range("contact_dofs", contact_dofs, -1, n)
+    used = contact_dofs[contact_dofs >= 0]
+    if len(np.unique(used)) != len(used):
+        _fail("contact_dofs", "a reduced DOF appears twice")
+    M = _csr(arrays, "M", nc)
+
+    problem = dict(K=K, f=f, M=M, contact_dofs=contact_dofs, meta=meta)
+    if kind == "mesh":
+        problem.update(_validate_mesh(arrays, n, contact_dofs))
+    else:
+        if (contact_dofs < 0).any():
+            _fail("contact_dofs", "a discrete problem has no Dirichlet DOFs "
+                                  "(-1 entries are not allowed)")
+        gap = _check_array(arrays, "gap", "float", 1, (nc,))
+        normal = _check_array(arrays, "normal", "float", 2, (nc, 2))
+        length = np.linalg.norm(normal, axis=1)
+        if (abs(length - 1) > 1e-9).any():
+            i = int(np.argmax(abs(length - 1)))
+            _fail("normal", f"row {i} has length {length[i]:.12g}, expected "
+                            "a unit vector")
+        problem.update(gap=gap, normal=normal)
+    return ContactProblem(**problem)
+
+
+def _check_material(meta):
+    E, nu, plane = meta["E"], meta["nu"], meta["plane"]
+    if not isinstance(E, (int, float)) or not E > 0:
+        _fail("meta", f"E must be a positive number, got {E!r}")
+    if not isinstance(nu, (int, float)) or not -1 < nu < 0.5:
+        _fail("meta", f"nu must be a number in (-1, 0.5), got {nu!r}")
+    if plane not in ("strain", "stress"):
+        _fail("meta", f"plane must be 'strain' or 'stress', got {plane!r}")
+
+
+def _validate_mesh(arrays, n, contact_dofs):
+    nodes = _check_array(arrays, "nodes", "float", 2, (None, 2))
+    n_nodes = len(nodes)
+    cells = _check_array(arrays, "cells", "int", 2, (None, 3))
+    if len(cells) < 1:
+        _fail("cells", "the mesh has no triangles")
+    _check_range("cells", cells, 0, n_nodes)
+    dof_map = _check_array(arrays, "dof_map", "int", 2, (n, 2))
+    _check_range("dof_map", dof_map[:, 0], 0, n_nodes)
+    _check_range("dof_map", dof_map[:, 1], 0, 2)
+    flat = dof_map[:, 0] * 2 + dof_map[:, 1]
+    if len(np.unique(flat)) != n:
+        _fail("dof_map", "two reduced DOFs map to the same (node, component)")
+    u_prescribed = _check_array(arrays, "u_prescribed", "float", 2,
+                                (n_nodes, 2))
+    contact_nodes = _check_array(arrays, "contact_nodes", "int", 1,
+                                 (len(contact_dofs),))
+    _check_range("contact_nodes", contact_nodes, 0, n_nodes)
+    if len(np.unique(contact_nodes)) != len(contact_nodes):
+        _fail("contact_nodes", "a node appears twice")
+    if not is_boundary_chain(contact_nodes, cells):
+        _fail("contact_nodes", "not ordered along the boundary (consecutive "
+                               "contact nodes must share a boundary edge)")
+    # contact_dofs must agree with dof_map.
+    lookup = np.full(2 * n_nodes, -1, dtype=np.int64)
+    lookup[flat] = np.arange(n)
+    expected = lookup[(2 * contact_nodes[:, None] + np.arange(2)).ravel()]
+    if not np.array_equal(expected.reshape(-1, 2), contact_dofs):
+        _fail("contact_dofs", "does not match dof_map and contact_nodes")
+    t_range = None
+    if "obstacle_t_range" in arrays:
+        t_range = _check_array(arrays, "obstacle_t_range", "float", 1, (2,))
+    x = _check_array(arrays, "obstacle_x", "str", 0)
+    y = _check_array(arrays, "obstacle_y", "str", 0)
+    try:
+        obstacle = ParametricCurve(x, y, t_range)
+    except ProblemError as exc:
+        _fail("obstacle", str(exc))
+    return dict(nodes=nodes, cells=cells, dof_map=dof_map,
+                u_prescribed=u_prescribed, contact_nodes=contact_nodes,
+                obstacle=obstacle)
+
+
+# ----------------------------------------------------------------------------
+# reading and writing
+
+def load_problem(path):
+    """Read and validate a problem file.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        A ``.npz`` file written by :func:`save_problem`.
+
+    Returns
+    -------
+    ContactProblem
+
+    Raises
+    ------
+    ProblemError
+        If the file cannot be read, is not an ``.npz`` archive, holds pickled
+        objects, or any key is missing, unexpected or malformed.
+    """
+    path = os.fspath(path)
+    try:
+        with open(path, "rb") as stream:
+            magic = stream.read(6)
+    except FileNotFoundError:
+        raise ProblemError(f"{path}: no such file") from None
+    except IsADirectoryError:
+        raise ProblemError(f"{path}: is a directory, not a file") from None
+    except PermissionError:
+        raise ProblemError(f"{path}: permission denied") from None
+    except OSError as exc:
+        raise ProblemError(f"{path}: cannot be read ({exc})") from None
+    if magic.startswith(b"\x93NUMPY"):
+        raise ProblemError(f"{path}: a single .npy array, not an .npz "
+                           "problem file")
+    if not magic.startswith(b"PK"):
+        raise ProblemError(f"{path}: not an .npz archive (no zip header)")
+    try:
+        archive = np.load(path, allow_pickle=False)
+    except (OSError, ValueError, EOFError, zipfile.BadZipFile) as exc:
+        raise ProblemError(f"{path}: not a readable .npz file ({exc})") \
+            from None
+    arrays = {}
+    with archive:
+        for key in archive.files:
+            try:
+                arrays[key] = archive[key]
+            except ValueError as exc:
+                if "allow_pickle" in str(exc):
+                    _fail(key, "contains pickled Python objects (refused: "
+                               "allow_pickle=False)")
+                _fail(key, f"cannot be read ({exc})")
+            except Exception as exc:  # zlib/zip/EOF errors of damaged members
+                _fail(key, f"cannot be read, the file is damaged "
+                           f"({type(exc).__name__}: {exc})")
+    problem = validate_arrays(arrays)
+    problem.source = path
+    return problem
+
+
+def save_problem(path, problem):
+    """Validate ``problem`` and write it to ``path`` atomically.
+
+    The archive is written to a temporary file in the target directory and
+    renamed over ``path`` only when complete, so a failure never leaves a
+    half-written problem file. Library versions are added to
+    ``meta["versions"]``.
+    """
+    path = os.fspath(path)
+    versions = dict(problem.meta.get("versions", {}))
+    versions.update(format=FORMAT_VERSION, numpy=np.__version__,
+                    scipy=scipy.__version__)
+    meta = dict(problem.meta, versions=versions)
+    arrays = dataclasses.replace(problem, meta=meta).to_arrays()
+    validate_arrays(arrays)
+    directory = os.path.dirname(os.path.abspath(path))
+    fd, tmp = tempfile.mkstemp(prefix=".tmp-", suffix=".npz", dir=directory)
+    try:
+        with os.fdopen(fd, "wb") as stream:
+            np.savez_compressed(stream, **arrays)
+        os.replace(tmp, path)
+    except BaseException:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+        raise
+    return path
+
+
+def format_table():
+    """The key specification as a Markdown table (for the docs)."""
+    lines = ["| key | needed in | dtype | shape | meaning |",
+             "|---|---|---|---|---|"]
+    for key, (need, dtype, shape, doc) in KEYS.items():
+        need = {"all": "both kinds", "mesh": "mesh only",
+                "discrete": "discrete only", "optional": "optional"}[need]
+        lines.append(f"| `{key}` | {need} | {dtype} | {shape} | {doc} |")
+    return "\n".join(lines)
