@@ -1,0 +1,208 @@
+r"""
+The thesis's §4 model: an elastic block pressed against a rigid parabola.
+
+This problem file assembles and **exports** the discrete model of the
+contact problem in the thesis's workflow: SfePy builds the stiffness matrix
+K, the load vector f and the boundary matrix M; the contact solver
+(``python -m solver``, which never imports SfePy) reads them from an
+``.npz`` file. SfePy itself only solves the unconstrained linear elasticity
+problem below (no contact), whose solution is written as usual and is used
+to check the exported K.
+
+Find :math:`\ul{u}` such that:
+
+.. math::
+    \int_{\Omega} D_{ijkl}\ e_{ij}(\ul{v}) e_{kl}(\ul{u})
+    = \ul{F} \cdot \ul{v}(\ul{x}_A)
+    \;, \quad \forall \ul{v} \;,
+
+with :math:`\ul{u} = \ul{0}` on :math:`\Gamma_D`, where :math:`D_{ijkl}` is
+the plane strain (or plane stress) isotropic elasticity tensor for E, ν. The
+exported matrices are (thesis (56)-(69), (80))
+
+.. math::
+    \ul{v}^T K \ul{u} = \int_{\Omega} D_{ijkl}\ e_{ij}(\ul{v}) e_{kl}(\ul{u})
+    \;, \quad
+    \ul{v}^T f = \ul{F} \cdot \ul{v}(\ul{x}_A)
+    \;, \quad
+    M_{ij} = \int_{\Gamma_c} \varphi_i \varphi_j \;,
+
+K and f reduced to the free DOFs (Dirichlet DOFs eliminated), M over the
+nodes of :math:`\Gamma_c` ordered along it.
+
+Geometry and loads (thesis §4): the block :math:`\Omega = [-5, 5] \times
+[-10, 10]`, E = 2e5, ν = 0.3, plane strain, a point force F = (4000, 0), and
+the obstacle :math:`\Gamma_o(t) = [5.05 + 0.005 t^2, t]` right of the edge
+x = 5 (gap 0.05 at y = 0).
+
+**Reconstruction of the lost Fig. 3.** The text copy of the thesis lost the
+figure that shows the supports and where F acts. We take: the bottom edge
+y = -10 clamped (:math:`\Gamma_D`), F applied at the top-left corner
+:math:`\ul{x}_A = (-5, 10)`, and the contact boundary :math:`\Gamma_c` = the
+right edge x = 5. Reason: the block then bends to the right like a
+cantilever, so the unconstrained solution crosses the obstacle only for
+y ≳ -3.7 and the contact zone is partial, as in the thesis's Fig. 4; a force
+at mid-height or a roller support would give a full or a rigid-body contact.
+The clamped corner (5, -10) lies on both :math:`\Gamma_D` and
+:math:`\Gamma_c`: it is kept in M (so that :math:`\sum M = |\Gamma_c| = 20`)
+and marked as a support (no free DOFs) in the exported ``contact_dofs``.
+
+Usage examples::
+
+  sfepy-run sfepy_problems/block_obstacle.py \
+      -d "mesh='meshes/block_454.mesh', output='output/block_454.npz'"
+  python -m solver output/block_454.npz --info
+
+The parameters of ``define()`` can all be set with ``-d``: ``mesh``,
+``output`` (the ``.npz``; the unconstrained solution goes beside it as
+``.vtk``), ``E``, ``nu``, ``plane`` ('strain' or 'stress'), ``F`` (the force
+vector) and the obstacle (``obstacle_x``, ``obstacle_y``).
+"""
+import os.path as op
+
+import numpy as nm
+
+from sfepy.mechanics.matcoefs import stiffness_from_youngpoisson
+
+from solver.problem import ContactProblem, save_problem
+from solver.mesh import order_along_boundary
+
+#: Tolerance of region selection by coordinates (gmsh noise is ~1e-12).
+TOL = 1e-8
+
+
+def export_contact_problem(pb, variables):
+    """``post_process_hook_final``: assemble K, f, M and write the ``.npz``.
+
+    K and f are evaluated in weak mode with the Dirichlet conditions applied,
+    which gives them reduced to the free DOFs (the thesis's Ñ unknowns). M is
+    evaluated with a scalar P1 field on Omega, restricted to the nodes of
+    Gamma_c in the order along the edge.
+    """
+    conf = pb.conf.options
+    u = variables['u']
+    field = u.field
+    mesh = pb.domain.mesh
+    n_nodes = mesh.n_nod
+    if field.n_nod != n_nodes or not nm.allclose(field.get_coor(),
+                                                  mesh.coors):
+        raise ValueError('P1 field nodes must coincide with mesh vertices')
+
+    K = pb.evaluate('dw_lin_elastic.i.Omega(solid.D, v, u)',
+                    mode='weak', dw_mode='matrix', copy_materials=False,
+                    verbose=False)
+    f = pb.evaluate('dw_point_load.0.Load(load.val, v)',
+                    mode='weak', dw_mode='vector', copy_materials=False,
+                    verbose=False)
+
+    # Reduced DOF j <-> full field DOF eqi[j] = 2 * node + component.
+    eqi = u.eq_map.eqi
+    dof_map = nm.stack([eqi // 2, eqi % 2], axis=1).astype(nm.int64)
+    u_prescribed = nm.zeros((n_nodes, 2))
+    u_prescribed.ravel()[u.eq_map.eq_ebc] = u.eq_map.val_ebc
+
+    # Contact nodes: the vertices of Gamma_c, ordered along the edge.
+    cells = mesh.get_conn('2_3').astype(nm.int64)
+    gamma_c = pb.domain.regions['Gamma_c']
+    contact_nodes = order_along_boundary(gamma_c.vertices, cells, mesh.coors)
+    lookup = nm.full(2 * n_nodes, -1, dtype=nm.int64)
+    lookup[eqi] = nm.arange(len(eqi))
+    contact_dofs = lookup[2 * contact_nodes[:, None] + nm.arange(2)]
+
+    # M_ij = int_{Gamma_c} phi_i phi_j (80), scalar P1 field, full mesh
+    # numbering; keep the Gamma_c rows and columns in chain order.
+    M_full = pb.evaluate('dw_dot.i.Gamma_c(q, p)', mode='weak',
+                         dw_mode='matrix', try_equations=False,
+                         active_only=False, verbose=False)
+    M = M_full.tocsr()[contact_nodes][:, contact_nodes]
+
+    import sfepy
+    problem = ContactProblem(
+        K=K, f=nm.asarray(f, dtype=nm.float64), M=M,
+        contact_dofs=contact_dofs, nodes=mesh.coors[:, :2].copy(),
+        cells=cells, dof_map=dof_map, u_prescribed=u_prescribed,
+        contact_nodes=contact_nodes, obstacle=conf.obstacle,
+        meta={'E': conf.E, 'nu': conf.nu, 'plane': conf.plane,
+              'load': {'point_force': list(map(float, conf.F)),
+                       'at': list(map(float, conf.load_point))},
+              'mesh': op.basename(pb.conf.filename_mesh),
+              'problem_file': 'sfepy_problems/block_obstacle.py',
+              'supports': 'bottom edge y = -10 clamped',
+              'contact_boundary': 'right edge x = 5',
+              'versions': {'sfepy': sfepy.__version__}},
+    )
+    save_problem(conf.export, problem)
+    print(f'exported {problem.n_dofs} DOFs, {problem.n_contact} contact '
+          f'nodes -> {conf.export}')
+
+
+def define(mesh='meshes/block_454.mesh', output='output/block_454.npz',
+           E=2e5, nu=0.3, plane='strain', F=(4000.0, 0.0),
+           obstacle_x='5.05 + 0.005*t**2', obstacle_y='t', order=1):
+    from solver.obstacle import ParametricCurve
+
+    filename_mesh = op.abspath(mesh)  # SfePy resolves relative paths from
+    # this file's folder; the user means the working directory.
+    output_dir = op.dirname(op.abspath(output))
+    load_point = (-5.0, 10.0)
+
+    options = {
+        'output_dir': output_dir,
+        'output_format': 'vtk',
+        'post_process_hook_final': export_contact_problem,
+        'nls': 'newton',
+        'ls': 'ls',
+        # Read by the hook:
+        'export': op.abspath(output),
+        'E': E, 'nu': nu, 'plane': plane, 'F': F, 'load_point': load_point,
+        'obstacle': ParametricCurve(obstacle_x, obstacle_y),
+    }
+
+    regions = {
+        'Omega': 'all',
+        'Gamma_D': (f'vertices in (y < {-10 + TOL})', 'facet'),
+        'Gamma_c': (f'vertices in (x > {5 - TOL})', 'facet'),
+        'Load': (f'vertices in (x < {-5 + TOL}) & (y > {10 - TOL})',
+                 'vertex'),
+    }
+
+    materials = {
+        'solid': ({'D': stiffness_from_youngpoisson(2, E, nu,
+                                                    plane=plane)},),
+        'load': ({'.val': nm.asarray(F, dtype=nm.float64)},),
+    }
+
+    fields = {
+        'displacement': ('real', 'vector', 'Omega', order),
+        'scalar': ('real', 'scalar', 'Omega', 1),
+    }
+
+    variables = {
+        'u': ('unknown field', 'displacement', 0),
+        'v': ('test field', 'displacement', 'u'),
+        # Only for assembling M in the export hook:
+        'p': ('unknown field', 'scalar', 1),
+        'q': ('test field', 'scalar', 'p'),
+    }
+
+    ebcs = {
+        'clamped': ('Gamma_D', {'u.all': 0.0}),
+    }
+
+    integrals = {
+        'i': 2 * order,
+    }
+
+    equations = {
+        'balance_of_forces':
+        """dw_lin_elastic.i.Omega(solid.D, v, u)
+         = dw_point_load.0.Load(load.val, v)""",
+    }
+
+    solvers = {
+        'ls': ('ls.scipy_direct', {}),
+        'newton': ('nls.newton', {'i_max': 1, 'eps_a': 1e-6,
+                                  'eps_r': 1e-12}),
+    }
+
+    return locals()

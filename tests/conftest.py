@@ -1,0 +1,55 @@
+"""Shared fixtures: thesis problems exported through the SfePy problem file.
+
+The export runs SfePy in-process (``solve_pde``, as ``sfepy-run`` does), once
+per test session and mesh; tests that check the ``sfepy-run`` command itself
+run it as a subprocess.
+"""
+
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parent.parent
+MESHES = ROOT / "meshes"
+BLOCK_PROBLEM = ROOT / "sfepy_problems" / "block_obstacle.py"
+THESIS_MESHES = (118, 454, 1878)
+
+
+def solve_block(mesh, output, **params):
+    """Run the block problem file like ``sfepy-run -d ...``.
+
+    Returns SfePy's problem and its solution variables, and writes the
+    ``.npz`` through the file's export hook.
+    """
+    from sfepy.applications import solve_pde
+    from sfepy.base.conf import ProblemConf, get_standard_keywords
+
+    required, other = get_standard_keywords()
+    conf = ProblemConf.from_file(
+        str(BLOCK_PROBLEM), required, other,
+        define_args=dict(mesh=str(mesh), output=str(output), **params))
+    return solve_pde(conf, save_results=False)
+
+
+@pytest.fixture(scope="session")
+def exported(tmp_path_factory):
+    """``exported(n)`` -> (npz path, SfePy problem, SfePy variables)."""
+    cache = {}
+    folder = tmp_path_factory.mktemp("export")
+
+    def get(n_triangles):
+        if n_triangles not in cache:
+            path = folder / f"block_{n_triangles}.npz"
+            pb, variables = solve_block(MESHES / f"block_{n_triangles}.mesh",
+                                        path)
+            cache[n_triangles] = (path, pb, variables)
+        return cache[n_triangles]
+
+    return get
+
+
+@pytest.fixture()
+def bar_problem():
+    from solver.examples import two_dof_bar
+
+    return two_dof_bar()
