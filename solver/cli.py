@@ -1,14 +1,17 @@
 """Command line interface: ``python -m solver PROBLEM.npz [options]``.
 
-A thin layer over the library: it parses arguments, calls the public API and
-prints. Errors caused by the input end with a one-line message on stderr and
-exit code 2 (``--debug`` shows the traceback instead).
+A thin layer over the library: it parses arguments, calls the public API,
+prints and writes the result files. Errors caused by the input end with a
+one-line message on stderr and exit code 2 (``--debug`` shows the traceback
+instead).
 
-Exit codes: 0 success, 2 bad input or usage.
+Exit codes: 0 converged (or ``--info``), 2 bad input or usage, 3 not
+converged (the outputs are still written, marked not converged).
 """
 
 import argparse
 import json
+import os
 import sys
 import traceback
 
@@ -16,7 +19,7 @@ from . import __version__
 from .errors import SolverError
 from .problem import FORMAT_VERSION, load_problem
 
-EXIT_OK, EXIT_INPUT = 0, 2
+EXIT_OK, EXIT_INPUT, EXIT_NOT_CONVERGED = 0, 2, 3
 
 
 class _Parser(argparse.ArgumentParser):
@@ -32,6 +35,34 @@ def build_parser():
                     "sfepy_problems/*.py (format version "
                     f"{FORMAT_VERSION}).")
     parser.add_argument("problem", help="problem file (.npz)")
+    parser.add_argument("--method", choices=("min", "fb"), default="min",
+                        help="semismooth Newton method: damped Newton with "
+                             "the min function (thesis §2.2.1) or the "
+                             "Fischer-Burmeister method of De Luca, "
+                             "Facchinei and Kanzow (§2.2.2); default min")
+    parser.add_argument("--gap", choices=("obstacle", "body"),
+                        default="obstacle",
+                        help="gaps and normals from the obstacle's normals "
+                             "(§2.1.1) or from the body's spline normals "
+                             "(§2.1.2-2.1.3); default obstacle")
+    parser.add_argument("-o", "--outdir", metavar="OUTDIR",
+                        help="folder for summary.json, result.npz, "
+                             "result.vtu and figures; default: beside the "
+                             "problem, named PROBLEM-METHOD-GAP")
+    parser.add_argument("--tol", type=_positive_float, default=1e-10,
+                        help="stop when ||Phi|| <= TOL * max(||f||, 1); "
+                             "default 1e-10")
+    parser.add_argument("--max-iter", type=_positive_int, default=100,
+                        help="maximum number of Newton iterations; "
+                             "default 100")
+    parser.add_argument("--gap-scale", type=_positive_float, default=1.0,
+                        help="scale c of the gap rows, B = c (s - YRu): "
+                             "same solution, other Newton path; default 1 "
+                             "(the thesis)")
+    parser.add_argument("--plots", action="store_true",
+                        help="also write PNG figures (deformed body, "
+                             "displacements, convergence, contact "
+                             "pressure)")
     parser.add_argument("--info", action="store_true",
                         help="load and validate the problem, print a "
                              "summary and stop")
@@ -42,6 +73,28 @@ def build_parser():
     parser.add_argument("--version", action="version",
                         version=f"%(prog)s {__version__}")
     return parser
+
+
+def _positive_float(text):
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not a number: {text!r}") from None
+    if not value > 0 or value == float("inf"):
+        raise argparse.ArgumentTypeError(f"must be positive and finite: "
+                                         f"{text!r}")
+    return value
+
+
+def _positive_int(text):
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not an integer: {text!r}") \
+            from None
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"must be at least 1: {text!r}")
+    return value
 
 
 def format_summary(info):
@@ -86,12 +139,71 @@ def main(argv=None):
             print(json.dumps(info, indent=2) if args.json
                   else format_summary(info))
             return EXIT_OK
-        print(format_summary(problem.summary()))
-        print("(solving is not implemented yet: only --info is available)",
-              file=sys.stderr)
-        return EXIT_INPUT
+        return _solve(args, problem)
     except SolverError as exc:
         if args.debug:
             traceback.print_exc()
         print(f"error: {exc}", file=sys.stderr)
         return EXIT_INPUT
+    except OSError as exc:  # output folder not writable, disk full, ...
+        if args.debug:
+            traceback.print_exc()
+        where = f" {exc.filename}" if exc.filename else ""
+        print(f"error: cannot write{where}: {exc.strerror or exc}",
+              file=sys.stderr)
+        return EXIT_INPUT
+
+
+def _default_outdir(args):
+    stem = os.path.splitext(args.problem)[0]
+    return f"{stem}-{args.method}-{args.gap}"
+
+
+def _solve(args, problem):
+    from .contact import solve_frictionless
+    from .output import summary_of, write_result, write_summary, write_vtk
+
+    outdir = args.outdir or _default_outdir(args)
+    os.makedirs(outdir, exist_ok=True)
+    if not os.access(outdir, os.W_OK):
+        raise PermissionError(13, "permission denied", outdir)
+    result = solve_frictionless(problem, method=args.method, gap=args.gap,
+                                tol=args.tol, max_iter=args.max_iter,
+                                gap_scale=args.gap_scale)
+    summary = summary_of(result, problem, tol=args.tol,
+                         max_iter=args.max_iter)
+    write_result(os.path.join(outdir, "result.npz"), result, problem)
+    if problem.kind == "mesh":
+        write_vtk(os.path.join(outdir, "result.vtu"), result, problem)
+    if args.plots:
+        from .output.figures import write_figures
+
+        write_figures(outdir, problem, result)
+    write_summary(os.path.join(outdir, "summary.json"), summary)
+    print(format_result(summary, outdir))
+    if not result.success:
+        history = ", ".join(f"{r:.3e}" for r in result.history["residual"])
+        print(f"error: {result.message} after {result.nit} iterations; "
+              f"residual history ||Phi||: [{history}]", file=sys.stderr)
+        return EXIT_NOT_CONVERGED
+    return EXIT_OK
+
+
+def format_result(summary, outdir):
+    """A readable summary of a solve."""
+    state = "converged" if summary["converged"] else "NOT CONVERGED"
+    return "\n".join([
+        f"{summary['method']} method, gap from {summary['gap']}: {state} "
+        f"({summary['message']})",
+        f"iterations        {summary['iterations']}",
+        f"evaluations       J {summary['n_jacobian']}, F "
+        f"{summary['n_residual']}  (thesis Table 1 metrics)",
+        f"final ||Phi||     {summary['residual']:.3e}",
+        f"complementarity   max|min(lambda, s - u_n)| = "
+        f"{summary['complementarity']:.3e}",
+        f"contact nodes     {summary['n_contact_nodes']} of "
+        f"{summary['n_contact_candidates']}",
+        f"max pressure      {summary['max_contact_pressure']:.6g}",
+        f"reduced DOFs      {summary['n_dof']}",
+        f"wall time         {summary['wall_time']:.3f} s",
+        f"outputs           {outdir}/"])

@@ -1,0 +1,227 @@
+r"""The frictionless discrete contact system (thesis §3.2, (56)-(69), (87)).
+
+Unknown: the reduced displacement vector u (Ñ entries). At each contact node
+i with DOFs (a_i, b_i), unit normal ν_i (from the body towards the obstacle)
+and tangent γ_i = (−ν_y, ν_x), the rotation **R** maps the nodal vector to
+(tangential, normal) components (58)-(60); R is the identity elsewhere.
+**X** keeps every row except the normal rows of contact nodes and **Y** keeps
+only those (66). The system (67) is the mixed NCP
+
+.. math::
+    X(RKu − Rf) = 0, \quad
+    A(u) = −Y(RKu − Rf) \ge 0,\ B(u) = s − YRu \ge 0,\ A^T B = 0,
+
+(the thesis's (69) is the same with φ_min and signs flipped; its
+"−Y(RKu + Rf)" is a typo for −Y(RKu − Rf)). A is the normal contact force
+λ at each contact node, B the remaining gap. The contact stress (87) is
+g_n = M⁻¹Y(RKu − Rf) = −M⁻¹λ; we report the contact pressure p = M⁻¹λ ≥ 0
+(so g_n = −p), solving with the sparse M, never inverting it.
+
+Only contact nodes whose two DOFs are free take part (a node with a
+Dirichlet DOF is a support); their λ is 0 in the nodal arrays, which cover
+every node of Γc in ``problem.contact_nodes`` order.
+
+Optionally the gap rows are scaled, B = c(s − YRu) with c > 0 (same solution,
+other Newton path); c = 1 is the thesis.
+"""
+
+import time
+
+import numpy as np
+import scipy.sparse as sp
+import scipy.sparse.linalg as sla
+from scipy.optimize import OptimizeResult
+
+from ..errors import SolverError
+from ..ncp import solve_ncp
+
+__all__ = ["GAP_MODES", "ContactGeometry", "contact_geometry",
+           "FrictionlessSystem", "solve_frictionless"]
+
+#: How gaps and normals are found (thesis §2.1.1 / §2.1.2).
+GAP_MODES = ("obstacle", "body")
+
+
+class ContactGeometry:
+    """Gaps and normals at the free contact nodes (evaluated once, §2.1).
+
+    Attributes
+    ----------
+    index : (Nca,) int
+        Rows of ``problem.contact_dofs`` (positions along Γc) of the free
+        contact nodes.
+    dofs : (Nca, 2) int
+        Their reduced DOFs (x, y).
+    gap : (Nca,) float
+        Initial signed gap s along ``normal`` (negative = penetration).
+    normal : (Nca, 2) float
+        Unit normals ν from the body towards the obstacle.
+    foot : (Nca,) float or None
+        Obstacle parameter t of the point the gap is measured to.
+    mode : str
+        ``"obstacle"``, ``"body"`` or ``"given"`` (discrete problems).
+    """
+
+    def __init__(self, index, dofs, gap, normal, foot=None, mode="given"):
+        self.index, self.dofs = index, dofs
+        self.gap, self.normal, self.foot, self.mode = gap, normal, foot, mode
+
+
+def contact_geometry(problem, gap="obstacle"):
+    """Gaps and normals of ``problem`` (thesis §2.1).
+
+    ``gap="obstacle"``: nearest obstacle point, ν = obstacle normal there
+    (§2.1.1). ``gap="body"``: ν = the body's outward normal from a natural
+    cubic spline through Γc (§2.1.3), gap along that line (§2.1.2).
+    Discrete problems carry their gaps and normals; ``gap`` is ignored.
+    """
+    free = np.flatnonzero((problem.contact_dofs >= 0).all(axis=1))
+    dofs = problem.contact_dofs[free]
+    if problem.kind == "discrete":
+        return ContactGeometry(free, dofs, problem.gap[free],
+                               problem.normal[free])
+    if gap not in GAP_MODES:
+        raise SolverError(f"gap mode must be one of {GAP_MODES}, got {gap!r}")
+    from ..gap import gap_along_normals, gap_from_obstacle
+    from ..normals import boundary_normals
+
+    body = boundary_normals(problem.nodes, problem.cells,
+                            problem.contact_nodes)[free]
+    points = problem.nodes[problem.contact_nodes[free]]
+    if gap == "obstacle":
+        s, normal, t = gap_from_obstacle(points, problem.obstacle, body)
+    else:
+        s, normal, t = gap_along_normals(points, body, problem.obstacle)
+    return ContactGeometry(free, dofs, s, normal, t, gap)
+
+
+class FrictionlessSystem:
+    """Residual and Jacobian of (67) for :func:`solver.ncp.solve_ncp`.
+
+    Parameters
+    ----------
+    K : sparse (Ñ, Ñ)
+        Reduced stiffness.
+    f : (Ñ,) array
+        Load vector.
+    geometry : ContactGeometry
+    gap_scale : float
+        c in B = c(s − YRu); 1 is the thesis.
+    """
+
+    def __init__(self, K, f, geometry, gap_scale=1.0):
+        n = K.shape[0]
+        self.K, self.f, self.geometry = sp.csr_matrix(K), f, geometry
+        self.gap_scale = float(gap_scale)
+        a, b = geometry.dofs[:, 0], geometry.dofs[:, 1]
+        nu = geometry.normal
+        other = np.setdiff1d(np.arange(n), geometry.dofs.ravel())
+        # R (58)-(60): row a_i = γ_i (tangential), row b_i = ν_i (normal).
+        rows = np.concatenate([other, a, a, b, b])
+        cols = np.concatenate([other, a, b, a, b])
+        vals = np.concatenate([np.ones(len(other)), -nu[:, 1], nu[:, 0],
+                               nu[:, 0], nu[:, 1]])
+        self.R = sp.csr_matrix((vals, (rows, cols)), shape=(n, n))
+        keep = np.ones(n, dtype=bool)
+        keep[b] = False
+        self.x_rows, self.y_rows = np.flatnonzero(keep), b  # X and Y (66)
+        RK = (self.R @ self.K).tocsr()
+        self.Rf = self.R @ f
+        self._JE = RK[self.x_rows]
+        self._JA = -RK[self.y_rows]
+        self._JB = -self.gap_scale * self.R[self.y_rows]
+
+    def residual(self, u):
+        """(E, A, B) = (X(RKu − Rf), −Y(RKu − Rf), c(s − YRu)), thesis (67)."""
+        r = self.R @ (self.K @ u) - self.Rf
+        return (r[self.x_rows], -r[self.y_rows],
+                self.gap_scale * (self.geometry.gap - (self.R @ u)[self.y_rows]))
+
+    def jacobian(self, u):
+        """(JE, JA, JB) = (XRK, −YRK, −cYR): constant, the system is linear."""
+        return self._JE, self._JA, self._JB
+
+    def contact_force(self, u):
+        """λ = −Y(RKu − Rf): normal contact force at the free contact nodes."""
+        return -(self.R @ (self.K @ u) - self.Rf)[self.y_rows]
+
+    def normal_displacement(self, u):
+        """u_n = YRu at the free contact nodes."""
+        return (self.R @ u)[self.y_rows]
+
+
+def solve_frictionless(problem, method="min", gap="obstacle", tol=1e-10,
+                       max_iter=100, x0=None, gap_scale=1.0, options=None,
+                       geometry=None):
+    r"""Solve the frictionless contact problem (67) by semismooth Newton.
+
+    Parameters
+    ----------
+    problem : ContactProblem
+    method : {"min", "fb"}
+        φ_min damped Newton (§2.2.1) or Fischer–Burmeister (§2.2.2).
+    gap : {"obstacle", "body"}
+        Gap and normals from the obstacle (§2.1.1) or from the body's spline
+        normals (§2.1.2-2.1.3). Ignored for discrete problems.
+    tol : float
+        Relative tolerance: stop when ‖Φ‖ ≤ tol·max(‖f‖, 1).
+    max_iter : int
+        Maximum number of Newton iterations.
+    x0 : (Ñ,) array, optional
+        Starting displacement; the thesis starts from u = 0 (default).
+    gap_scale : float
+        c in B = c(s − YRu), see :class:`FrictionlessSystem`.
+    options : dict, optional
+        Method options of :func:`solver.ncp.solve_ncp`.
+    geometry : ContactGeometry, optional
+        Precomputed gaps and normals (else :func:`contact_geometry`).
+
+    Returns
+    -------
+    OptimizeResult
+        The NCP result (``success``, ``status``, ``message``, ``nit``,
+        ``njev``, ``nfev``, ``history``, ``residual``) plus ``u`` (reduced),
+        ``displacement`` (nodal, (n_nodes, 2); for a discrete problem the
+        contact nodes' (Nc, 2)), and over all nodes of Γc: ``contact_force``
+        λ, ``contact_pressure`` p = M⁻¹λ (the thesis's g_n = −p, (87)),
+        ``gap`` s and ``normal`` ν (NaN at supports), ``normal_displacement``
+        u_n, ``in_contact``; and ``complementarity`` = max|min(λ, s − u_n)|,
+        ``n_contact``, ``gap_mode``, ``geometry_time``, ``time``.
+    """
+    start = time.perf_counter()
+    if geometry is None:
+        geometry = contact_geometry(problem, gap)
+    geometry_time = time.perf_counter() - start
+    system = FrictionlessSystem(problem.K, problem.f, geometry, gap_scale)
+    x0 = np.zeros(problem.n_dofs) if x0 is None else np.asarray(x0, float)
+    scale = max(np.linalg.norm(problem.f), 1.0)
+    result = solve_ncp(system.residual, system.jacobian, x0, method=method,
+                       tol=tol * scale, max_iter=max_iter, options=options)
+    u = result.x
+    nc = problem.n_contact
+    lam = np.zeros(nc)
+    lam[geometry.index] = system.contact_force(u)
+    un = np.full(nc, np.nan)
+    un[geometry.index] = system.normal_displacement(u)
+    s = np.full(nc, np.nan)
+    s[geometry.index] = geometry.gap
+    normal = np.full((nc, 2), np.nan)
+    normal[geometry.index] = geometry.normal
+    pressure = sla.spsolve(problem.M.tocsc(), lam)
+    remaining = s - un
+    comp = np.abs(np.minimum(lam, remaining))[geometry.index]
+    threshold = 1e-9 * max(scale, np.abs(lam).max(initial=0.0))
+    in_contact = lam > threshold
+    if problem.kind == "mesh":
+        displacement = problem.full_displacement(u)
+    else:
+        displacement = u[problem.contact_dofs]
+    result.update(
+        u=u, displacement=displacement, contact_force=lam,
+        contact_pressure=pressure, gap=s, normal=normal,
+        normal_displacement=un, in_contact=in_contact,
+        complementarity=float(comp.max(initial=0.0)),
+        n_contact=int(in_contact.sum()), gap_mode=geometry.mode,
+        gap_scale=float(gap_scale), geometry_time=geometry_time,
+        time=time.perf_counter() - start)
+    return result

@@ -1,0 +1,157 @@
+"""Figures of a frictionless solve, in the manner of the thesis's Fig. 4-6.
+
+matplotlib is imported here only (Agg backend, never ``plt.show()``); each
+function returns the Figure and, given ``path``, saves it as PNG.
+"""
+
+import numpy as np
+
+__all__ = ["plot_deformed", "plot_displacement_arrows", "plot_convergence",
+           "plot_contact_pressure", "write_figures"]
+
+
+def _pyplot():
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    return plt
+
+
+def _save(fig, path):
+    if path is not None:
+        from .files import atomic_path
+
+        with atomic_path(path) as tmp:
+            fig.savefig(tmp, dpi=120, bbox_inches="tight", format="png")
+    return fig
+
+
+def _obstacle_curve(problem, y_range):
+    """Points of the obstacle covering the body's height (with margin)."""
+    curve = problem.obstacle
+    if curve.t_range is not None:
+        t = np.linspace(*curve.t_range, 400)
+    else:
+        # Parameter window around the foot points of the contact nodes.
+        t = np.linspace(y_range[0], y_range[1], 400)
+    return curve.point(t)
+
+
+def plot_deformed(problem, result, scale=None, path=None):
+    """Deformed body (magnified), contact nodes starred, obstacle in blue
+    (thesis Fig. 4, left)."""
+    plt = _pyplot()
+    u = result.displacement
+    if scale is None:
+        size = np.ptp(problem.nodes, axis=0).max()
+        scale = 0.05 * size / max(np.abs(u).max(), 1e-300)
+        scale = 1.0 if scale < 1 else float(10 ** np.floor(np.log10(scale)))
+    xy = problem.nodes + scale * u
+    fig, ax = plt.subplots(figsize=(5, 7))
+    ax.triplot(xy[:, 0], xy[:, 1], problem.cells, color="0.6", lw=0.5)
+    contact = problem.contact_nodes[result.in_contact]
+    ax.plot(xy[contact, 0], xy[contact, 1], "r*", ms=8,
+            label=f"in contact ({len(contact)} nodes)")
+    ymin, ymax = problem.nodes[:, 1].min(), problem.nodes[:, 1].max()
+    margin = 0.1 * (ymax - ymin)
+    obstacle = _obstacle_curve(problem, (ymin - margin, ymax + margin))
+    # The obstacle moves by the same magnification as the gap closes.
+    ax.plot(obstacle[:, 0], obstacle[:, 1], "b-", lw=2, label="obstacle Γo")
+    ax.set_aspect("equal")
+    ax.set_xlabel("x [length]")
+    ax.set_ylabel("y [length]")
+    ax.set_title(f"deformed body, displacements × {scale:g}\n"
+                 f"{result.method} method, gap from {result.gap_mode}")
+    ax.legend(loc="lower left", fontsize=8)
+    return _save(fig, path)
+
+
+def plot_displacement_arrows(problem, result, path=None):
+    """Undeformed body with displacement directions (thesis Fig. 4, right)."""
+    plt = _pyplot()
+    u = result.displacement
+    fig, ax = plt.subplots(figsize=(5, 7))
+    ax.triplot(problem.nodes[:, 0], problem.nodes[:, 1], problem.cells,
+               color="0.75", lw=0.5)
+    q = ax.quiver(problem.nodes[:, 0], problem.nodes[:, 1], u[:, 0], u[:, 1],
+                  np.hypot(u[:, 0], u[:, 1]), cmap="viridis")
+    fig.colorbar(q, ax=ax, label="|u| [length]")
+    ax.set_aspect("equal")
+    ax.set_xlabel("x [length]")
+    ax.set_ylabel("y [length]")
+    ax.set_title("undeformed body, displacement directions")
+    return _save(fig, path)
+
+
+def plot_convergence(result, path=None):
+    """‖Φ‖ and the step length α per iteration (thesis Fig. 5 and 8)."""
+    plt = _pyplot()
+    history = result.history
+    k = np.arange(len(history["residual"]) + 1)
+    residual = list(history["residual"]) + [result.residual]
+    fig, (top, bottom) = plt.subplots(2, 1, figsize=(6, 6), sharex=True)
+    top.semilogy(k, np.maximum(residual, 1e-300), "o-")
+    top.set_ylabel("‖Φ(x)‖")
+    top.set_title(f"{result.method} method: {result.njev} Jacobian, "
+                  f"{result.nfev} residual evaluations")
+    alpha = np.array(history["alpha"], dtype=float)
+    failed = np.array(history["line_search_failed"], dtype=bool)
+    gradient = np.array([s == "gradient" for s in history["step"]])
+    it = np.arange(len(alpha))
+    bottom.semilogy(it, alpha, "s-", label="α (step length)")
+    if failed.any():
+        bottom.semilogy(it[failed], alpha[failed], "rx", ms=10,
+                        label="no decreasing α found")
+    if gradient.any():
+        bottom.semilogy(it[gradient], alpha[gradient], "k^",
+                        label="gradient step")
+    bottom.set_ylabel("α")
+    bottom.set_xlabel("iteration k")
+    bottom.legend(fontsize=8)
+    return _save(fig, path)
+
+
+def plot_contact_pressure(problem, result, path=None):
+    """Contact pressure p = −g_n (87) and contact force λ along Γc."""
+    plt = _pyplot()
+    if problem.kind == "mesh":
+        xy = problem.nodes[problem.contact_nodes]
+        arc = np.r_[0, np.cumsum(np.hypot(*np.diff(xy, axis=0).T))]
+        label = "arc length along Γc from its first node [length]"
+    else:
+        arc = np.arange(problem.n_contact)
+        label = "contact node"
+    fig, ax = plt.subplots(figsize=(7, 4))
+    ax.plot(arc, result.contact_pressure, "o-",
+            label="contact pressure p = −g_n = M⁻¹λ")
+    ax.plot(arc[result.in_contact], result.contact_pressure[result.in_contact],
+            "r*", ms=9, label="in contact")
+    ax.axhline(0.0, color="0.5", lw=0.8)
+    ax.set_xlabel(label)
+    ax.set_ylabel("contact pressure [force / length]")
+    ax.set_title("contact stress along Γc (thesis (87))")
+    ax.legend(fontsize=8)
+    return _save(fig, path)
+
+
+def write_figures(folder, problem, result):
+    """Write the four figures into ``folder``; return their paths."""
+    import os
+
+    plt = _pyplot()
+    paths = {}
+    jobs = [("convergence", lambda p: plot_convergence(result, p)),
+            ("contact_pressure",
+             lambda p: plot_contact_pressure(problem, result, p))]
+    if problem.kind == "mesh":
+        jobs += [("deformed", lambda p: plot_deformed(problem, result,
+                                                       path=p)),
+                 ("displacement",
+                  lambda p: plot_displacement_arrows(problem, result, p))]
+    for name, job in jobs:
+        path = os.path.join(folder, f"{name}.png")
+        plt.close(job(path))
+        paths[name] = path
+    return paths

@@ -1,0 +1,133 @@
+"""NCP functions and the two semismooth Newton methods, FE-free.
+
+References: the defining property of an NCP function (φ = 0 ⇔ a, b ≥ 0,
+ab = 0), finite differences for Jacobian rows away from kinks, and LCP
+solutions checked by their own complementarity conditions.
+"""
+
+import numpy as np
+import pytest
+import scipy.sparse as sp
+
+from solver.ncp import derivative_weights, phi, solve_ncp
+
+METHODS = ("min", "fb")
+
+
+@pytest.mark.parametrize("kind", METHODS)
+def test_phi_vanishes_exactly_on_complementarity(kind):
+    rng = np.random.default_rng(1)
+    a, b = rng.normal(size=(2, 1000))
+    on = np.r_[np.abs(a[:500]), np.zeros(500)]
+    off = np.r_[np.zeros(500), np.abs(b[500:])]
+    np.testing.assert_allclose(phi(on, off, kind), 0.0, atol=1e-15)
+    np.testing.assert_allclose(phi(off, on, kind), 0.0, atol=1e-15)
+    both_positive = phi(np.abs(a) + 0.1, np.abs(b) + 0.1, kind)
+    assert np.all(np.abs(both_positive) > 0)
+    negative = phi(-np.abs(a) - 0.1, b, kind)
+    assert np.all(np.abs(negative) > 0)
+
+
+@pytest.mark.parametrize("kind", METHODS)
+def test_weights_match_finite_differences(kind):
+    rng = np.random.default_rng(2)
+    a, b = rng.normal(size=(2, 200))
+    a[np.abs(a - b) < 1e-3] += 0.01  # stay away from the min kink a = b
+    h = 1e-7
+    wa, wb, _ = derivative_weights(a, b, kind)
+    np.testing.assert_allclose(wa, (phi(a + h, b, kind) - phi(a - h, b, kind))
+                               / (2 * h), atol=1e-6)
+    np.testing.assert_allclose(wb, (phi(a, b + h, kind) - phi(a, b - h, kind))
+                               / (2 * h), atol=1e-6)
+
+
+def test_min_rule_of_thesis():
+    # Thesis §2.2.1: J_i = ∇B_i if A_i > B_i, else ∇A_i (ties take ∇A_i).
+    wa, wb, tie = derivative_weights(np.array([2.0, 1.0, 1.0]),
+                                     np.array([1.0, 2.0, 1.0]), "min")
+    np.testing.assert_array_equal(wa, [0, 1, 1])
+    np.testing.assert_array_equal(wb, [1, 0, 0])
+    np.testing.assert_array_equal(tie, [False, False, True])
+
+
+def test_fb_z_rule_at_the_kink():
+    # DFK (31): at a = b = 0 use (∇Aᵀz, ∇Bᵀz) in place of (a, b); this is
+    # the limit of rule (30) along x + εz, which we check directly.
+    za, zb = np.array([1.0, 1.0, 0.0]), np.array([0.0, 2.0, 3.0])
+    wa, wb, gamma = derivative_weights(np.zeros(3), np.zeros(3), "fb", za, zb)
+    assert gamma.all()
+    eps = 1e-9
+    la, lb, _ = derivative_weights(eps * za, eps * zb, "fb")
+    np.testing.assert_allclose(wa, la, rtol=1e-12)
+    np.testing.assert_allclose(wb, lb, rtol=1e-12)
+    # the rows are elements of the generalised Jacobian: (wa+1)²+(wb+1)² = 1
+    np.testing.assert_allclose((wa + 1) ** 2 + (wb + 1) ** 2, 1.0)
+
+
+def lcp(M, q):
+    """x ≥ 0, Mx + q ≥ 0, xᵀ(Mx + q) = 0 as a mixed NCP without equalities."""
+    M = sp.csr_matrix(M)
+    empty = sp.csr_matrix((0, M.shape[0]))
+    eye = sp.identity(M.shape[0], format="csr")
+    return (lambda x: (np.zeros(0), x, M @ x + q),
+            lambda x: (empty, eye, M))
+
+
+@pytest.mark.parametrize("method", METHODS)
+def test_random_spd_lcps(method):
+    rng = np.random.default_rng(3)
+    for _ in range(50):
+        n = rng.integers(2, 15)
+        G = rng.normal(size=(n, n))
+        M = G @ G.T + 0.5 * np.eye(n)
+        q = rng.normal(size=n)
+        fun, jac = lcp(M, q)
+        result = solve_ncp(fun, jac, np.zeros(n), method=method, tol=1e-12,
+                           max_iter=200)
+        assert result.success, result.message
+        x = result.x
+        w = M @ x + q
+        assert x.min() >= -1e-10 and w.min() >= -1e-10
+        assert abs(x @ w) <= 1e-9
+        assert result.njev == result.nit and result.nfev >= result.nit + 1
+
+
+def test_history_and_counts_are_consistent():
+    M = np.array([[2.0, 1.0], [1.0, 2.0]])
+    fun, jac = lcp(M, np.array([-1.0, 1.0]))
+    result = solve_ncp(fun, jac, np.array([5.0, 5.0]), method="fb")
+    assert result.success
+    h = result.history
+    assert len(h["residual"]) == len(h["alpha"]) == result.nit
+    np.testing.assert_allclose(h["merit"], 0.5 * np.array(h["residual"]) ** 2)
+    # FB decreases the merit function in every iteration (Armijo, (27)).
+    merits = h["merit"] + [0.5 * result.residual ** 2]
+    assert all(b < a for a, b in zip(merits, merits[1:]))
+    np.testing.assert_allclose(result.x, [0.5, 0.0], atol=1e-12)
+
+
+def test_max_iter_reported_not_pretended():
+    M = np.array([[2.0, 1.0], [1.0, 2.0]])
+    fun, jac = lcp(M, np.array([-1.0, 1.0]))
+    result = solve_ncp(fun, jac, np.array([50.0, 50.0]), method="fb",
+                       max_iter=1)
+    assert not result.success and result.status == 1
+    assert "maximum number of iterations" in result.message
+    assert len(result.history["residual"]) == 1
+
+
+def test_singular_jacobian_min():
+    # Equality row 0·x = 1 makes J singular: status 3, no exception.
+    fun = lambda x: (np.array([1.0]), x[1:], x[1:] + 1)
+    jac = lambda x: (sp.csr_matrix((1, 2)), sp.csr_matrix([[0.0, 1.0]]),
+                     sp.csr_matrix([[0.0, 1.0]]))
+    result = solve_ncp(fun, jac, np.zeros(2), method="min")
+    assert result.status == 3 and not result.success
+
+
+def test_bad_method_and_options():
+    fun, jac = lcp(np.eye(2), np.ones(2))
+    with pytest.raises(ValueError, match="unknown method"):
+        solve_ncp(fun, jac, np.zeros(2), method="newton")
+    with pytest.raises(ValueError, match="unknown options"):
+        solve_ncp(fun, jac, np.zeros(2), method="min", options={"rho": 1})
