@@ -131,3 +131,14 @@ def test_bad_method_and_options():
         solve_ncp(fun, jac, np.zeros(2), method="newton")
     with pytest.raises(ValueError, match="unknown options"):
         solve_ncp(fun, jac, np.zeros(2), method="min", options={"rho": 1})
+
+
+def test_fb_is_evaluated_without_cancellation():
+    # A contact force of 550 against a gap of 1e-13: the naive form
+    # √(a²+b²) − (a+b) loses b entirely; the stable form keeps it.
+    a, b = np.array([550.0]), np.array([1e-13])
+    np.testing.assert_allclose(phi(a, b, "fb"), -1e-13, rtol=1e-12)
+    rng = np.random.default_rng(4)
+    a, b = rng.normal(size=(2, 1000))
+    np.testing.assert_allclose(phi(a, b, "fb"), np.hypot(a, b) - (a + b),
+                               rtol=1e-12, atol=1e-15)

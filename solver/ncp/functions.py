@@ -31,7 +31,17 @@ def phi(a, b, kind):
     if kind == "min":
         return np.minimum(a, b)
     if kind == "fb":
-        return np.hypot(a, b) - (a + b)
+        # √(a²+b²) − (a+b) cancels when a ≫ b > 0 (a contact force against a
+        # gap of another unit): the gap would be resolved only to ε·a. Where
+        # a + b > 0 use the equal form −2ab / (√(a²+b²) + a + b).
+        a, b = np.broadcast_arrays(np.asarray(a, float), np.asarray(b, float))
+        r = np.hypot(a, b)
+        s = a + b
+        positive = s > 0
+        out = r - s
+        out[positive] = (-2.0 * a[positive] * b[positive]
+                         / (r[positive] + s[positive]))
+        return out
     raise ValueError(f"unknown NCP function {kind!r}; use one of "
                      f"{NCP_FUNCTIONS}")
 

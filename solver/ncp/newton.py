@@ -13,7 +13,12 @@ function φ (:mod:`solver.ncp.functions`) it is the square nonsmooth system
   φ_min: J d = −Φ, x ← x + αd with α = 1 halved while ‖Φ‖ does not decrease
   (the thesis prints "α = ε/2", a typo for α/2). Below ``alpha_min`` the
   search gives up, records it in ``history["line_search_failed"]`` and takes
-  the full step, as the thesis reports doing once (§4);
+  the full step, as the thesis reports doing once (§4). The thesis does not
+  give its bound; ``alpha_min`` = 2⁻¹⁰ reproduces its behaviour on the §4
+  block (exactly one failed search per solve, 4/6/7 Jacobians on the
+  118/454/1878 meshes against its 6/8/10). With bounds below 2⁻¹⁶ the search
+  instead accepts tiny steps (α ≈ 2⁻¹⁶…2⁻⁴⁰) that barely decrease ‖Φ‖ and
+  the count grows past 20 (measured);
 - ``method="fb"``: the method of De Luca, Facchinei and Kanzow (1996), thesis
   §2.2.2: merit ψ = ½‖Φ_FB‖² (24); Newton direction unless J d = −Φ is
   singular or fails the descent test ∇ψᵀd ≤ −ρ‖d‖ᵖ (26), then d = −∇ψ =
@@ -47,11 +52,13 @@ __all__ = ["solve_ncp", "MESSAGES", "DEFAULT_OPTIONS"]
 
 #: Termination messages keyed by ``status``.
 MESSAGES = {
-    0: "converged: ‖Φ‖ ≤ tol",
+    0: "converged: residual ≤ tol",
     1: "not converged: maximum number of iterations reached",
     2: "not converged: line search found no acceptable step",
     3: "not converged: singular Jacobian",
     4: "not converged: non-finite residual",
+    5: "not converged: no progress, the residual is at round-off level "
+       "(tol too small?)",
 }
 
 #: Options of each method (thesis §2.2 and (32)).
@@ -117,7 +124,7 @@ def _newton_direction(J, F):
 
 
 def solve_ncp(fun, jac, x0, method="min", tol=1e-10, max_iter=100,
-              options=None, callback=None):
+              options=None, callback=None, error=None):
     r"""Solve a mixed NCP by a semismooth Newton method.
 
     Parameters
@@ -133,7 +140,8 @@ def solve_ncp(fun, jac, x0, method="min", tol=1e-10, max_iter=100,
         Damped Newton with φ_min (thesis §2.2.1) or the Fischer–Burmeister
         method of De Luca, Facchinei and Kanzow (§2.2.2).
     tol : float
-        Stop when ‖Φ(x)‖₂ ≤ tol (thesis Step 1).
+        Stop when ‖Φ(x)‖₂ ≤ tol (thesis Step 1), or ``error(E, A, B)`` ≤ tol
+        if ``error`` is given.
     max_iter : int
         Maximum number of Newton iterations (Jacobian evaluations).
     options : dict, optional
@@ -142,6 +150,10 @@ def solve_ncp(fun, jac, x0, method="min", tol=1e-10, max_iter=100,
         returns the direction of rule (31) for the boolean mask γ).
     callback : callable, optional
         ``callback(x, record)`` after every iteration.
+    error : callable, optional
+        ``error(E, A, B) -> float``, the measure of the stopping test. Use it
+        when the rows of Φ have different units (forces and gaps): the
+        iteration itself (directions, line search) still works with Φ.
 
     Returns
     -------
@@ -149,9 +161,11 @@ def solve_ncp(fun, jac, x0, method="min", tol=1e-10, max_iter=100,
         ``x``, ``success``, ``status`` (see :data:`MESSAGES`), ``message``,
         ``nit`` (iterations), ``njev`` (Jacobian evaluations), ``nfev``
         (residual evaluations, line search included), ``fun`` (Φ at x),
-        ``residual`` (‖Φ(x)‖), ``method``, ``time`` (wall seconds) and
-        ``history``: a dict of per-iteration lists ``residual`` (‖Φ‖ before
-        the step), ``merit`` (ψ = ½‖Φ‖²), ``alpha`` (step length), ``step``
+        ``residual`` (‖Φ(x)‖), ``error`` (the stopping measure at x),
+        ``method``, ``time`` (wall seconds) and ``history``: a dict of
+        per-iteration lists ``residual`` (‖Φ‖ before the step), ``error``
+        (the stopping measure before the step), ``merit`` (ψ = ½‖Φ‖²),
+        ``alpha`` (step length), ``step``
         ("newton" or "gradient"), ``active`` (rows with A_i > B_i, i.e.
         predicted contacts) and ``line_search_failed``.
     """
@@ -166,25 +180,31 @@ def solve_ncp(fun, jac, x0, method="min", tol=1e-10, max_iter=100,
     opts.update(options or {})
     start = time.perf_counter()
     counted = _Counted(fun, jac, method)
-    history = {k: [] for k in ("residual", "merit", "alpha", "step",
+    history = {k: [] for k in ("residual", "error", "merit", "alpha", "step",
                                "active", "line_search_failed")}
+
+    def measure(F, parts):
+        return np.linalg.norm(F) if error is None else float(error(*parts))
+
     x = np.array(x0, dtype=float)
     F, parts = counted.residual(x)
     status = 1
     for _ in range(max_iter):
-        norm = np.linalg.norm(F)
-        if not np.isfinite(norm):
+        norm, err = np.linalg.norm(F), measure(F, parts)
+        if not (np.isfinite(norm) and np.isfinite(err)):
             status = 4
             break
-        if norm <= tol:
+        if err <= tol:
             status = 0
             break
         J, active = counted.jacobian(x, parts, opts.get("z"))
+        previous = x
         if method == "min":
-            x, F, parts, record = _min_step(counted, x, F, J, opts)
+            x, F, parts, record = _min_step(counted, x, F, parts, J, opts)
         else:
-            x, F, parts, record = _fb_step(counted, x, F, J, opts)
-        record.update(residual=norm, merit=0.5 * norm ** 2, active=active)
+            x, F, parts, record = _fb_step(counted, x, F, parts, J, opts)
+        record.update(residual=norm, error=err, merit=0.5 * norm ** 2,
+                      active=active)
         for key in history:
             history[key].append(record[key])
         if callback is not None:
@@ -192,42 +212,44 @@ def solve_ncp(fun, jac, x0, method="min", tol=1e-10, max_iter=100,
         if record.get("status"):
             status = record["status"]
             break
+        if np.array_equal(x, previous):
+            status = 5
+            break
     else:
-        norm = np.linalg.norm(F)
-        if norm <= tol:
+        if measure(F, parts) <= tol:
             status = 0
-    norm = np.linalg.norm(F)
+    norm, err = np.linalg.norm(F), measure(F, parts)
     return OptimizeResult(
         x=x, success=status == 0, status=status, message=MESSAGES[status],
         nit=len(history["residual"]), njev=counted.njev, nfev=counted.nfev,
-        fun=F, residual=norm, method=method, history=history,
+        fun=F, residual=norm, error=err, method=method, history=history,
         time=time.perf_counter() - start)
 
 
-def _min_step(counted, x, F, J, opts):
+def _min_step(counted, x, F, parts, J, opts):
     """One damped Newton iteration with φ_min (thesis §2.2.1, steps 2-4)."""
     d = _newton_direction(J, F)
     if d is None:
-        return x, F, None, dict(alpha=0.0, step="newton",
+        return x, F, parts, dict(alpha=0.0, step="newton",
                                 line_search_failed=False, status=3)
     norm, alpha = np.linalg.norm(F), 1.0
     while True:
         trial = x + alpha * d
-        F_trial, parts = counted.residual(trial)
+        F_trial, trial_parts = counted.residual(trial)
         if np.linalg.norm(F_trial) < norm:
-            return trial, F_trial, parts, dict(alpha=alpha, step="newton",
-                                               line_search_failed=False)
+            return trial, F_trial, trial_parts, dict(
+                alpha=alpha, step="newton", line_search_failed=False)
         if alpha / 2 < opts["alpha_min"]:
             break
         alpha /= 2
     # No acceptable α: take the full Newton step anyway (thesis §4).
     trial = x + d
-    F_trial, parts = counted.residual(trial)
-    return trial, F_trial, parts, dict(alpha=1.0, step="newton",
-                                       line_search_failed=True)
+    F_trial, trial_parts = counted.residual(trial)
+    return trial, F_trial, trial_parts, dict(alpha=1.0, step="newton",
+                                             line_search_failed=True)
 
 
-def _fb_step(counted, x, F, J, opts):
+def _fb_step(counted, x, F, parts, J, opts):
     """One iteration of the DFK method (thesis §2.2.2, steps 2-4)."""
     grad = J.T @ F  # ∇ψ = JᵀΦ (28)
     d = _newton_direction(J, F)
@@ -238,10 +260,10 @@ def _fb_step(counted, x, F, J, opts):
     t = 1.0
     for _ in range(opts["max_halvings"] + 1):
         trial = x + t * d
-        F_trial, parts = counted.residual(trial)
+        F_trial, trial_parts = counted.residual(trial)
         if 0.5 * F_trial @ F_trial <= psi + opts["beta"] * t * slope:  # (27)
-            return trial, F_trial, parts, dict(alpha=t, step=step,
-                                               line_search_failed=False)
+            return trial, F_trial, trial_parts, dict(
+                alpha=t, step=step, line_search_failed=False)
         t /= 2
-    return x, F, None, dict(alpha=0.0, step=step, line_search_failed=True,
+    return x, F, parts, dict(alpha=0.0, step=step, line_search_failed=True,
                             status=2)
