@@ -14,12 +14,19 @@ ParametricCurve, parse_expression
     Rigid obstacles given by safe expressions in t (:mod:`solver.obstacle`).
 two_dof_bar
     The thesis's §6 two-DOF bar system (:mod:`solver.examples`).
-SolverError, ProblemError, ExpressionError
-    Errors caused by bad input (:mod:`solver.errors`).
+solve_frictionless, contact_geometry
+    Frictionless contact, thesis (67) (:mod:`solver.contact`).
+solve_ncp
+    Semismooth Newton methods for mixed NCPs, FE-free (:mod:`solver.ncp`).
+SolverError, ProblemError, ExpressionError, GapError
+    Errors caused by bad input (:mod:`solver.errors`, :mod:`solver.gap`).
 """
 
 from .errors import ExpressionError, ProblemError, SolverError
+from .gap import GapError
+from .contact import contact_geometry, solve_frictionless
 from .examples import two_dof_bar
+from .ncp import solve_ncp
 from .obstacle import ParametricCurve, parse_expression
 from .problem import (FORMAT_VERSION, ContactProblem, load_problem,
                       save_problem)
@@ -28,5 +35,6 @@ __version__ = "0.1.0"
 
 __all__ = ["FORMAT_VERSION", "ContactProblem", "load_problem",
            "save_problem", "ParametricCurve", "parse_expression",
-           "two_dof_bar", "SolverError", "ProblemError", "ExpressionError",
+           "two_dof_bar", "solve_frictionless", "contact_geometry",
+           "solve_ncp", "SolverError", "ProblemError", "ExpressionError", "GapError",
            "__version__"]

@@ -154,16 +154,17 @@ def main(argv=None):
         return EXIT_INPUT
 
 
-def _default_outdir(args):
+def _default_outdir(args, problem):
     stem = os.path.splitext(args.problem)[0]
-    return f"{stem}-{args.method}-{args.gap}"
+    gap = args.gap if problem.kind == "mesh" else "given"
+    return f"{stem}-{args.method}-{gap}"
 
 
 def _solve(args, problem):
     from .contact import solve_frictionless
     from .output import summary_of, write_result, write_summary, write_vtk
 
-    outdir = args.outdir or _default_outdir(args)
+    outdir = args.outdir or _default_outdir(args, problem)
     os.makedirs(outdir, exist_ok=True)
     if not os.access(outdir, os.W_OK):
         raise PermissionError(13, "permission denied", outdir)
@@ -198,7 +199,8 @@ def format_result(summary, outdir):
         f"iterations        {summary['iterations']}",
         f"evaluations       J {summary['n_jacobian']}, F "
         f"{summary['n_residual']}  (thesis Table 1 metrics)",
-        f"final ||Phi||     {summary['residual']:.3e}",
+        f"final ||Phi||     {summary['residual']:.3e} (stopping measure "
+        f"{summary['error']:.3e})",
         f"complementarity   max|min(lambda, s - u_n)| = "
         f"{summary['complementarity']:.3e}",
         f"contact nodes     {summary['n_contact_nodes']} of "

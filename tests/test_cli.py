@@ -72,3 +72,91 @@ def test_module_entry_point(bar_problem, tmp_path):
     assert result.returncode == 2
     assert result.stderr.strip().count("\n") == 0
     assert "Traceback" not in result.stderr
+
+
+SUMMARY_KEYS = {"method", "gap", "converged", "iterations", "n_jacobian",
+                "n_residual", "residual", "complementarity",
+                "n_contact_nodes", "max_contact_pressure", "n_dof",
+                "wall_time", "status", "message", "error"}
+
+
+@pytest.mark.parametrize("method", ["min", "fb"])
+@pytest.mark.parametrize("gap", ["obstacle", "body"])
+def test_solve_writes_outputs(exported, tmp_path, capsys, method, gap):
+    import meshio
+
+    path = exported(118)[0]
+    out = tmp_path / "out"
+    code = main([str(path), "--method", method, "--gap", gap, "-o", str(out)]
+                + (["--plots"] if method == "fb" and gap == "body" else []))
+    assert code == 0
+    summary = json.loads((out / "summary.json").read_text())
+    assert SUMMARY_KEYS <= set(summary)
+    assert summary["converged"] is True
+    assert summary["method"] == method and summary["gap"] == gap
+    assert summary["n_jacobian"] >= 1 and summary["n_residual"] > \
+        summary["n_jacobian"]
+    assert summary["n_dof"] == 138
+    with np.load(out / "result.npz", allow_pickle=False) as result:
+        assert result["displacement"].shape == (74, 2)
+        assert len(result["history_residual"]) == summary["iterations"]
+        assert result["in_contact"].sum() == summary["n_contact_nodes"]
+    vtk = meshio.read(out / "result.vtu")
+    np.testing.assert_allclose(vtk.point_data["u"][:, :2],
+                               result_displacement(out))
+    assert "converged" in capsys.readouterr().out
+    pngs = sorted(p.name for p in out.glob("*.png"))
+    if method == "fb" and gap == "body":
+        assert pngs == ["contact_pressure.png", "convergence.png",
+                        "deformed.png", "displacement.png"]
+    else:
+        assert pngs == []
+    assert not list(out.glob(".tmp-*"))  # no temporary files left
+
+
+def result_displacement(out):
+    with np.load(out / "result.npz") as result:
+        return result["displacement"]
+
+
+def test_not_converged_exit_3_with_history(exported, tmp_path, capsys):
+    path = exported(118)[0]
+    out = tmp_path / "out"
+    assert main([str(path), "--method", "fb", "--max-iter", "2",
+                 "-o", str(out)]) == 3
+    captured = capsys.readouterr()
+    assert "NOT CONVERGED" in captured.out
+    assert "maximum number of iterations" in captured.err
+    assert "residual history" in captured.err
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["converged"] is False and summary["iterations"] == 2
+    assert (out / "result.npz").exists()
+
+
+def test_default_outdir_beside_problem(bar_problem, tmp_path, capsys):
+    path = save_problem(tmp_path / "bar.npz", bar_problem)
+    assert main([str(path)]) == 0
+    summary = json.loads((tmp_path / "bar-min-given" / "summary.json")
+                         .read_text())
+    assert summary["n_contact_nodes"] == 1
+    assert summary["max_contact_force"] == pytest.approx(550.0)  # closed form
+
+
+@pytest.mark.parametrize("argv", [["--tol", "0"], ["--tol", "abc"],
+                                  ["--max-iter", "0"], ["--method", "newton"],
+                                  ["--gap", "nowhere"], ["--gap-scale", "-1"]])
+def test_bad_options_exit_2(bar_problem, tmp_path, capsys, argv):
+    path = save_problem(tmp_path / "bar.npz", bar_problem)
+    with pytest.raises(SystemExit) as exc:
+        main([str(path)] + argv)
+    assert exc.value.code == 2
+    assert len(capsys.readouterr().err.strip().splitlines()) == 1
+
+
+def test_unwritable_outdir_exit_2(bar_problem, tmp_path, capsys):
+    path = save_problem(tmp_path / "bar.npz", bar_problem)
+    blocker = tmp_path / "file"
+    blocker.write_text("not a folder")
+    assert main([str(path), "-o", str(blocker / "sub")]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("error: cannot write") and err.count("\n") == 1

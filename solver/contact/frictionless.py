@@ -87,11 +87,14 @@ def contact_geometry(problem, gap="obstacle"):
 
     body = boundary_normals(problem.nodes, problem.cells,
                             problem.contact_nodes)[free]
-    points = problem.nodes[problem.contact_nodes[free]]
+    ids = problem.contact_nodes[free]
+    points = problem.nodes[ids]
     if gap == "obstacle":
-        s, normal, t = gap_from_obstacle(points, problem.obstacle, body)
+        s, normal, t = gap_from_obstacle(points, problem.obstacle, body,
+                                         node_ids=ids)
     else:
-        s, normal, t = gap_along_normals(points, body, problem.obstacle)
+        s, normal, t = gap_along_normals(points, body, problem.obstacle,
+                                         node_ids=ids)
     return ContactGeometry(free, dofs, s, normal, t, gap)
 
 
@@ -130,6 +133,9 @@ class FrictionlessSystem:
         self._JE = RK[self.x_rows]
         self._JA = -RK[self.y_rows]
         self._JB = -self.gap_scale * self.R[self.y_rows]
+        diagonal = self.K.diagonal()
+        self.stiffness = float(diagonal[geometry.dofs].mean()) \
+            if len(geometry.dofs) else 1.0
 
     def residual(self, u):
         """(E, A, B) = (X(RKu − Rf), −Y(RKu − Rf), c(s − YRu)), thesis (67)."""
@@ -140,6 +146,13 @@ class FrictionlessSystem:
     def jacobian(self, u):
         """(JE, JA, JB) = (XRK, −YRK, −cYR): constant, the system is linear."""
         return self._JE, self._JA, self._JB
+
+    def error(self, E, A, B):
+        """Stopping measure in force units, whatever c and the NCP function:
+        ‖[E; min(A, k̄ B / c)]‖₂ with k̄ the mean stiffness diag(K) at the
+        normal DOFs, so that a gap error δ counts as the force k̄δ."""
+        return float(np.hypot(np.linalg.norm(E), np.linalg.norm(
+            np.minimum(A, self.stiffness / self.gap_scale * B))))
 
     def contact_force(self, u):
         """λ = −Y(RKu − Rf): normal contact force at the free contact nodes."""
@@ -164,7 +177,10 @@ def solve_frictionless(problem, method="min", gap="obstacle", tol=1e-10,
         Gap and normals from the obstacle (§2.1.1) or from the body's spline
         normals (§2.1.2-2.1.3). Ignored for discrete problems.
     tol : float
-        Relative tolerance: stop when ‖Φ‖ ≤ tol·max(‖f‖, 1).
+        Relative tolerance: stop when ‖[E; min(A, k̄B/c)]‖ ≤ tol·max(‖f‖, 1),
+        a measure in force units (:meth:`FrictionlessSystem.error`); the
+        methods iterate on their own Φ (with gaps in length units, c = 1, as
+        in the thesis).
     max_iter : int
         Maximum number of Newton iterations.
     x0 : (Ñ,) array, optional
@@ -184,6 +200,7 @@ def solve_frictionless(problem, method="min", gap="obstacle", tol=1e-10,
         ``displacement`` (nodal, (n_nodes, 2); for a discrete problem the
         contact nodes' (Nc, 2)), and over all nodes of Γc: ``contact_force``
         λ, ``contact_pressure`` p = M⁻¹λ (the thesis's g_n = −p, (87)),
+        ``contact_pressure_lumped`` λ_i / Σ_j M_ij (no oscillation),
         ``gap`` s and ``normal`` ν (NaN at supports), ``normal_displacement``
         u_n, ``in_contact``; and ``complementarity`` = max|min(λ, s − u_n)|,
         ``n_contact``, ``gap_mode``, ``geometry_time``, ``time``.
@@ -196,7 +213,8 @@ def solve_frictionless(problem, method="min", gap="obstacle", tol=1e-10,
     x0 = np.zeros(problem.n_dofs) if x0 is None else np.asarray(x0, float)
     scale = max(np.linalg.norm(problem.f), 1.0)
     result = solve_ncp(system.residual, system.jacobian, x0, method=method,
-                       tol=tol * scale, max_iter=max_iter, options=options)
+                       tol=tol * scale, max_iter=max_iter, options=options,
+                       error=system.error)
     u = result.x
     nc = problem.n_contact
     lam = np.zeros(nc)
@@ -208,6 +226,7 @@ def solve_frictionless(problem, method="min", gap="obstacle", tol=1e-10,
     normal = np.full((nc, 2), np.nan)
     normal[geometry.index] = geometry.normal
     pressure = sla.spsolve(problem.M.tocsc(), lam)
+    lumped = lam / np.asarray(problem.M.sum(axis=1)).ravel()
     remaining = s - un
     comp = np.abs(np.minimum(lam, remaining))[geometry.index]
     threshold = 1e-9 * max(scale, np.abs(lam).max(initial=0.0))
@@ -218,7 +237,8 @@ def solve_frictionless(problem, method="min", gap="obstacle", tol=1e-10,
         displacement = u[problem.contact_dofs]
     result.update(
         u=u, displacement=displacement, contact_force=lam,
-        contact_pressure=pressure, gap=s, normal=normal,
+        contact_pressure=pressure, contact_pressure_lumped=lumped,
+        gap=s, normal=normal,
         normal_displacement=un, in_contact=in_contact,
         complementarity=float(comp.max(initial=0.0)),
         n_contact=int(in_contact.sum()), gap_mode=geometry.mode,
