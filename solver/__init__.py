@@ -16,6 +16,9 @@ two_dof_bar
     The thesis's §6 two-DOF bar system (:mod:`solver.examples`).
 solve_frictionless, contact_geometry
     Frictionless contact, thesis (67) (:mod:`solver.contact`).
+solve_friction
+    Coulomb friction by load steps, thesis (110)/(111) and a projection
+    formulation (:mod:`solver.contact.friction`).
 solve_ncp
     Semismooth Newton methods for mixed NCPs, FE-free (:mod:`solver.ncp`).
 SolverError, ProblemError, ExpressionError, GapError
@@ -24,7 +27,7 @@ SolverError, ProblemError, ExpressionError, GapError
 
 from .errors import ExpressionError, ProblemError, SolverError
 from .gap import GapError
-from .contact import contact_geometry, solve_frictionless
+from .contact import contact_geometry, solve_friction, solve_frictionless
 from .examples import two_dof_bar
 from .ncp import solve_ncp
 from .obstacle import ParametricCurve, parse_expression
@@ -35,6 +38,6 @@ __version__ = "0.1.0"
 
 __all__ = ["FORMAT_VERSION", "ContactProblem", "load_problem",
            "save_problem", "ParametricCurve", "parse_expression",
-           "two_dof_bar", "solve_frictionless", "contact_geometry",
+           "two_dof_bar", "solve_frictionless", "solve_friction", "contact_geometry",
            "solve_ncp", "SolverError", "ProblemError", "ExpressionError", "GapError",
            "__version__"]

@@ -1,7 +1,9 @@
 """Contact systems built on the finite element data of a problem file."""
 
+from .friction import COULOMB, FORMULATIONS, FrictionSystem, solve_friction
 from .frictionless import (GAP_MODES, ContactGeometry, FrictionlessSystem,
                            contact_geometry, solve_frictionless)
 
 __all__ = ["GAP_MODES", "ContactGeometry", "FrictionlessSystem",
-           "contact_geometry", "solve_frictionless"]
+           "contact_geometry", "solve_frictionless", "FORMULATIONS",
+           "COULOMB", "FrictionSystem", "solve_friction"]

@@ -1,0 +1,405 @@
+r"""Coulomb friction by load steps (thesis §5-§6, (88)-(111)).
+
+The load is applied in κc steps, f_κ = κ/κc · f. Each step solves for the
+increment Δu (u = u_{κ−1} + Δu) and the friction traction g_t at the free
+contact nodes, starting from the previous step's solution.
+
+Which Coulomb bound (errata of (104))
+-------------------------------------
+The thesis's row 3 balances the tangential nodal force with M g_t (so g_t is
+a traction), while its friction bound f_c p uses p of (104), a nodal *force*
+(and signed). We compare like with like, per node as the thesis intends
+("neglecting neighbours", (104)): the tangential row uses the lumped
+boundary matrix D = diag(Σ_j M_ij) (the length of Γc belonging to node i),
+and p is the non-negative lumped contact pressure p_i = λ_i / D_ii. Then
+|g_t,i| ≤ f_c p_i is the same as |t_i| ≤ f_c λ_i for the nodal friction force
+t_i = D_ii g_t,i: Coulomb's law on nodal forces. For the 2-DOF bar D = M = 1.
+
+Formulations
+------------
+``"thesis"`` (110)/(111): unknowns x = [Δu; g_t; Δu_t⁺; Δu_t⁻] with
+
+.. math::
+    X(RKu − f_κ R) = 0, \quad Z(RKu − f_κ R) − D g_t = 0, \quad
+    ZRΔu − Δu_t^+ + Δu_t^- = 0 \ (106), \\
+    λ = −Y(RKu − f_κ R) \perp s − YRu, \quad
+    Δu_t^- \perp f_c p − g_t \ (98), \quad Δu_t^+ \perp f_c p + g_t \ (101),
+
+(X drops the tangential and normal rows of contact nodes, Z keeps the
+tangential ones (77)). Where p = 0 (a node out of contact) the last two
+pairs only give g_t = 0 and leave the split Δu_t± non-unique: J is singular
+there, and φ_FB falls back to gradient steps (errata).
+
+``"projection"`` (beyond the thesis): unknowns x = [Δu; g_t], the split is
+replaced by the semismooth projection (Alart & Curnier 1991; the
+primal-dual active set form of Hüeber, Stadler & Wohlmuth 2008)
+
+.. math::  g_t = \mathrm{proj}_{[−f_c p,\, f_c p]}(g_t − c_t\, ZRΔu),
+
+which is non-degenerate: p = 0 gives g_t = 0 and Δu_t is left to the
+tangential equilibrium row. c_t > 0 only changes the Newton path.
+
+``coulomb="lagged"`` uses p = p_{κ−1} of the previous step (thesis: Coulomb
+as a sequence of Tresca problems); ``coulomb="implicit"`` uses the current
+step's p(u) (no one-step lag), with its derivative in the Jacobian.
+
+References
+----------
+P. Alart, A. Curnier: A mixed formulation for frictional contact problems
+prone to Newton like solution methods. CMAME 92 (1991) 353-375.
+S. Hüeber, G. Stadler, B. Wohlmuth: A primal-dual active set algorithm for
+three-dimensional contact problems with Coulomb friction. SIAM J. Sci.
+Comput. 30 (2008) 572-596.
+"""
+
+import time
+
+import numpy as np
+import scipy.sparse as sp
+from scipy.optimize import OptimizeResult
+
+from ..errors import SolverError
+from ..ncp import solve_ncp
+from .frictionless import contact_geometry
+
+__all__ = ["FORMULATIONS", "COULOMB", "FrictionSystem", "solve_friction"]
+
+FORMULATIONS = ("thesis", "projection")
+COULOMB = ("lagged", "implicit")
+
+
+class FrictionSystem:
+    """Residual and Jacobian of one load step, for :func:`solve_ncp`.
+
+    Parameters
+    ----------
+    K, f : reduced stiffness and full load.
+    geometry : ContactGeometry
+        Gaps and normals at the free contact nodes.
+    lumped : (Nca,) array
+        D_ii = Σ_j M_ij at the free contact nodes.
+    friction : float
+        f_c ≥ 0.
+    formulation : {"thesis", "projection"}
+    coulomb : {"lagged", "implicit"}
+    gap_scale : float
+        c in the normal pair's B = c(s − YRu) (1 = thesis).
+    """
+
+    def __init__(self, K, f, geometry, lumped, friction,
+                 formulation="thesis", coulomb="lagged", gap_scale=1.0):
+        if formulation not in FORMULATIONS:
+            raise SolverError(f"formulation must be one of {FORMULATIONS}, "
+                              f"got {formulation!r}")
+        if coulomb not in COULOMB:
+            raise SolverError(f"coulomb must be one of {COULOMB}, got "
+                              f"{coulomb!r}")
+        n = K.shape[0]
+        self.n, self.m = n, len(geometry.dofs)
+        self.K, self.f = sp.csr_matrix(K), np.asarray(f, float)
+        self.geometry, self.lumped = geometry, np.asarray(lumped, float)
+        self.friction, self.formulation = float(friction), formulation
+        self.coulomb, self.gap_scale = coulomb, float(gap_scale)
+        a, b = geometry.dofs[:, 0], geometry.dofs[:, 1]
+        nu = geometry.normal
+        other = np.setdiff1d(np.arange(n), geometry.dofs.ravel())
+        rows = np.concatenate([other, a, a, b, b])
+        cols = np.concatenate([other, a, b, a, b])
+        vals = np.concatenate([np.ones(len(other)), -nu[:, 1], nu[:, 0],
+                               nu[:, 0], nu[:, 1]])
+        self.R = sp.csr_matrix((vals, (rows, cols)), shape=(n, n))
+        self.x_rows, self.t_rows, self.n_rows = other, a, b  # X, Z, Y
+        self.RK = (self.R @ self.K).tocsr()
+        self.Rf = self.R @ self.f
+        diagonal = self.K.diagonal()
+        self.stiffness = float(diagonal[geometry.dofs].mean()) \
+            if self.m else 1.0
+        # c_t of the projection: stiffness per unit contact length.
+        self.c_t = self.stiffness / float(self.lumped.mean()) \
+            if self.m else 1.0
+        m = self.m
+        I, Z0 = sp.identity(m, format="csr"), sp.csr_matrix((m, m))
+        self._I, self._Z0 = I, Z0
+        RK, R = self.RK, self.R
+        if formulation == "thesis":
+            Zn = sp.csr_matrix((m, n))
+            self._JE = sp.bmat([
+                [RK[other], None, None, None],
+                [RK[a], -sp.diags(self.lumped), None, None],
+                [R[a], None, -I, I]], format="csr")
+            self._JA = sp.bmat([[-RK[b], Z0, Z0, Z0], [Zn, Z0, Z0, I],
+                                [Zn, Z0, I, Z0]], format="csr")
+            self._JB_normal = sp.hstack([-self.gap_scale * R[b], Z0, Z0,
+                                         Z0], format="csr")
+        else:
+            self._JE_fixed = sp.bmat([
+                [RK[other], sp.csr_matrix((len(other), m))],
+                [RK[a], -sp.diags(self.lumped)]], format="csr")
+            self._JA = sp.hstack([-RK[b], Z0], format="csr")
+            self._JB = sp.hstack([-self.gap_scale * R[b], Z0], format="csr")
+        self.set_step(np.zeros(n), 1.0, np.zeros(m))
+
+    @property
+    def n_unknowns(self):
+        return self.n + (3 if self.formulation == "thesis" else 1) * self.m
+
+    def set_step(self, u_previous, load_factor, p_previous):
+        """Fix u_{κ−1}, κ/κc and the lagged pressure p_{κ−1} of a step."""
+        self.u_previous = np.asarray(u_previous, float)
+        self.load_factor = float(load_factor)
+        self.p_previous = np.asarray(p_previous, float)
+        self._r_previous = self.RK @ self.u_previous
+
+    def _split(self, x):
+        """(Δu, g_t, Δu_t⁺, Δu_t⁻) from the unknown vector x.
+
+        x holds the traction as ĝ = g_t / c_t, a length like every other
+        unknown: the descent test (26) of the FB method, ∇ψᵀd ≤ −ρ‖d‖ᵖ,
+        compares norms of d and is meaningless when d mixes displacements
+        (~1e-3) with tractions (~1e2); unscaled, it rejects good Newton
+        directions and the method stalls on gradient steps.
+        """
+        n, m = self.n, self.m
+        return (x[:n], self.c_t * x[n:n + m], x[n + m:n + 2 * m],
+                x[n + 2 * m:])
+
+    def traction(self, x):
+        """g_t from the unknown vector x."""
+        return self.c_t * x[self.n:self.n + self.m]
+
+    def _force(self, du):
+        """r = R(Ku − f_κ) with u = u_{κ−1} + Δu."""
+        return self._r_previous + self.RK @ du - self.load_factor * self.Rf
+
+    def pressure(self, r):
+        """Lumped contact pressure of the current iterate, ≥ 0."""
+        return np.maximum(-r[self.n_rows], 0.0) / self.lumped
+
+    def bound(self, r):
+        """f_c p and its derivative rows (None if lagged)."""
+        if self.coulomb == "lagged":
+            return self.friction * self.p_previous, None
+        active = (-r[self.n_rows] > 0.0) / self.lumped
+        d = -self.friction * (sp.diags(active) @ self.RK[self.n_rows])
+        return self.friction * self.pressure(r), d
+
+    def residual(self, x):
+        du, g, dp, dm = self._split(x)
+        r = self._force(du)
+        u = self.u_previous + du
+        lam = -r[self.n_rows]
+        gap = self.gap_scale * (self.geometry.gap - (self.R @ u)[self.n_rows])
+        b, _ = self.bound(r)
+        tangential = r[self.t_rows] - self.lumped * g
+        if self.formulation == "thesis":
+            split = (self.R @ du)[self.t_rows] - dp + dm
+            E = np.concatenate([r[self.x_rows], tangential, split])
+            A = np.concatenate([lam, dm, dp])
+            B = np.concatenate([gap, b - g, b + g])
+        else:
+            w = g - self.c_t * (self.R @ du)[self.t_rows]
+            E = np.concatenate([r[self.x_rows], tangential,
+                                g - np.clip(w, -b, b)])
+            A, B = lam, gap
+        return E, A, B
+
+    def jacobian(self, x):
+        """(JE, JA, JB) with respect to x (ĝ columns scaled by c_t)."""
+        scale = np.ones(self.n_unknowns)
+        scale[self.n:self.n + self.m] = self.c_t
+        S = sp.diags(scale)
+        return tuple((J @ S).tocsr() for J in self._jacobian(x))
+
+    def _jacobian(self, x):
+        du, g, dp, dm = self._split(x)
+        r = self._force(du)
+        b, db = self.bound(r)
+        if self.formulation == "thesis":
+            if db is None:
+                JB = sp.vstack([self._JB_normal,
+                                sp.hstack([sp.csr_matrix((self.m, self.n)),
+                                           -self._I, self._Z0, self._Z0]),
+                                sp.hstack([sp.csr_matrix((self.m, self.n)),
+                                           self._I, self._Z0, self._Z0])],
+                               format="csr")
+            else:
+                JB = sp.vstack([self._JB_normal,
+                                sp.hstack([db, -self._I, self._Z0,
+                                           self._Z0]),
+                                sp.hstack([db, self._I, self._Z0,
+                                           self._Z0])], format="csr")
+            return self._JE, self._JA, JB
+        # projection row: g − clip(w, −b, b), w = g − c_t ZRΔu
+        w = g - self.c_t * (self.R @ du)[self.t_rows]
+        stick = np.abs(w) < b
+        upper = ~stick & (w >= 0)
+        stick_rows = sp.diags(stick.astype(float)) @ (
+            self.c_t * self.R[self.t_rows])
+        slip_g = sp.diags((~stick).astype(float))
+        rows_du = stick_rows
+        if db is not None:
+            sign = np.where(upper, -1.0, 1.0) * (~stick)
+            rows_du = rows_du + sp.diags(sign) @ db
+        J3 = sp.hstack([rows_du, slip_g], format="csr")
+        return sp.vstack([self._JE_fixed, J3], format="csr"), self._JA, \
+            self._JB
+
+    def error(self, E, A, B):
+        """Stopping measure in force units (cf. FrictionlessSystem.error)."""
+        k, c = self.stiffness, self.gap_scale
+        m, nx = self.m, len(self.x_rows)
+        if self.formulation == "thesis":
+            E = np.concatenate([E[:nx + m], k * E[nx + m:]])
+            pairs = np.concatenate([
+                np.minimum(A[:m], k / c * B[:m]),
+                np.minimum(k * A[m:2 * m], self.lumped * B[m:2 * m]),
+                np.minimum(k * A[2 * m:], self.lumped * B[2 * m:])])
+        else:
+            E = np.concatenate([E[:nx + m], self.lumped * E[nx + m:]])
+            pairs = np.minimum(A, k / c * B)
+        return float(np.hypot(np.linalg.norm(E), np.linalg.norm(pairs)))
+
+    def initial_guess(self, g_previous):
+        """Each step starts from the previous solution: Δu = 0, same g_t."""
+        x = np.zeros(self.n_unknowns)
+        x[self.n:self.n + self.m] = np.asarray(g_previous) / self.c_t
+        return x
+
+
+def solve_friction(problem, friction, steps=100, formulation="thesis",
+                   coulomb="lagged", method="fb", gap="obstacle", tol=1e-10,
+                   max_iter=100, gap_scale=1.0, options=None, progress=None,
+                   geometry=None):
+    r"""Quasi-static Coulomb friction in load steps (thesis §5, (110)/(111)).
+
+    Parameters
+    ----------
+    problem : ContactProblem
+    friction : float
+        Coefficient of friction f_c ≥ 0.
+    steps : int
+        Number of load steps κc; step κ applies κ/κc · f.
+    formulation : {"thesis", "projection"}
+        The thesis's split (110)/(111) or the projection form (see module).
+    coulomb : {"lagged", "implicit"}
+        Friction bound from the previous step's pressure (thesis) or from
+        the current one.
+    method : {"fb", "min"}
+        Newton method of each step (the thesis used φ_FB only).
+    gap : {"obstacle", "body"}
+        As in :func:`solve_frictionless`.
+    tol, max_iter, gap_scale, options
+        Per step, as in :func:`solve_frictionless`.
+    progress : callable, optional
+        ``progress(step_record)`` after every completed step.
+    geometry : ContactGeometry, optional
+
+    Returns
+    -------
+    OptimizeResult
+        ``success``, ``message``, ``steps_completed``, ``failed_step``
+        (None or κ), totals ``njev``, ``nfev``, ``nit``, ``time``; per step
+        (arrays, first axis = completed steps): ``load_factor``,
+        ``displacement`` (nodal), ``u`` (reduced), ``contact_force`` λ,
+        ``contact_pressure`` (lumped λ/D), ``friction_traction`` g_t,
+        ``tangential_displacement``, ``in_contact``, ``stick``, ``slip``
+        (over all nodes of Γc; supports are never in contact), and
+        ``records``: a list of dicts (κ, converged, njev, nfev, nit,
+        n_contact, n_stick, n_slip, error, message).
+    """
+    if not np.isfinite(friction) or friction < 0:
+        raise SolverError(f"friction coefficient must be >= 0, got "
+                          f"{friction!r}")
+    if int(steps) != steps or steps < 1:
+        raise SolverError(f"number of load steps must be a positive "
+                          f"integer, got {steps!r}")
+    start = time.perf_counter()
+    if geometry is None:
+        geometry = contact_geometry(problem, gap)
+    lumped_all = np.asarray(problem.M.sum(axis=1)).ravel()
+    lumped = lumped_all[geometry.index]
+    system = FrictionSystem(problem.K, problem.f, geometry, lumped, friction,
+                            formulation, coulomb, gap_scale)
+    scale = max(np.linalg.norm(problem.f), 1.0)
+    nc, idx = problem.n_contact, geometry.index
+    u = np.zeros(problem.n_dofs)
+    p_previous = np.zeros(system.m)
+    g = np.zeros(system.m)
+    fields = {k: [] for k in ("load_factor", "u", "displacement",
+                              "contact_force", "contact_pressure",
+                              "friction_traction", "tangential_displacement",
+                              "in_contact", "stick", "slip")}
+    records, failed = [], None
+    totals = dict(njev=0, nfev=0, nit=0)
+    message = "all load steps converged"
+    for kappa in range(1, int(steps) + 1):
+        system.set_step(u, kappa / steps, p_previous)
+        result = solve_ncp(system.residual, system.jacobian,
+                           system.initial_guess(g), method=method,
+                           tol=tol * scale, max_iter=max_iter,
+                           options=options, error=system.error)
+        for key in totals:
+            totals[key] += int(result[key])
+        du, g_new = result.x[:system.n], system.traction(result.x)
+        record = dict(step=kappa, converged=bool(result.success),
+                      njev=int(result.njev), nfev=int(result.nfev),
+                      nit=int(result.nit), error=float(result.error),
+                      message=result.message,
+                      gradient_steps=int(sum(s == "gradient" for s in
+                                             result.history["step"])))
+        if not result.success:
+            failed = kappa
+            record.update(n_contact=None, n_stick=None, n_slip=None,
+                          residual_history=list(map(float, result.history[
+                              "residual"])))
+            records.append(record)
+            message = (f"load step {kappa} of {steps} did not converge: "
+                       f"{result.message}")
+            break
+        u = u + du
+        g = g_new
+        r = system._force(du)
+        lam = -r[system.n_rows]
+        pressure = np.maximum(lam, 0.0) / lumped
+        bound = friction * (p_previous if coulomb == "lagged" else pressure)
+        threshold = 1e-9 * max(scale, np.abs(lam).max(initial=0.0))
+        contact = lam > threshold
+        # Slip: the traction is at the Coulomb bound (a node in contact with
+        # a zero bound slides freely); stick: strictly inside it.
+        at_bound = np.abs(g) >= bound * (1 - 1e-6) - 1e-12 * scale
+        slip_nodes = contact & at_bound
+        stick_nodes = contact & ~slip_nodes
+        ut = (system.R @ u)[system.t_rows]
+        record.update(n_contact=int(contact.sum()),
+                      n_stick=int(stick_nodes.sum()),
+                      n_slip=int(slip_nodes.sum()),
+                      max_pressure=float(pressure.max(initial=0.0)))
+        records.append(record)
+
+        def full(values, fill=0.0, dtype=float):
+            out = np.full(nc, fill, dtype=dtype)
+            out[idx] = values
+            return out
+
+        fields["load_factor"].append(kappa / steps)
+        fields["u"].append(u.copy())
+        fields["displacement"].append(
+            problem.full_displacement(u) if problem.kind == "mesh"
+            else u[problem.contact_dofs])
+        fields["contact_force"].append(full(lam))
+        fields["contact_pressure"].append(full(pressure))
+        fields["friction_traction"].append(full(g))
+        fields["tangential_displacement"].append(full(ut, np.nan))
+        fields["in_contact"].append(full(contact, False, bool))
+        fields["stick"].append(full(stick_nodes, False, bool))
+        fields["slip"].append(full(slip_nodes, False, bool))
+        p_previous = pressure
+        if progress is not None:
+            progress(record)
+    arrays = {k: np.array(v) for k, v in fields.items()}
+    return OptimizeResult(
+        success=failed is None, message=message, failed_step=failed,
+        steps=int(steps), steps_completed=len(arrays["load_factor"]),
+        friction=float(friction), formulation=formulation, coulomb=coulomb,
+        method=method, gap_mode=geometry.mode, records=records,
+        time=time.perf_counter() - start, **totals, **arrays)
