@@ -35,11 +35,13 @@ def build_parser():
                     "sfepy_problems/*.py (format version "
                     f"{FORMAT_VERSION}).")
     parser.add_argument("problem", help="problem file (.npz)")
-    parser.add_argument("--method", choices=("min", "fb"), default="min",
+    parser.add_argument("--method", choices=("min", "fb"), default=None,
                         help="semismooth Newton method: damped Newton with "
                              "the min function (thesis §2.2.1) or the "
                              "Fischer-Burmeister method of De Luca, "
-                             "Facchinei and Kanzow (§2.2.2); default min")
+                             "Facchinei and Kanzow (§2.2.2); default min "
+                             "without friction, fb with friction (as the "
+                             "thesis)")
     parser.add_argument("--gap", choices=("obstacle", "body"),
                         default="obstacle",
                         help="gaps and normals from the obstacle's normals "
@@ -59,6 +61,27 @@ def build_parser():
                         help="scale c of the gap rows, B = c (s - YRu): "
                              "same solution, other Newton path; default 1 "
                              "(the thesis)")
+    friction = parser.add_argument_group(
+        "Coulomb friction by load steps (thesis §5)")
+    friction.add_argument("--friction", type=_nonnegative_float,
+                          metavar="F_C",
+                          help="coefficient of friction f_c >= 0; without "
+                               "it the problem is frictionless")
+    friction.add_argument("--steps", type=_positive_int, default=100,
+                          help="number of load steps; step k applies "
+                               "k/steps * f (default 100)")
+    friction.add_argument("--formulation", choices=("thesis", "projection"),
+                          default="thesis",
+                          help="thesis: the split tangential increment of "
+                               "(110)/(111) (singular where p = 0, the min "
+                               "method fails on it); projection: "
+                               "g_t = proj(g_t - c du_t), non-degenerate "
+                               "(default thesis)")
+    friction.add_argument("--coulomb", choices=("lagged", "implicit"),
+                          default="lagged",
+                          help="friction bound from the previous step's "
+                               "normal force (thesis) or the current one's "
+                               "(default lagged)")
     parser.add_argument("--plots", action="store_true",
                         help="also write PNG figures (deformed body, "
                              "displacements, convergence, contact "
@@ -82,6 +105,17 @@ def _positive_float(text):
         raise argparse.ArgumentTypeError(f"not a number: {text!r}") from None
     if not value > 0 or value == float("inf"):
         raise argparse.ArgumentTypeError(f"must be positive and finite: "
+                                         f"{text!r}")
+    return value
+
+
+def _nonnegative_float(text):
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not a number: {text!r}") from None
+    if not 0 <= value < float("inf"):
+        raise argparse.ArgumentTypeError(f"must be >= 0 and finite: "
                                          f"{text!r}")
     return value
 
@@ -157,17 +191,28 @@ def main(argv=None):
 def _default_outdir(args, problem):
     stem = os.path.splitext(args.problem)[0]
     gap = args.gap if problem.kind == "mesh" else "given"
+    if args.friction is not None:
+        return (f"{stem}-fc{args.friction:g}-{args.steps}steps-"
+                f"{args.formulation}-{args.coulomb}-{args.method}")
     return f"{stem}-{args.method}-{gap}"
 
 
-def _solve(args, problem):
-    from .contact import solve_frictionless
-    from .output import summary_of, write_result, write_summary, write_vtk
-
+def _prepare_outdir(args, problem):
     outdir = args.outdir or _default_outdir(args, problem)
     os.makedirs(outdir, exist_ok=True)
     if not os.access(outdir, os.W_OK):
         raise PermissionError(13, "permission denied", outdir)
+    return outdir
+
+
+def _solve(args, problem):
+    if args.friction is not None:
+        return _solve_friction(args, problem)
+    from .contact import solve_frictionless
+    from .output import summary_of, write_result, write_summary, write_vtk
+
+    args.method = args.method or "min"
+    outdir = _prepare_outdir(args, problem)
     result = solve_frictionless(problem, method=args.method, gap=args.gap,
                                 tol=args.tol, max_iter=args.max_iter,
                                 gap_scale=args.gap_scale)
@@ -188,6 +233,77 @@ def _solve(args, problem):
               f"residual history ||Phi||: [{history}]", file=sys.stderr)
         return EXIT_NOT_CONVERGED
     return EXIT_OK
+
+
+def _solve_friction(args, problem):
+    from tqdm import tqdm
+
+    from .contact import contact_geometry, solve_friction
+    from .output import (friction_summary_of, write_friction_result,
+                         write_summary, write_vtk_series)
+
+    args.method = args.method or "fb"
+    geometry = contact_geometry(problem, args.gap)  # input errors first
+    outdir = _prepare_outdir(args, problem)
+    with tqdm(total=args.steps, desc="load steps", unit="step",
+              file=sys.stderr, disable=None) as bar:
+        def progress(record):
+            bar.set_postfix(J=record["njev"], contact=record["n_contact"],
+                            slip=record["n_slip"])
+            bar.update()
+
+        result = solve_friction(
+            problem, args.friction, steps=args.steps,
+            formulation=args.formulation, coulomb=args.coulomb,
+            method=args.method, gap=args.gap, tol=args.tol,
+            max_iter=args.max_iter, gap_scale=args.gap_scale,
+            progress=progress, geometry=geometry)
+    summary = friction_summary_of(result, problem, tol=args.tol,
+                                  max_iter=args.max_iter)
+    if result.steps_completed:
+        write_friction_result(os.path.join(outdir, "result.npz"), result,
+                              problem)
+        if problem.kind == "mesh":
+            write_vtk_series(outdir, result, problem)
+        if args.plots:
+            from .output.figures import write_friction_figures
+
+            write_friction_figures(outdir, problem, result)
+    write_summary(os.path.join(outdir, "summary.json"), summary)
+    print(format_friction_result(summary, outdir))
+    if not result.success:
+        failed = result.records[-1]
+        history = ", ".join(f"{r:.3e}" for r in failed["residual_history"])
+        print(f"error: {result.message} after {failed['nit']} iterations; "
+              f"residual history ||Phi||: [{history}]; "
+              f"{result.steps_completed} completed steps kept in {outdir}/",
+              file=sys.stderr)
+        return EXIT_NOT_CONVERGED
+    return EXIT_OK
+
+
+def format_friction_result(summary, outdir):
+    """A readable summary of a friction run."""
+    state = "converged" if summary["converged"] else "NOT CONVERGED"
+    lines = [
+        f"f_c = {summary['friction']:g}, {summary['steps']} load steps, "
+        f"{summary['formulation']} formulation, {summary['coulomb']} "
+        f"normal force, {summary['method']} method: {state}",
+        f"steps completed   {summary['steps_completed']} of "
+        f"{summary['steps']}",
+        f"evaluations       J {summary['n_jacobian']}, F "
+        f"{summary['n_residual']} in total (thesis Table 2 metrics)",
+        f"gradient steps    {summary['gradient_steps']}"]
+    if summary["steps_completed"]:
+        lines += [
+            f"last step         {summary['final_n_contact']} nodes in "
+            f"contact: {summary['final_n_stick']} stick, "
+            f"{summary['final_n_slip']} slip; max pressure "
+            f"{summary['final_max_contact_pressure']:.6g}"]
+    lines += [f"reduced DOFs      {summary['n_dof']}",
+              f"wall time         {summary['wall_time']:.3f} s",
+              f"outputs           {outdir}/"]
+    return "\n".join(lines)
 
 
 def format_result(summary, outdir):

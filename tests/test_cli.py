@@ -160,3 +160,65 @@ def test_unwritable_outdir_exit_2(bar_problem, tmp_path, capsys):
     assert main([str(path), "-o", str(blocker / "sub")]) == 2
     err = capsys.readouterr().err
     assert err.startswith("error: cannot write") and err.count("\n") == 1
+
+
+def test_friction_run_outputs(exported, tmp_path, capsys):
+    path = exported(118)[0]
+    out = tmp_path / "fric"
+    assert main([str(path), "--friction", "0.3", "--steps", "8", "-o",
+                 str(out), "--plots"]) == 0
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["mode"] == "friction" and summary["converged"] is True
+    assert summary["method"] == "fb"  # the thesis's method for friction
+    assert summary["formulation"] == "thesis"
+    assert summary["coulomb"] == "lagged"
+    assert len(summary["per_step"]) == 8 == summary["steps_completed"]
+    assert summary["n_jacobian"] == sum(r["njev"] for r in
+                                        summary["per_step"])
+    assert summary["n_residual"] == sum(r["nfev"] for r in
+                                        summary["per_step"])
+    with np.load(out / "result.npz") as result:
+        assert result["displacement"].shape == (8, 74, 2)
+        assert result["friction_traction"].shape == (8, 11)
+        np.testing.assert_array_equal(result["step_njev"],
+                                      [r["njev"] for r in
+                                       summary["per_step"]])
+    assert len(list((out / "steps").glob("step_*.vtu"))) == 8
+    assert (out / "result.pvd").read_text().count("<DataSet") == 8
+    assert sorted(p.name for p in out.glob("*.png")) == [
+        "deformed.png", "friction_along_gc.png", "history.png"]
+    assert "Table 2" in capsys.readouterr().out
+
+
+def test_friction_failure_keeps_completed_steps(exported, tmp_path, capsys):
+    """A real failure: FB with the implicit bound and f_c = 100 stalls in
+    load step 4 of 20 on the 454 mesh (see test_friction); the three
+    completed steps stay on disk."""
+    path = exported(454)[0]
+    out = tmp_path / "fail"
+    assert main([str(path), "--friction", "100", "--coulomb", "implicit",
+                 "--formulation", "projection", "--steps", "20",
+                 "-o", str(out)]) == 3
+    err = capsys.readouterr().err
+    assert "load step 4 of 20 did not converge" in err
+    assert "residual history" in err and "3 completed steps kept" in err
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["converged"] is False and summary["failed_step"] == 4
+    assert summary["per_step"][-1]["converged"] is False
+    with np.load(out / "result.npz") as result:
+        assert len(result["load_factor"]) == 3 == summary["steps_completed"]
+        assert not result["converged"]
+    assert len(list((out / "steps").glob("*.vtu"))) == 3
+
+
+@pytest.mark.parametrize("argv", [["--friction", "-0.5"],
+                                  ["--friction", "nan"],
+                                  ["--friction", "0.3", "--steps", "0"],
+                                  ["--friction", "0.3", "--formulation",
+                                   "tresca"]])
+def test_friction_bad_options_exit_2(bar_problem, tmp_path, capsys, argv):
+    path = save_problem(tmp_path / "bar.npz", bar_problem)
+    with pytest.raises(SystemExit) as exc:
+        main([str(path)] + argv)
+    assert exc.value.code == 2
+    assert len(capsys.readouterr().err.strip().splitlines()) == 1

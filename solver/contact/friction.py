@@ -302,6 +302,7 @@ def solve_friction(problem, friction, steps=100, formulation="thesis",
         (arrays, first axis = completed steps): ``load_factor``,
         ``displacement`` (nodal), ``u`` (reduced), ``contact_force`` λ,
         ``contact_pressure`` (lumped λ/D), ``friction_traction`` g_t,
+        ``friction_bound`` f_c p used in the step (p_{κ−1} if lagged),
         ``tangential_displacement``, ``in_contact``, ``stick``, ``slip``
         (over all nodes of Γc; supports are never in contact), and
         ``records``: a list of dicts (κ, converged, njev, nfev, nit,
@@ -327,8 +328,9 @@ def solve_friction(problem, friction, steps=100, formulation="thesis",
     g = np.zeros(system.m)
     fields = {k: [] for k in ("load_factor", "u", "displacement",
                               "contact_force", "contact_pressure",
-                              "friction_traction", "tangential_displacement",
-                              "in_contact", "stick", "slip")}
+                              "friction_traction", "friction_bound",
+                              "tangential_displacement", "in_contact",
+                              "stick", "slip")}
     records, failed = [], None
     totals = dict(njev=0, nfev=0, nit=0)
     message = "all load steps converged"
@@ -389,6 +391,7 @@ def solve_friction(problem, friction, steps=100, formulation="thesis",
         fields["contact_force"].append(full(lam))
         fields["contact_pressure"].append(full(pressure))
         fields["friction_traction"].append(full(g))
+        fields["friction_bound"].append(full(bound))
         fields["tangential_displacement"].append(full(ut, np.nan))
         fields["in_contact"].append(full(contact, False, bool))
         fields["stick"].append(full(stick_nodes, False, bool))

@@ -7,7 +7,8 @@ function returns the Figure and, given ``path``, saves it as PNG.
 import numpy as np
 
 __all__ = ["plot_deformed", "plot_displacement_arrows", "plot_convergence",
-           "plot_contact_pressure", "write_figures"]
+           "plot_contact_pressure", "write_figures", "plot_step_history",
+           "plot_friction_along_boundary", "write_friction_figures"]
 
 
 def _pyplot():
@@ -150,6 +151,100 @@ def write_figures(folder, problem, result):
                                                        path=p)),
                  ("displacement",
                   lambda p: plot_displacement_arrows(problem, result, p))]
+    for name, job in jobs:
+        path = os.path.join(folder, f"{name}.png")
+        plt.close(job(path))
+        paths[name] = path
+    return paths
+
+
+def plot_step_history(problem, result, node=None, path=None):
+    """Contact force, friction force, u_x and u_y of one contact node per
+    load step (thesis Fig. 18-21 for the bar's point A).
+
+    ``node`` is a position along Γc; default: the node with the largest
+    final contact force (for the bar, its only node A).
+    """
+    plt = _pyplot()
+    if node is None:
+        node = int(np.argmax(result.contact_force[-1]))
+    steps = np.arange(1, result.steps_completed + 1)
+    lumped = np.asarray(problem.M.sum(axis=1)).ravel()[node]
+    if problem.kind == "mesh":
+        u = result.displacement[:, problem.contact_nodes[node]]
+        where = problem.nodes[problem.contact_nodes[node]]
+        label = f"contact node at ({where[0]:g}, {where[1]:g})"
+    else:
+        u = result.displacement[:, node]
+        label = "point A"
+    fig, axes = plt.subplots(2, 2, figsize=(10, 7), sharex=True)
+    panels = [
+        (axes[0, 0], result.contact_force[:, node], "contact force λ [force]",
+         "Fig. 18: contact force"),
+        (axes[0, 1], lumped * result.friction_traction[:, node],
+         "friction force t = D g_t [force]", "Fig. 19: friction force"),
+        (axes[1, 0], u[:, 0], "u_x [length]", "Fig. 20: u_x"),
+        (axes[1, 1], u[:, 1], "u_y [length]", "Fig. 21: u_y")]
+    for ax, values, ylabel, title in panels:
+        ax.plot(steps, values, ".-")
+        ax.set_ylabel(ylabel)
+        ax.set_title(title, fontsize=10)
+        ax.grid(alpha=0.3)
+    for ax in axes[1]:
+        ax.set_xlabel("load step κ")
+    fig.suptitle(f"{label}: f_c = {result.friction:g}, {result.steps} steps, "
+                 f"{result.formulation} formulation, {result.coulomb} "
+                 "normal force")
+    return _save(fig, path)
+
+
+def plot_friction_along_boundary(problem, result, step=-1, path=None):
+    """Contact pressure and friction traction along Γc at one load step
+    (thesis Fig. 23-27), stick and slip nodes marked."""
+    plt = _pyplot()
+    xy = problem.nodes[problem.contact_nodes]
+    arc = np.r_[0, np.cumsum(np.hypot(*np.diff(xy, axis=0).T))]
+    p = result.contact_pressure[step]
+    g = result.friction_traction[step]
+    bound = result.friction_bound[step]
+    stick, slip = result.stick[step], result.slip[step]
+    fig, ax = plt.subplots(figsize=(8, 4.5))
+    ax.plot(arc, p, "o-", label="contact pressure p = λ / D")
+    ax.plot(arc, g, "s-", label="friction traction g_t")
+    ax.plot(arc, bound, "k:", label="± f_c p (bound used in the step)")
+    ax.plot(arc, -bound, "k:")
+    ax.plot(arc[stick], g[stick], "g^", ms=9, label="stick")
+    ax.plot(arc[slip], g[slip], "rv", ms=9, label="slip")
+    ax.axhline(0.0, color="0.5", lw=0.8)
+    ax.set_xlabel("arc length along Γc from its first node [length]")
+    ax.set_ylabel("traction [force / length]")
+    k = result.steps_completed if step == -1 else step + 1
+    ax.set_title(f"step {k} of {result.steps}, f_c = {result.friction:g} "
+                 f"({result.formulation}, {result.coulomb})")
+    ax.legend(fontsize=8)
+    return _save(fig, path)
+
+
+def write_friction_figures(folder, problem, result):
+    """Per-step history; for a mesh also the deformed body and tractions
+    along Γc at the last completed step. Returns the paths."""
+    import os
+    from types import SimpleNamespace
+
+    plt = _pyplot()
+    paths = {}
+    jobs = [("history", lambda p: plot_step_history(problem, result,
+                                                     path=p))]
+    if problem.kind == "mesh":
+        last = SimpleNamespace(displacement=result.displacement[-1],
+                               in_contact=result.in_contact[-1],
+                               method=f"{result.method}, f_c = "
+                                      f"{result.friction:g},",
+                               gap_mode=result.gap_mode)
+        jobs += [("deformed", lambda p: plot_deformed(problem, last, path=p)),
+                 ("friction_along_gc",
+                  lambda p: plot_friction_along_boundary(problem, result,
+                                                         path=p))]
     for name, job in jobs:
         path = os.path.join(folder, f"{name}.png")
         plt.close(job(path))

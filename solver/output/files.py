@@ -12,7 +12,8 @@ import tempfile
 import numpy as np
 
 __all__ = ["atomic_path", "write_summary", "write_result", "write_vtk",
-           "summary_of"]
+           "summary_of", "friction_summary_of", "write_friction_result",
+           "write_vtk_series"]
 
 
 @contextlib.contextmanager
@@ -115,3 +116,92 @@ def write_vtk(path, result, problem):
                                    "in_contact": mask, "initial_gap": gap})
     with atomic_path(path) as tmp:
         meshio.write(tmp, mesh, file_format="vtu")
+
+
+def friction_summary_of(result, problem, **extra):
+    """The ``summary.json`` fields of a friction run (Table 2's metrics)."""
+    summary = {
+        "problem": problem.source,
+        "kind": problem.kind,
+        "mode": "friction",
+        "friction": result.friction,
+        "steps": result.steps,
+        "steps_completed": int(result.steps_completed),
+        "failed_step": result.failed_step,
+        "formulation": result.formulation,
+        "coulomb": result.coulomb,
+        "method": result.method,
+        "gap": result.gap_mode,
+        "converged": bool(result.success),
+        "message": result.message,
+        "n_jacobian": int(result.njev),
+        "n_residual": int(result.nfev),
+        "iterations": int(result.nit),
+        "gradient_steps": int(sum(r["gradient_steps"]
+                                  for r in result.records)),
+        "n_dof": int(problem.n_dofs),
+        "wall_time": float(result.time),
+        "per_step": result.records,
+    }
+    if result.steps_completed:
+        summary.update(
+            final_n_contact=int(result.in_contact[-1].sum()),
+            final_n_stick=int(result.stick[-1].sum()),
+            final_n_slip=int(result.slip[-1].sum()),
+            final_max_contact_pressure=float(
+                result.contact_pressure[-1].max()))
+    summary.update(extra)
+    return summary
+
+
+def write_friction_result(path, result, problem):
+    """``result.npz`` of a friction run: per-step fields (first axis =
+    completed load steps) and per-step counts."""
+    records = result.records[:result.steps_completed]
+    arrays = {key: result[key] for key in (
+        "load_factor", "u", "displacement", "contact_force",
+        "contact_pressure", "friction_traction", "friction_bound",
+        "tangential_displacement", "in_contact", "stick", "slip")}
+    arrays.update(
+        contact_nodes=(problem.contact_nodes if problem.kind == "mesh"
+                       else np.arange(problem.n_contact)),
+        step_njev=np.array([r["njev"] for r in records], dtype=np.int64),
+        step_nfev=np.array([r["nfev"] for r in records], dtype=np.int64),
+        converged=np.array(bool(result.success)),
+        steps_completed=np.array(result.steps_completed))
+    with atomic_path(path) as tmp:
+        with open(tmp, "wb") as stream:
+            np.savez_compressed(stream, **arrays)
+
+
+def write_vtk_series(folder, result, problem):
+    """One ``.vtu`` per completed load step and a ParaView ``.pvd`` index."""
+    import meshio
+
+    os.makedirs(os.path.join(folder, "steps"), exist_ok=True)
+    n = len(problem.nodes)
+    points = np.c_[problem.nodes, np.zeros(n)]
+    entries = []
+    for k in range(result.steps_completed):
+        data = {"u": np.c_[result.displacement[k], np.zeros(n)]}
+        for name, fill, dtype in (("contact_pressure", 0.0, float),
+                                  ("friction_traction", 0.0, float),
+                                  ("in_contact", 0, np.int32),
+                                  ("stick", 0, np.int32),
+                                  ("slip", 0, np.int32)):
+            values = np.full(n, fill, dtype=dtype)
+            values[problem.contact_nodes] = result[name][k]
+            data[name] = values
+        name = os.path.join("steps", f"step_{k + 1:04d}.vtu")
+        mesh = meshio.Mesh(points, [("triangle", problem.cells)],
+                           point_data=data)
+        with atomic_path(os.path.join(folder, name)) as tmp:
+            meshio.write(tmp, mesh, file_format="vtu")
+        entries.append(f'    <DataSet timestep="{result.load_factor[k]!r}" '
+                       f'file="{name}"/>')
+    pvd = ('<?xml version="1.0"?>\n<VTKFile type="Collection" '
+           'version="0.1">\n  <Collection>\n' + "\n".join(entries)
+           + "\n  </Collection>\n</VTKFile>\n")
+    with atomic_path(os.path.join(folder, "result.pvd")) as tmp:
+        with open(tmp, "w") as stream:
+            stream.write(pvd)
