@@ -40,7 +40,7 @@ def _obstacle_curve(problem, y_range):
     return curve.point(t)
 
 
-def plot_deformed(problem, result, scale=1.0, path=None):
+def plot_deformed(problem, result, scale=1.0, path=None, title=None):
     """Deformed body, contact nodes starred, obstacle in blue (thesis Fig. 4,
     left). ``scale`` magnifies the displacements; with scale ≠ 1 the body
     appears to cross the (unscaled) obstacle."""
@@ -59,7 +59,7 @@ def plot_deformed(problem, result, scale=1.0, path=None):
     ax.set_aspect("equal")
     ax.set_xlabel("x [length]")
     ax.set_ylabel("y [length]")
-    ax.set_title(f"deformed body, displacements × {scale:g}\n"
+    ax.set_title(title or f"deformed body, displacements × {scale:g}\n"
                  f"{result.method} method, gap from {result.gap_mode}")
     ax.legend(loc="lower left", fontsize=8)
     return _save(fig, path)
@@ -237,11 +237,12 @@ def write_friction_figures(folder, problem, result):
                                                      path=p))]
     if problem.kind == "mesh":
         last = SimpleNamespace(displacement=result.displacement[-1],
-                               in_contact=result.in_contact[-1],
-                               method=f"{result.method}, f_c = "
-                                      f"{result.friction:g},",
-                               gap_mode=result.gap_mode)
-        jobs += [("deformed", lambda p: plot_deformed(problem, last, path=p)),
+                               in_contact=result.in_contact[-1])
+        title = (f"deformed body after step {result.steps_completed} of "
+                 f"{result.steps}\nf_c = {result.friction:g}, "
+                 f"{result.formulation} formulation, {result.method} method")
+        jobs += [("deformed", lambda p: plot_deformed(problem, last, path=p,
+                                                       title=title)),
                  ("friction_along_gc",
                   lambda p: plot_friction_along_boundary(problem, result,
                                                          path=p))]
