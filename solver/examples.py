@@ -10,7 +10,7 @@ import scipy.sparse as sp
 
 from .problem import ContactProblem
 
-__all__ = ["two_dof_bar"]
+__all__ = ["two_dof_bar", "two_dof_bar_closed_form"]
 
 
 def two_dof_bar(stiffness=9e4, load=(1000.0, -1000.0), gap=0.005,
@@ -50,3 +50,47 @@ def two_dof_bar(stiffness=9e4, load=(1000.0, -1000.0), gap=0.005,
         meta={"description": "thesis §6 two-DOF bar system (Fig. 17)",
               "load": {"f": list(map(float, load))}},
     ).validate()
+
+
+def two_dof_bar_closed_form(step, friction, coulomb="lagged", steps=100):
+    r"""Exact load path of the thesis's bar with Coulomb friction (§6).
+
+    Derivation (K = k I with k = 9·10⁴, f = (F, −F) with F = 1000, gap
+    s = 0.005 below A, tangent +x, M = [1]; step κ of ``steps`` loads
+    (Fκ/steps, −Fκ/steps), i.e. 10κ per step for 100 steps):
+
+    - While u_n = Fκ/(k·steps) < s the bar is free: u = (1, −1)·Fκ/(k·steps),
+      λ = 0, g_t = 0. The gap closes at κ₀ = s·k·steps/F (= 45).
+    - After that u_y = −s and λ_κ = Fκ/steps − k s (= 10κ − 450). Holding
+      u_x needs a friction force growing by F/steps per step, while λ grows
+      by F/steps per step too: f_c > 1 sticks, f_c < 1 slips in every step
+      (the trial stick force exceeds the bound by induction).
+    - Slip with bound f_c p, p = λ_{κ−1} (lagged) or λ_κ (implicit):
+      g_t = −f_c p, u_x = (Fκ/steps − f_c p)/k.
+    - Stick, implicit: frozen from the first step after κ₀ at u_x = F κ₀ /
+      (k steps); g_t = k u_x − Fκ/steps.
+    - Stick, lagged: the first step after κ₀ has p = λ_{κ₀} = 0 and slides
+      freely to u_x = F(κ₀+1)/(k steps); frozen there afterwards.
+
+    Valid for the thesis's numbers with an integer κ₀ and f_c ≠ 1.
+
+    Returns
+    -------
+    (u_x, u_y, λ, g_t) at load step ``step``.
+    """
+    k, F, s = 9e4, 1000.0, 0.005
+    per_step = F / steps
+    k0 = s * k / per_step
+    if step <= k0:
+        u = per_step * step / k
+        return u, -u, 0.0, 0.0
+    lam = per_step * step - k * s
+    if friction < 1:
+        p = (max(per_step * (step - 1) - k * s, 0.0) if coulomb == "lagged"
+             else lam)
+        return (per_step * step - friction * p) / k, -s, lam, -friction * p
+    frozen = k0 + 1 if coulomb == "lagged" else k0
+    if coulomb == "lagged" and step == k0 + 1:
+        return per_step * step / k, -s, lam, 0.0
+    ux = per_step * frozen / k
+    return ux, -s, lam, k * ux - per_step * step

@@ -6,7 +6,8 @@ with the thesis's numbers beside ours; nothing here prints or plots.
 
 from .contact import contact_geometry, solve_friction, solve_frictionless
 
-__all__ = ["THESIS_TABLE1", "THESIS_TABLE2", "table1", "table2"]
+__all__ = ["THESIS_TABLE1", "THESIS_TABLE2", "table1", "table2",
+           "markdown_table"]
 
 #: Thesis Table 1: (method, elements) -> (J evaluations, F evaluations).
 THESIS_TABLE1 = {("fb", 118): (18, 80), ("min", 118): (6, 61),
@@ -30,7 +31,8 @@ def table1(problems, methods=("fb", "min"), gaps=("obstacle", "body")):
                 rows.append(dict(
                     method=method, elements=elements, gap=gap,
                     thesis_J=thesis[0], thesis_F=thesis[1], J=r.njev,
-                    F=r.nfev, converged=bool(r.success),
+                    F=r.nfev, iterations=r.nit, converged=bool(r.success),
+                    result=r,
                     line_search_failures=sum(r.history["line_search_failed"]),
                     contact_nodes=r.n_contact,
                     max_pressure=float(r.contact_pressure.max()),
@@ -64,3 +66,19 @@ def table2(problem, frictions=(0.05, 0.3, 10.0), steps=100,
                 slip=int(r.slip[-1].sum()) if r.steps_completed else None,
                 time=r.time))
     return rows
+
+
+def markdown_table(rows, columns, headers=None):
+    """Rows (dicts) as a Markdown table of the given columns."""
+    headers = headers or columns
+
+    def text(value):
+        if isinstance(value, float):
+            return f"{value:.3g}"
+        return "–" if value is None else str(value)
+
+    lines = ["| " + " | ".join(headers) + " |",
+             "|" + "---|" * len(columns)]
+    lines += ["| " + " | ".join(text(r[c]) for c in columns) + " |"
+              for r in rows]
+    return "\n".join(lines)

@@ -1,20 +1,9 @@
 """Coulomb friction by load steps (thesis §5-§6).
 
-Independent references: the closed form of the 2-DOF bar derived below, the
-frictionless solver (f_c → 0), and Coulomb's law itself checked node by node.
-
-Closed form of the bar (K = k I, k = 9e4, f = (1000, −1000), s = 0.005,
-ν = (0, −1), 100 steps, tangent = +x): step κ loads (10κ, −10κ).
-- κ ≤ 45: free, u = (10κ, −10κ)/k, λ = 0, g_t = 0 (the gap closes at 45).
-- κ > 45: u_y = −s, λ_κ = 10κ − 450. Holding u_x needs a friction force
-  growing by 10 per step, the normal force grows by 10 per step: f_c > 1
-  sticks, f_c < 1 slips (every step, by induction on the trial force).
-  * slip, bound f_c p with p = λ_{κ−1} (lagged) or λ_κ (implicit):
-    g_t = −f_c p, u_x = (10κ − f_c p)/k;
-  * stick, lagged: step 46 has p = λ_45 = 0 and slides freely to
-    u_x = 460/k; from 47 on u_x = 460/k, g_t = 460 − 10κ;
-  * stick, implicit: stuck from 46 on, u_x = 450/k, g_t = 450 − 10κ.
-(M = [1], so tractions equal nodal forces.)
+Independent references: the closed form of the 2-DOF bar (derived in
+:func:`solver.examples.two_dof_bar_closed_form`, plain arithmetic, no
+solver), the frictionless solver (f_c → 0), and Coulomb's law itself checked
+node by node.
 """
 
 import numpy as np
@@ -23,24 +12,8 @@ import pytest
 from conftest import THESIS_MESHES
 from solver.contact import solve_friction, solve_frictionless
 from solver.errors import SolverError
+from solver.examples import two_dof_bar_closed_form as bar_closed_form
 from solver.problem import load_problem
-
-K_BAR = 9e4
-
-
-def bar_closed_form(kappa, fc, coulomb):
-    """(u_x, u_y, λ, g_t) of the bar at step κ, see the module docstring."""
-    if kappa <= 45:
-        return 10 * kappa / K_BAR, -10 * kappa / K_BAR, 0.0, 0.0
-    lam = 10.0 * kappa - 450
-    if fc < 1:
-        p = max(10.0 * (kappa - 1) - 450, 0) if coulomb == "lagged" else lam
-        return (10 * kappa - fc * p) / K_BAR, -0.005, lam, -fc * p
-    if coulomb == "lagged":
-        if kappa == 46:
-            return 460 / K_BAR, -0.005, lam, 0.0
-        return 460 / K_BAR, -0.005, lam, 460.0 - 10 * kappa
-    return 450 / K_BAR, -0.005, lam, 450.0 - 10 * kappa
 
 
 CASES = [(form, coulomb, method)

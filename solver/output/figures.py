@@ -12,9 +12,14 @@ __all__ = ["plot_deformed", "plot_displacement_arrows", "plot_convergence",
 
 
 def _pyplot():
+    """pyplot, on the Agg backend unless the caller (a notebook) already
+    chose one by importing pyplot itself."""
+    import sys
+
     import matplotlib
 
-    matplotlib.use("Agg")
+    if "matplotlib.pyplot" not in sys.modules:
+        matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
     return plt
@@ -158,12 +163,15 @@ def write_figures(folder, problem, result):
     return paths
 
 
-def plot_step_history(problem, result, node=None, path=None):
+def plot_step_history(problem, result, node=None, path=None,
+                      reference=None):
     """Contact force, friction force, u_x and u_y of one contact node per
     load step (thesis Fig. 18-21 for the bar's point A).
 
     ``node`` is a position along Γc; default: the node with the largest
-    final contact force (for the bar, its only node A).
+    final contact force (for the bar, its only node A). ``reference``, an
+    array (steps, 4) of (u_x, u_y, λ, t) such as the bar's closed form, is
+    drawn as lines under the computed points.
     """
     plt = _pyplot()
     if node is None:
@@ -185,8 +193,14 @@ def plot_step_history(problem, result, node=None, path=None):
          "friction force t = D g_t [force]", "Fig. 19: friction force"),
         (axes[1, 0], u[:, 0], "u_x [length]", "Fig. 20: u_x"),
         (axes[1, 1], u[:, 1], "u_y [length]", "Fig. 21: u_y")]
-    for ax, values, ylabel, title in panels:
-        ax.plot(steps, values, ".-")
+    order = (2, 3, 0, 1)  # reference columns of the four panels
+    for i, (ax, values, ylabel, title) in enumerate(panels):
+        if reference is not None:
+            ax.plot(steps, np.asarray(reference)[:len(steps), order[i]],
+                    "-", color="0.6", lw=3, label="closed form")
+        ax.plot(steps, values, ".", color="C0", label="computed")
+        if reference is not None and i == 0:
+            ax.legend(fontsize=8)
         ax.set_ylabel(ylabel)
         ax.set_title(title, fontsize=10)
         ax.grid(alpha=0.3)

@@ -1,0 +1,64 @@
+"""Regenerate the key figures of the README into docs/figures/.
+
+Usage (from the repository root, after ``pip install .``)::
+
+    python docs/make_figures.py
+
+Exports the thesis block on the 454-element mesh with SfePy (``sfepy-run``),
+then solves it and the 2-DOF bar with the library and saves PNGs.
+"""
+
+import subprocess
+import sys
+import tempfile
+from pathlib import Path
+
+import numpy as np
+
+from solver import load_problem, solve_friction, solve_frictionless, two_dof_bar
+from solver.examples import two_dof_bar_closed_form
+from solver.output import figures
+
+ROOT = Path(__file__).resolve().parent.parent
+FIGURES = ROOT / "docs" / "figures"
+
+
+def export_block(folder, elements=454):
+    script = Path(sys.executable).parent / "sfepy-run"
+    npz = Path(folder) / f"block_{elements}.npz"
+    subprocess.run([str(script) if script.exists() else "sfepy-run",
+                    str(ROOT / "sfepy_problems" / "block_obstacle.py"), "-d",
+                    f"mesh='{ROOT / 'meshes' / f'block_{elements}.mesh'}', "
+                    f"output='{npz}'"], check=True, capture_output=True)
+    return load_problem(npz)
+
+
+def main():
+    FIGURES.mkdir(parents=True, exist_ok=True)
+    plt = figures._pyplot()
+    with tempfile.TemporaryDirectory() as folder:
+        block = export_block(folder)
+    for method in ("fb", "min"):
+        r = solve_frictionless(block, method=method)
+        plt.close(figures.plot_convergence(
+            r, FIGURES / f"frictionless_convergence_{method}.png"))
+    plt.close(figures.plot_deformed(block, r,
+                                    path=FIGURES / "frictionless_deformed.png"))
+    plt.close(figures.plot_contact_pressure(
+        block, r, FIGURES / "frictionless_pressure.png"))
+    bar = two_dof_bar()
+    for fc, name in ((10.0, "10"), (0.5, "0.5")):
+        r = solve_friction(bar, fc, steps=100)
+        exact = np.array([two_dof_bar_closed_form(k, fc)
+                          for k in range(1, 101)])
+        plt.close(figures.plot_step_history(
+            bar, r, reference=exact, path=FIGURES / f"bar_fc{name}.png"))
+    r = solve_friction(block, 0.3, steps=100)
+    plt.close(figures.plot_friction_along_boundary(
+        block, r, path=FIGURES / "friction_tractions_fc0.3.png"))
+    for path in sorted(FIGURES.glob("*.png")):
+        print(path.relative_to(ROOT))
+
+
+if __name__ == "__main__":
+    main()
