@@ -58,82 +58,54 @@ The parameters of ``define()`` can all be set with ``-d``: ``mesh``,
 ``.vtk``), ``E``, ``nu``, ``plane`` ('strain' or 'stress'), ``F`` (the force
 vector) and the obstacle (``obstacle_x``, ``obstacle_y``).
 """
+import importlib.util
 import os.path as op
+import sys
 
 import numpy as nm
 
 from sfepy.mechanics.matcoefs import stiffness_from_youngpoisson
 
-from solver.problem import ContactProblem, save_problem
-from solver.mesh import order_along_boundary
-
 #: Tolerance of region selection by coordinates (gmsh noise is ~1e-12).
 TOL = 1e-8
+
+
+def _load_export():
+    """``sfepy_problems/_export.py`` by path (this folder is not a package)."""
+    name = '_contact_ssn_sfepy_export'
+    if name not in sys.modules:
+        spec = importlib.util.spec_from_file_location(
+            name, op.join(op.dirname(op.abspath(__file__)), '_export.py'))
+        module = importlib.util.module_from_spec(spec)
+        sys.modules[name] = module
+        spec.loader.exec_module(module)
+    return sys.modules[name]
 
 
 def export_contact_problem(pb, variables):
     """``post_process_hook_final``: assemble K, f, M and write the ``.npz``.
 
     K and f are evaluated in weak mode with the Dirichlet conditions applied,
-    which gives them reduced to the free DOFs (the thesis's Ñ unknowns). M is
-    evaluated with a scalar P1 field on Omega, restricted to the nodes of
-    Gamma_c in the order along the edge.
+    which gives them reduced to the free DOFs (the thesis's Ñ unknowns); the
+    clamp is homogeneous, so f is the point force alone. M is evaluated with
+    a scalar P1 field on Omega, restricted to the nodes of Gamma_c in the
+    order along the edge. The work is done by the shared
+    :func:`_export.export_contact_problem`.
     """
     conf = pb.conf.options
-    u = variables['u']
-    field = u.field
-    mesh = pb.domain.mesh
-    n_nodes = mesh.n_nod
-    if field.n_nod != n_nodes or not nm.allclose(field.get_coor(),
-                                                  mesh.coors):
-        raise ValueError('P1 field nodes must coincide with mesh vertices')
-
-    K = pb.evaluate('dw_lin_elastic.i.Omega(solid.D, v, u)',
-                    mode='weak', dw_mode='matrix', copy_materials=False,
-                    verbose=False)
-    f = pb.evaluate('dw_point_load.0.Load(load.val, v)',
-                    mode='weak', dw_mode='vector', copy_materials=False,
-                    verbose=False)
-
-    # Reduced DOF j <-> full field DOF eqi[j] = 2 * node + component.
-    eqi = u.eq_map.eqi
-    dof_map = nm.stack([eqi // 2, eqi % 2], axis=1).astype(nm.int64)
-    u_prescribed = nm.zeros((n_nodes, 2))
-    u_prescribed.ravel()[u.eq_map.eq_ebc] = u.eq_map.val_ebc
-
-    # Contact nodes: the vertices of Gamma_c, ordered along the edge.
-    cells = mesh.get_conn('2_3').astype(nm.int64)
-    gamma_c = pb.domain.regions['Gamma_c']
-    contact_nodes = order_along_boundary(gamma_c.vertices, cells, mesh.coors)
-    lookup = nm.full(2 * n_nodes, -1, dtype=nm.int64)
-    lookup[eqi] = nm.arange(len(eqi))
-    contact_dofs = lookup[2 * contact_nodes[:, None] + nm.arange(2)]
-
-    # M_ij = int_{Gamma_c} phi_i phi_j (80), scalar P1 field, full mesh
-    # numbering; keep the Gamma_c rows and columns in chain order.
-    M_full = pb.evaluate('dw_dot.i.Gamma_c(q, p)', mode='weak',
-                         dw_mode='matrix', try_equations=False,
-                         active_only=False, verbose=False)
-    M = M_full.tocsr()[contact_nodes][:, contact_nodes]
-
-    import sfepy
-    problem = ContactProblem(
-        K=K, f=nm.asarray(f, dtype=nm.float64), M=M,
-        contact_dofs=contact_dofs, nodes=mesh.coors[:, :2].copy(),
-        cells=cells, dof_map=dof_map, u_prescribed=u_prescribed,
-        contact_nodes=contact_nodes, obstacle=conf.obstacle,
+    _load_export().export_contact_problem(
+        pb, variables, conf.export,
+        stiffness='dw_lin_elastic.i.Omega(solid.D, v, u)',
+        load='dw_point_load.0.Load(load.val, v)',
+        obstacle=conf.obstacle,
         meta={'E': conf.E, 'nu': conf.nu, 'plane': conf.plane,
               'load': {'point_force': list(map(float, conf.F)),
                        'at': list(map(float, conf.load_point))},
               'mesh': op.basename(pb.conf.filename_mesh),
               'problem_file': 'sfepy_problems/block_obstacle.py',
               'supports': 'bottom edge y = -10 clamped',
-              'contact_boundary': 'right edge x = 5',
-              'versions': {'sfepy': sfepy.__version__}},
+              'contact_boundary': 'right edge x = 5'},
     )
-    save_problem(conf.export, problem)
-    print(f'exported {problem.n_dofs} DOFs, {problem.n_contact} contact '
-          f'nodes -> {conf.export}')
 
 
 def define(mesh='meshes/block_454.mesh', output='output/block_454.npz',

@@ -1,0 +1,168 @@
+r"""Shared export of SfePy problems to the contact solver's ``.npz`` format.
+
+Used by the problem files in this folder (``block_obstacle.py``,
+``hertz_cylinder.py``) from their ``post_process_hook_final``. The leading
+underscore marks it as a helper, not a problem file for ``sfepy-run``.
+
+What is exported (``docs/npz-format.md``):
+
+* **K**, the stiffness reduced to the free DOFs: the weak-mode matrix of the
+  stiffness term with the Dirichlet conditions applied (SfePy's "active"
+  DOFs). It equals :math:`K_{full}[F, F]` with F the free DOFs (checked by
+  ``tests/test_hertz.py``).
+* **f**, the reduced load including the lifting of non-zero Dirichlet
+  values. With :math:`u = u_F + u_D` (:math:`u_D` the prescribed values,
+  zero at free DOFs), the free rows of :math:`K_{full} u = f_{ext}` read
+
+  .. math::  K_{FF}\, u_F = f_{ext,F} - (K_{full}\, u_D)_F \;,
+
+  so ``f = f_ext[F] - (K_full u_D)[F]``. :math:`K_{full}` is assembled
+  without any Dirichlet conditions (:func:`full_stiffness`); the subtraction
+  is skipped when :math:`u_D = 0`, so that f is then exactly
+  :math:`f_{ext,F}`.
+* **u_prescribed**, the Dirichlet values per node and component.
+* **contact_nodes**, the vertices of the facet region Γc ordered along the
+  boundary (:func:`solver.mesh.order_along_boundary`), and their reduced DOFs.
+* **M**, :math:`M_{ij} = \int_{\Gamma_c} \varphi_i \varphi_j` for the scalar
+  P1 field, assembled over the whole mesh and restricted to the contact nodes
+  in chain order.
+"""
+import numpy as nm
+
+from solver.mesh import order_along_boundary
+from solver.problem import ContactProblem, save_problem
+
+__all__ = ['export_contact_problem', 'reduced_system', 'full_stiffness']
+
+
+def full_stiffness(pb, stiffness):
+    """The stiffness matrix over all DOFs, without Dirichlet conditions.
+
+    ``active_only=False`` alone is not enough: SfePy then still drops the
+    rows and columns of the Dirichlet DOFs of the equations' variables (they
+    come out zero), so the variables are set up with no conditions at all
+    (``ebcs=Conditions([])``). Rows/columns: full field DOFs
+    ``2 * node + component``.
+    """
+    from sfepy.discrete.conditions import Conditions
+
+    return pb.evaluate(stiffness, mode='weak', dw_mode='matrix',
+                       copy_materials=False, active_only=False,
+                       ebcs=Conditions([]), verbose=False).tocsr()
+
+
+def reduced_system(pb, u, stiffness, load=None):
+    """The reduced stiffness K, load f and the Dirichlet data of ``pb``.
+
+    Parameters
+    ----------
+    pb : sfepy.discrete.Problem
+        The problem after its solve.
+    u : sfepy.discrete.FieldVariable
+        The displacement variable of the equations (its ``eq_map`` carries
+        the Dirichlet conditions), a P1 vector field in 2D.
+    stiffness : str
+        The stiffness term, e.g. ``'dw_lin_elastic.i.Omega(solid.D, v, u)'``.
+    load : str or None
+        The external load term(s) (right-hand side), or None for no load.
+
+    Returns
+    -------
+    K : scipy.sparse.csr_matrix
+        (Ñ, Ñ), Dirichlet DOFs eliminated.
+    f : (Ñ,) float array
+        ``f_ext[free] - (K_full @ u_D)[free]``.
+    eqi : (Ñ,) int array
+        Full field DOF (``2 * node + component``) of each reduced DOF.
+    u_prescribed : (n_nodes, 2) float array
+        Dirichlet values (0 at free DOFs).
+    """
+    n_nodes = u.field.n_nod
+    K = pb.evaluate(stiffness, mode='weak', dw_mode='matrix',
+                    copy_materials=False, verbose=False)
+    n_dofs = K.shape[0]
+    if load is None:
+        f = nm.zeros(n_dofs)
+    else:
+        f = pb.evaluate(load, mode='weak', dw_mode='vector',
+                        copy_materials=False, verbose=False)
+        f = nm.asarray(f, dtype=nm.float64)
+
+    eqi = nm.asarray(u.eq_map.eqi, dtype=nm.int64)
+    u_prescribed = nm.zeros((n_nodes, 2))
+    u_prescribed.ravel()[u.eq_map.eq_ebc] = u.eq_map.val_ebc
+    if nm.any(u_prescribed != 0.0):
+        K_full = full_stiffness(pb, stiffness)
+        f = f - (K_full @ u_prescribed.ravel())[eqi]
+    return K.tocsr(), f, eqi, u_prescribed
+
+
+def export_contact_problem(pb, variables, filename, *, stiffness, load=None,
+                           obstacle, meta, region='Gamma_c',
+                           mass='dw_dot.i.{region}(q, p)'):
+    """Assemble K, f, M of ``pb`` and write the ``.npz`` problem file.
+
+    Parameters
+    ----------
+    pb : sfepy.discrete.Problem
+        Solved problem with a P1 vector field ``u`` (test ``v``) and a scalar
+        P1 field ``p`` (test ``q``) on the whole mesh, used only for M.
+    variables : sfepy.discrete.Variables
+        The solution variables (the second argument of SfePy's
+        ``post_process_hook_final``).
+    filename : str
+        The ``.npz`` to write.
+    stiffness, load : str
+        Terms for :func:`reduced_system`.
+    obstacle : solver.obstacle.ParametricCurve
+    meta : dict
+        Problem metadata (E, nu, plane, load, mesh, ...); the SfePy version
+        is added to ``meta['versions']``.
+    region : str
+        The facet region Γc.
+    mass : str
+        The M term, ``{region}`` is replaced by ``region``.
+
+    Returns
+    -------
+    ContactProblem
+        The exported problem.
+    """
+    import sfepy
+
+    u = variables['u']
+    mesh = pb.domain.mesh
+    n_nodes = mesh.n_nod
+    if u.field.n_nod != n_nodes or not nm.allclose(u.field.get_coor(),
+                                                    mesh.coors):
+        raise ValueError('P1 field nodes must coincide with mesh vertices')
+
+    K, f, eqi, u_prescribed = reduced_system(pb, u, stiffness, load)
+    dof_map = nm.stack([eqi // 2, eqi % 2], axis=1).astype(nm.int64)
+
+    # Contact nodes: the vertices of Gamma_c, ordered along the boundary.
+    cells = mesh.get_conn('2_3').astype(nm.int64)
+    gamma_c = pb.domain.regions[region]
+    contact_nodes = order_along_boundary(gamma_c.vertices, cells, mesh.coors)
+    lookup = nm.full(2 * n_nodes, -1, dtype=nm.int64)
+    lookup[eqi] = nm.arange(len(eqi))
+    contact_dofs = lookup[2 * contact_nodes[:, None] + nm.arange(2)]
+
+    # M_ij = int_{Gamma_c} phi_i phi_j (thesis (80)), scalar P1 field, full
+    # mesh numbering; keep the Gamma_c rows and columns in chain order.
+    M_full = pb.evaluate(mass.format(region=region), mode='weak',
+                         dw_mode='matrix', try_equations=False,
+                         active_only=False, verbose=False)
+    M = M_full.tocsr()[contact_nodes][:, contact_nodes]
+
+    meta = dict(meta)
+    meta['versions'] = dict(meta.get('versions', {}), sfepy=sfepy.__version__)
+    problem = ContactProblem(
+        K=K, f=f, M=M, contact_dofs=contact_dofs,
+        nodes=mesh.coors[:, :2].copy(), cells=cells, dof_map=dof_map,
+        u_prescribed=u_prescribed, contact_nodes=contact_nodes,
+        obstacle=obstacle, meta=meta)
+    save_problem(filename, problem)
+    print(f'exported {problem.n_dofs} DOFs, {problem.n_contact} contact '
+          f'nodes -> {filename}')
+    return problem
