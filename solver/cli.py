@@ -13,6 +13,7 @@ import argparse
 import json
 import os
 import sys
+import tempfile
 import traceback
 
 from . import __version__
@@ -175,17 +176,27 @@ def main(argv=None):
             return EXIT_OK
         return _solve(args, problem)
     except SolverError as exc:
+        _remove_created_dirs(args)
         if args.debug:
             traceback.print_exc()
-        print(f"error: {exc}", file=sys.stderr)
+        print(f"error: {_one_line(exc)}", file=sys.stderr)
         return EXIT_INPUT
     except OSError as exc:  # output folder not writable, disk full, ...
+        _remove_created_dirs(args)
         if args.debug:
             traceback.print_exc()
         where = f" {exc.filename}" if exc.filename else ""
-        print(f"error: cannot write{where}: {exc.strerror or exc}",
-              file=sys.stderr)
+        print(f"error: cannot write{where}: "
+              f"{_one_line(exc.strerror or exc)}", file=sys.stderr)
         return EXIT_INPUT
+    except BaseException:
+        _remove_created_dirs(args)
+        raise
+
+
+def _one_line(message):
+    """The message on one line (a file name may hold a newline)."""
+    return " ".join(str(message).split("\n"))
 
 
 def _default_outdir(args, problem):
@@ -198,11 +209,49 @@ def _default_outdir(args, problem):
 
 
 def _prepare_outdir(args, problem):
+    """Create the output folder (and missing parents) and check that a file
+    can be written there. The folders created are remembered in
+    ``args.created_dirs`` so that :func:`_remove_created_dirs` can take them
+    back if the run fails before writing anything."""
     outdir = args.outdir or _default_outdir(args, problem)
+    missing, folder = [], os.path.abspath(outdir)
+    while folder and not os.path.exists(folder):
+        missing.append(folder)
+        folder = os.path.dirname(folder)
     os.makedirs(outdir, exist_ok=True)
-    if not os.access(outdir, os.W_OK):
-        raise PermissionError(13, "permission denied", outdir)
+    args.created_dirs = missing  # innermost first
+    try:  # a real test (os.access is always true for root)
+        fd, probe = tempfile.mkstemp(prefix=".tmp-", dir=outdir)
+    except OSError as exc:
+        raise PermissionError(exc.errno, exc.strerror or "cannot write",
+                              outdir) from None
+    os.close(fd)
+    os.unlink(probe)
     return outdir
+
+
+def _remove_created_dirs(args):
+    """Remove the folders this run created, if they are still empty."""
+    for folder in getattr(args, "created_dirs", []):
+        try:
+            os.rmdir(folder)  # only ever removes an empty folder
+        except OSError:
+            break
+    args.created_dirs = []
+
+
+def _check_inputs(args, problem):
+    """Find every input error that can be found before solving, then make
+    the output folder: an error never leaves a new (empty) folder behind.
+
+    Returns the contact geometry (gaps and normals, which may raise
+    GapError) and the output folder.
+    """
+    from .contact import contact_geometry
+
+    problem.check_stiffness()  # K positive definite (one factorisation)
+    geometry = contact_geometry(problem, args.gap)
+    return geometry, _prepare_outdir(args, problem)
 
 
 def _solve(args, problem):
@@ -212,10 +261,10 @@ def _solve(args, problem):
     from .output import summary_of, write_result, write_summary, write_vtk
 
     args.method = args.method or "min"
-    outdir = _prepare_outdir(args, problem)
+    geometry, outdir = _check_inputs(args, problem)
     result = solve_frictionless(problem, method=args.method, gap=args.gap,
                                 tol=args.tol, max_iter=args.max_iter,
-                                gap_scale=args.gap_scale)
+                                gap_scale=args.gap_scale, geometry=geometry)
     summary = summary_of(result, problem, tol=args.tol,
                          max_iter=args.max_iter)
     write_result(os.path.join(outdir, "result.npz"), result, problem)
@@ -238,13 +287,12 @@ def _solve(args, problem):
 def _solve_friction(args, problem):
     from tqdm import tqdm
 
-    from .contact import contact_geometry, solve_friction
+    from .contact import solve_friction
     from .output import (friction_summary_of, write_friction_result,
                          write_summary, write_vtk_series)
 
     args.method = args.method or "fb"
-    geometry = contact_geometry(problem, args.gap)  # input errors first
-    outdir = _prepare_outdir(args, problem)
+    geometry, outdir = _check_inputs(args, problem)
     with tqdm(total=args.steps, desc="load steps", unit="step",
               file=sys.stderr, disable=None) as bar:
         def progress(record):

@@ -33,6 +33,64 @@ from .errors import ExpressionError
 __all__ = ["ALLOWED_FUNCTIONS", "ALLOWED_CONSTANTS", "parse_expression",
            "ParametricCurve"]
 
+class RealSign(sympy.Function):
+    """sign(x) of a real argument, derivative 0 (almost everywhere: the
+    curve is evaluated in floating point, where the kink is not hit)."""
+
+    @classmethod
+    def eval(cls, arg):
+        if arg.is_Number:
+            return sympy.sign(arg)
+        if arg.is_extended_positive:
+            return sympy.Integer(1)
+        if arg.is_extended_negative:
+            return sympy.Integer(-1)
+        return None
+
+    def fdiff(self, argindex=1):
+        return sympy.Integer(0)
+
+    def _eval_evalf(self, prec):
+        return sympy.sign(self.args[0])._eval_evalf(prec)
+
+    def _numpycode(self, printer):
+        return f"numpy.sign({printer._print(self.args[0])})"
+
+    _lambdacode = _numpycode
+
+
+class RealAbs(sympy.Function):
+    """|x| of a real argument: derivative sign(x)·x'. (SymPy's Abs cannot
+    tell that an argument such as sqrt(t) is real for every t of interest
+    and differentiates through real and imaginary parts: the derivative of
+    abs(cosh(sqrt(t))) nested a few levels took seconds and 25 000
+    operations.)"""
+
+    @classmethod
+    def eval(cls, arg):
+        if arg.is_Number:
+            return abs(arg)
+        if arg.is_extended_nonnegative:
+            return arg
+        if arg.is_extended_nonpositive:
+            return -arg
+        return None
+
+    def fdiff(self, argindex=1):
+        return RealSign(self.args[0])
+
+    def _eval_evalf(self, prec):
+        return sympy.Abs(self.args[0])._eval_evalf(prec)
+
+    def _numpycode(self, printer):
+        return f"numpy.abs({printer._print(self.args[0])})"
+
+    _lambdacode = _numpycode
+
+    def _sympystr(self, printer):
+        return f"abs({printer._print(self.args[0])})"
+
+
 #: Functions an obstacle expression may call, by name (NumPy-style aliases
 #: included so that expressions copied from NumPy code keep working).
 ALLOWED_FUNCTIONS = {
@@ -40,7 +98,7 @@ ALLOWED_FUNCTIONS = {
     "asin": sympy.asin, "acos": sympy.acos, "atan": sympy.atan,
     "arcsin": sympy.asin, "arccos": sympy.acos, "arctan": sympy.atan,
     "sinh": sympy.sinh, "cosh": sympy.cosh, "tanh": sympy.tanh,
-    "exp": sympy.exp, "log": sympy.log, "sqrt": sympy.sqrt, "abs": sympy.Abs,
+    "exp": sympy.exp, "log": sympy.log, "sqrt": sympy.sqrt, "abs": RealAbs,
 }
 
 #: Named constants an obstacle expression may use.
@@ -58,6 +116,24 @@ _HINTS = {ast.BitXor: " (use ** for powers)"}
 
 #: Longest expression text accepted (a guard against pathological input).
 MAX_LENGTH = 1000
+
+#: Deepest nesting of the parsed SymPy expression tree (every function,
+#: power, sum or product is a level; SymPy flattens a + b + c into one
+#: sum, so long sums and products are shallow). Exact derivatives of deep
+#: compositions grow quadratically (first) and cubically (second) with the
+#: depth: sin nested 80 times took minutes to differentiate twice.
+MAX_DEPTH = 30
+
+#: Most function calls nested in one another, sin(cos(exp(t))) = 3. SymPy
+#: queries the assumptions of a function's argument when it builds it, at a
+#: cost that grows exponentially with this depth for some mixtures of
+#: functions (12 levels: seconds, 16: 40 s, measured).
+MAX_CALL_DEPTH = 8
+
+#: Largest first derivative accepted, in expression-tree nodes (a product
+#: of k factors has a derivative of k products): beyond it the obstacle is
+#: refused as too complex rather than differentiated for minutes.
+MAX_DERIVATIVE_NODES = 5000
 
 
 def _power(base, exponent):
@@ -152,8 +228,10 @@ def parse_expression(text, variable="t"):
         If the text is not a string, is empty or too long, does not parse,
         uses anything outside the whitelist (attribute access, subscripts,
         lambdas, comprehensions, unknown names or functions, keyword
-        arguments), or evaluates to something not finite and real
-        (``1/0``, ``sqrt(-1)``).
+        arguments), nests too deeply (:data:`MAX_CALL_DEPTH`,
+        :data:`MAX_DEPTH`), or has a part without ``t`` that is not a
+        finite real number in double precision (``1/0``, ``sqrt(-1)``,
+        ``exp(1000)``, ``asin(2)``).
     """
     if not isinstance(text, str):
         raise ExpressionError(
@@ -168,6 +246,10 @@ def parse_expression(text, variable="t"):
     except SyntaxError as exc:
         raise ExpressionError(
             f"{text!r}: syntax error ({exc.msg})") from None
+    calls = _call_depth(tree)
+    if calls > MAX_CALL_DEPTH:
+        raise ExpressionError(f"{text!r}: too many nested function calls "
+                              f"({calls} > {MAX_CALL_DEPTH})")
     symbol = sympy.Symbol(variable, real=True)
     try:
         expr = _translate(tree, variable, symbol, text)
@@ -181,13 +263,73 @@ def parse_expression(text, variable="t"):
     except (OverflowError, ValueError, TypeError, ZeroDivisionError) as exc:
         raise ExpressionError(f"{text!r}: cannot be evaluated ({exc})") \
             from None
+    depth = _depth(expr)
+    if depth > MAX_DEPTH:
+        raise ExpressionError(f"{text!r}: expression nests too deeply "
+                              f"(depth {depth} > {MAX_DEPTH})")
     if expr.has(sympy.zoo, sympy.oo, -sympy.oo, sympy.nan):
         raise ExpressionError(f"{text!r}: is not finite (division by zero?)")
     if expr.has(sympy.I):
         raise ExpressionError(f"{text!r}: is not real")
+    _check_constants(expr, text, symbol)
     if expr.is_Number and not math.isfinite(float(expr)):
         raise ExpressionError(f"{text!r}: is not finite")
     return expr
+
+
+def _call_depth(tree):
+    """Deepest nesting of calls in a Python AST (iterative: no recursion)."""
+    deepest, stack = 0, [(tree, 0)]
+    while stack:
+        node, level = stack.pop()
+        if isinstance(node, ast.Call):
+            level += 1
+            deepest = max(deepest, level)
+        stack.extend((child, level) for child in ast.iter_child_nodes(node))
+    return deepest
+
+
+def _depth(expr):
+    """Depth of a SymPy expression tree (an atom has depth 1)."""
+    deepest, stack = 0, [(expr, 1)]
+    while stack:
+        node, level = stack.pop()
+        deepest = max(deepest, level)
+        stack.extend((arg, level + 1) for arg in node.args)
+    return deepest
+
+
+def _size(expr, limit):
+    """Number of nodes of a SymPy expression tree, counted up to ``limit``."""
+    count = 0
+    for _ in sympy.preorder_traversal(expr):
+        count += 1
+        if count > limit:
+            break
+    return count
+
+
+def _check_constants(expr, text, symbol):
+    """Every constant part (a subexpression without t, such as exp(1000) or
+    asin(2)) must be a finite real number in double precision, which is
+    what the curve is evaluated in: SymPy keeps exp(1000) exact and finite,
+    NumPy makes it inf, so the obstacle would be inf (or NaN) everywhere.
+    The parts are evaluated as the curve will be, by NumPy (SymPy's
+    arbitrary precision takes forever on sin(exp(exp(exp(4)))))."""
+    stack = [expr]
+    while stack:
+        node = stack.pop()
+        if not node.is_number:  # depends on t: look at its parts
+            stack.extend(node.args)
+            continue
+        if node.is_Atom:  # a number (SymPy's exponents are unbounded), pi, e
+            value = float(node)
+        else:
+            value = float(_numeric(node, symbol)(np.array(0.0)))
+        if not math.isfinite(value):
+            raise ExpressionError(
+                f"{text!r}: constant {node} is not a finite real number in "
+                f"double precision (evaluates to {value})")
 
 
 def _numeric(expr, symbol):
@@ -235,17 +377,33 @@ class ParametricCurve:
                     f"t_range: need finite t0 < t1, got {tuple(t_range)}")
             t_range = (t0, t1)
         self.t_range = t_range
-        symbol = sympy.Symbol("t", real=True)
-        if self.x_expr.is_constant() and self.y_expr.is_constant():
+        symbol = self._symbol = sympy.Symbol("t", real=True)
+        # t must appear (SymPy has already cancelled 0*t, t - t); a curve
+        # that is constant only after simplification, sin(t)**2 + cos(t)**2,
+        # has no tangent, which the gap computation reports. (SymPy's
+        # is_constant() would simplify, which can take minutes.)
+        if not (self.x_expr.free_symbols or self.y_expr.free_symbols):
             raise ExpressionError(
                 f"obstacle ({x!r}, {y!r}) does not depend on t: it is a "
                 "point, not a curve")
-        derivatives = [[e, sympy.diff(e, symbol), sympy.diff(e, symbol, 2)]
-                       for e in (self.x_expr, self.y_expr)]
+        first = []
+        for text, e in ((x, self.x_expr), (y, self.y_expr)):
+            d = sympy.diff(e, symbol)
+            if _size(d, MAX_DERIVATIVE_NODES) > MAX_DERIVATIVE_NODES:
+                raise ExpressionError(
+                    f"{text!r}: too complex (its derivative has more than "
+                    f"{MAX_DERIVATIVE_NODES} terms)")
+            first.append(d)
+        self._derivatives = [[self.x_expr, self.y_expr], first, None]
         self._functions = [[_numeric(d, symbol) for d in pair]
-                           for pair in zip(*derivatives)]
+                           for pair in self._derivatives[:2]] + [None]
 
     def _evaluate(self, t, order):
+        if self._functions[order] is None:  # Γo'' only on demand
+            self._derivatives[order] = [sympy.diff(d, self._symbol)
+                                        for d in self._derivatives[order - 1]]
+            self._functions[order] = [_numeric(d, self._symbol)
+                                      for d in self._derivatives[order]]
         fx, fy = self._functions[order]
         return np.stack([fx(t), fy(t)], axis=-1)
 
@@ -258,7 +416,9 @@ class ParametricCurve:
         return self._evaluate(t, 1)
 
     def second_derivative(self, t):
-        r""":math:`\Gamma_o''(t)` (exact), shape ``t.shape + (2,)``."""
+        r""":math:`\Gamma_o''(t)` (exact), shape ``t.shape + (2,)``.
+
+        Differentiated on the first call (the solver does not need it)."""
         return self._evaluate(t, 2)
 
     def __repr__(self):

@@ -34,26 +34,31 @@ is generated from it (:func:`format_table`).
 import json
 import os
 import tempfile
-import zipfile
 import dataclasses
 from dataclasses import dataclass, field
 
 import numpy as np
 import scipy
 import scipy.sparse as sp
+import scipy.sparse.linalg as sla
 
 from .errors import ProblemError
 from .mesh import is_boundary_chain
 from .obstacle import ParametricCurve
 
 __all__ = ["FORMAT_VERSION", "KEYS", "ContactProblem", "load_problem",
-           "save_problem", "validate_arrays", "format_table"]
+           "save_problem", "validate_arrays", "format_table",
+           "check_positive_definite"]
 
 #: Version of the ``.npz`` layout written by :func:`save_problem`.
 FORMAT_VERSION = 1
 
 #: Relative tolerance of the symmetry check of K and M.
 SYMMETRY_RTOL = 1e-10
+
+#: A pivot of the LDLᵀ factorisation below this fraction of the largest
+#: pivot counts as zero (:func:`check_positive_definite`).
+PIVOT_RTOL = 1e-10
 
 #: Key specification: name -> (which kinds need it, dtype, shape, meaning).
 #: "all" = both kinds; "mesh"/"discrete" = required for that kind only and
@@ -135,6 +140,8 @@ class ContactProblem:
     gap: np.ndarray = None
     normal: np.ndarray = None
     source: str = field(default=None, compare=False)
+    _checked: object = field(default=None, init=False, repr=False,
+                             compare=False)
 
     @property
     def kind(self):
@@ -184,6 +191,24 @@ class ContactProblem:
     def validate(self):
         """Check every array; raise :class:`ProblemError` naming the key."""
         validate_arrays(self.to_arrays())
+        return self
+
+    def check_stiffness(self):
+        """Check that K is positive definite (see
+        :func:`check_positive_definite`).
+
+        Costs one sparse factorisation of K, about one Newton iteration; the
+        solvers call it before iterating. The result is remembered for the
+        K object checked (replace ``problem.K``, do not modify it in place).
+
+        Raises
+        ------
+        ProblemError
+            ``"K_data: K is not positive definite (...)"``.
+        """
+        if self._checked is not self.K:
+            check_positive_definite(self.K, "K")
+            self._checked = self.K
         return self
 
     def full_displacement(self, u):
@@ -241,6 +266,13 @@ def _check_array(arrays, key, kind, ndim, shape=None):
         if a.dtype.kind != "U" or a.ndim != 0:
             _fail(key, f"expected a text scalar, got dtype {a.dtype} with "
                        f"shape {a.shape}")
+        order = a.dtype.byteorder if a.dtype.byteorder in "<>" else "="
+        codes = np.frombuffer(a.tobytes(),
+                              dtype=np.dtype("u4").newbyteorder(order))
+        surrogate = (codes >= 0xD800) & (codes <= 0xDFFF)
+        if ((codes > 0x10FFFF) | surrogate).any():
+            # NumPy would make a Python str that breaks later (SystemError)
+            _fail(key, "not valid text: invalid code points (damaged file?)")
         return str(a)
     if kind == "int" and a.dtype.kind not in "iu":
         _fail(key, f"expected integers, got dtype {a.dtype}")
@@ -308,6 +340,71 @@ def _csr(arrays, name, n=None):
     return A
 
 
+def check_positive_definite(A, name="K"):
+    r"""Raise :class:`ProblemError` unless the symmetric matrix A is
+    positive definite (numerically: no pivot below :data:`PIVOT_RTOL`).
+
+    The check is one sparse LU factorisation (SuperLU) in symmetric mode: a
+    fill-reducing symmetric ordering P (minimum degree on A + Aᵀ) and
+    diagonal pivots only (``diag_pivot_thresh=0``), so that PAPᵀ = LU with
+    U = DLᵀ, i.e. the LDLᵀ factorisation of PAPᵀ. By Sylvester's law of
+    inertia A is positive definite iff every pivot D_kk > 0. The
+    factorisation is that of Cholesky up to the first non-positive pivot,
+    hence backward stable where it matters: a pivot's sign is trustworthy
+    unless the pivot is at round-off level, which is then reported as
+    singular. (SuperLU's default partial pivoting would break the symmetry
+    and make the signs of U's diagonal meaningless; if it had to pivot off
+    the diagonal anyway, because a diagonal pivot was exactly zero, A is not
+    positive definite either.)
+
+    For a positive definite A every pivot is at least λ_min(A), and for a
+    finite element stiffness matrix the pivots stay far above
+    ‖A‖/cond(A); a body without supports (rigid body modes) gives pivots of
+    round-off size, ~1e-14 of the largest (measured on the thesis's block
+    without its clamp: three such pivots, one per rigid body mode, next
+    ~1e-2). :data:`PIVOT_RTOL` = 1e-10 separates the two by orders of
+    magnitude.
+
+    Cost: one factorisation of A, about that of one Newton iteration of the
+    contact solvers (which factorise a Jacobian of A's size and sparsity).
+
+    Parameters
+    ----------
+    A : sparse matrix
+        Symmetric (the loader checks it).
+    name : str
+        The matrix's key prefix for the message (``"K"`` or ``"M"``).
+    """
+    A = sp.csc_matrix(A, dtype=np.float64)
+    key = f"{name}_data"
+    singular = (f"{name} is not positive definite (singular "
+                + ("stiffness: is the body supported?)" if name == "K"
+                   else "matrix)"))
+    try:
+        lu = sla.splu(A, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
+                      options={"SymmetricMode": True})
+    except RuntimeError:  # "Factor is exactly singular"
+        _fail(key, f"{singular}: its factorisation has an exactly zero "
+                   "pivot")
+    if not np.array_equal(lu.perm_r, lu.perm_c):
+        _fail(key, f"{name} is not positive definite: a diagonal pivot of "
+                   "its LDLᵀ factorisation is exactly zero")
+    pivots = lu.U.diagonal()
+    if not np.isfinite(pivots).all() or pivots.max() <= 0:
+        _fail(key, f"{name} is not positive definite (its LDLᵀ "
+                   "factorisation has no positive pivot)")
+    ratio = pivots.min() / pivots.max()
+    if ratio < -PIVOT_RTOL:
+        negative = int(np.count_nonzero(pivots < -PIVOT_RTOL * pivots.max()))
+        _fail(key, f"{name} is not positive definite: it has {negative} "
+                   f"negative eigenvalue(s) (LDLᵀ pivot ratio {ratio:.2g})")
+    if ratio <= PIVOT_RTOL:
+        small = int(np.count_nonzero(pivots <= PIVOT_RTOL * pivots.max()))
+        _fail(key, f"{singular}: {small} pivot(s) of its LDLᵀ "
+                   f"factorisation at round-off level ({ratio:.2g} of the "
+                   "largest)")
+
+
 def validate_arrays(arrays):
     """Validate a dict of ``.npz`` arrays and build a :class:`ContactProblem`.
 
@@ -316,6 +413,14 @@ def validate_arrays(arrays):
     ProblemError
         Naming the first key found missing, unexpected or malformed.
     """
+    # Overflows in the checks of absurd values (1e308 entries) are found by
+    # the checks themselves; NumPy's RuntimeWarnings would only add lines to
+    # the one-line error message on stderr.
+    with np.errstate(all="ignore"):
+        return _validate_arrays(arrays)
+
+
+def _validate_arrays(arrays):
     arrays = {k: np.asanyarray(v) for k, v in arrays.items()}
     for key in ("format_version", "kind"):
         if key not in arrays:
@@ -363,6 +468,7 @@ def validate_arrays(arrays):
     if len(np.unique(used)) != len(used):
         _fail("contact_dofs", "a reduced DOF appears twice")
     M = _csr(arrays, "M", nc)
+    check_positive_definite(M, "M")  # Nc × Nc: cheap; needed for M⁻¹λ
 
     problem = dict(K=K, f=f, M=M, contact_dofs=contact_dofs, meta=meta)
     if kind == "mesh":
@@ -373,7 +479,7 @@ def validate_arrays(arrays):
                                   "(-1 entries are not allowed)")
         gap = _check_array(arrays, "gap", "float", 1, (nc,))
         normal = _check_array(arrays, "normal", "float", 2, (nc, 2))
-        length = np.linalg.norm(normal, axis=1)
+        length = np.hypot(normal[:, 0], normal[:, 1])
         if (abs(length - 1) > 1e-9).any():
             i = int(np.argmax(abs(length - 1)))
             _fail("normal", f"row {i} has length {length[i]:.12g}, expected "
@@ -384,9 +490,14 @@ def validate_arrays(arrays):
 
 def _check_material(meta):
     E, nu, plane = meta["E"], meta["nu"], meta["plane"]
-    if not isinstance(E, (int, float)) or not E > 0:
-        _fail("meta", f"E must be a positive number, got {E!r}")
-    if not isinstance(nu, (int, float)) or not -1 < nu < 0.5:
+
+    def number(v):  # JSON true/false are not numbers; NaN/Infinity are not
+        return isinstance(v, (int, float)) and not isinstance(v, bool) \
+            and np.isfinite(v)
+
+    if not number(E) or not E > 0:
+        _fail("meta", f"E must be a positive finite number, got {E!r}")
+    if not number(nu) or not -1 < nu < 0.5:
         _fail("meta", f"nu must be a number in (-1, 0.5), got {nu!r}")
     if plane not in ("strain", "stress"):
         _fail("meta", f"plane must be 'strain' or 'stress', got {plane!r}")
@@ -473,11 +584,20 @@ def load_problem(path):
                            "problem file")
     if not magic.startswith(b"PK"):
         raise ProblemError(f"{path}: not an .npz archive (no zip header)")
+    with open(path, "rb") as stream:  # ours to close, whatever happens
+        arrays = _read_members(path, stream)
+    problem = validate_arrays(arrays)
+    problem.source = path
+    return problem
+
+
+def _read_members(path, stream):
     try:
-        archive = np.load(path, allow_pickle=False)
-    except (OSError, ValueError, EOFError, zipfile.BadZipFile) as exc:
-        raise ProblemError(f"{path}: not a readable .npz file ({exc})") \
-            from None
+        archive = np.load(stream, allow_pickle=False)
+    except Exception as exc:  # BadZipFile, NotImplementedError("zip file
+        # version 6.4"), struct.error, ... of a damaged central directory
+        raise ProblemError(f"{path}: not a readable .npz file "
+                           f"({type(exc).__name__}: {exc})") from None
     arrays = {}
     with archive:
         for key in archive.files:
@@ -491,9 +611,7 @@ def load_problem(path):
             except Exception as exc:  # zlib/zip/EOF errors of damaged members
                 _fail(key, f"cannot be read, the file is damaged "
                            f"({type(exc).__name__}: {exc})")
-    problem = validate_arrays(arrays)
-    problem.source = path
-    return problem
+    return arrays
 
 
 def save_problem(path, problem):

@@ -266,6 +266,11 @@ class FrictionSystem:
         return x
 
 
+def _is_real(value):
+    return isinstance(value, (int, float, np.integer, np.floating)) \
+        and not isinstance(value, bool)
+
+
 def solve_friction(problem, friction, steps=100, formulation="thesis",
                    coulomb="lagged", method="fb", gap="obstacle", tol=1e-10,
                    max_iter=100, gap_scale=1.0, options=None, progress=None,
@@ -307,14 +312,25 @@ def solve_friction(problem, friction, steps=100, formulation="thesis",
         (over all nodes of Γc; supports are never in contact), and
         ``records``: a list of dicts (κ, converged, njev, nfev, nit,
         n_contact, n_stick, n_slip, error, message).
+
+    Raises
+    ------
+    SolverError
+        For a negative or non-finite ``friction``, a bad ``steps``, an
+        unknown formulation; :class:`~solver.errors.ProblemError` if K is
+        not positive definite or a normal line misses the obstacle (as in
+        :func:`solve_frictionless`). A load step that does not converge
+        ends the run without raising: see ``success`` and ``failed_step``.
     """
-    if not np.isfinite(friction) or friction < 0:
-        raise SolverError(f"friction coefficient must be >= 0, got "
-                          f"{friction!r}")
-    if int(steps) != steps or steps < 1:
+    if not _is_real(friction) or not np.isfinite(friction) or friction < 0:
+        raise SolverError(f"friction coefficient must be >= 0 and finite, "
+                          f"got {friction!r}")
+    if not _is_real(steps) or not np.isfinite(steps) \
+            or int(steps) != steps or steps < 1:
         raise SolverError(f"number of load steps must be a positive "
                           f"integer, got {steps!r}")
     start = time.perf_counter()
+    problem.check_stiffness()  # singular / indefinite K: a clear input error
     if geometry is None:
         geometry = contact_geometry(problem, gap)
     lumped_all = np.asarray(problem.M.sum(axis=1)).ravel()

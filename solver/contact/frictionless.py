@@ -204,8 +204,18 @@ def solve_frictionless(problem, method="min", gap="obstacle", tol=1e-10,
         ``gap`` s and ``normal`` ν (NaN at supports), ``normal_displacement``
         u_n, ``in_contact``; and ``complementarity`` = max|min(λ, s − u_n)|,
         ``n_contact``, ``gap_mode``, ``geometry_time``, ``time``.
+
+    Raises
+    ------
+    ProblemError
+        If K is not positive definite (checked once per K by one sparse
+        factorisation, :meth:`ContactProblem.check_stiffness`), or a normal
+        line misses the obstacle (:class:`~solver.gap.GapError`). A solve
+        that does not converge raises nothing: see ``success`` and
+        ``status``.
     """
     start = time.perf_counter()
+    problem.check_stiffness()  # singular / indefinite K: a clear input error
     if geometry is None:
         geometry = contact_geometry(problem, gap)
     geometry_time = time.perf_counter() - start
@@ -225,7 +235,7 @@ def solve_frictionless(problem, method="min", gap="obstacle", tol=1e-10,
     s[geometry.index] = geometry.gap
     normal = np.full((nc, 2), np.nan)
     normal[geometry.index] = geometry.normal
-    pressure = sla.spsolve(problem.M.tocsc(), lam)
+    pressure = sla.spsolve(problem.M.tocsc(), lam) + 0.0  # no -0.0
     lumped = lam / np.asarray(problem.M.sum(axis=1)).ravel()
     remaining = s - un
     comp = np.abs(np.minimum(lam, remaining))[geometry.index]

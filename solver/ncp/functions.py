@@ -35,12 +35,28 @@ def phi(a, b, kind):
         # gap of another unit): the gap would be resolved only to ε·a. Where
         # a + b > 0 use the equal form −2ab / (√(a²+b²) + a + b).
         a, b = np.broadcast_arrays(np.asarray(a, float), np.asarray(b, float))
-        r = np.hypot(a, b)
-        s = a + b
-        positive = s > 0
-        out = r - s
-        out[positive] = (-2.0 * a[positive] * b[positive]
-                         / (r[positive] + s[positive]))
+        with np.errstate(all="ignore"):  # extreme values are redone below
+            r = np.hypot(a, b)
+            s = a + b
+            positive = s > 0
+            out = np.array(r - s)  # a sum of non-negative terms if s ≤ 0
+            ab2 = -2.0 * a[positive] * b[positive]
+            denominator = r[positive] + s[positive]
+            out[positive] = ab2 / denominator
+            # 2ab or a + b outside the double range (a = b = 1e308 gave
+            # NaN, a = b = 1e-300 gave 0): the homogeneous form. With m the
+            # entry of larger magnitude (m > 0 where a + b > 0) and
+            # ρ = other/m ∈ (−1, 1], φ = −2·other / (√(1+ρ²) + 1 + ρ),
+            # whose denominator lies in [√2, 2+√2].
+            extreme = np.zeros_like(positive)
+            extreme[positive] = ~np.isfinite(ab2 * denominator) | (
+                np.abs(ab2) < np.finfo(float).tiny)
+            ap, bp = a[extreme], b[extreme]
+            a_larger = np.abs(ap) >= np.abs(bp)
+            m = np.where(a_larger, ap, bp)
+            other = np.where(a_larger, bp, ap)
+            rho = other / m
+            out[extreme] = -other * (2.0 / (np.hypot(1.0, rho) + 1.0 + rho))
         return out
     raise ValueError(f"unknown NCP function {kind!r}; use one of "
                      f"{NCP_FUNCTIONS}")

@@ -59,6 +59,10 @@ def summary_of(result, problem, **extra):
         "gradient_steps": int(sum(s == "gradient" for s in history["step"])),
         "gap_scale": float(result.gap_scale),
         "wall_time": float(result.time),
+        # ‖Φ‖ before each iteration (as printed on a failure, and as in a
+        # friction step's record; the final one is "residual"); result.npz
+        # holds the full per-iteration history
+        "residual_history": [float(r) for r in history["residual"]],
     }
     summary.update(extra)
     return summary
