@@ -32,7 +32,8 @@ import numpy as nm
 from solver.mesh import order_along_boundary
 from solver.problem import ContactProblem, save_problem
 
-__all__ = ['export_contact_problem', 'reduced_system', 'full_stiffness']
+__all__ = ['export_contact_problem', 'reduced_system', 'full_stiffness',
+           'stage_loads']
 
 
 def full_stiffness(pb, stiffness):
@@ -97,9 +98,35 @@ def reduced_system(pb, u, stiffness, load=None):
     return K.tocsr(), f, eqi, u_prescribed
 
 
+def stage_loads(pb, u, stiffness, load, stages):
+    """Load vectors and Dirichlet values at the ends of load stages.
+
+    Each stage is a dict with ``dirichlet`` = (s_x, s_y), the factors of the
+    x and y Dirichlet values of ``pb`` at the stage end, ``load`` = the
+    factor of the external load, ``steps`` and ``friction`` (multiplier of
+    f_c). Returns the arrays of the ``load_path*`` keys.
+    """
+    K, f, eqi, u_prescribed = reduced_system(pb, u, stiffness, None)
+    f_ext = nm.zeros(len(eqi)) if load is None else nm.asarray(
+        pb.evaluate(load, mode='weak', dw_mode='vector',
+                    copy_materials=False, verbose=False), dtype=nm.float64)
+    K_full = full_stiffness(pb, stiffness)
+    path, prescribed = [], []
+    for stage in stages:
+        u_D = u_prescribed * nm.asarray(stage['dirichlet'], dtype=float)
+        path.append(stage['load'] * f_ext - (K_full @ u_D.ravel())[eqi])
+        prescribed.append(u_D)
+    return dict(load_path=nm.array(path),
+                load_path_steps=nm.array([s['steps'] for s in stages],
+                                         dtype=nm.int64),
+                load_path_friction=nm.array([s['friction'] for s in stages],
+                                            dtype=float),
+                load_path_prescribed=nm.array(prescribed))
+
+
 def export_contact_problem(pb, variables, filename, *, stiffness, load=None,
                            obstacle, meta, region='Gamma_c',
-                           mass='dw_dot.i.{region}(q, p)'):
+                           mass='dw_dot.i.{region}(q, p)', load_path=None):
     """Assemble K, f, M of ``pb`` and write the ``.npz`` problem file.
 
     Parameters
@@ -122,6 +149,9 @@ def export_contact_problem(pb, variables, filename, *, stiffness, load=None,
         The facet region Γc.
     mass : str
         The M term, ``{region}`` is replaced by ``region``.
+    load_path : list of dict, optional
+        Load stages for friction runs, see :func:`stage_loads`; the last
+        stage must end at the full Dirichlet values and load.
 
     Returns
     -------
@@ -157,11 +187,13 @@ def export_contact_problem(pb, variables, filename, *, stiffness, load=None,
 
     meta = dict(meta)
     meta['versions'] = dict(meta.get('versions', {}), sfepy=sfepy.__version__)
+    extra = {} if load_path is None else stage_loads(pb, u, stiffness, load,
+                                                     load_path)
     problem = ContactProblem(
         K=K, f=f, M=M, contact_dofs=contact_dofs,
         nodes=mesh.coors[:, :2].copy(), cells=cells, dof_map=dof_map,
         u_prescribed=u_prescribed, contact_nodes=contact_nodes,
-        obstacle=obstacle, meta=meta)
+        obstacle=obstacle, meta=meta, **extra)
     save_problem(filename, problem)
     print(f'exported {problem.n_dofs} DOFs, {problem.n_contact} contact '
           f'nodes -> {filename}')

@@ -68,9 +68,10 @@ def build_parser():
                           metavar="F_C",
                           help="coefficient of friction f_c >= 0; without "
                                "it the problem is frictionless")
-    friction.add_argument("--steps", type=_positive_int, default=100,
+    friction.add_argument("--steps", type=_positive_int, default=None,
                           help="number of load steps; step k applies "
-                               "k/steps * f (default 100)")
+                               "k/steps * f (default 100; a problem with a "
+                               "load path uses its own stages and steps)")
     friction.add_argument("--formulation", choices=("thesis", "projection"),
                           default="thesis",
                           help="thesis: the split tangential increment of "
@@ -203,7 +204,9 @@ def _default_outdir(args, problem):
     stem = os.path.splitext(args.problem)[0]
     gap = args.gap if problem.kind == "mesh" else "given"
     if args.friction is not None:
-        return (f"{stem}-fc{args.friction:g}-{args.steps}steps-"
+        steps = "path" if problem.load_path is not None else \
+            f"{args.steps or 100}steps"
+        return (f"{stem}-fc{args.friction:g}-{steps}-"
                 f"{args.formulation}-{args.coulomb}-{args.method}")
     return f"{stem}-{args.method}-{gap}"
 
@@ -293,7 +296,9 @@ def _solve_friction(args, problem):
 
     args.method = args.method or "fb"
     geometry, outdir = _check_inputs(args, problem)
-    with tqdm(total=args.steps, desc="load steps", unit="step",
+    total = len(problem.load_steps(None if problem.load_path is not None
+                                   else args.steps))
+    with tqdm(total=total, desc="load steps", unit="step",
               file=sys.stderr, disable=None) as bar:
         def progress(record):
             bar.set_postfix(J=record["njev"], contact=record["n_contact"],

@@ -105,6 +105,21 @@ KEYS = {
     "obstacle_t_range": ("optional", "float", "(2,)",
                          "admissible parameter interval [t0, t1] (mesh "
                          "kind only; absent = unbounded)"),
+    "load_path": ("optional", "float", "(n_stages, Ñ)",
+                  "load vectors at the ends of the load stages of a friction "
+                  "run; the load goes linearly from the previous end (zero "
+                  "at the start); the last row equals f. Absent: one stage, "
+                  "step κ applies κ/κc·f"),
+    "load_path_steps": ("optional", "int", "(n_stages,)",
+                        "load steps of each stage (>= 1); with load_path"),
+    "load_path_friction": ("optional", "float", "(n_stages,)",
+                           "multiplier of f_c in each stage (>= 0; e.g. 0 "
+                           "for a frictionless first stage); with "
+                           "load_path"),
+    "load_path_prescribed": ("optional", "float", "(n_stages, n_nodes, 2)",
+                             "Dirichlet values at the stage ends (mesh kind "
+                             "only; absent: u_prescribed scaled like the "
+                             "load)"),
     "gap": ("discrete", "float", "(Nc,)",
             "initial gap s of each contact node along its normal"),
     "normal": ("discrete", "float", "(Nc, 2)",
@@ -139,6 +154,10 @@ class ContactProblem:
     obstacle: ParametricCurve = None
     gap: np.ndarray = None
     normal: np.ndarray = None
+    load_path: np.ndarray = None
+    load_path_steps: np.ndarray = None
+    load_path_friction: np.ndarray = None
+    load_path_prescribed: np.ndarray = None
     source: str = field(default=None, compare=False)
     _checked: object = field(default=None, init=False, repr=False,
                              compare=False)
@@ -183,7 +202,8 @@ class ContactProblem:
                 if self.obstacle.t_range is not None:
                     arrays["obstacle_t_range"] = np.array(
                         self.obstacle.t_range, dtype=float)
-        for name in ("gap", "normal"):
+        for name in ("gap", "normal", "load_path", "load_path_steps",
+                     "load_path_friction", "load_path_prescribed"):
             if getattr(self, name) is not None:
                 arrays[name] = getattr(self, name)
         return arrays
@@ -211,15 +231,53 @@ class ContactProblem:
             self._checked = self.K
         return self
 
-    def full_displacement(self, u):
+    def load_steps(self, steps=None):
+        """The load path as one entry per load step.
+
+        Returns a list of (load vector f_κ, friction multiplier, Dirichlet
+        values or None, stage index). Without a ``load_path`` the path has
+        one stage of ``steps`` steps (default 100) with f_κ = κ/κc·f and the
+        Dirichlet values scaled alike.
+        """
+        if self.load_path is None:
+            steps = 100 if steps is None else int(steps)
+            return [(k / steps * self.f, 1.0,
+                     None if self.u_prescribed is None
+                     else k / steps * self.u_prescribed, 0)
+                    for k in range(1, steps + 1)]
+        out, start = [], np.zeros_like(self.f)
+        prescribed_start = None if self.u_prescribed is None \
+            else np.zeros_like(self.u_prescribed)
+        for stage, (end, n, factor) in enumerate(zip(
+                self.load_path, self.load_path_steps,
+                self.load_path_friction)):
+            if self.load_path_prescribed is not None:
+                prescribed_end = self.load_path_prescribed[stage]
+            elif self.u_prescribed is not None:
+                prescribed_end = self.u_prescribed * (
+                    np.linalg.norm(end) / max(np.linalg.norm(self.f), 1e-300))
+            else:
+                prescribed_end = None
+            for k in range(1, int(n) + 1):
+                w = k / n
+                value = None if prescribed_end is None else \
+                    (1 - w) * prescribed_start + w * prescribed_end
+                out.append(((1 - w) * start + w * end, float(factor), value,
+                            stage))
+            start, prescribed_start = end, prescribed_end
+        return out
+
+    def full_displacement(self, u, prescribed=None):
         """Nodal displacements (n_nodes, 2) from a reduced vector ``u``.
 
-        Free DOFs take ``u``, Dirichlet DOFs take ``u_prescribed``.
+        Free DOFs take ``u``, Dirichlet DOFs take ``prescribed`` (default
+        ``u_prescribed``, the values of the full load).
         """
         if self.kind != "mesh":
             raise ProblemError("full_displacement: a discrete problem has "
                                "no mesh")
-        full = self.u_prescribed.copy()
+        full = (self.u_prescribed if prescribed is None
+                else np.asarray(prescribed, float)).copy()
         full[self.dof_map[:, 0], self.dof_map[:, 1]] = u
         return full
 
@@ -436,6 +494,7 @@ def _validate_arrays(arrays):
                if need in ("all", kind, "optional")}
     if kind == "discrete":
         allowed.discard("obstacle_t_range")
+        allowed.discard("load_path_prescribed")
     for key in sorted(arrays):
         if key not in allowed:
             _fail(key, f"unexpected key in a {kind!r} problem file")
@@ -485,7 +544,42 @@ def _validate_arrays(arrays):
             _fail("normal", f"row {i} has length {length[i]:.12g}, expected "
                             "a unit vector")
         problem.update(gap=gap, normal=normal)
+    problem.update(_validate_load_path(arrays, f, problem.get("nodes")))
     return ContactProblem(**problem)
+
+
+def _validate_load_path(arrays, f, nodes):
+    """The optional load path: all of load_path, _steps, _friction or none."""
+    keys = ("load_path", "load_path_steps", "load_path_friction")
+    present = [k for k in keys if k in arrays]
+    if not present:
+        if "load_path_prescribed" in arrays:
+            _fail("load_path_prescribed", "given without load_path")
+        return {}
+    for key in keys:
+        if key not in arrays:
+            _fail(key, f"missing (load_path needs {', '.join(keys)})")
+    path = _check_array(arrays, "load_path", "float", 2, (None, len(f)))
+    stages = len(path)
+    if stages < 1:
+        _fail("load_path", "no stages")
+    steps = _check_array(arrays, "load_path_steps", "int", 1, (stages,))
+    if (steps < 1).any():
+        _fail("load_path_steps", "every stage needs at least one step")
+    friction = _check_array(arrays, "load_path_friction", "float", 1,
+                            (stages,))
+    if (friction < 0).any():
+        _fail("load_path_friction", "multipliers must be >= 0")
+    scale = max(np.abs(f).max(initial=0.0), 1e-300)
+    if np.abs(path[-1] - f).max() > 1e-12 * scale:
+        _fail("load_path", "its last row must equal f (the full load)")
+    out = dict(load_path=path, load_path_steps=steps,
+               load_path_friction=friction)
+    if "load_path_prescribed" in arrays:
+        out["load_path_prescribed"] = _check_array(
+            arrays, "load_path_prescribed", "float", 3,
+            (stages, len(nodes), 2))
+    return out
 
 
 def _check_material(meta):

@@ -14,7 +14,6 @@ history in summary.json and result.npz.
 """
 
 import json
-import os
 import pickle
 import subprocess
 import sys

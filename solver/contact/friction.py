@@ -143,11 +143,20 @@ class FrictionSystem:
     def n_unknowns(self):
         return self.n + (3 if self.formulation == "thesis" else 1) * self.m
 
-    def set_step(self, u_previous, load_factor, p_previous):
-        """Fix u_{κ−1}, κ/κc and the lagged pressure p_{κ−1} of a step."""
+    def set_step(self, u_previous, load, p_previous, friction=None):
+        """Fix u_{κ−1}, the step's load, the lagged pressure p_{κ−1} and
+        (optionally) the step's friction coefficient.
+
+        ``load`` is the load vector f_κ of the step, or a number κ/κc
+        meaning κ/κc · f.
+        """
         self.u_previous = np.asarray(u_previous, float)
-        self.load_factor = float(load_factor)
+        load = np.asarray(load, float)
+        self._Rf_step = (float(load) * self.Rf if load.ndim == 0
+                         else self.R @ load)
         self.p_previous = np.asarray(p_previous, float)
+        if friction is not None:
+            self.friction = float(friction)
         self._r_previous = self.RK @ self.u_previous
 
     def _split(self, x):
@@ -169,7 +178,7 @@ class FrictionSystem:
 
     def _force(self, du):
         """r = R(Ku − f_κ) with u = u_{κ−1} + Δu."""
-        return self._r_previous + self.RK @ du - self.load_factor * self.Rf
+        return self._r_previous + self.RK @ du - self._Rf_step
 
     def pressure(self, r):
         """Lumped contact pressure of the current iterate, ≥ 0."""
@@ -271,7 +280,7 @@ def _is_real(value):
         and not isinstance(value, bool)
 
 
-def solve_friction(problem, friction, steps=100, formulation="thesis",
+def solve_friction(problem, friction, steps=None, formulation="thesis",
                    coulomb="lagged", method="fb", gap="obstacle", tol=1e-10,
                    max_iter=100, gap_scale=1.0, options=None, progress=None,
                    geometry=None):
@@ -282,8 +291,10 @@ def solve_friction(problem, friction, steps=100, formulation="thesis",
     problem : ContactProblem
     friction : float
         Coefficient of friction f_c ≥ 0.
-    steps : int
-        Number of load steps κc; step κ applies κ/κc · f.
+    steps : int, optional
+        Number of load steps κc; step κ applies κ/κc · f (default 100).
+        A problem with a ``load_path`` follows its stages instead (their
+        steps, loads and friction multipliers); ``steps`` must then be None.
     formulation : {"thesis", "projection"}
         The thesis's split (110)/(111) or the projection form (see module).
     coulomb : {"lagged", "implicit"}
@@ -325,10 +336,17 @@ def solve_friction(problem, friction, steps=100, formulation="thesis",
     if not _is_real(friction) or not np.isfinite(friction) or friction < 0:
         raise SolverError(f"friction coefficient must be >= 0 and finite, "
                           f"got {friction!r}")
-    if not _is_real(steps) or not np.isfinite(steps) \
-            or int(steps) != steps or steps < 1:
+    if steps is not None and problem.load_path is not None:
+        raise SolverError(f"the problem defines a load path of "
+                          f"{int(problem.load_path_steps.sum())} steps in "
+                          f"{len(problem.load_path)} stages; do not give "
+                          "the number of steps")
+    if steps is not None and (not _is_real(steps) or not np.isfinite(steps)
+                              or int(steps) != steps or steps < 1):
         raise SolverError(f"number of load steps must be a positive "
                           f"integer, got {steps!r}")
+    path = problem.load_steps(steps)
+    steps = len(path)
     start = time.perf_counter()
     problem.check_stiffness()  # singular / indefinite K: a clear input error
     if geometry is None:
@@ -342,7 +360,7 @@ def solve_friction(problem, friction, steps=100, formulation="thesis",
     u = np.zeros(problem.n_dofs)
     p_previous = np.zeros(system.m)
     g = np.zeros(system.m)
-    fields = {k: [] for k in ("load_factor", "u", "displacement",
+    fields = {k: [] for k in ("load_factor", "stage", "u", "displacement",
                               "contact_force", "contact_pressure",
                               "friction_traction", "friction_bound",
                               "tangential_displacement", "in_contact",
@@ -350,8 +368,9 @@ def solve_friction(problem, friction, steps=100, formulation="thesis",
     records, failed = [], None
     totals = dict(njev=0, nfev=0, nit=0)
     message = "all load steps converged"
-    for kappa in range(1, int(steps) + 1):
-        system.set_step(u, kappa / steps, p_previous)
+    for kappa, (load, factor, prescribed, stage) in enumerate(path, 1):
+        step_friction = friction * factor
+        system.set_step(u, load, p_previous, step_friction)
         result = solve_ncp(system.residual, system.jacobian,
                            system.initial_guess(g), method=method,
                            tol=tol * scale, max_iter=max_iter,
@@ -379,7 +398,8 @@ def solve_friction(problem, friction, steps=100, formulation="thesis",
         r = system._force(du)
         lam = -r[system.n_rows]
         pressure = np.maximum(lam, 0.0) / lumped
-        bound = friction * (p_previous if coulomb == "lagged" else pressure)
+        bound = step_friction * (p_previous if coulomb == "lagged"
+                                 else pressure)
         threshold = 1e-9 * max(scale, np.abs(lam).max(initial=0.0))
         contact = lam > threshold
         # Slip: the traction is at the Coulomb bound (a node in contact with
@@ -388,7 +408,7 @@ def solve_friction(problem, friction, steps=100, formulation="thesis",
         slip_nodes = contact & at_bound
         stick_nodes = contact & ~slip_nodes
         ut = (system.R @ u)[system.t_rows]
-        record.update(n_contact=int(contact.sum()),
+        record.update(stage=int(stage), n_contact=int(contact.sum()),
                       n_stick=int(stick_nodes.sum()),
                       n_slip=int(slip_nodes.sum()),
                       max_pressure=float(pressure.max(initial=0.0)))
@@ -400,10 +420,11 @@ def solve_friction(problem, friction, steps=100, formulation="thesis",
             return out
 
         fields["load_factor"].append(kappa / steps)
+        fields["stage"].append(stage)
         fields["u"].append(u.copy())
         fields["displacement"].append(
-            problem.full_displacement(u) if problem.kind == "mesh"
-            else u[problem.contact_dofs])
+            problem.full_displacement(u, prescribed)
+            if problem.kind == "mesh" else u[problem.contact_dofs])
         fields["contact_force"].append(full(lam))
         fields["contact_pressure"].append(full(pressure))
         fields["friction_traction"].append(full(g))
