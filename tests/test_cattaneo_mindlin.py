@@ -6,7 +6,7 @@ elastic body (ν = 0.3) on a rigid obstacle; an independent FE check (issue
 6) found the stick zone shifted by about 5 % of a and its half-length within
 1-5 % of c. Conditions here: frictionless normal loading (stage 1, 10
 steps), then the top moved sideways by δ = 7e-3 with f_c = 0.5 (stage 2, 20
-steps), giving Q/(f_c P) ≈ 0.5. Measured: half-length within 0.6 % of c,
+steps), giving Q/(f_c P) = 0.50. Measured: half-length +2.4 % from c,
 shift 5.7 % of a, on meshes/hertz.mesh.
 """
 
@@ -69,7 +69,7 @@ def test_stick_zone(problem, formulation, coulomb, method):
     a, _ = hertz_line_contact(P, 1.0, 2e5, 0.3)
     c = cattaneo_mindlin_stick_half_width(a, Q, P, FC)
     half, centre = zone_of(x, r.stick[-1])
-    assert abs(half / c - 1) < 0.05          # target; measured +0.6 %
+    assert abs(half / c - 1) < 0.05          # target; measured +2.4 %
     assert 0.02 < abs(centre) / a < 0.10     # coupling shift; measured 5.7 %
     # outside the stick zone every contact node slips
     contact = r.in_contact[-1]

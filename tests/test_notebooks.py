@@ -10,7 +10,7 @@ NOTEBOOKS = sorted((ROOT / "notebooks").glob("*.ipynb"))
 
 
 #: Figures each notebook must produce.
-FIGURES = {"table1_frictionless": 9, "table2_friction": 9, "verification": 2}
+FIGURES = {"table1_frictionless": 9, "table2_friction": 9, "verification": 3}
 
 
 def test_notebooks_found():
