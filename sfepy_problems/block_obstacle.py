@@ -56,7 +56,9 @@ Usage examples::
 The parameters of ``define()`` can all be set with ``-d``: ``mesh``,
 ``output`` (the ``.npz``; the unconstrained solution goes beside it as
 ``.vtk``), ``E``, ``nu``, ``plane`` ('strain' or 'stress'), ``F`` (the force
-vector) and the obstacle (``obstacle_x``, ``obstacle_y``).
+vector) and the obstacle (``obstacle_x``, ``obstacle_y``, or
+``obstacle_points``, a list of (x, y) vertices of a polyline obstacle, e.g.
+``-d "obstacle_points=[(5.5, -10), (5.1, 0), (5.5, 10)]"``).
 """
 import importlib.util
 import os.path as op
@@ -110,8 +112,10 @@ def export_contact_problem(pb, variables):
 
 def define(mesh='meshes/block_454.mesh', output='output/block_454.npz',
            E=2e5, nu=0.3, plane='strain', F=(4000.0, 0.0),
-           obstacle_x='5.05 + 0.005*t**2', obstacle_y='t', order=1):
+           obstacle_x='5.05 + 0.005*t**2', obstacle_y='t', order=1,
+           obstacle_points=None):
     from solver.obstacle import ParametricCurve
+    from solver.polyline import PolylineCurve
 
     filename_mesh = op.abspath(mesh)  # SfePy resolves relative paths from
     # this file's folder; the user means the working directory.
@@ -127,7 +131,9 @@ def define(mesh='meshes/block_454.mesh', output='output/block_454.npz',
         # Read by the hook:
         'export': op.abspath(output),
         'E': E, 'nu': nu, 'plane': plane, 'F': F, 'load_point': load_point,
-        'obstacle': ParametricCurve(obstacle_x, obstacle_y),
+        'obstacle': (ParametricCurve(obstacle_x, obstacle_y)
+                     if obstacle_points is None
+                     else PolylineCurve(obstacle_points)),
     }
 
     regions = {

@@ -351,6 +351,18 @@ def gap_from_obstacle(points, curve, body_normals, *, window=None,
     with np.errstate(all="ignore"):
         foot_pt = curve.point(t)
         normal, length = _obstacle_normals(curve, t)
+        # At a kink of a polyline (or any corner) the nearest point is not a
+        # foot point: (Γo − B)·Γo' jumps in sign there instead of vanishing.
+        # The normal is then the direction from B to that point (the limit
+        # of the normals of both sides' nearest points).
+        r = foot_pt - points
+        distance = np.linalg.norm(r, axis=1)
+        tangent = curve.derivative(t)
+        off = np.abs(np.sum(r * tangent, axis=1)) > 1e-9 * distance * \
+            np.linalg.norm(tangent, axis=1)
+        corner = off & (distance > 0)
+        normal[corner] = r[corner] / distance[corner, None]
+        length[corner] = 1.0
         cosine = np.sum(normal * body, axis=1)
     if not (np.isfinite(length) & (length > 0)).all():
         bad = ~(np.isfinite(length) & (length > 0))

@@ -45,6 +45,7 @@ import scipy.sparse.linalg as sla
 from .errors import ProblemError
 from .mesh import is_boundary_chain
 from .obstacle import ParametricCurve
+from .polyline import PolylineCurve
 
 __all__ = ["FORMAT_VERSION", "KEYS", "ContactProblem", "load_problem",
            "save_problem", "validate_arrays", "format_table",
@@ -100,8 +101,13 @@ KEYS = {
     "contact_nodes": ("mesh", "int", "(Nc,)",
                       "nodes of Γc, ordered along Γc (consecutive nodes "
                       "share a boundary edge)"),
-    "obstacle_x": ("mesh", "str", "()", "x(t) of the obstacle Γo(t)"),
-    "obstacle_y": ("mesh", "str", "()", "y(t) of the obstacle Γo(t)"),
+    "obstacle_x": ("optional", "str", "()",
+                   "x(t) of the obstacle Γo(t) (mesh kind: either "
+                   "obstacle_x and obstacle_y, or obstacle_points)"),
+    "obstacle_y": ("optional", "str", "()", "y(t) of the obstacle Γo(t)"),
+    "obstacle_points": ("optional", "float", "(n, 2)",
+                        "vertices of a polyline obstacle, parametrised by "
+                        "arc length (instead of obstacle_x, obstacle_y)"),
     "obstacle_t_range": ("optional", "float", "(2,)",
                          "admissible parameter interval [t0, t1] (mesh "
                          "kind only; absent = unbounded)"),
@@ -196,7 +202,9 @@ class ContactProblem:
                           dof_map=self.dof_map,
                           u_prescribed=self.u_prescribed,
                           contact_nodes=self.contact_nodes)
-            if self.obstacle is not None:
+            if isinstance(self.obstacle, PolylineCurve):
+                arrays["obstacle_points"] = self.obstacle.points
+            elif self.obstacle is not None:
                 arrays["obstacle_x"] = np.array(self.obstacle.x_text)
                 arrays["obstacle_y"] = np.array(self.obstacle.y_text)
                 if self.obstacle.t_range is not None:
@@ -300,7 +308,10 @@ class ContactProblem:
         if self.kind == "mesh":
             info.update(nodes=int(len(self.nodes)),
                         triangles=int(len(self.cells)),
-                        obstacle=[self.obstacle.x_text, self.obstacle.y_text],
+                        obstacle=(
+                            [self.obstacle.x_text, self.obstacle.y_text]
+                            if isinstance(self.obstacle, ParametricCurve)
+                            else repr(self.obstacle)),
                         obstacle_t_range=self.obstacle.t_range)
         else:
             info.update(gap=self.gap.tolist(), normal=self.normal.tolist())
@@ -493,8 +504,9 @@ def _validate_arrays(arrays):
     allowed = {k for k, (need, *_rest) in KEYS.items()
                if need in ("all", kind, "optional")}
     if kind == "discrete":
-        allowed.discard("obstacle_t_range")
-        allowed.discard("load_path_prescribed")
+        for key in ("obstacle_t_range", "obstacle_x", "obstacle_y",
+                    "obstacle_points", "load_path_prescribed"):
+            allowed.discard(key)
     for key in sorted(arrays):
         if key not in allowed:
             _fail(key, f"unexpected key in a {kind!r} problem file")
@@ -626,15 +638,32 @@ def _validate_mesh(arrays, n, contact_dofs):
     expected = lookup[(2 * contact_nodes[:, None] + np.arange(2)).ravel()]
     if not np.array_equal(expected.reshape(-1, 2), contact_dofs):
         _fail("contact_dofs", "does not match dof_map and contact_nodes")
-    t_range = None
-    if "obstacle_t_range" in arrays:
-        t_range = _check_array(arrays, "obstacle_t_range", "float", 1, (2,))
-    x = _check_array(arrays, "obstacle_x", "str", 0)
-    y = _check_array(arrays, "obstacle_y", "str", 0)
-    try:
-        obstacle = ParametricCurve(x, y, t_range)
-    except ProblemError as exc:
-        _fail("obstacle", str(exc))
+    if "obstacle_points" in arrays:
+        for key in ("obstacle_x", "obstacle_y", "obstacle_t_range"):
+            if key in arrays:
+                _fail(key, "not allowed with obstacle_points (a polyline "
+                           "is parametrised by its arc length)")
+        points = _check_array(arrays, "obstacle_points", "float", 2,
+                              (None, 2))
+        try:
+            obstacle = PolylineCurve(points)
+        except ProblemError as exc:
+            _fail("obstacle_points", str(exc).split(": ", 1)[-1])
+    else:
+        for key in ("obstacle_x", "obstacle_y"):
+            if key not in arrays:
+                _fail(key, "missing (a 'mesh' problem file needs obstacle_x "
+                           "and obstacle_y, or obstacle_points)")
+        t_range = None
+        if "obstacle_t_range" in arrays:
+            t_range = _check_array(arrays, "obstacle_t_range", "float", 1,
+                                   (2,))
+        x = _check_array(arrays, "obstacle_x", "str", 0)
+        y = _check_array(arrays, "obstacle_y", "str", 0)
+        try:
+            obstacle = ParametricCurve(x, y, t_range)
+        except ProblemError as exc:
+            _fail("obstacle", str(exc))
     return dict(nodes=nodes, cells=cells, dof_map=dof_map,
                 u_prescribed=u_prescribed, contact_nodes=contact_nodes,
                 obstacle=obstacle)
