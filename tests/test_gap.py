@@ -209,3 +209,16 @@ def test_thousand_points_fast():
     assert time.perf_counter() - start < 2.0
     assert np.allclose(along, 0.05 + 0.005 * y ** 2, atol=1e-14)
     assert np.allclose(nearest, parabola_foot(y)[1], atol=1e-14)
+
+
+def test_sine_wave_obstacle_along_the_body_normal():
+    """x = 5.2 + 0.05 sin(t), y = t seen along (1, 0) from (5, y): the gap is
+    0.2 + 0.05 sin(y) exactly (analytic)."""
+    from solver.obstacle import ParametricCurve
+
+    curve = ParametricCurve("5.2 + 0.05*sin(t)", "t")
+    ys = np.linspace(-9.5, 9.5, 39)
+    points = np.c_[np.full_like(ys, 5.0), ys]
+    gap, normal, t = gap_along_normals(points, np.array([1.0, 0.0]), curve)
+    np.testing.assert_allclose(gap, 0.2 + 0.05 * np.sin(ys), atol=1e-13)
+    np.testing.assert_allclose(t, ys, atol=1e-12)
