@@ -60,7 +60,7 @@ from scipy.optimize import OptimizeResult
 
 from ..errors import SolverError
 from ..ncp import solve_ncp
-from .frictionless import contact_geometry
+from .frictionless import contact_geometry, rotation
 
 __all__ = ["FORMULATIONS", "COULOMB", "FrictionSystem", "solve_friction"]
 
@@ -100,14 +100,7 @@ class FrictionSystem:
         self.geometry, self.lumped = geometry, np.asarray(lumped, float)
         self.friction, self.formulation = float(friction), formulation
         self.coulomb, self.gap_scale = coulomb, float(gap_scale)
-        a, b = geometry.dofs[:, 0], geometry.dofs[:, 1]
-        nu = geometry.normal
-        other = np.setdiff1d(np.arange(n), geometry.dofs.ravel())
-        rows = np.concatenate([other, a, a, b, b])
-        cols = np.concatenate([other, a, b, a, b])
-        vals = np.concatenate([np.ones(len(other)), -nu[:, 1], nu[:, 0],
-                               nu[:, 0], nu[:, 1]])
-        self.R = sp.csr_matrix((vals, (rows, cols)), shape=(n, n))
+        self.R, other, a, b = rotation(n, geometry)
         self.x_rows, self.t_rows, self.n_rows = other, a, b  # X, Z, Y
         self.RK = (self.R @ self.K).tocsr()
         self.Rf = self.R @ self.f

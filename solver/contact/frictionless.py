@@ -98,6 +98,20 @@ def contact_geometry(problem, gap="obstacle"):
     return ContactGeometry(free, dofs, s, normal, t, gap)
 
 
+def rotation(n, geometry):
+    """R of (58)-(60), sparse (n, n): at contact node i with DOFs (a_i, b_i)
+    row a_i = γ_i = (−ν_y, ν_x) (tangential), row b_i = ν_i (normal);
+    identity elsewhere. Returns (R, other DOFs, a, b)."""
+    a, b = geometry.dofs[:, 0], geometry.dofs[:, 1]
+    nu = geometry.normal
+    other = np.setdiff1d(np.arange(n), geometry.dofs.ravel())
+    rows = np.concatenate([other, a, a, b, b])
+    cols = np.concatenate([other, a, b, a, b])
+    vals = np.concatenate([np.ones(len(other)), -nu[:, 1], nu[:, 0],
+                           nu[:, 0], nu[:, 1]])
+    return sp.csr_matrix((vals, (rows, cols)), shape=(n, n)), other, a, b
+
+
 class FrictionlessSystem:
     """Residual and Jacobian of (67) for :func:`solver.ncp.solve_ncp`.
 
@@ -116,15 +130,7 @@ class FrictionlessSystem:
         n = K.shape[0]
         self.K, self.f, self.geometry = sp.csr_matrix(K), f, geometry
         self.gap_scale = float(gap_scale)
-        a, b = geometry.dofs[:, 0], geometry.dofs[:, 1]
-        nu = geometry.normal
-        other = np.setdiff1d(np.arange(n), geometry.dofs.ravel())
-        # R (58)-(60): row a_i = γ_i (tangential), row b_i = ν_i (normal).
-        rows = np.concatenate([other, a, a, b, b])
-        cols = np.concatenate([other, a, b, a, b])
-        vals = np.concatenate([np.ones(len(other)), -nu[:, 1], nu[:, 0],
-                               nu[:, 0], nu[:, 1]])
-        self.R = sp.csr_matrix((vals, (rows, cols)), shape=(n, n))
+        self.R, _, _, b = rotation(n, geometry)
         keep = np.ones(n, dtype=bool)
         keep[b] = False
         self.x_rows, self.y_rows = np.flatnonzero(keep), b  # X and Y (66)
