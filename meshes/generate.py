@@ -116,6 +116,25 @@ def _set_options(gmsh, algorithm: int, size: float | None) -> None:
         number("Mesh.MeshSizeMax", size)
 
 
+def model_triangles(gmsh):
+    """(points (n, 3), triangles (m, 3)) of the current gmsh model's 2D mesh,
+    nodes in tag order, triangles as 0-based indices."""
+    node_tags, coords, _ = gmsh.model.mesh.getNodes()
+    elem_types, _, elem_nodes = gmsh.model.mesh.getElements(dim=2)
+    if list(elem_types) != [2]:  # 2 = 3-node triangle
+        raise RuntimeError(f"gmsh made 2D elements of types {list(elem_types)}, "
+                           "expected only linear triangles (type 2)")
+    node_tags = np.asarray(node_tags, dtype=np.int64)
+    order = np.argsort(node_tags, kind="stable")
+    points = np.asarray(coords, dtype=np.float64).reshape(-1, 3)[order]
+    tags = node_tags[order]
+    tri_tags = np.asarray(elem_nodes[0], dtype=np.int64).reshape(-1, 3)
+    triangles = np.searchsorted(tags, tri_tags)
+    if not np.array_equal(tags[triangles], tri_tags):
+        raise RuntimeError("gmsh triangles refer to unknown nodes")
+    return points, triangles
+
+
 def gmsh_mesh(
     size: float | None = None,
     algorithm: int = 1,
@@ -159,25 +178,11 @@ def gmsh_mesh(
         geo.synchronize()
         _set_options(gmsh, algorithm, size)
         gmsh.model.mesh.generate(2)
-
-        node_tags, coords, _ = gmsh.model.mesh.getNodes()
-        elem_types, _, elem_nodes = gmsh.model.mesh.getElements(dim=2)
-        if list(elem_types) != [2]:  # 2 = 3-node triangle
-            raise RuntimeError(f"gmsh made 2D elements of types {list(elem_types)}, "
-                               "expected only linear triangles (type 2)")
+        points, triangles = model_triangles(gmsh)
         gmsh.model.remove()
     finally:
         if own_session:
             gmsh.finalize()
-
-    node_tags = np.asarray(node_tags, dtype=np.int64)
-    order = np.argsort(node_tags, kind="stable")
-    points = np.asarray(coords, dtype=np.float64).reshape(-1, 3)[order]
-    tags = node_tags[order]
-    tri_tags = np.asarray(elem_nodes[0], dtype=np.int64).reshape(-1, 3)
-    triangles = np.searchsorted(tags, tri_tags)
-    if not np.array_equal(tags[triangles], tri_tags):
-        raise RuntimeError("gmsh triangles refer to unknown nodes")
     return clean_mesh(points, triangles)
 
 

@@ -168,25 +168,11 @@ def _quarter(h_contact: float, h_far: float, radius: float,
 
         _set_options(gmsh)
         gmsh.model.mesh.generate(2)
-
-        node_tags, coords, _ = gmsh.model.mesh.getNodes()
-        elem_types, _, elem_nodes = gmsh.model.mesh.getElements(dim=2)
-        if list(elem_types) != [2]:
-            raise RuntimeError(f"gmsh made 2D elements of types {list(elem_types)}, "
-                               "expected only linear triangles (type 2)")
+        points, triangles = generate.model_triangles(gmsh)
         gmsh.model.remove()
     finally:
         if own_session:
             gmsh.finalize()
-
-    node_tags = np.asarray(node_tags, dtype=np.int64)
-    order = np.argsort(node_tags, kind="stable")
-    points = np.asarray(coords, dtype=np.float64).reshape(-1, 3)[order]
-    tags = node_tags[order]
-    tri_tags = np.asarray(elem_nodes[0], dtype=np.int64).reshape(-1, 3)
-    triangles = np.searchsorted(tags, tri_tags)
-    if not np.array_equal(tags[triangles], tri_tags):
-        raise RuntimeError("gmsh triangles refer to unknown nodes")
     return points, triangles
 
 
