@@ -100,26 +100,25 @@ def build_parser():
     return parser
 
 
-def _positive_float(text):
+def _finite_float(text, allow_zero):
     try:
         value = float(text)
     except ValueError:
         raise argparse.ArgumentTypeError(f"not a number: {text!r}") from None
-    if not value > 0 or value == float("inf"):
-        raise argparse.ArgumentTypeError(f"must be positive and finite: "
+    low_ok = value >= 0 if allow_zero else value > 0
+    if not (low_ok and value < float("inf")):
+        rule = ">= 0" if allow_zero else "positive"
+        raise argparse.ArgumentTypeError(f"must be {rule} and finite: "
                                          f"{text!r}")
     return value
+
+
+def _positive_float(text):
+    return _finite_float(text, allow_zero=False)
 
 
 def _nonnegative_float(text):
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"not a number: {text!r}") from None
-    if not 0 <= value < float("inf"):
-        raise argparse.ArgumentTypeError(f"must be >= 0 and finite: "
-                                         f"{text!r}")
-    return value
+    return _finite_float(text, allow_zero=True)
 
 
 def _positive_int(text):
@@ -296,8 +295,7 @@ def _solve_friction(args, problem):
 
     args.method = args.method or "fb"
     geometry, outdir = _check_inputs(args, problem)
-    total = len(problem.load_steps(None if problem.load_path is not None
-                                   else args.steps))
+    total = problem.n_load_steps(args.steps)
     with tqdm(total=total, desc="load steps", unit="step",
               file=sys.stderr, disable=None) as bar:
         def progress(record):

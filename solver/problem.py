@@ -239,21 +239,30 @@ class ContactProblem:
             self._checked = self.K
         return self
 
-    def load_steps(self, steps=None):
-        """The load path as one entry per load step.
+    def n_load_steps(self, steps=None):
+        """Number of load steps: of the ``load_path``, else ``steps``
+        (default 100)."""
+        if self.load_path is not None:
+            return int(self.load_path_steps.sum())
+        return 100 if steps is None else int(steps)
 
-        Returns a list of (load vector f_κ, friction multiplier, Dirichlet
-        values or None, stage index). Without a ``load_path`` the path has
-        one stage of ``steps`` steps (default 100) with f_κ = κ/κc·f and the
+    def load_steps(self, steps=None):
+        """The load path, one entry per load step (a generator: a vector per
+        step is made only when the step is reached).
+
+        Yields (load vector f_κ, friction multiplier, Dirichlet values or
+        None, stage index). Without a ``load_path`` the path has one stage
+        of ``steps`` steps (default 100) with f_κ = κ/κc·f and the
         Dirichlet values scaled alike.
         """
         if self.load_path is None:
-            steps = 100 if steps is None else int(steps)
-            return [(k / steps * self.f, 1.0,
-                     None if self.u_prescribed is None
-                     else k / steps * self.u_prescribed, 0)
-                    for k in range(1, steps + 1)]
-        out, start = [], np.zeros_like(self.f)
+            steps = self.n_load_steps(steps)
+            for k in range(1, steps + 1):
+                yield (k / steps * self.f, 1.0,
+                       None if self.u_prescribed is None
+                       else k / steps * self.u_prescribed, 0)
+            return
+        start = np.zeros_like(self.f)
         prescribed_start = None if self.u_prescribed is None \
             else np.zeros_like(self.u_prescribed)
         for stage, (end, n, factor) in enumerate(zip(
@@ -270,10 +279,9 @@ class ContactProblem:
                 w = k / n
                 value = None if prescribed_end is None else \
                     (1 - w) * prescribed_start + w * prescribed_end
-                out.append(((1 - w) * start + w * end, float(factor), value,
-                            stage))
+                yield ((1 - w) * start + w * end, float(factor), value,
+                       stage)
             start, prescribed_start = end, prescribed_end
-        return out
 
     def full_displacement(self, u, prescribed=None):
         """Nodal displacements (n_nodes, 2) from a reduced vector ``u``.

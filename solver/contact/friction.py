@@ -339,7 +339,7 @@ def solve_friction(problem, friction, steps=None, formulation="thesis",
         raise SolverError(f"number of load steps must be a positive "
                           f"integer, got {steps!r}")
     path = problem.load_steps(steps)
-    steps = len(path)
+    steps = problem.n_load_steps(steps)
     start = time.perf_counter()
     problem.check_stiffness()  # singular / indefinite K: a clear input error
     if geometry is None:
