@@ -57,10 +57,6 @@ FORMAT_VERSION = 1
 #: Relative tolerance of the symmetry check of K and M.
 SYMMETRY_RTOL = 1e-10
 
-#: A pivot of the LDLᵀ factorisation below this fraction of the largest
-#: pivot counts as zero (:func:`check_positive_definite`).
-PIVOT_RTOL = 1e-10
-
 #: Key specification: name -> (which kinds need it, dtype, shape, meaning).
 #: "all" = both kinds; "mesh"/"discrete" = required for that kind only and
 #: refused for the other; "optional" = may be absent in either kind.
@@ -225,9 +221,11 @@ class ContactProblem:
         """Check that K is positive definite (see
         :func:`check_positive_definite`).
 
-        Costs one sparse factorisation of K, about one Newton iteration; the
-        solvers call it before iterating. The result is remembered for the
-        K object checked (replace ``problem.K``, do not modify it in place).
+        Costs one sparse factorisation of K in a fill-reducing order
+        (:func:`solver.linalg.dof_ordering`); the solvers call it before
+        iterating (the condensed ones get it from the factorisation they
+        need anyway). The result is remembered for the K object checked
+        (replace ``problem.K``, do not modify it in place).
 
         Raises
         ------
@@ -235,7 +233,8 @@ class ContactProblem:
             ``"K_data: K is not positive definite (...)"``.
         """
         if self._checked is not self.K:
-            check_positive_definite(self.K, "K")
+            from .linalg import dof_ordering
+            check_positive_definite(self.K, "K", dof_ordering(self))
             self._checked = self.K
         return self
 
@@ -417,33 +416,15 @@ def _csr(arrays, name, n=None):
     return A
 
 
-def check_positive_definite(A, name="K"):
+def check_positive_definite(A, name="K", order=None):
     r"""Raise :class:`ProblemError` unless the symmetric matrix A is
-    positive definite (numerically: no pivot below :data:`PIVOT_RTOL`).
+    positive definite (numerically: no LDLᵀ pivot below
+    :data:`~solver.linalg.PIVOT_RTOL` of the largest).
 
-    The check is one sparse LU factorisation (SuperLU) in symmetric mode: a
-    fill-reducing symmetric ordering P (minimum degree on A + Aᵀ) and
-    diagonal pivots only (``diag_pivot_thresh=0``), so that PAPᵀ = LU with
-    U = DLᵀ, i.e. the LDLᵀ factorisation of PAPᵀ. By Sylvester's law of
-    inertia A is positive definite iff every pivot D_kk > 0. The
-    factorisation is that of Cholesky up to the first non-positive pivot,
-    hence backward stable where it matters: a pivot's sign is trustworthy
-    unless the pivot is at round-off level, which is then reported as
-    singular. (SuperLU's default partial pivoting would break the symmetry
-    and make the signs of U's diagonal meaningless; if it had to pivot off
-    the diagonal anyway, because a diagonal pivot was exactly zero, A is not
-    positive definite either.)
-
-    For a positive definite A every pivot is at least λ_min(A), and for a
-    finite element stiffness matrix the pivots stay far above
-    ‖A‖/cond(A); a body without supports (rigid body modes) gives pivots of
-    round-off size, ~1e-14 of the largest (measured on the thesis's block
-    without its clamp: three such pivots, one per rigid body mode, next
-    ~1e-2). :data:`PIVOT_RTOL` = 1e-10 separates the two by orders of
-    magnitude.
-
-    Cost: one factorisation of A, about that of one Newton iteration of the
-    contact solvers (which factorise a Jacobian of A's size and sparsity).
+    One sparse LDLᵀ factorisation, :class:`solver.linalg.Factorization`
+    (its docstring explains the test), with the elimination ``order`` if
+    given (e.g. :func:`solver.linalg.dof_ordering`), else SuperLU's minimum
+    degree ordering.
 
     Parameters
     ----------
@@ -451,35 +432,11 @@ def check_positive_definite(A, name="K"):
         Symmetric (the loader checks it).
     name : str
         The matrix's key prefix for the message (``"K"`` or ``"M"``).
+    order : (n,) int array, optional
+        Elimination order.
     """
-    A = sp.csc_matrix(A, dtype=np.float64)
-    key = f"{name}_data"
-    singular = (f"{name} is not positive definite (singular "
-                + ("stiffness: is the body supported?)" if name == "K"
-                   else "matrix)"))
-    try:
-        lu = sla.splu(A, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
-                      options={"SymmetricMode": True})
-    except RuntimeError:  # "Factor is exactly singular"
-        _fail(key, f"{singular}: its factorisation has an exactly zero "
-                   "pivot")
-    if not np.array_equal(lu.perm_r, lu.perm_c):
-        _fail(key, f"{name} is not positive definite: a diagonal pivot of "
-                   "its LDLᵀ factorisation is exactly zero")
-    pivots = lu.U.diagonal()
-    if not np.isfinite(pivots).all() or pivots.max() <= 0:
-        _fail(key, f"{name} is not positive definite (its LDLᵀ "
-                   "factorisation has no positive pivot)")
-    ratio = pivots.min() / pivots.max()
-    if ratio < -PIVOT_RTOL:
-        negative = int(np.count_nonzero(pivots < -PIVOT_RTOL * pivots.max()))
-        _fail(key, f"{name} is not positive definite: it has {negative} "
-                   f"negative eigenvalue(s) (LDLᵀ pivot ratio {ratio:.2g})")
-    if ratio <= PIVOT_RTOL:
-        small = int(np.count_nonzero(pivots <= PIVOT_RTOL * pivots.max()))
-        _fail(key, f"{singular}: {small} pivot(s) of its LDLᵀ "
-                   f"factorisation at round-off level ({ratio:.2g} of the "
-                   "largest)")
+    from .linalg import Factorization
+    Factorization(A, order, name)
 
 
 def validate_arrays(arrays):

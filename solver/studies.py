@@ -18,15 +18,18 @@ THESIS_TABLE1 = {("fb", 118): (18, 80), ("min", 118): (6, 61),
 THESIS_TABLE2 = {0.05: (664, 3554), 0.3: (504, 1014), 10.0: (308, 616)}
 
 
-def table1(problems, methods=("fb", "min"), gaps=("obstacle", "body")):
-    """Frictionless solves of ``problems`` ({elements: ContactProblem})."""
+def table1(problems, methods=("fb", "min"), gaps=("obstacle", "body"),
+           condense=False):
+    """Frictionless solves of ``problems`` ({elements: ContactProblem}),
+    by default in the thesis's full system (``condense=False``: the counts
+    comparable with Table 1)."""
     rows = []
     for elements, problem in problems.items():
         for gap in gaps:
             geometry = contact_geometry(problem, gap)
             for method in methods:
                 r = solve_frictionless(problem, method=method, gap=gap,
-                                       geometry=geometry)
+                                       geometry=geometry, condense=condense)
                 thesis = THESIS_TABLE1.get((method, elements), (None, None))
                 rows.append(dict(
                     method=method, elements=elements, gap=gap,
@@ -43,9 +46,10 @@ def table1(problems, methods=("fb", "min"), gaps=("obstacle", "body")):
 def table2(problem, frictions=(0.05, 0.3, 10.0), steps=100,
            variants=(("thesis", "lagged", "fb"),
                      ("projection", "lagged", "fb"),
-                     ("projection", "implicit", "min"))):
+                     ("projection", "implicit", "min")), condense=False):
     """Friction runs of ``problem`` for each f_c and (formulation, coulomb,
-    method) variant."""
+    method) variant, by default in the full system (comparable with
+    Table 2)."""
     rows = []
     geometry = contact_geometry(problem, "obstacle")
     for fc in frictions:
@@ -53,7 +57,8 @@ def table2(problem, frictions=(0.05, 0.3, 10.0), steps=100,
         for formulation, coulomb, method in variants:
             r = solve_friction(problem, fc, steps=steps,
                                formulation=formulation, coulomb=coulomb,
-                               method=method, geometry=geometry)
+                               method=method, geometry=geometry,
+                               condense=condense)
             rows.append(dict(
                 friction=fc, formulation=formulation, coulomb=coulomb,
                 method=method, thesis_J=thesis[0], thesis_F=thesis[1],

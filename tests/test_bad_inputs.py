@@ -512,7 +512,8 @@ def test_line_search_exhausted_status_2(exported, tmp_path, capsys,
 
     monkeypatch.setitem(DEFAULT_OPTIONS["fb"], "max_halvings", 0)
     out = tmp_path / "out"
-    err, summary = failed_run([exported(118)[0], "--method", "fb"], capsys,
+    err, summary = failed_run([exported(118)[0], "--method", "fb",
+                               "--system", "full"], capsys,
                               out)
     assert "line search found no acceptable step" in err
     assert summary["status"] == 2
@@ -562,5 +563,6 @@ def test_singular_jacobian_status_3_frictionless(tmp_path, capsys,
     assert code == 2 and "is the body supported?" in err
     assert tree(tmp_path) == ["float.npz"]
     monkeypatch.setattr(ContactProblem, "check_stiffness", lambda self: self)
-    err, summary = failed_run([path], capsys, tmp_path / "out")
+    err, summary = failed_run([path, "--system", "full"], capsys,
+                              tmp_path / "out")
     assert "singular Jacobian" in err and summary["status"] == 3

@@ -39,16 +39,20 @@ def free(result):
     return np.isfinite(result.gap)  # supports carry NaN
 
 
+@pytest.mark.parametrize("condense", [False, True])
 @pytest.mark.parametrize("method", METHODS)
 @pytest.mark.parametrize("gap", GAPS)
-def test_obstacle_far_away(block, method, gap):
-    """No contact: the unconstrained solution K⁻¹f, in one iteration (the
-    Newton step from u = 0 solves Ku = f exactly: every contact row is a
-    force row λ = 0 ≤ gap)."""
+def test_obstacle_far_away(block, method, gap, condense):
+    """No contact: the unconstrained solution K⁻¹f. The full system needs
+    one iteration (the Newton step from u = 0 solves Ku = f exactly: every
+    contact row is a force row λ = 0 ≤ gap); the condensed one none (it
+    starts from λ = 0, i.e. from K⁻¹f)."""
     far = with_obstacle(block, "50 + 0.005*t**2")
-    result = solve_frictionless(far, method=method, gap=gap)
+    result = solve_frictionless(far, method=method, gap=gap,
+                                condense=condense)
     assert result.success, result.message
-    assert (result.nit, result.njev, result.nfev) == (1, 1, 2)
+    assert (result.nit, result.njev, result.nfev) == \
+        ((0, 0, 1) if condense else (1, 1, 2))
     assert result.n_contact == 0 and not result.in_contact.any()
     assert np.nanmin(result.gap) > 40
     reference = sla.spsolve(block.K.tocsc(), block.f)
@@ -56,10 +60,11 @@ def test_obstacle_far_away(block, method, gap):
                                atol=1e-12 * np.abs(reference).max())
 
 
-def test_obstacle_far_away_with_friction(block):
+@pytest.mark.parametrize("condense", [False, True])
+def test_obstacle_far_away_with_friction(block, condense):
     far = with_obstacle(block, "50 + 0.005*t**2")
     result = solve_friction(far, 0.3, steps=4, formulation="projection",
-                            method="min")
+                            method="min", condense=condense)
     assert result.success, result.message
     assert not result.in_contact.any()
     scale = np.linalg.norm(block.f)
@@ -67,7 +72,12 @@ def test_obstacle_far_away_with_friction(block):
     reference = sla.spsolve(block.K.tocsc(), block.f)
     np.testing.assert_allclose(result.u[-1], reference, rtol=0,
                                atol=1e-12 * np.abs(reference).max())
-    assert result.records[0]["njev"] == 1
+    # full: one Newton step solves step 1; condensed: every step starts from
+    # the unconstrained increment, already the solution
+    if condense:
+        assert [r["njev"] for r in result.records] == [0] * 4
+    else:
+        assert result.records[0]["njev"] == 1
 
 
 @pytest.fixture(scope="module")

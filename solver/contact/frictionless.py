@@ -33,10 +33,11 @@ import scipy.sparse.linalg as sla
 from scipy.optimize import OptimizeResult
 
 from ..errors import SolverError
+from ..linalg import Condensation
 from ..ncp import solve_ncp
 
 __all__ = ["GAP_MODES", "ContactGeometry", "contact_geometry",
-           "FrictionlessSystem", "solve_frictionless"]
+           "condense_onto_contact", "FrictionlessSystem", "solve_frictionless"]
 
 #: How gaps and normals are found (thesis §2.1.1 / §2.1.2).
 GAP_MODES = ("obstacle", "body")
@@ -98,6 +99,29 @@ def contact_geometry(problem, gap="obstacle"):
     return ContactGeometry(free, dofs, s, normal, t, gap)
 
 
+def contact_stiffness(K, geometry):
+    """k̄: the mean diagonal stiffness at the contact DOFs (1 if none), the
+    force per unit gap of the stopping measures."""
+    if not len(geometry.dofs):
+        return 1.0
+    return float(K.diagonal()[geometry.dofs].mean())
+
+
+def condense_onto_contact(problem, geometry):
+    """Factorise K once with the free contact DOFs last
+    (:class:`solver.linalg.Condensation`, which also checks that K is
+    positive definite) and renumber ``geometry`` to the condensed DOFs
+    (x, y of contact node i → 2i, 2i + 1). Returns (condensation, geometry).
+    """
+    condensation = Condensation(problem, geometry.dofs.ravel())
+    problem._checked = problem.K  # the factorisation checked K's pivots
+    m = len(geometry.dofs)
+    local = ContactGeometry(geometry.index, np.arange(2 * m).reshape(m, 2),
+                            geometry.gap, geometry.normal, geometry.foot,
+                            geometry.mode)
+    return condensation, local
+
+
 def rotation(n, geometry):
     """R of (58)-(60), sparse (n, n): at contact node i with DOFs (a_i, b_i)
     row a_i = γ_i = (−ν_y, ν_x) (tangential), row b_i = ν_i (normal);
@@ -124,9 +148,12 @@ class FrictionlessSystem:
     geometry : ContactGeometry
     gap_scale : float
         c in B = c(s − YRu); 1 is the thesis.
+    stiffness : float, optional
+        k̄ of :meth:`error` (default: mean of diag K at the contact DOFs; a
+        condensed system passes that of the full K).
     """
 
-    def __init__(self, K, f, geometry, gap_scale=1.0):
+    def __init__(self, K, f, geometry, gap_scale=1.0, stiffness=None):
         n = K.shape[0]
         self.K, self.f, self.geometry = sp.csr_matrix(K), f, geometry
         self.gap_scale = float(gap_scale)
@@ -139,9 +166,8 @@ class FrictionlessSystem:
         self._JE = RK[self.x_rows]
         self._JA = -RK[self.y_rows]
         self._JB = -self.gap_scale * self.R[self.y_rows]
-        diagonal = self.K.diagonal()
-        self.stiffness = float(diagonal[geometry.dofs].mean()) \
-            if len(geometry.dofs) else 1.0
+        self.stiffness = contact_stiffness(self.K, geometry) \
+            if stiffness is None else float(stiffness)
 
     def residual(self, u):
         """(E, A, B) = (X(RKu − Rf), −Y(RKu − Rf), c(s − YRu)), thesis (67)."""
@@ -171,7 +197,7 @@ class FrictionlessSystem:
 
 def solve_frictionless(problem, method="min", gap="obstacle", tol=1e-10,
                        max_iter=100, x0=None, gap_scale=1.0, options=None,
-                       geometry=None):
+                       geometry=None, condense=None):
     r"""Solve the frictionless contact problem (67) by semismooth Newton.
 
     Parameters
@@ -197,6 +223,15 @@ def solve_frictionless(problem, method="min", gap="obstacle", tol=1e-10,
         Method options of :func:`solver.ncp.solve_ncp`.
     geometry : ContactGeometry, optional
         Precomputed gaps and normals (else :func:`contact_geometry`).
+    condense : bool or None
+        True (default; None means True): factorise K once, with the contact DOFs last, and
+        iterate on the same system (67) condensed exactly onto Γc (K → its
+        Schur complement S, f → g̃; :class:`solver.linalg.Condensation`):
+        a solve costs about one factorisation of K. The start u = x0 is then
+        read on Γc only (the other DOFs are in equilibrium throughout).
+        False: the thesis's system in all Ñ unknowns with one sparse LU of
+        the Jacobian per iteration (faithful mode; its iteration counts are
+        those of Table 1).
 
     Returns
     -------
@@ -221,22 +256,40 @@ def solve_frictionless(problem, method="min", gap="obstacle", tol=1e-10,
         ``status``.
     """
     start = time.perf_counter()
-    problem.check_stiffness()  # singular / indefinite K: a clear input error
     if geometry is None:
         geometry = contact_geometry(problem, gap)
     geometry_time = time.perf_counter() - start
-    system = FrictionlessSystem(problem.K, problem.f, geometry, gap_scale)
-    x0 = np.zeros(problem.n_dofs) if x0 is None else np.asarray(x0, float)
     scale = max(np.linalg.norm(problem.f), 1.0)
+    stiffness = contact_stiffness(problem.K, geometry)
+    condense = condense is None or bool(condense)
+    if condense:
+        condensation, local = condense_onto_contact(problem, geometry)
+        g, w = condensation.load(problem.f)
+        system = FrictionlessSystem(condensation.S, g, local, gap_scale,
+                                    stiffness)
+        # No contact force at the start: the thesis's u = 0 has λ = 0 on
+        # Γc; condensed, λ = 0 is the unconstrained solution w = K⁻¹f.
+        x0 = w[condensation.dofs] if x0 is None else \
+            np.asarray(x0, float)[condensation.dofs]
+    else:
+        x0 = np.zeros(problem.n_dofs) if x0 is None else \
+            np.asarray(x0, float)
+        problem.check_stiffness()  # singular / indefinite K: input error
+        system = FrictionlessSystem(problem.K, problem.f, geometry,
+                                    gap_scale, stiffness)
     result = solve_ncp(system.residual, system.jacobian, x0, method=method,
                        tol=tol * scale, max_iter=max_iter, options=options,
                        error=system.error)
+    lam_free = system.contact_force(result.x)
+    un_free = system.normal_displacement(result.x)
+    if condense:
+        result.x = condensation.displacement(result.x, w)
     u = result.x
     nc = problem.n_contact
     lam = np.zeros(nc)
-    lam[geometry.index] = system.contact_force(u)
+    lam[geometry.index] = lam_free
     un = np.full(nc, np.nan)
-    un[geometry.index] = system.normal_displacement(u)
+    un[geometry.index] = un_free
     s = np.full(nc, np.nan)
     s[geometry.index] = geometry.gap
     normal = np.full((nc, 2), np.nan)
@@ -259,5 +312,6 @@ def solve_frictionless(problem, method="min", gap="obstacle", tol=1e-10,
         complementarity=float(comp.max(initial=0.0)),
         n_contact=int(in_contact.sum()), gap_mode=geometry.mode,
         gap_scale=float(gap_scale), geometry_time=geometry_time,
+        condensed=bool(condense),
         time=time.perf_counter() - start)
     return result

@@ -41,8 +41,11 @@ A. Fischer: A special Newton-type optimization method. Optimization 24
 
 import time
 
+import warnings
+
 import numpy as np
 import scipy.sparse as sp
+import scipy.linalg as sla_dense
 import scipy.sparse.linalg as sla
 from scipy.optimize import OptimizeResult
 
@@ -114,12 +117,30 @@ def _default_z(JA, gamma):
     return np.asarray(JA.T @ (1.0 / norms2)).ravel()
 
 
+#: Jacobians with more than this fraction of nonzeros (and at least
+#: DENSE_MIN_SIZE rows) are factorised by LAPACK instead of SuperLU: those of
+#: the systems condensed onto Γc (:class:`solver.linalg.Condensation`) are
+#: dense blocks, where SuperLU is several times slower than LAPACK.
+DENSE_FRACTION = 0.2
+DENSE_MIN_SIZE = 64
+
+
 def _newton_direction(J, F):
-    """Solve J d = −F with SuperLU; None if J is (numerically) singular."""
-    try:
-        d = sla.splu(J).solve(-F)
-    except RuntimeError:  # "Factor is exactly singular"
-        return None
+    """Solve J d = −F (SuperLU, or LAPACK for a dense J); None if J is
+    (numerically) singular."""
+    n = J.shape[0]
+    if n >= DENSE_MIN_SIZE and J.nnz > DENSE_FRACTION * n * n:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", sla_dense.LinAlgWarning)
+            lu, piv = sla_dense.lu_factor(J.toarray(), check_finite=False)
+            if not np.all(np.diagonal(lu)):
+                return None
+            d = sla_dense.lu_solve((lu, piv), -F, check_finite=False)
+    else:
+        try:
+            d = sla.splu(J).solve(-F)
+        except RuntimeError:  # "Factor is exactly singular"
+            return None
     return d if np.all(np.isfinite(d)) else None
 
 
