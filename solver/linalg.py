@@ -173,6 +173,10 @@ class Factorization:
         minimum degree on A + Aᵀ.
     name : str
         Key prefix of A for error messages (``"K"`` or ``"M"``).
+    check : bool
+        Check the pivots (default). The check reads the factors out of
+        SuperLU (SciPy copies L and U, about half the factorisation's time
+        and its memory again); False skips it (a bare linear solver).
 
     Raises
     ------
@@ -180,7 +184,7 @@ class Factorization:
         ``"{name}_data: {name} is not positive definite (...)"``.
     """
 
-    def __init__(self, A, order=None, name="K"):
+    def __init__(self, A, order=None, name="K", check=True):
         A = sp.csc_matrix(A, dtype=np.float64)
         self.n = A.shape[0]
         self.order = order = None if order is None else np.asarray(order)
@@ -203,11 +207,12 @@ class Factorization:
             raise ProblemError(f"{key}: {name} is not positive definite: a "
                                "diagonal pivot of its LDLᵀ factorisation "
                                "is exactly zero")
-        U = self.lu.U
-        self.nnz = int(U.nnz)
-        pivots = U.diagonal()
-        del U
-        self.nnz += int(self.lu.L.nnz)
+        self.nnz = int(self.lu.nnz)
+        if check:
+            self._check_pivots(self.lu.U.diagonal(), key, name, singular)
+
+    @staticmethod
+    def _check_pivots(pivots, key, name, singular):
         if not np.isfinite(pivots).all() or pivots.max() <= 0:
             raise ProblemError(f"{key}: {name} is not positive definite "
                                "(its LDLᵀ factorisation has no positive "
@@ -289,18 +294,33 @@ class Condensation:
         return self.S @ w[self.dofs], w
 
     def _combination(self, f):
-        if not self._solved:
+        """K⁻¹f from the stored solutions if f is in their span, else None
+        (least squares by the 2×2 normal equations; the residual is then
+        checked directly)."""
+        loads = [g for g, _ in self._solved]
+        if not loads:
             return None
-        F = np.column_stack([g for g, _ in self._solved])
-        coef, *_ = np.linalg.lstsq(F.T @ F, F.T @ f, rcond=None)
-        if np.linalg.norm(F @ coef - f) > 1e-13 * np.linalg.norm(f):
+        G = np.array([[a @ b for b in loads] for a in loads])
+        try:
+            coef = np.linalg.solve(G, [a @ f for a in loads])
+        except np.linalg.LinAlgError:  # two parallel loads
+            coef = np.linalg.lstsq(G, [a @ f for a in loads], rcond=None)[0]
+        residual = f.copy()
+        for c, g in zip(coef, loads):
+            residual -= c * g
+        if np.linalg.norm(residual) > 1e-13 * np.linalg.norm(f):
             return None
-        return sum(c * w for c, (_, w) in zip(coef, self._solved))
+        w = np.zeros_like(f)
+        for c, (_, v) in zip(coef, self._solved):
+            w += c * v
+        return w
 
     def displacement(self, u_c, w):
         """The full u with contact DOFs u_c, given w = K⁻¹f from
-        :meth:`load`: u = w + K⁻¹Pᵀ S(u_c − w_c), one solve."""
-        r = np.zeros(self.factorization.n)
+        :meth:`load`: u = w + K⁻¹Pᵀ S(u_c − w_c), one solve. Several at
+        once: u_c and w of shape (m, k) and (n, k), one solve with k
+        right-hand sides (cheaper per column)."""
+        r = np.zeros(np.shape(w))
         r[self.dofs] = self.S @ (u_c - w[self.dofs])
         self.n_solves += 1
         return w + self.factorization.solve(r)

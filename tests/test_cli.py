@@ -193,8 +193,7 @@ def test_friction_run_outputs(exported, tmp_path, capsys):
 def test_friction_failure_keeps_completed_steps(exported, tmp_path, capsys):
     """A real failure: FB with the implicit bound and f_c = 100 stalls in
     load step 4 of 20 on the 454 mesh in the full system (see
-    test_friction; condensed, the same run converges); the three completed
-    steps stay on disk."""
+    test_friction); the three completed steps stay on disk."""
     path = exported(454)[0]
     out = tmp_path / "fail"
     assert main([str(path), "--friction", "100", "--coulomb", "implicit",

@@ -385,6 +385,7 @@ def solve_friction(problem, friction, steps=None, formulation="thesis",
     nc, idx = problem.n_contact, geometry.index
     u = np.zeros(system.n)  # u, or u on Γc if condensed
     w_previous = np.zeros(problem.n_dofs)  # K⁻¹f of the previous step
+    pending = []  # condensed: (u on Γc, K⁻¹f, prescribed) of each step
     p_previous = np.zeros(system.m)
     g = np.zeros(system.m)
     fields = {k: [] for k in ("load_factor", "stage", "u", "displacement",
@@ -442,8 +443,9 @@ def solve_friction(problem, friction, steps=None, formulation="thesis",
         slip_nodes = contact & at_bound
         stick_nodes = contact & ~slip_nodes
         ut = (system.R @ u)[system.t_rows]
-        if condense:
-            u_full, w_previous = condensation.displacement(u, w), w
+        if condense:  # u on Γc; the full u of all steps at the end, at once
+            u_full, w_previous = None, w
+            pending.append((u.copy(), w, prescribed))
         else:
             u_full = u
         record.update(stage=int(stage), n_contact=int(contact.sum()),
@@ -459,10 +461,11 @@ def solve_friction(problem, friction, steps=None, formulation="thesis",
 
         fields["load_factor"].append(kappa / steps)
         fields["stage"].append(stage)
-        fields["u"].append(u_full.copy())
-        fields["displacement"].append(
-            problem.full_displacement(u_full, prescribed)
-            if problem.kind == "mesh" else u_full[problem.contact_dofs])
+        if u_full is not None:
+            fields["u"].append(u_full.copy())
+            fields["displacement"].append(
+                problem.full_displacement(u_full, prescribed)
+                if problem.kind == "mesh" else u_full[problem.contact_dofs])
         fields["contact_force"].append(full(lam))
         fields["contact_pressure"].append(full(pressure))
         fields["friction_traction"].append(full(g))
@@ -474,6 +477,16 @@ def solve_friction(problem, friction, steps=None, formulation="thesis",
         p_previous = pressure
         if progress is not None:
             progress(record)
+    for first in range(0, len(pending), 32):  # 32 right-hand sides a solve
+        chunk = pending[first:first + 32]
+        U = condensation.displacement(np.column_stack([c[0] for c in chunk]),
+                                      np.column_stack([c[1] for c in chunk]))
+        for k, (_, _, prescribed) in enumerate(chunk):
+            fields["u"].append(U[:, k])
+            fields["displacement"].append(
+                problem.full_displacement(U[:, k], prescribed)
+                if problem.kind == "mesh"
+                else U[problem.contact_dofs, k])
     arrays = {k: np.array(v) for k, v in fields.items()}
     return OptimizeResult(
         success=failed is None, message=message, failed_step=failed,
