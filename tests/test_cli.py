@@ -80,6 +80,36 @@ SUMMARY_KEYS = {"method", "gap", "converged", "iterations", "n_jacobian",
                 "wall_time", "status", "message", "error"}
 
 
+@pytest.mark.parametrize("friction", [None, "0.3"])
+def test_system_option(exported, tmp_path, capsys, friction):
+    """--system full (the thesis's system in all unknowns) and the default
+    (condensed onto Γc) write the same displacements; summary.json says
+    which ran, and the thesis's friction formulation runs on the full
+    system unless told otherwise."""
+    path = exported(118)[0]
+    extra = [] if friction is None else ["--friction", friction, "--steps",
+                                         "5", "--formulation", "projection"]
+    runs = {}
+    for system in ("auto", "full", "condensed"):
+        out = tmp_path / system
+        assert main([str(path), "--system", system, "-o", str(out)]
+                    + extra) == 0
+        runs[system] = result_displacement(out)
+        summary = json.loads((out / "summary.json").read_text())
+        assert summary["system"] == ("full" if system == "full"
+                                     else "condensed")
+    scale = np.abs(runs["full"]).max()
+    for system in ("auto", "condensed"):
+        assert np.abs(runs[system] - runs["full"]).max() <= 1e-9 * scale
+    if friction is not None:
+        out = tmp_path / "thesis"
+        assert main([str(path), "--friction", friction, "--steps", "5",
+                     "-o", str(out)]) == 0
+        assert json.loads((out / "summary.json").read_text())["system"] \
+            == "full"
+    capsys.readouterr()
+
+
 @pytest.mark.parametrize("method", ["min", "fb"])
 @pytest.mark.parametrize("gap", ["obstacle", "body"])
 def test_solve_writes_outputs(exported, tmp_path, capsys, method, gap):
