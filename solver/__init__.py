@@ -21,6 +21,9 @@ solve_friction
     formulation (:mod:`solver.contact.friction`).
 solve_ncp
     Semismooth Newton methods for mixed NCPs, FE-free (:mod:`solver.ncp`).
+Factorization, Condensation, nested_dissection
+    One LDLᵀ factorisation of K per solve, condensation onto Γc
+    (:mod:`solver.linalg`).
 SolverError, ProblemError, ExpressionError, GapError
     Errors caused by bad input (:mod:`solver.errors`, :mod:`solver.gap`).
 """

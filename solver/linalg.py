@@ -5,8 +5,9 @@ One factorisation of the stiffness matrix K serves a whole contact solve:
 * :func:`nested_dissection` orders the nodes of a mesh by geometric nested
   dissection (George 1973; recursive coordinate bisection with vertex
   separators), a fill-reducing ordering that SciPy's SuperLU does not offer.
-  On the refined thesis block it gives 20-35 % fewer factor nonzeros than
-  SuperLU's COLAMD and a 2-3× faster factorisation (``benchmarks/``).
+  On the refined thesis block it gives 30-40 % fewer factor nonzeros than
+  SuperLU's COLAMD (SciPy's default) and, ordering included, a 1.4-3.9×
+  faster solve from 3·10⁴ to 9·10⁵ DOFs (``benchmarks/README.md``).
 * :class:`Factorization` factorises PKPᵀ = LDLᵀ with SuperLU in symmetric
   mode (diagonal pivots only) and checks, from the pivots, that K is
   positive definite (Sylvester's law of inertia).
@@ -51,10 +52,11 @@ def nested_dissection(points, edges, leaf=LEAF_SIZE):
     """Fill-reducing node ordering by geometric nested dissection.
 
     Every subdomain (all nodes at first) with more than ``leaf`` nodes is
-    split at the median of the coordinate in which it is most spread out; the nodes of the
-    upper half that share an edge with the lower half form the separator,
-    which is ordered after both halves (recursively). All subdomains of one
-    level are split at once (vectorised; no loop over nodes or subdomains).
+    split at the median of the coordinate in which it is most spread out;
+    the nodes of the upper half that share an edge with the lower half form
+    the separator, which is ordered after both halves (recursively). All
+    subdomains of one level are split at once (vectorised; no loop over
+    nodes or subdomains).
 
     Parameters
     ----------

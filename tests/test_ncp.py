@@ -125,6 +125,41 @@ def test_singular_jacobian_min():
     assert result.status == 3 and not result.success
 
 
+@pytest.mark.parametrize("method", METHODS)
+def test_dense_lcps_take_the_lapack_path(method, monkeypatch):
+    """A dense 80×80 LCP (the Jacobian's density is above DENSE_FRACTION,
+    so LAPACK factorises it): the solution satisfies the LCP, and the same
+    problem with one dependent row reports a singular Jacobian (status 3)."""
+    from solver.ncp import newton
+
+    n = 80
+    assert n >= newton.DENSE_MIN_SIZE
+
+    def no_superlu(*args, **kwargs):
+        raise AssertionError("SuperLU called for a dense Jacobian")
+
+    monkeypatch.setattr(newton.sla, "splu", no_superlu)
+    rng = np.random.default_rng(7)
+    G = rng.normal(size=(n, n))
+    M = G @ G.T + n * np.eye(n)
+    q = rng.normal(size=n)
+    fun, jac = lcp(M, q)
+    result = solve_ncp(fun, jac, np.zeros(n), method=method, tol=1e-12)
+    assert result.success, result.message
+    w = M @ result.x + q
+    assert result.x.min() >= -1e-10 and w.min() >= -1e-10
+    assert abs(result.x @ w) <= 1e-8 * np.abs(q).max()
+    # equality rows 0 = 1 at two unknowns that only they involve: singular
+    E = sp.csr_matrix((2, n + 2))
+    A = sp.hstack([sp.csr_matrix(M), sp.csr_matrix((n, 2))], format="csr")
+    singular = solve_ncp(
+        lambda x: (np.ones(2), x[:n], M @ x[:n] + q),
+        lambda x: (E, sp.hstack([sp.identity(n), sp.csr_matrix((n, 2))],
+                                format="csr"), A),
+        np.zeros(n + 2), method="min")
+    assert singular.status == 3 and not singular.success
+
+
 def test_bad_method_and_options():
     fun, jac = lcp(np.eye(2), np.ones(2))
     with pytest.raises(ValueError, match="unknown method"):

@@ -37,7 +37,8 @@ from ..linalg import Condensation
 from ..ncp import solve_ncp
 
 __all__ = ["GAP_MODES", "ContactGeometry", "contact_geometry",
-           "condense_onto_contact", "FrictionlessSystem", "solve_frictionless"]
+           "condense_onto_contact", "FrictionlessSystem",
+           "solve_frictionless"]
 
 #: How gaps and normals are found (thesis §2.1.1 / §2.1.2).
 GAP_MODES = ("obstacle", "body")
@@ -224,8 +225,9 @@ def solve_frictionless(problem, method="min", gap="obstacle", tol=1e-10,
     geometry : ContactGeometry, optional
         Precomputed gaps and normals (else :func:`contact_geometry`).
     condense : bool or None
-        True (default; None means True): factorise K once, with the contact DOFs last, and
-        iterate on the same system (67) condensed exactly onto Γc (K → its
+        True (default; None means True): factorise K once, with the contact
+        DOFs last, and iterate on the same system (67) condensed exactly
+        onto Γc (K → its
         Schur complement S, f → g̃; :class:`solver.linalg.Condensation`):
         a solve costs about one factorisation of K. The start u = x0 is then
         read on Γc only (the other DOFs are in equilibrium throughout).
