@@ -6,7 +6,7 @@ One factorisation of the stiffness matrix K serves a whole contact solve:
   dissection (George 1973; recursive coordinate bisection with vertex
   separators), a fill-reducing ordering that SciPy's SuperLU does not offer.
   On the refined thesis block it gives 30-40 % fewer factor nonzeros than
-  SuperLU's COLAMD (SciPy's default) and, ordering included, a 1.4-3.9×
+  SuperLU's COLAMD (SciPy's default) and, ordering included, a 1.3-3.9×
   faster solve from 3·10⁴ to 9·10⁵ DOFs (``benchmarks/README.md``).
 * :class:`Factorization` factorises PKPᵀ = LDLᵀ with SuperLU in symmetric
   mode (diagonal pivots only) and checks, from the pivots, that K is
