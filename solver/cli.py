@@ -362,6 +362,7 @@ def format_friction_result(summary, outdir):
         f"{summary['steps']}",
         f"evaluations       J {summary['n_jacobian']}, F "
         f"{summary['n_residual']} in total (thesis Table 2 metrics)",
+        f"system            {_system_text(summary)}",
         f"gradient steps    {summary['gradient_steps']}"]
     if summary["steps_completed"]:
         lines += [
@@ -375,6 +376,13 @@ def format_friction_result(summary, outdir):
     return "\n".join(lines)
 
 
+def _system_text(summary):
+    return ("full (the thesis's, in all unknowns)"
+            if summary["system"] == "full" else
+            "condensed onto the contact boundary (--system full: the "
+            "thesis's)")
+
+
 def format_result(summary, outdir):
     """A readable summary of a solve."""
     state = "converged" if summary["converged"] else "NOT CONVERGED"
@@ -384,6 +392,7 @@ def format_result(summary, outdir):
         f"iterations        {summary['iterations']}",
         f"evaluations       J {summary['n_jacobian']}, F "
         f"{summary['n_residual']}  (thesis Table 1 metrics)",
+        f"system            {_system_text(summary)}",
         f"final ||Phi||     {summary['residual']:.3e} (stopping measure "
         f"{summary['error']:.3e})",
         f"complementarity   max|min(lambda, s - u_n)| = "
