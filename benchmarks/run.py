@@ -3,7 +3,8 @@
 Usage::
 
     python benchmarks/run.py [--max-dofs N] [--max-friction-dofs N]
-                             [--max-peer-dofs N] [--steps N] [--no-peers]
+                             [--max-peer-dofs N] [--max-sfepy-dofs N]
+                             [--steps N] [--no-peers]
 
 Sizes: the 1878-element thesis mesh and its uniform refinements (4× the
 triangles per level, ``meshes/generate.py --refine``) up to ``--max-dofs``
@@ -17,11 +18,14 @@ measurement in a fresh process (for its peak memory). One row per size:
   :class:`solver.linalg.Factorization` without the pivot check), and for
   reference SciPy's default ``splu`` (COLAMD) + solve;
 * φ_min and φ_FB frictionless solves (``solve_frictionless``, defaults:
-  condensed onto Γc, gap from the obstacle, cold start), time, ratio to the
-  floor, Jacobian/residual evaluations;
+  condensed onto Γc, gap from the obstacle, nested start from λ = 0 on the
+  coarsest level), time, ratio to the floor, Jacobian/residual evaluations
+  of all levels together, the number of levels and the Jacobians on the
+  finest level (the full Γc, the ones that cost);
 * peers on the same problem (``benchmarks/peers.py``): Clarabel on the QP
   and SfePy's ``nls.semismooth_newton``; a time counts only if the peer's u
-  is within 1e-6 (relative, max norm) of ours, else "(differs …)";
+  is within 1e-6 (relative, max norm) of ours, else "(differs …)"; up to
+  ``--max-peer-dofs`` (SfePy's up to ``--max-sfepy-dofs``: it is slow);
 * friction: 100 load steps (``--steps``), f_c = 0.3, projection form,
   φ_min, lagged bound, up to ``--max-friction-dofs``;
 * peak resident memory of the floor process, of the frictionless solves
@@ -71,7 +75,8 @@ elif what in ("min", "fb"):
     t = time.perf_counter()
     r = solve_frictionless(problem, method=what)
     out.update(time=time.perf_counter() - t, J=r.njev, F=r.nfev,
-               converged=bool(r.success), contact=r.n_contact)
+               converged=bool(r.success), contact=r.n_contact,
+               levels=len(r.levels), J_finest=r.levels[-1]["njev"])
     np.save(path + f".{what}.npy", r.u)
 elif what in ("clarabel", "sfepy"):
     import peers
@@ -97,8 +102,9 @@ print(json.dumps(out))
 '''
 
 COLUMNS = ["DOFs", "Nc", "export [s]", "floor [s]", "L+U nnz",
-           "COLAMD [s]", "min [s]", "min/floor", "min J/F", "fb [s]",
-           "fb/floor", "fb J/F", "Clarabel [s]", "Clarabel/min",
+           "COLAMD [s]", "levels", "min [s]", "min/floor", "min J/F",
+           "min J finest", "fb [s]", "fb/floor", "fb J/F", "fb J finest",
+           "Clarabel [s]", "Clarabel/min",
            "SfePy SSN [s]", "SfePy/min", "SfePy J", "friction [s]",
            "friction/floor", "friction J/F", "floor RSS [MB]",
            "solve RSS [MB]", "RSS/floor", "friction RSS [MB]"]
@@ -161,9 +167,12 @@ def row(npz, export_time, args):
             ("" if r["converged"] else " (not converged)")
         cells[f"{method}/floor"] = f"{r['time'] / t0:.2f}"
         cells[f"{method} J/F"] = f"{r['J']}/{r['F']}"
+        cells[f"{method} J finest"] = str(r["J_finest"])
+        cells["levels"] = str(r["levels"])
     if floor["dofs"] <= args.max_peer_dofs:
         for peer, label in (("clarabel", "Clarabel"), ("sfepy", "SfePy")):
-            if peer not in args.peers:
+            if peer not in args.peers or (
+                    peer == "sfepy" and floor["dofs"] > args.max_sfepy_dofs):
                 continue
             c = measure(npz, peer)
             ok = c["agreement"] <= 1e-6
@@ -205,10 +214,14 @@ def main(argv=None):
     parser.add_argument("--max-dofs", type=float, default=1.3e5)
     parser.add_argument("--max-friction-dofs", type=float, default=1.3e5)
     parser.add_argument("--max-peer-dofs", type=float, default=1.1e6)
+    parser.add_argument("--max-sfepy-dofs", type=float,
+                        help="default: --max-peer-dofs")
     parser.add_argument("--steps", type=int, default=100)
     parser.add_argument("--no-peers", action="store_true")
     args = parser.parse_args(argv)
     args.peers = available_peers(args.no_peers)
+    if args.max_sfepy_dofs is None:
+        args.max_sfepy_dofs = args.max_peer_dofs
     print("| " + " | ".join(COLUMNS) + " |")
     print("|" + "---|" * len(COLUMNS), flush=True)
     with tempfile.TemporaryDirectory() as folder:

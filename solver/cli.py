@@ -58,10 +58,13 @@ def build_parser():
     parser.add_argument("--max-iter", type=_positive_int, default=100,
                         help="maximum number of Newton iterations; "
                              "default 100")
-    parser.add_argument("--gap-scale", type=_positive_float, default=1.0,
+    parser.add_argument("--gap-scale", type=_positive_float,
                         help="scale c of the gap rows, B = c (s - YRu): "
                              "same solution, other Newton path; default 1 "
-                             "(the thesis)")
+                             "(the thesis) on the full system and with "
+                             "friction, the contact stiffness (gaps in "
+                             "force units) on the condensed frictionless "
+                             "system")
     parser.add_argument("--system", choices=("auto", "condensed", "full"),
                         default="auto",
                         help="condensed: factorise K once and iterate on the "
@@ -72,6 +75,14 @@ def build_parser():
                              "the iteration counts of Tables 1 and 2); "
                              "default auto = condensed, except full for the "
                              "thesis's friction formulation")
+    parser.add_argument("--start", choices=("nested", "free"),
+                        help="start of a condensed frictionless solve: "
+                             "nested = solve on ever coarser subsets of the "
+                             "contact nodes first (Newton iterations on the "
+                             "finest that do not grow with the mesh); "
+                             "free = from no contact force, u = K^-1 f; "
+                             "default nested (the full system starts from "
+                             "the thesis's u = 0)")
     friction = parser.add_argument_group(
         "Coulomb friction by load steps (thesis §5)")
     friction.add_argument("--friction", type=_nonnegative_float,
@@ -176,7 +187,14 @@ def format_summary(info):
 
 def main(argv=None):
     """Run the command line; return the exit code."""
-    args = build_parser().parse_args(argv)
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    if args.start is not None and args.friction is not None:
+        parser.error("--start applies to frictionless solves only (friction "
+                     "steps start from the previous step)")
+    if args.start == "nested" and args.system == "full":
+        parser.error("--start nested needs the condensed system, not "
+                     "--system full")
     try:
         problem = load_problem(args.problem)
         if args.info:
@@ -283,7 +301,7 @@ def _solve(args, problem):
     result = solve_frictionless(problem, method=args.method, gap=args.gap,
                                 tol=args.tol, max_iter=args.max_iter,
                                 gap_scale=args.gap_scale, geometry=geometry,
-                                condense=_condense(args))
+                                condense=_condense(args), start=args.start)
     summary = summary_of(result, problem, tol=args.tol,
                          max_iter=args.max_iter)
     write_result(os.path.join(outdir, "result.npz"), result, problem)
@@ -377,10 +395,15 @@ def format_friction_result(summary, outdir):
 
 
 def _system_text(summary):
-    return ("full (the thesis's, in all unknowns)"
-            if summary["system"] == "full" else
-            "condensed onto the contact boundary (--system full: the "
-            "thesis's)")
+    if summary["system"] == "full":
+        return "full (the thesis's, in all unknowns)"
+    text = "condensed onto the contact boundary (--system full: the thesis's)"
+    levels = summary.get("levels") or []
+    if len(levels) > 1:
+        text += (f"\nnested start      {len(levels)} levels of "
+                 f"{levels[0]['n_nodes']}..{levels[-1]['n_nodes']} contact "
+                 f"nodes; J per level {[lv['njev'] for lv in levels]}")
+    return text
 
 
 def format_result(summary, outdir):

@@ -53,3 +53,29 @@ def bar_problem():
     from solver.examples import two_dof_bar
 
     return two_dof_bar()
+
+
+@pytest.fixture(scope="session")
+def refined_block(tmp_path_factory):
+    """``refined_block(k)`` -> the 1878 block refined k times (4ᵏ× the
+    triangles; 7668 DOFs for k = 1, 30360 for k = 2), exported by SfePy."""
+    import subprocess
+    import sys
+
+    from solver import load_problem
+
+    cache = {}
+    folder = tmp_path_factory.mktemp("refined")
+
+    def get(k):
+        if k not in cache:
+            mesh = folder / f"r{k}.mesh"
+            subprocess.run([sys.executable, str(MESHES / "generate.py"),
+                            "--refine", str(k), "--base", "1878", "-o",
+                            str(mesh)], check=True, capture_output=True,
+                           cwd=ROOT)
+            solve_block(mesh, folder / f"r{k}.npz")
+            cache[k] = load_problem(folder / f"r{k}.npz")
+        return cache[k]
+
+    return get

@@ -1,15 +1,11 @@
 """solver.linalg: nested dissection, the LDLᵀ factorisation, condensation
 onto Γc, and the condensed contact solves against the full systems."""
 
-import subprocess
-import sys
-
 import numpy as np
 import pytest
 import scipy.sparse as sp
 import scipy.sparse.linalg as sla
 
-from conftest import MESHES, ROOT, solve_block
 from solver import load_problem, solve_friction, solve_frictionless
 from solver.contact import contact_geometry
 from solver.errors import ProblemError
@@ -18,15 +14,9 @@ from solver.linalg import (Condensation, Factorization, dof_ordering,
 
 
 @pytest.fixture(scope="module")
-def refined(tmp_path_factory):
+def refined(refined_block):
     """The 1878 block refined once (7668 DOFs), exported by SfePy."""
-    folder = tmp_path_factory.mktemp("refined")
-    mesh = folder / "r1.mesh"
-    subprocess.run([sys.executable, str(MESHES / "generate.py"), "--refine",
-                    "1", "--base", "1878", "-o", str(mesh)], check=True,
-                   capture_output=True, cwd=ROOT)
-    solve_block(mesh, folder / "r1.npz")
-    return load_problem(folder / "r1.npz")
+    return refined_block(1)
 
 
 def grid(n):

@@ -287,7 +287,7 @@ def _is_real(value):
 
 def solve_friction(problem, friction, steps=None, formulation="thesis",
                    coulomb="lagged", method="fb", gap="obstacle", tol=1e-10,
-                   max_iter=100, gap_scale=1.0, options=None, progress=None,
+                   max_iter=100, gap_scale=None, options=None, progress=None,
                    geometry=None, condense=None):
     r"""Quasi-static Coulomb friction in load steps (thesis §5, (110)/(111)).
 
@@ -309,8 +309,11 @@ def solve_friction(problem, friction, steps=None, formulation="thesis",
         Newton method of each step (the thesis used φ_FB only).
     gap : {"obstacle", "body"}
         As in :func:`solve_frictionless`.
-    tol, max_iter, gap_scale, options
+    tol, max_iter, options
         Per step, as in :func:`solve_frictionless`.
+    gap_scale : float, optional
+        c of the gap rows, as in :func:`solve_frictionless`; default 1 (the
+        thesis) on both systems.
     progress : callable, optional
         ``progress(step_record)`` after every completed step.
     geometry : ContactGeometry, optional
@@ -368,6 +371,7 @@ def solve_friction(problem, friction, steps=None, formulation="thesis",
     lumped_all = np.asarray(problem.M.sum(axis=1)).ravel()
     lumped = lumped_all[geometry.index]
     stiffness = contact_stiffness(problem.K, geometry)
+    gap_scale = 1.0 if gap_scale is None else gap_scale
     if condense is None:
         condense = formulation != "thesis"
     if condense:

@@ -23,6 +23,10 @@ every node of Γc in ``problem.contact_nodes`` order.
 
 Optionally the gap rows are scaled, B = c(s − YRu) with c > 0 (same solution,
 other Newton path); c = 1 is the thesis.
+
+Condensed onto Γc (the default), the solve starts by nested iteration over
+ever coarser node subsets of Γc (:mod:`solver.contact.nested`), which keeps
+the Newton iterations on the full Γc at a fixed small number.
 """
 
 import time
@@ -38,7 +42,7 @@ from ..ncp import solve_ncp
 
 __all__ = ["GAP_MODES", "ContactGeometry", "contact_geometry",
            "condense_onto_contact", "FrictionlessSystem",
-           "solve_frictionless"]
+           "solve_frictionless", "STARTS"]
 
 #: How gaps and normals are found (thesis §2.1.1 / §2.1.2).
 GAP_MODES = ("obstacle", "body")
@@ -196,9 +200,29 @@ class FrictionlessSystem:
         return (self.R @ u)[self.y_rows]
 
 
+#: Starts of :func:`solve_frictionless` (when no x0 is given).
+STARTS = ("nested", "free")
+
+
+def _start_mode(start, x0, condense):
+    """The start actually used: "nested", "free", "x0" or "zero"."""
+    if start is not None and start not in STARTS:
+        raise SolverError(f"start must be one of {STARTS}, got {start!r}")
+    if x0 is not None:
+        if start is not None:
+            raise SolverError("give either x0 or start, not both")
+        return "x0"
+    if not condense:
+        if start == "nested":
+            raise SolverError("the nested start needs the condensed system "
+                              "(condense=True)")
+        return "zero"
+    return start or "nested"
+
+
 def solve_frictionless(problem, method="min", gap="obstacle", tol=1e-10,
-                       max_iter=100, x0=None, gap_scale=1.0, options=None,
-                       geometry=None, condense=None):
+                       max_iter=100, x0=None, gap_scale=None, options=None,
+                       geometry=None, condense=None, start=None):
     r"""Solve the frictionless contact problem (67) by semismooth Newton.
 
     Parameters
@@ -215,11 +239,14 @@ def solve_frictionless(problem, method="min", gap="obstacle", tol=1e-10,
         methods iterate on their own Φ (with gaps in length units, c = 1, as
         in the thesis).
     max_iter : int
-        Maximum number of Newton iterations.
+        Maximum number of Newton iterations (per level of a nested start).
     x0 : (Ñ,) array, optional
-        Starting displacement; the thesis starts from u = 0 (default).
-    gap_scale : float
-        c in B = c(s − YRu), see :class:`FrictionlessSystem`.
+        Starting displacement (read on Γc only when condensed). Default:
+        see ``start``.
+    gap_scale : float, optional
+        c in B = c(s − YRu), see :class:`FrictionlessSystem`. Default: 1 on
+        the full system (the thesis), the contact stiffness k̄ (gaps in force
+        units, see :mod:`solver.contact.nested`) on the condensed one.
     options : dict, optional
         Method options of :func:`solver.ncp.solve_ncp`.
     geometry : ContactGeometry, optional
@@ -234,6 +261,12 @@ def solve_frictionless(problem, method="min", gap="obstacle", tol=1e-10,
         False: the thesis's system in all Ñ unknowns with one sparse LU of
         the Jacobian per iteration (faithful mode; its iteration counts are
         those of Table 1).
+    start : {"nested", "free"}, optional
+        Start when ``x0`` is not given. Condensed: "nested" (default) solves
+        the problem on ever coarser subsets of Γc first
+        (:func:`solver.contact.nested.solve_nested`); "free" starts from no
+        contact force, u = K⁻¹f. The full system always starts from the
+        thesis's u = 0.
 
     Returns
     -------
@@ -246,10 +279,17 @@ def solve_frictionless(problem, method="min", gap="obstacle", tol=1e-10,
         ``contact_pressure_lumped`` λ_i / Σ_j M_ij (no oscillation),
         ``gap`` s and ``normal`` ν (NaN at supports), ``normal_displacement``
         u_n, ``in_contact``; and ``complementarity`` = max|min(λ, s − u_n)|,
-        ``n_contact``, ``gap_mode``, ``geometry_time``, ``time``.
+        ``n_contact``, ``gap_mode``, ``gap_scale`` (c used), ``condensed``,
+        ``start`` ("nested", "free", "zero" or "x0"), ``levels`` (per-level
+        counts of a nested start, coarsest first, else []; ``nit``,
+        ``njev`` and ``nfev`` then count all levels), ``geometry_time``,
+        ``time``.
 
     Raises
     ------
+    SolverError
+        If ``start`` is unknown, given together with ``x0``, or "nested"
+        on the full system.
     ProblemError
         If K is not positive definite (checked once per K by one sparse
         factorisation, :meth:`ContactProblem.check_stiffness`), or a normal
@@ -257,31 +297,44 @@ def solve_frictionless(problem, method="min", gap="obstacle", tol=1e-10,
         that does not converge raises nothing: see ``success`` and
         ``status``.
     """
-    start = time.perf_counter()
+    clock = time.perf_counter()
     if geometry is None:
         geometry = contact_geometry(problem, gap)
-    geometry_time = time.perf_counter() - start
+    geometry_time = time.perf_counter() - clock
     scale = max(np.linalg.norm(problem.f), 1.0)
     stiffness = contact_stiffness(problem.K, geometry)
     condense = condense is None or bool(condense)
+    start = _start_mode(start, x0, condense)
+    if gap_scale is None:
+        gap_scale = stiffness if condense else 1.0
     if condense:
         condensation, local = condense_onto_contact(problem, geometry)
         g, w = condensation.load(problem.f)
-        system = FrictionlessSystem(condensation.S, g, local, gap_scale,
-                                    stiffness)
-        # No contact force at the start: the thesis's u = 0 has λ = 0 on
-        # Γc; condensed, λ = 0 is the unconstrained solution w = K⁻¹f.
-        x0 = w[condensation.dofs] if x0 is None else \
-            np.asarray(x0, float)[condensation.dofs]
+        w_c = w[condensation.dofs]
+        if start == "nested":
+            from .nested import contact_levels, solve_nested
+
+            result, system = solve_nested(
+                contact_levels(condensation.S, w_c, local), method,
+                tol * scale, max_iter, gap_scale, stiffness, options)
+        else:
+            system = FrictionlessSystem(condensation.S, g, local, gap_scale,
+                                        stiffness)
+            # "free": no contact force, as the thesis's u = 0 has λ = 0 on
+            # Γc; condensed, λ = 0 is the unconstrained solution w = K⁻¹f.
+            x0 = w_c if x0 is None else np.asarray(x0, float)[
+                condensation.dofs]
     else:
         x0 = np.zeros(problem.n_dofs) if x0 is None else \
             np.asarray(x0, float)
         problem.check_stiffness()  # singular / indefinite K: input error
         system = FrictionlessSystem(problem.K, problem.f, geometry,
                                     gap_scale, stiffness)
-    result = solve_ncp(system.residual, system.jacobian, x0, method=method,
-                       tol=tol * scale, max_iter=max_iter, options=options,
-                       error=system.error)
+    if start != "nested":
+        result = solve_ncp(system.residual, system.jacobian, x0,
+                           method=method, tol=tol * scale, max_iter=max_iter,
+                           options=options, error=system.error)
+        result.levels = []
     lam_free = system.contact_force(result.x)
     un_free = system.normal_displacement(result.x)
     if condense:
@@ -314,6 +367,6 @@ def solve_frictionless(problem, method="min", gap="obstacle", tol=1e-10,
         complementarity=float(comp.max(initial=0.0)),
         n_contact=int(in_contact.sum()), gap_mode=geometry.mode,
         gap_scale=float(gap_scale), geometry_time=geometry_time,
-        condensed=bool(condense),
-        time=time.perf_counter() - start)
+        condensed=bool(condense), start=start,
+        time=time.perf_counter() - clock)
     return result

@@ -59,6 +59,10 @@ def summary_of(result, problem, **extra):
         "line_search_failures": int(sum(history["line_search_failed"])),
         "gradient_steps": int(sum(s == "gradient" for s in history["step"])),
         "gap_scale": float(result.gap_scale),
+        "start": result.get("start", "zero"),
+        # nested start: per level, coarsest first (n_nodes, nit, njev, nfev,
+        # success, time); the counts above include them all
+        "levels": [dict(level) for level in result.get("levels", [])],
         "wall_time": float(result.time),
         # ‖Φ‖ before each iteration (as printed on a failure, and as in a
         # friction step's record; the final one is "residual"); result.npz
