@@ -15,7 +15,9 @@ ParametricCurve, parse_expression
 two_dof_bar
     The thesis's §6 two-DOF bar system (:mod:`solver.examples`).
 solve_frictionless, contact_geometry
-    Frictionless contact, thesis (67) (:mod:`solver.contact`).
+    Frictionless contact, thesis (67) (:mod:`solver.contact`), condensed
+    onto Γc with a nested start (:mod:`solver.contact.nested`) or in all
+    unknowns as in the thesis.
 solve_friction
     Coulomb friction by load steps, thesis (110)/(111) and a projection
     formulation (:mod:`solver.contact.friction`).

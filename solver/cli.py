@@ -414,7 +414,9 @@ def format_result(summary, outdir):
         f"({summary['message']})",
         f"iterations        {summary['iterations']}",
         f"evaluations       J {summary['n_jacobian']}, F "
-        f"{summary['n_residual']}  (thesis Table 1 metrics)",
+        f"{summary['n_residual']}  ("
+        + ("thesis Table 1 metrics)" if summary["system"] == "full" else
+           "all levels; Table 1's: --system full)"),
         f"system            {_system_text(summary)}",
         f"final ||Phi||     {summary['residual']:.3e} (stopping measure "
         f"{summary['error']:.3e})",

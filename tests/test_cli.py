@@ -80,6 +80,50 @@ SUMMARY_KEYS = {"method", "gap", "converged", "iterations", "n_jacobian",
                 "wall_time", "status", "message", "error"}
 
 
+def test_start_option(exported, tmp_path, capsys):
+    """--start nested (default) and free give the same displacements;
+    summary.json records the start, the levels (coarsest first, their
+    counts adding up to the totals) and the gap scale used (k̄ on the
+    condensed system, 1 on the full one); the printed summary names the
+    levels."""
+    path = exported(454)[0]
+    runs, summaries = {}, {}
+    for start in ("nested", "free"):
+        out = tmp_path / start
+        argv = [str(path), "-o", str(out)] + (
+            ["--start", start] if start == "free" else [])
+        assert main(argv) == 0
+        runs[start] = result_displacement(out)
+        summaries[start] = json.loads((out / "summary.json").read_text())
+    printed = capsys.readouterr().out
+    assert "nested start" in printed
+    nested, free = summaries["nested"], summaries["free"]
+    assert nested["start"] == "nested" and free["start"] == "free"
+    assert free["levels"] == []
+    sizes = [level["n_nodes"] for level in nested["levels"]]
+    assert sizes == sorted(sizes) and len(sizes) > 1
+    assert sum(lv["njev"] for lv in nested["levels"]) == nested["n_jacobian"]
+    assert nested["gap_scale"] == free["gap_scale"] > 1e3  # k̄, not 1
+    assert np.abs(runs["nested"] - runs["free"]).max() <= \
+        1e-9 * np.abs(runs["free"]).max()
+    out = tmp_path / "full"
+    assert main([str(path), "--system", "full", "-o", str(out)]) == 0
+    full = json.loads((out / "summary.json").read_text())
+    assert full["start"] == "zero" and full["gap_scale"] == 1.0
+    capsys.readouterr()
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["--start", "nested", "--system", "full"], "needs the condensed"),
+    (["--start", "free", "--friction", "0.3"], "frictionless solves only")])
+def test_start_option_conflicts(exported, tmp_path, capsys, argv, message):
+    with pytest.raises(SystemExit) as exc:
+        main([str(exported(118)[0]), "-o", str(tmp_path / "x")] + argv)
+    assert exc.value.code == 2
+    assert message in capsys.readouterr().err
+    assert not (tmp_path / "x").exists()
+
+
 @pytest.mark.parametrize("friction", [None, "0.3"])
 def test_system_option(exported, tmp_path, capsys, friction):
     """--system full (the thesis's system in all unknowns) and the default

@@ -176,3 +176,18 @@ def test_start_errors(exported):
                            x0=np.zeros(problem.n_dofs))
     with pytest.raises(SolverError, match="needs the condensed system"):
         solve_frictionless(problem, start="nested", condense=False)
+
+
+def test_convergence_figure_draws_one_line_per_level(exported):
+    """The ‖Φ‖ history of a nested solve restarts on every level; the
+    figure draws each level as its own line, labelled with its size."""
+    from solver.output.figures import plot_convergence
+
+    result = solve_frictionless(load_problem(exported(454)[0]), method="fb")
+    fig = plot_convergence(result)
+    top = fig.axes[0]
+    drawn = [(line.get_label(), len(line.get_xdata())) for line in top.lines]
+    expected = [(f"{lv['n_nodes']} contact nodes", lv["nit"])
+                for lv in result.levels]
+    expected[-1] = (expected[-1][0], expected[-1][1] + 1)  # + final ‖Φ‖
+    assert drawn == expected

@@ -236,10 +236,10 @@ def solve_frictionless(problem, method="min", gap="obstacle", tol=1e-10,
     tol : float
         Relative tolerance: stop when ‖[E; min(A, k̄B/c)]‖ ≤ tol·max(‖f‖, 1),
         a measure in force units (:meth:`FrictionlessSystem.error`); the
-        methods iterate on their own Φ (with gaps in length units, c = 1, as
-        in the thesis).
+        methods iterate on their own Φ (gap rows scaled by ``gap_scale``).
     max_iter : int
-        Maximum number of Newton iterations (per level of a nested start).
+        Maximum number of Newton iterations (all levels of a nested start
+        together).
     x0 : (Ñ,) array, optional
         Starting displacement (read on Γc only when condensed). Default:
         see ``start``.

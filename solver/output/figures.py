@@ -88,13 +88,25 @@ def plot_displacement_arrows(problem, result, path=None):
 
 
 def plot_convergence(result, path=None):
-    """‖Φ‖ and the step length α per iteration (thesis Fig. 5 and 8)."""
+    """‖Φ‖ and the step length α per iteration (thesis Fig. 5 and 8). A
+    nested start's levels (``history["level"]``) are drawn as separate
+    lines, labelled with their number of contact nodes."""
     plt = _pyplot()
     history = result.history
     k = np.arange(len(history["residual"]) + 1)
     residual = list(history["residual"]) + [result.residual]
     fig, (top, bottom) = plt.subplots(2, 1, figsize=(6, 6), sharex=True)
-    top.semilogy(k, np.maximum(residual, 1e-300), "o-")
+    level = np.asarray(history.get("level", []) + [None], dtype=object)
+    if len(set(level[:-1])) > 1:  # each level from its start to the next's
+        level[-1] = level[-2]
+        starts = np.flatnonzero(np.r_[True, level[1:] != level[:-1]])
+        for a, b in zip(starts, np.r_[starts[1:], len(k)]):
+            top.semilogy(k[a:b], np.maximum(residual[a:b], 1e-300), "o-",
+                         label=f"{level[a]} contact nodes")
+        top.legend(fontsize=8, title="nested start, level of",
+                   title_fontsize=8)
+    else:
+        top.semilogy(k, np.maximum(residual, 1e-300), "o-")
     top.set_ylabel("‖Φ(x)‖")
     top.set_title(f"{result.method} method: {result.njev} Jacobian, "
                   f"{result.nfev} residual evaluations")
