@@ -123,12 +123,23 @@ def test_same_as_bounded_least_squares_dual(solutions):
                                atol=1e-6 * dual.x.max())
 
 
-def test_contact_pressure_is_M_inverse_lambda(solutions):
+def test_consistent_pressure_is_M_inverse_lambda(solutions):
     problem, result = solutions[454, "min", "obstacle"]
-    np.testing.assert_allclose(problem.M @ result.contact_pressure,
+    np.testing.assert_allclose(problem.M @ result.contact_pressure_consistent,
                                result.contact_force, atol=1e-9)
-    # Σ λ = ∫ p over Γc (M's rows sum to the tributary lengths)
-    assert result.contact_pressure.max() > 0
+    assert result.contact_pressure_consistent.max() > 0
+
+
+def test_contact_pressure_is_lumped_and_nonnegative(solutions):
+    """p_i = λ_i / D_ii, D = row sums of M: Σ_i p_i D_ii = Σ λ, and p ≥ 0
+    wherever complementarity holds (λ ≥ 0 up to the tolerance)."""
+    problem, result = solutions[454, "min", "obstacle"]
+    lumped = np.asarray(problem.M.sum(axis=1)).ravel()
+    np.testing.assert_allclose(result.contact_pressure * lumped,
+                               result.contact_force, rtol=1e-12, atol=0)
+    assert result.contact_pressure.min() >= -1e-9 * result.contact_pressure.max()
+    # the consistent pressure does go negative outside the zone (issue 15)
+    assert result.contact_pressure_consistent.min() < 0
 
 
 # Thesis Table 1: J evaluations per mesh (φ_FB, φ_min).

@@ -148,7 +148,7 @@ def hertz_fit(problem, result, drop=1):
     inside = np.flatnonzero(result.in_contact)
     keep = inside[drop:len(inside) - drop]
     (p0, a), _ = curve_fit(semi_ellipse, x[keep],
-                           result.contact_pressure_lumped[keep],
+                           result.contact_pressure[keep],
                            p0=[p0_h, a_h])
     return P, (a_h, p0_h), (a, p0)
 

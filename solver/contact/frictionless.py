@@ -275,8 +275,11 @@ def solve_frictionless(problem, method="min", gap="obstacle", tol=1e-10,
         ``njev``, ``nfev``, ``history``, ``residual``) plus ``u`` (reduced),
         ``displacement`` (nodal, (n_nodes, 2); for a discrete problem the
         contact nodes' (Nc, 2)), and over all nodes of Γc: ``contact_force``
-        λ, ``contact_pressure`` p = M⁻¹λ (the thesis's g_n = −p, (87)),
-        ``contact_pressure_lumped`` λ_i / Σ_j M_ij (no oscillation),
+        λ, ``contact_pressure`` p_i = λ_i / D_ii with the lumped boundary
+        matrix D_ii = Σ_j M_ij (a nodal force per unit length, ≥ 0 by
+        complementarity), ``contact_pressure_consistent`` M⁻¹λ (the
+        thesis's g_n = −p of (87); it oscillates, negative outside the
+        contact zone),
         ``gap`` s and ``normal`` ν (NaN at supports), ``normal_displacement``
         u_n, ``in_contact``; and ``complementarity`` = max|min(λ, s − u_n)|,
         ``n_contact``, ``gap_mode``, ``gap_scale`` (c used), ``condensed``,
@@ -350,7 +353,7 @@ def solve_frictionless(problem, method="min", gap="obstacle", tol=1e-10,
     normal = np.full((nc, 2), np.nan)
     normal[geometry.index] = geometry.normal
     pressure = sla.spsolve(problem.M.tocsc(), lam) + 0.0  # no -0.0
-    lumped = lam / np.asarray(problem.M.sum(axis=1)).ravel()
+    lumped = lam / np.asarray(problem.M.sum(axis=1)).ravel() + 0.0
     remaining = s - un
     comp = np.abs(np.minimum(lam, remaining))[geometry.index]
     threshold = 1e-9 * max(scale, np.abs(lam).max(initial=0.0))
@@ -361,7 +364,7 @@ def solve_frictionless(problem, method="min", gap="obstacle", tol=1e-10,
         displacement = u[problem.contact_dofs]
     result.update(
         u=u, displacement=displacement, contact_force=lam,
-        contact_pressure=pressure, contact_pressure_lumped=lumped,
+        contact_pressure=lumped, contact_pressure_consistent=pressure,
         gap=s, normal=normal,
         normal_displacement=un, in_contact=in_contact,
         complementarity=float(comp.max(initial=0.0)),

@@ -138,9 +138,9 @@ def plot_contact_pressure(problem, result, path=None):
         arc = np.arange(problem.n_contact)
         label = "contact node"
     fig, ax = plt.subplots(figsize=(7, 4))
-    ax.plot(arc, result.contact_pressure, "o-",
+    ax.plot(arc, result.contact_pressure_consistent, "s--", ms=4,
             label="p = −g_n = M⁻¹λ (thesis (87), consistent M)")
-    ax.plot(arc, result.contact_pressure_lumped, "s--", ms=4,
+    ax.plot(arc, result.contact_pressure, "o-",
             label="λ_i / Σ_j M_ij (lumped M)")
     ax.plot(arc[result.in_contact], result.contact_pressure[result.in_contact],
             "r*", ms=9, label="in contact")

@@ -90,7 +90,7 @@ def write_result(path, result, problem):
         gap=result.gap, normal=result.normal,
         contact_force=result.contact_force,
         contact_pressure=result.contact_pressure,
-        contact_pressure_lumped=result.contact_pressure_lumped,
+        contact_pressure_consistent=result.contact_pressure_consistent,
         normal_displacement=result.normal_displacement,
         in_contact=result.in_contact,
         converged=np.array(bool(result.success)),
