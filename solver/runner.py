@@ -181,8 +181,7 @@ def _finish(state, status, message, remove=False):
         return
     summary = dict(state["summary"] or {})
     summary.update(getattr(folder, "extra", {}))
-    summary.update(status=status, converged=False, message=message,
-                   files=sorted(folder.files))
+    summary.update(status=status, converged=False, message=message)
     try:
         _write_summary(folder, summary)
     except OSError:
@@ -193,7 +192,9 @@ def _write_summary(folder, summary):
     from .output.files import write_summary
 
     path = folder.file("summary.json")
-    summary["files"] = sorted(folder.files)
+    summary["files"] = sorted(  # written completely (not cut short)
+        name for name in folder.files if name == "summary.json"
+        or os.path.exists(os.path.join(folder.path, name)))
     write_summary(path, summary)
 
 
