@@ -57,10 +57,10 @@ import time
 import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as sla
-from scipy.optimize import OptimizeResult
 
 from ..errors import SolverError
 from ..ncp import solve_ncp
+from .result import FrictionResult
 from .steps import MAX_LOAD_STEPS, StepStream
 from .frictionless import (condense_onto_contact, contact_geometry,
                            contact_stiffness, rotation)
@@ -498,7 +498,7 @@ def solve_friction(problem, friction, steps=None, formulation="thesis",
     normal[idx] = geometry.normal
     gap_all = np.full(nc, np.nan)
     gap_all[idx] = geometry.gap
-    return OptimizeResult(
+    return FrictionResult(
         success=failed is None, message=message, failed_step=failed,
         steps=int(steps), steps_completed=delivered.count,
         friction=float(friction), formulation=formulation, coulomb=coulomb,
