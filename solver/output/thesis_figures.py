@@ -278,7 +278,7 @@ def deformed_and_directions(problem, displacement, in_contact, scale=None,
     u = np.asarray(displacement)
     scale = _nice_scale(problem, u) if scale is None else scale
     xy = problem.nodes + scale * u
-    fig, (left, right) = plt.subplots(1, 2, figsize=(10, 6.5))
+    fig, (left, right) = plt.subplots(1, 2, figsize=(8.5, 5.6))
     left.triplot(xy[:, 0], xy[:, 1], problem.cells, color="0.6", lw=0.5)
     contact = problem.contact_nodes[np.asarray(in_contact, bool)]
     left.plot(xy[contact, 0], xy[contact, 1], "r*", ms=10,
@@ -297,8 +297,8 @@ def deformed_and_directions(problem, displacement, in_contact, scale=None,
     nodes = problem.nodes
     size = np.hypot(u[:, 0], u[:, 1])
     direction = u / np.where(size > 0, size, 1.0)[:, None]
-    right.triplot(nodes[:, 0], nodes[:, 1], problem.cells, color="0.8",
-                  lw=0.5)
+    for a, b in _outline(problem):
+        right.plot(*nodes[[a, b]].T, "-", color="0.6", lw=0.8)
     cells = np.asarray(problem.cells)
     spacing = np.median(np.linalg.norm(nodes[cells[:, 0]] - nodes[cells[:, 1]],
                                        axis=1))
@@ -627,10 +627,13 @@ def tractions_along_contact(problem, result, step=-1, path=None, xlim=None):
     g = result.friction_traction[step]
     bound = result.friction_bound[step]
     stick, slip = result.stick[step], result.slip[step]
-    fig, ax = plt.subplots(figsize=(8, 4.5))
+    fig, ax = plt.subplots(figsize=(9.5, 4.2))
     ax.plot(y, p, "o-", ms=4, label="contact pressure p = λ_i/D_ii")
     ax.plot(y, g, "s-", ms=4, label="friction traction g_t")
-    ax.plot(y, bound, "k:", label="±f_c p (bound used in the step)")
+    top = 1.3 * max(np.nanmax(p), np.nanmax(np.abs(g)), 1e-300)
+    beyond = np.nanmax(bound) > top
+    ax.plot(y, bound, "k:", label="±f_c p (bound used in the step)"
+            + (", beyond the axes" if beyond else ""))
     ax.plot(y, -bound, "k:")
     if stick.any():
         ax.plot(y[stick], g[stick], "g^", ms=10,
@@ -639,17 +642,31 @@ def tractions_along_contact(problem, result, step=-1, path=None, xlim=None):
         ax.plot(y[slip], g[slip], "rv", ms=10,
                 label=f"slip ({slip.sum()} nodes)")
     ax.axhline(0.0, color="0.5", lw=0.8)
+    low = 1.3 * max(np.nanmax(np.abs(g)), min(np.nanmax(bound), top / 1.3),
+                    0.2 * top)
+    ax.set_ylim(-low, top)
     ax.set_xlabel(f"y on Γc [{LENGTH}]")
     ax.set_ylabel(f"traction [{PRESSURE}]")
     if xlim is not None:
         ax.set_xlim(*xlim)
     ax.grid(alpha=0.3)
-    ax.legend(fontsize=8, loc="upper left")
+    ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0))
     k = result.steps_completed if step == -1 else step + 1
     ax.set_title(f"step {k} of {result.steps}, f_c = {result.friction:g} "
                  f"({result.formulation} formulation, {result.coulomb} "
                  "normal force)", fontsize=10)
     return _save(fig, path)
+
+
+def _fit_y(ax, x, arrays, xlim, margin=0.08):
+    """y-limits of ``ax`` fitted to the values whose x lies in ``xlim``."""
+    inside = (x >= xlim[0]) & (x <= xlim[1])
+    values = np.concatenate([np.asarray(a)[inside] for a in arrays])
+    values = values[np.isfinite(values)]
+    if len(values):
+        lo, hi = values.min(), values.max()
+        pad = margin * max(hi - lo, 1e-300)
+        ax.set_ylim(lo - pad, hi + pad)
 
 
 def tangential_displacement(problem, curves, path=None, xlim=None,
@@ -665,6 +682,7 @@ def tangential_displacement(problem, curves, path=None, xlim=None,
     ax.set_ylabel(f"tangential displacement u_t [{LENGTH}]")
     if xlim is not None:
         ax.set_xlim(*xlim)
+        _fit_y(ax, y, [values for values, _ in curves.values()], xlim)
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8)
     if title:
