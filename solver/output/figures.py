@@ -370,7 +370,7 @@ def plot_step_history(problem, result, node=None, path=None,
     if problem.kind == "mesh":
         u = result.displacement[:, problem.contact_nodes[node]]
         where = problem.nodes[problem.contact_nodes[node]]
-        label = f"contact node at ({where[0]:g}, {where[1]:g})"
+        label = f"contact node at ({where[0]:.3g}, {where[1]:.3g}) mm"
     else:
         u = result.displacement[:, node]
         label = "point A"
