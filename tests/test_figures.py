@@ -169,8 +169,22 @@ def test_pressure_figure_leads_with_the_non_negative_nodal_pressure(
     assert consistent.get_ydata().min() < 0  # the wiggle it explains
     assert consistent.get_linewidth() < first.get_linewidth()
     assert "[MPa]" in ax.get_ylabel()
+    assert ax.get_xlabel().startswith("arc length along Γc")
     _assert_legends_clear_of_data(fig)
     _assert_units(fig)
+
+
+def test_pressure_figure_of_the_bar_says_what_its_values_are(bar_problem,
+                                                           tmp_path):
+    """A discrete problem has no lengths: no MPa claimed, and its consistent
+    curve (M = I) is not said to dip below zero."""
+    r = solve_frictionless(bar_problem)
+    fig = figures.plot_contact_pressure(bar_problem, r)
+    _render(fig, tmp_path)
+    ax = fig.axes[0]
+    assert ax.get_ylabel() == "λ_i / Σ_j M_ij"
+    assert not any("below 0" in t.get_text()
+                   for t in ax.get_legend().get_texts())
 
 
 # --- convergence -----------------------------------------------------------

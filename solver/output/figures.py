@@ -280,6 +280,11 @@ def plot_convergence(result, path=None):
     if gradient.any():
         bottom.plot(it[gradient], taken[gradient], "k^", ms=7,
                     label="gradient step")
+    if not failed.any() and np.nan_to_num(taken).max() == 0:
+        bottom.text(0.5, 0.45, "every step a full step, α = 1",
+                    transform=bottom.transAxes, ha="center", va="center",
+                    fontsize=9,
+                    color="0.3")
     highest = np.nanmax(np.r_[taken, tried, 1.0])
     bottom.set_ylim(-0.6, highest + 0.6)
     bottom.yaxis.set_major_locator(MaxNLocator(integer=True, nbins=6))
@@ -299,7 +304,7 @@ def plot_contact_pressure(problem, result, path=None):
     the same forces with the consistent boundary matrix and so oscillates
     below zero next to the contact zone."""
     plt = _pyplot()
-    arc, label = _arc_length(problem)
+    arc, xlabel = _arc_length(problem)
     fig, ax = plt.subplots(figsize=(9, 4.2), layout="constrained")
     ax.plot(arc, result.contact_pressure, "o-", color="C0", ms=5, zorder=3,
             label="p_i = λ_i / Σ_j M_ij:\nnodal contact force per length")
@@ -308,13 +313,18 @@ def plot_contact_pressure(problem, result, path=None):
             ms=10, zorder=4, label="in contact")
     consistent = getattr(result, "contact_pressure_consistent", None)
     if consistent is not None:
+        note = "M⁻¹λ, thesis (87): the same\nforces, consistent M"
+        if np.min(consistent) < -1e-9 * np.max(np.abs(consistent)):
+            note += "; dips\nbelow 0 beside the zone"
         ax.plot(arc, consistent, "--", color="0.45", lw=1.0, marker=".",
-                ms=4, zorder=2,
-                label="M⁻¹λ, thesis (87): the same\nforces, consistent M; "
-                "dips\nbelow 0 beside the zone")
+                ms=4, zorder=2, label=note)
     ax.axhline(0.0, color="0.5", lw=0.8, zorder=1)
-    ax.set_xlabel(label)
-    ax.set_ylabel("contact pressure [MPa]")
+    ax.set_xlabel(xlabel)
+    if problem.kind == "mesh":
+        ax.set_ylabel("contact pressure [MPa]")
+    else:  # M is the problem's own; with M = I (the bar) p is λ in N
+        ax.set_ylabel("λ_i / Σ_j M_ij")
+        ax.set_xticks(arc)
     ax.grid(alpha=0.3)
     ax.set_title("contact pressure along Γc", fontsize=10)
     _legend_outside(ax, "right")
@@ -360,7 +370,7 @@ def plot_step_history(problem, result, node=None, path=None,
     if problem.kind == "mesh":
         u = result.displacement[:, problem.contact_nodes[node]]
         where = problem.nodes[problem.contact_nodes[node]]
-        label = f"contact node at ({where[0]:g}, {where[1]:g})"
+        label = f"contact node at ({where[0]:.3g}, {where[1]:.3g}) mm"
     else:
         u = result.displacement[:, node]
         label = "point A"
