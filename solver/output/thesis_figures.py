@@ -108,7 +108,7 @@ def ncp_functions(path=None):
     right.set_xlabel("a")
     right.set_ylabel("b")
     right.set_title("NCP functions (19), (20): same zero set", fontsize=10)
-    right.legend(fontsize=8, loc="upper right")
+    right.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.15))
     fig.tight_layout()
     return _save(fig, path)
 
