@@ -108,7 +108,7 @@ def ncp_functions(path=None):
     right.set_xlabel("a")
     right.set_ylabel("b")
     right.set_title("NCP functions (19), (20): same zero set", fontsize=10)
-    right.legend(fontsize=8, loc="upper right")
+    right.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.15))
     fig.tight_layout()
     return _save(fig, path)
 
@@ -185,6 +185,36 @@ def obstacle_for_display(problem, scale, t):
     along = (points - origin) @ direction
     foot = origin + along[:, None] * direction
     return foot + scale * (points - foot)
+
+
+def contact_offset(problem, displacement, in_contact, scale):
+    """Largest distance, across Γc, between a node in contact drawn at
+    ``scale`` × u and the obstacle drawn by :func:`obstacle_for_display`.
+
+    Zero up to the linearised contact condition at scale 1; at scale k the
+    tangential displacement, magnified too, moves a node along the curved
+    obstacle, whose magnified gap there differs by about k·Δs.
+    """
+    inside = np.asarray(in_contact, bool)
+    if not inside.any():
+        return 0.0
+    xy = problem.nodes[problem.contact_nodes]
+    drawn_nodes = (xy + scale * np.asarray(displacement)[
+        problem.contact_nodes])[inside]
+    origin, direction = xy[0], xy[-1] - xy[0]
+    direction = direction / np.linalg.norm(direction)
+    normal = np.array([direction[1], -direction[0]])
+    span = np.ptp(problem.nodes, axis=0).max()
+    # the obstacle's parameter runs along Γc (t = y for the block's parabola)
+    lo, hi = (xy @ direction).min() - span, (xy @ direction).max() + span
+    t = np.linspace(lo, hi, 20001)
+    drawn = obstacle_for_display(problem, scale, t)
+    along = (drawn - origin) @ direction
+    order = np.argsort(along)
+    offset = (drawn - origin) @ normal
+    at = np.interp((drawn_nodes - origin) @ direction, along[order],
+                   offset[order])
+    return float(np.abs((drawn_nodes - origin) @ normal - at).max())
 
 
 def model_problem(problem, path=None, title="Fig. 3: the model problem "
@@ -272,7 +302,8 @@ def deformed_and_directions(problem, displacement, in_contact, scale=None,
     The displacements are magnified by ``scale`` (default: a round number
     making the largest one about 10 % of the body); the obstacle's distance
     from Γc is magnified alike (:func:`obstacle_for_display`), so the
-    starred nodes lie on it.
+    starred nodes lie on it up to ``fig.contact_offset`` (see
+    :func:`contact_offset`); ``fig.scale`` is the magnification used.
     """
     plt = _pyplot()
     u = np.asarray(displacement)
@@ -288,6 +319,8 @@ def deformed_and_directions(problem, displacement, in_contact, scale=None,
                     300)
     obstacle = obstacle_for_display(problem, scale, t)
     left.plot(*obstacle.T, "b-", lw=2, label=f"obstacle Γo, gap × {scale:g}")
+    fig.scale = scale
+    fig.contact_offset = contact_offset(problem, u, in_contact, scale)
     left.set_aspect("equal")
     left.set_xlabel(f"x [{LENGTH}]")
     left.set_ylabel(f"y [{LENGTH}]")
