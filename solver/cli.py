@@ -48,6 +48,11 @@ def build_parser():
                         help="gaps and normals from the obstacle's normals "
                              "(§2.1.1) or from the body's spline normals "
                              "(§2.1.2-2.1.3); default obstacle")
+    parser.add_argument("--search-interval", nargs=2, type=_real,
+                        metavar=("T0", "T1"),
+                        help="obstacle parameter interval searched for the "
+                             "gaps; default: the problem file's, else found "
+                             "from the body's extent")
     parser.add_argument("-o", "--outdir", metavar="OUTDIR",
                         help="folder for summary.json, result.npz, "
                              "result.vtu and figures; default: beside the "
@@ -134,6 +139,13 @@ def _finite_float(text, allow_zero):
     return value
 
 
+def _real(text):
+    try:
+        return float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not a number: {text!r}") from None
+
+
 def _positive_float(text):
     return _finite_float(text, allow_zero=False)
 
@@ -197,6 +209,8 @@ def main(argv=None):
                      "--system full")
     try:
         problem = load_problem(args.problem)
+        if args.search_interval is not None:
+            problem.set_search_interval(*args.search_interval)
         if args.info:
             info = problem.summary()
             print(json.dumps(info, indent=2) if args.json
