@@ -283,15 +283,18 @@ def boundary_normals(nodes, cells, chain, corner_angle=CORNER_ANGLE):
     """
     nodes = np.asarray(nodes, dtype=float)
     chain = np.asarray(chain, dtype=np.int64)
+    if chain.ndim == 1 and len(chain) >= 2 and 0 <= chain.min() \
+            and chain.max() < len(nodes):
+        points = nodes[chain]
+        step = np.diff(points, axis=0)
+        same = ~(np.hypot(step[:, 0], step[:, 1]) > 0)
+        if same.any():
+            i = int(np.flatnonzero(same)[0])
+            raise GeometryError(
+                f"contact nodes {chain[i]} and {chain[i + 1]} coincide at "
+                f"({points[i, 0]:g}, {points[i, 1]:g})")
     sign = outward_sign(nodes, cells, chain)
     points = nodes[chain]
-    step = np.diff(points, axis=0)
-    same = ~(np.hypot(step[:, 0], step[:, 1]) > 0)
-    if same.any():
-        i = int(np.flatnonzero(same)[0])
-        raise GeometryError(
-            f"contact nodes {chain[i]} and {chain[i + 1]} coincide at "
-            f"({points[i, 0]:g}, {points[i, 1]:g})")
     cuts = corners(points, corner_angle)
     bounds = np.r_[0, cuts, len(points) - 1]
     normals = np.empty_like(points)

@@ -146,9 +146,9 @@ MAX_STAGES = 100_000
 #: Most vertices of a polyline obstacle.
 MAX_OBSTACLE_POINTS = 10_000_000
 
-#: Most bytes the arrays of one file may occupy once read (64 GiB; a
-#: problem of a few million DOFs needs a few GB).
-MAX_TOTAL_BYTES = 64 * 2 ** 30
+#: Most bytes the arrays of one file may occupy once read (16 GiB; the
+#: largest benchmark, 916 000 DOFs, needs well under 1 GiB).
+MAX_TOTAL_BYTES = 16 * 2 ** 30
 
 
 def format_table():

@@ -16,7 +16,9 @@ the ``.npz`` with :mod:`zipfile` itself and hands the validation
   of ``nodes``), that it agrees with the size in the zip directory, that
   deflate can hold it in the compressed size, and that the file's total
   stays below :data:`~solver.problem.format.MAX_TOTAL_BYTES`;
-* then reads exactly the declared bytes, in chunks.
+* then reads exactly the declared bytes, in chunks (a row pointer of K or
+  M is checked to rise strictly chunk by chunk, so a row pointer of zeros
+  is refused in its first chunk).
 
 So a bad file costs no more memory than a good one of its declared size,
 and every failure is a one-line :class:`~solver.errors.ProblemError`
@@ -128,6 +130,14 @@ class Archive(Mapping):
                                       zipfile.ZIP_DEFLATED):
             fail(key, f"compression method {info.compress_type} is not "
                       "supported (stored or deflated only)")
+        if info.compress_size > self.size:
+            fail(key, "damaged: the member is larger than the file")
+        limit = info.compress_size if info.compress_type == \
+            zipfile.ZIP_STORED else DEFLATE_RATIO * info.compress_size + 4096
+        if info.file_size > limit:
+            fail(key, f"the zip directory declares {info.file_size} bytes "
+                      f"in {info.compress_size} compressed bytes, more than "
+                      "deflate can hold (a zip bomb?)")
         with self.zip.open(info) as member:
             version = npy.read_magic(member)
             if version not in ((1, 0), (2, 0)):
@@ -248,18 +258,13 @@ class Archive(Mapping):
         if info.file_size != header + nbytes:
             fail(key, f"damaged: the zip directory says {info.file_size} "
                       f"bytes, the .npy header {header + nbytes}")
-        if info.compress_type == zipfile.ZIP_DEFLATED and \
-                info.file_size > DEFLATE_RATIO * info.compress_size + 4096:
-            fail(key, f"declares {info.file_size} bytes in "
-                      f"{info.compress_size} compressed bytes, more than "
-                      "deflate can hold (a zip bomb?)")
-        if info.compress_size > self.size:
-            fail(key, "damaged: the member is larger than the file")
         self.total += nbytes
         if self.total > MAX_TOTAL_BYTES:
             fail(key, f"the arrays exceed {MAX_TOTAL_BYTES} bytes in total")
         data = np.empty(count, dtype=dtype)
         view = memoryview(data.view(np.uint8)) if nbytes else None
+        pointer = key.endswith("_indptr") and dtype.kind in "iu"
+        checked = 0
         with self.zip.open(info) as member:
             member.seek(header)
             done = 0
@@ -269,9 +274,27 @@ class Archive(Mapping):
                     fail(key, f"damaged: {done} of {nbytes} bytes of array "
                               "data")
                 done += got
+                if pointer:  # a zero bomb fails in the first chunk
+                    checked = _check_rows(key, data, checked,
+                                          done // dtype.itemsize)
             if member.read(1):  # also checks the CRC at the end
                 fail(key, "damaged: more data than the header declares")
         return data.reshape(shape, order="F" if fortran else "C")
+
+
+def _check_rows(key, pointer, start, stop):
+    """Rows of K and M (symmetric positive definite: every row holds its
+    diagonal) are not empty: the row pointer rises strictly. Checked as
+    the pointer is read; returns the position checked up to."""
+    lo = max(start - 1, 0)
+    part = pointer[lo:stop]
+    flat = np.flatnonzero(np.diff(part) <= 0)
+    if len(flat):
+        i = int(flat[0])
+        fail(key, f"row {lo + i} of {key.split('_')[0]} holds no entry "
+                  f"(the row pointer goes from {part[i]} to {part[i + 1]}): "
+                  "not the CSR row pointer of a positive definite matrix")
+    return stop
 
 
 def load_problem(path):
