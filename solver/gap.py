@@ -25,9 +25,9 @@ obstacle**, and the gap is the signed distance along it,
 positive when the obstacle lies ahead of *B*, negative when *B* already lies
 past the obstacle (initial penetration; allowed, the contact conditions then
 push the node back, but warned about by :func:`warn_penetration`: it is
-rarely what a problem meant). This follows the errata of the thesis digest: along
-:math:`B + k\nu` the distance is :math:`|k|\,|\nu|` (the thesis's (3) and (6)
-print :math:`|k|/|\nu|`), and the sign rule of §2.1.1 for choosing the
+rarely what a problem meant). This follows the errata of the thesis digest:
+along :math:`B + k\nu` the distance is :math:`|k|\,|\nu|` (the thesis's (3)
+and (6) print :math:`|k|/|\nu|`), and the sign rule of §2.1.1 for choosing the
 normal from the sign of *k* is replaced by "ν points from the body towards
 the obstacle", which makes :math:`s \ge 0` for a node outside the obstacle.
 

@@ -126,7 +126,8 @@ class ContactProblem:
                  f"contact_nodes={self.n_contact}"]
         if self.kind == "mesh":
             parts += [f"triangles={len(self.cells)}",
-                      f"nodes={len(self.nodes)}", f"obstacle={self.obstacle!r}"]
+                      f"nodes={len(self.nodes)}",
+                      f"obstacle={self.obstacle!r}"]
         if self.load_path is not None:
             parts.append(f"load_stages={len(self.load_path)}")
         parts.append(f"source={self.source!r}")
