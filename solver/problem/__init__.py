@@ -5,9 +5,11 @@ Modules, each importing only those before it: :mod:`.format` (version,
 keys, limits), :mod:`.checks` (generic array checks), :mod:`.meta` (the
 metadata JSON), :mod:`.geometry` (mesh keys and geometry),
 :mod:`.validate` (all keys), :mod:`.core` (:class:`ContactProblem`),
-:mod:`.load` (safe reading, writing).
+:mod:`.archive` (safe reading of the members), :mod:`.load` (reading
+and writing files).
 """
 
+from .archive import Archive
 from .checks import check_positive_definite
 from .core import ContactProblem, validate_arrays
 from .format import FORMAT_VERSION, KEYS, SYMMETRY_RTOL, format_table
@@ -15,4 +17,4 @@ from .load import load_problem, save_problem
 
 __all__ = ["FORMAT_VERSION", "KEYS", "ContactProblem", "load_problem",
            "save_problem", "validate_arrays", "format_table",
-           "check_positive_definite", "SYMMETRY_RTOL"]
+           "check_positive_definite", "SYMMETRY_RTOL", "Archive"]

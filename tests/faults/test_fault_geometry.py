@@ -19,7 +19,7 @@ from fault_tools import assert_one_error_line, run_cli
 from solver.contact import contact_geometry
 from solver.errors import GeometryError, ProblemError, SolverError
 from solver.examples import two_dof_bar
-from solver.gap import gap_along_normals, gap_from_obstacle
+from solver.gap import gap_from_obstacle
 from solver.normals import boundary_normals, outward_sign, spline_tangents
 from solver.polyline import PolylineCurve
 from solver.problem import ContactProblem, load_problem, save_problem
@@ -169,12 +169,10 @@ def test_every_contact_node_supported_is_a_trivial_solve(block, tmp_path,
     c = block["contact_nodes"]
     dof_map = block["dof_map"]
     keep = ~np.isin(dof_map[:, 0], c)
-    new = np.cumsum(keep) - 1
     K2 = K[keep][:, keep]
     f2 = block["f"][keep]
     arrays = dict(block, **csr_keys("K", K2), f=f2, dof_map=dof_map[keep],
                   contact_dofs=np.full((len(c), 2), -1))
-    del new
     path = write(tmp_path, arrays)
     problem = load_problem(path)
     assert contact_geometry(problem).gap.shape == (0,)
