@@ -149,8 +149,15 @@ def parameter_window(points, curve, window=None, samples=DEFAULT_SAMPLES):
     return (t0, t1), ends
 
 
+def _as_floats(values, name):
+    try:
+        return np.asarray(values, dtype=float)
+    except (TypeError, ValueError) as exc:
+        raise GapError(f"{name} must be real numbers ({exc})") from None
+
+
 def _as_points(points):
-    points = np.asarray(points, dtype=float)
+    points = _as_floats(points, "points")
     if points.ndim != 2 or points.shape[1] != 2:
         raise GapError(f"points must have shape (n, 2), got {points.shape}")
     if not np.isfinite(points).all():
@@ -160,7 +167,7 @@ def _as_points(points):
 
 def _as_unit(normals, n):
     """Normalise body normals (7), broadcast to (n, 2)."""
-    normals = np.asarray(normals, dtype=float)
+    normals = _as_floats(normals, "normals")
     if normals.shape not in ((2,), (n, 2)):
         raise GapError(
             f"normals must have shape (2,) or ({n}, 2), got {normals.shape}")

@@ -196,6 +196,10 @@ def outward_sign(nodes, cells, chain):
                             f"node{only}: normals need at least 2 nodes "
                             "joined by a boundary edge")
     n = len(nodes)
+    if nodes.ndim != 2 or nodes.shape[1:] != (2,) or cells.ndim != 2 \
+            or cells.shape[1:] != (3,) or not len(cells):
+        raise GeometryError(f"need (n, 2) nodes and (m, 3) triangles, m >= "
+                            f"1, got shapes {nodes.shape}, {cells.shape}")
     if chain.min() < 0 or chain.max() >= n or cells.min() < 0 \
             or cells.max() >= n:
         raise GeometryError(f"node index out of range [0, {n})")

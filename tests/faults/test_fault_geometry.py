@@ -241,3 +241,21 @@ def test_corner_gaps_have_the_right_sign_and_size(tmp_path, mode):
     if mode == "body":
         expected[n - 1] = 0.1 * np.sqrt(2)
     np.testing.assert_allclose(geometry.gap, expected, atol=1e-12)
+
+
+def test_api_bad_values_are_solver_errors():
+    """Text, empty meshes and ragged shapes through the public geometry
+    functions: SolverErrors, never a bare ValueError."""
+    square = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0]])
+    cases = [
+        lambda: gap_from_obstacle([["a", "b"]], PolylineCurve(
+            [[0, 0], [1, 0]]), (0, 1)),
+        lambda: gap_from_obstacle([[0.0, 1.0]], PolylineCurve(
+            [[0, 0], [1, 0]]), ("x", 1)),
+        lambda: boundary_normals(square, np.zeros((0, 3), int), [0, 1]),
+        lambda: boundary_normals(square, [[0, 1]], [0, 1]),
+        lambda: outward_sign(square, [[0, 1, 2]], [0, 7]),
+    ]
+    for case in cases:
+        with pytest.raises(SolverError):
+            case()
