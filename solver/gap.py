@@ -268,9 +268,13 @@ def gap_from_obstacle(points, curve, body_normals, *, window=None,
     :math:`f(t) = (\Gamma_o(t) - B)\cdot\Gamma_o'(t) = 0` with *f* rising
     through zero (local minima of the distance); then
     :math:`B + k\nu = \Gamma_o(t)` holds with ν the obstacle's normal (1)-(2).
-    ν is normalised (7) and oriented so that :math:`\nu \cdot n > 0` for the
-    body's outward normal *n*, i.e. from the body towards the obstacle, and
-    :math:`s = (\Gamma_o(t) - B)\cdot\nu` (signed |k|, errata to (3)).
+    ν is normalised (7) and oriented from the body towards the obstacle:
+    the rigid obstacle lies on one side of Γo, so one orientation of its
+    normal serves every node, the one with :math:`\nu \cdot n > 0` for the
+    body's outward normals *n* (summed over the nodes: a node past a corner
+    of the body, whose own *n* barely faces the obstacle, keeps the sign of
+    its gap), and :math:`s = (\Gamma_o(t) - B)\cdot\nu` (signed |k|,
+    errata to (3)).
 
     Parameters
     ----------
@@ -404,7 +408,12 @@ def gap_from_obstacle(points, curve, body_normals, *, window=None,
         off = np.abs(np.sum(r * tangent, axis=1)) > 1e-9 * distance * \
             np.linalg.norm(tangent, axis=1)
         corner = off & (distance > 0)
-        normal[corner] = r[corner] / distance[corner, None]
+        toward = r[corner] / distance[corner, None]
+        # ... oriented like the curve's own normal there (both sides'
+        # normals agree in sign with it), so that ν_o keeps one orientation
+        # along the whole obstacle
+        flip = np.sign(np.sum(toward * normal[corner], axis=1))
+        normal[corner] = toward * np.where(flip == 0, 1.0, flip)[:, None]
         length[corner] = 1.0
         cosine = np.sum(normal * body, axis=1)
     if not (np.isfinite(length) & (length > 0)).all():
@@ -417,7 +426,14 @@ def gap_from_obstacle(points, curve, body_normals, *, window=None,
             f"the obstacle normal at its nearest point t = {t[i]:g} is "
             f"nearly perpendicular to the body normal "
             f"(cosine {cosine[i]:.2g})"))
-    normal *= np.sign(cosine)[:, None]
+    # ν from the body towards the obstacle: the obstacle is rigid and lies
+    # on one side of Γo, so one orientation of the curve's normal serves all
+    # nodes, the one most body normals agree with (a node past a corner of
+    # the body, whose own normal barely faces the obstacle, keeps the sign
+    # of its gap right).
+    side = np.sign(np.sum(cosine))
+    orient = np.sign(cosine) if side == 0 else np.full(n, side)
+    normal *= orient[:, None]
     gap = np.sum((foot_pt - points) * normal, axis=1)
     warn_penetration(gap, points, node_ids)
     return gap, normal, t

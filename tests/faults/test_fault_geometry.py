@@ -19,8 +19,9 @@ from fault_tools import assert_one_error_line, run_cli
 from solver.contact import contact_geometry
 from solver.errors import GeometryError, ProblemError, SolverError
 from solver.examples import two_dof_bar
-from solver.gap import gap_from_obstacle
+from solver.gap import GapError, gap_from_obstacle
 from solver.normals import boundary_normals, outward_sign, spline_tangents
+from solver.obstacle import ParametricCurve
 from solver.polyline import PolylineCurve
 from solver.problem import ContactProblem, load_problem, save_problem
 
@@ -187,11 +188,13 @@ def test_every_contact_node_supported_is_a_trivial_solve(block, tmp_path,
 # --------------------------------------------------------------------------
 # a contact boundary around a corner
 
-def square_problem(n=6, gap=0.1):
+def square_problem(n=6, gap=0.1, chain=None, obstacle=None):
     """The unit square, n×n cells of two triangles, clamped on x = 0; Γc
-    runs along the bottom edge and turns up the right edge at (1, 0). The
+    runs along the bottom edge and turns up the right edge at (1, 0) (or
+    follows ``chain``, a function of the (n+1)×(n+1) node numbers). The
     obstacle is the L-shaped polyline a distance ``gap`` outside both
-    edges. K is an SPD stand-in (only the geometry is tested)."""
+    edges (or ``obstacle``). K is an SPD stand-in (only the geometry is
+    tested)."""
     x, y = np.meshgrid(np.linspace(0, 1, n + 1), np.linspace(0, 1, n + 1))
     nodes = np.column_stack([x.ravel(), y.ravel()])
     k = np.arange((n + 1) ** 2).reshape(n + 1, n + 1)
@@ -202,12 +205,13 @@ def square_problem(n=6, gap=0.1):
     free = np.flatnonzero(nodes[:, 0] > 0)
     dof_map = np.column_stack([np.repeat(free, 2),
                                np.tile([0, 1], len(free))])
-    chain = np.r_[k[0, 1:], k[1:, -1]]  # bottom (x > 0), then right edge
+    chain = np.r_[k[0, 1:], k[1:, -1]] if chain is None else chain(k)
     lookup = {(int(p), int(q)): i for i, (p, q) in enumerate(dof_map)}
-    contact_dofs = np.array([[lookup[(int(p), 0)], lookup[(int(p), 1)]]
-                             for p in chain])
-    obstacle = PolylineCurve([[-1.0, -gap], [1 + gap, -gap],
-                              [1 + gap, 2.0]])
+    contact_dofs = np.array([[lookup.get((int(p), 0), -1),
+                              lookup.get((int(p), 1), -1)] for p in chain])
+    if obstacle is None:
+        obstacle = PolylineCurve([[-1.0, -gap], [1 + gap, -gap],
+                                  [1 + gap, 2.0]])
     m = len(dof_map)
     return ContactProblem(
         K=sp.identity(m, format="csr"), f=np.zeros(m),
@@ -259,3 +263,30 @@ def test_api_bad_values_are_solver_errors():
     for case in cases:
         with pytest.raises(SolverError):
             case()
+
+
+def test_nodes_past_a_corner_keep_the_sign_of_their_gap(tmp_path):
+    """Γc up the right edge x = 1 and on along the top edge y = 1 towards
+    x = 0; the obstacle x = 1.05 + 0.2 (t - 0.5)², y = t lies right of the
+    body. The top-edge nodes are outside the obstacle: their nearest
+    obstacle points (dense brute-force search, the reference) are at a
+    positive distance, though their outward normal (0, 1) points away from
+    the obstacle's. The gaps from the obstacle equal those distances."""
+    n = 6
+    curve = ParametricCurve("1.05 + 0.2*(t - 0.5)**2", "t")
+    problem, _ = square_problem(
+        n, chain=lambda k: np.r_[k[:, -1], k[-1, -2:0:-1]], obstacle=curve)
+    problem = load_problem(save_problem(tmp_path / "top.npz", problem))
+    geometry = contact_geometry(problem, "obstacle")
+    points = problem.nodes[problem.contact_nodes[geometry.index]]
+    ts = np.linspace(-3, 4, 700001)
+    dense = curve.point(ts)
+    distance = np.min(np.hypot(dense[None, :, 0] - points[:, None, 0],
+                               dense[None, :, 1] - points[:, None, 1]),
+                      axis=1)
+    top = points[:, 1] == 1.0
+    assert top.sum() >= n - 1 and (geometry.gap > 0).all()
+    np.testing.assert_allclose(geometry.gap, distance, atol=1e-8)
+    # along the body's normals the top-edge nodes see no obstacle: refused
+    with pytest.raises(GapError, match="misses the obstacle"):
+        contact_geometry(problem, "body")
