@@ -131,9 +131,11 @@ class Archive(Mapping):
         limit = info.compress_size if info.compress_type == \
             zipfile.ZIP_STORED else DEFLATE_RATIO * info.compress_size + 4096
         if info.file_size > limit:
+            how = "stored" if info.compress_type == zipfile.ZIP_STORED \
+                else "compressed"
             fail(key, f"the zip directory declares {info.file_size} bytes "
-                      f"in {info.compress_size} compressed bytes, more than "
-                      "deflate can hold (a zip bomb?)")
+                      f"in {info.compress_size} {how} bytes, more than "
+                      f"they can hold (damaged, or a zip bomb)")
         with self.zip.open(info) as member:
             version = npy.read_magic(member)
             if version not in ((1, 0), (2, 0)):
