@@ -58,6 +58,11 @@ def build_parser():
                         help="gaps and normals from the obstacle's normals "
                              "(§2.1.1) or from the body's spline normals "
                              "(§2.1.2-2.1.3); default obstacle")
+    parser.add_argument("--search-interval", nargs=2, type=_real,
+                        metavar=("T0", "T1"),
+                        help="obstacle parameter interval searched for the "
+                             "gaps; default: the problem file's, else found "
+                             "from the body's extent")
     parser.add_argument("-o", "--outdir", metavar="OUTDIR",
                         help="folder for summary.json, result.npz, "
                              "result.vtu and figures; default: beside the "
@@ -152,6 +157,13 @@ def _finite_float(text, allow_zero):
         raise argparse.ArgumentTypeError(f"must be {rule} and finite: "
                                          f"{text!r}")
     return value
+
+
+def _real(text):
+    try:
+        return float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not a number: {text!r}") from None
 
 
 def _positive_float(text):

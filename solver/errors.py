@@ -1,11 +1,13 @@
-"""Exceptions raised by the :mod:`solver` package.
+"""Exceptions and warnings of the :mod:`solver` package.
 
 All errors a user can cause by bad input derive from :class:`SolverError`, so
 that the command line can turn them into a one-line message and exit code 2
-instead of a traceback.
+instead of a traceback. Warnings about questionable but solvable input
+derive from :class:`SolverWarning`; library code never prints, it warns.
 """
 
-__all__ = ["SolverError", "ProblemError", "ExpressionError"]
+__all__ = ["SolverError", "ProblemError", "ExpressionError",
+           "GeometryError", "SolverWarning", "InitialPenetrationWarning"]
 
 
 class SolverError(Exception):
@@ -22,3 +24,20 @@ class ProblemError(SolverError, ValueError):
 
 class ExpressionError(ProblemError):
     """An obstacle expression is malformed or uses something not allowed."""
+
+
+class GeometryError(ProblemError):
+    """The contact geometry is degenerate: a contact boundary of one node,
+    coincident contact nodes, a zero-area triangle on Γc, coordinates out of
+    the range double precision can resolve. The message names the nodes."""
+
+
+class SolverWarning(UserWarning):
+    """Base class of the warnings about questionable but solvable input."""
+
+
+class InitialPenetrationWarning(SolverWarning):
+    """The obstacle already penetrates the undeformed body: some initial
+    gaps s are negative (thesis §2.1; the contact conditions push those
+    nodes out, which is rarely what the problem meant). The message names
+    the nodes and the deepest penetration."""

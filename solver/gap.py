@@ -24,9 +24,10 @@ obstacle**, and the gap is the signed distance along it,
 
 positive when the obstacle lies ahead of *B*, negative when *B* already lies
 past the obstacle (initial penetration; allowed, the contact conditions then
-push the node back). This follows the errata of the thesis digest: along
-:math:`B + k\nu` the distance is :math:`|k|\,|\nu|` (the thesis's (3) and (6)
-print :math:`|k|/|\nu|`), and the sign rule of §2.1.1 for choosing the
+push the node back, but warned about by :func:`warn_penetration`: it is
+rarely what a problem meant). This follows the errata of the thesis digest:
+along :math:`B + k\nu` the distance is :math:`|k|\,|\nu|` (the thesis's (3)
+and (6) print :math:`|k|/|\nu|`), and the sign rule of §2.1.1 for choosing the
 normal from the sign of *k* is replaced by "ν points from the body towards
 the obstacle", which makes :math:`s \ge 0` for a node outside the obstacle.
 
@@ -43,13 +44,17 @@ may be missed (a normal line touching the obstacle tangentially is such a
 case; it is rejected anyway, see ``min_cosine``).
 """
 
+import warnings
+
 import numpy as np
 from scipy.optimize.elementwise import find_root
 
-from .errors import ProblemError
+from .errors import GeometryError, InitialPenetrationWarning
+from .window import fit_window, start_window
 
 __all__ = ["GapError", "parameter_window", "gap_from_obstacle",
-           "gap_along_normals", "DEFAULT_SAMPLES", "MIN_COSINE"]
+           "gap_along_normals", "warn_penetration", "DEFAULT_SAMPLES",
+           "MIN_COSINE"]
 
 #: Default number of samples of the curve parameter in the search window.
 DEFAULT_SAMPLES = 2049
@@ -64,7 +69,7 @@ MIN_COSINE = 1e-3
 _CHUNK = 2 ** 20
 
 
-class GapError(ProblemError):
+class GapError(GeometryError):
     """No sensible gap for a contact node (input error).
 
     Raised when the normal line of a contact node misses the obstacle, meets
@@ -75,18 +80,22 @@ class GapError(ProblemError):
     """
 
 
-def parameter_window(points, curve, window=None):
+def parameter_window(points, curve, window=None, samples=DEFAULT_SAMPLES):
     r"""The interval of the obstacle parameter *t* that is searched.
 
     Parameters
     ----------
     points : (n, 2) array
         The contact nodes.
-    curve : ParametricCurve
+    curve : ParametricCurve or PolylineCurve
         The obstacle.
     window : (float, float), optional
-        Explicit interval ``(t0, t1)``; intersected with ``curve.t_range``
-        if the curve has one.
+        Explicit interval ``(t0, t1)``; default ``curve.search_interval``
+        (set by the problem file's ``obstacle_search_interval`` or
+        ``--search-interval``). Intersected with ``curve.t_range`` if the
+        curve has one.
+    samples : int
+        Samples per window while fitting it.
 
     Returns
     -------
@@ -98,67 +107,74 @@ def parameter_window(points, curve, window=None):
 
     Notes
     -----
-    Without ``window``, a curve with a ``t_range`` is searched on all of it.
-    An unbounded curve is searched on :math:`[-L, L]` with
-
-    .. math::  L = 2 \max_i |B_i - \Gamma_o(0)| + 1 .
-
-    The nearest point :math:`\Gamma_o(t^*)` of :math:`B_i` is not farther
-    from :math:`B_i` than :math:`\Gamma_o(0)`, hence
-    :math:`|\Gamma_o(t^*) - \Gamma_o(0)| \le 2|B_i - \Gamma_o(0)|`; for curves
-    with :math:`|\Gamma_o(t) - \Gamma_o(0)| \ge |t|` (a graph parametrised by
-    one of its coordinates, like the thesis's obstacle
-    :math:`[5.05 + 0.005t^2, t]`, or by arc length) this gives
-    :math:`|t^*| < L`. For other parametrisations, or when a normal line of
-    the body meets the obstacle far away, pass ``window``.
+    Without an explicit interval the window is fitted to the body's extent
+    (:func:`solver.window.fit_window`), starting from ``t_range`` or, for
+    an unbounded curve, from :math:`[-L, L]`,
+    :math:`L = 2 \max_i |B_i - \Gamma_o(0)| + 1`: it does not depend on how
+    fast the parametrisation runs. When a normal line of the body meets the
+    obstacle far from the body, pass an interval.
     """
     points = np.asarray(points, dtype=float)
     t_range = curve.t_range
     if window is None:
+        window = getattr(curve, "search_interval", None)
+    if window is None:
         if t_range is not None:
-            return t_range, (True, True)
-        origin = curve.point(np.array(0.0))
-        if not np.isfinite(origin).all():
-            raise GapError(
-                f"obstacle {curve!r} is not finite at t = 0: give it a "
-                "t_range or pass window=")
-        radius = np.max(np.linalg.norm(points - origin, axis=1)) \
-            if len(points) else 0.0
-        half = 2.0 * float(radius) + 1.0
-        return (-half, half), (False, False)
-    t0, t1 = (float(v) for v in window)
+            start, fixed = t_range, (True, True)
+        else:
+            start, fixed = start_window(points, curve), (False, False)
+        if not len(points):
+            return tuple(start), fixed
+        t0, t1 = fit_window(points, curve, tuple(start), fixed,
+                            len(_samples(start, samples)))
+        ends = (False, False) if t_range is None else \
+            (t0 <= t_range[0], t1 >= t_range[1])
+        return (float(t0), float(t1)), ends
+    try:
+        t0, t1 = (float(v) for v in window)
+    except (TypeError, ValueError, OverflowError):
+        raise GapError(f"search interval: need two numbers, got "
+                       f"{window!r}"[:200]) from None
     if not (np.isfinite(t0) and np.isfinite(t1) and t0 < t1):
-        raise ValueError(f"window: need finite t0 < t1, got {tuple(window)}")
+        raise GapError(f"search interval: need finite t0 < t1, got "
+                       f"({t0:g}, {t1:g})")
     ends = (False, False)
     if t_range is not None:
         ends = (t0 <= t_range[0], t1 >= t_range[1])
         t0, t1 = max(t0, t_range[0]), min(t1, t_range[1])
         if t0 >= t1:
-            raise ValueError(
-                f"window {tuple(window)} does not overlap the obstacle's "
-                f"t_range {t_range}")
+            raise GapError(
+                f"search interval {tuple(window)} does not overlap the "
+                f"obstacle's t_range {t_range}")
     return (t0, t1), ends
 
 
+def _as_floats(values, name):
+    try:
+        return np.asarray(values, dtype=float)
+    except (TypeError, ValueError) as exc:
+        raise GapError(f"{name} must be real numbers ({exc})") from None
+
+
 def _as_points(points):
-    points = np.asarray(points, dtype=float)
+    points = _as_floats(points, "points")
     if points.ndim != 2 or points.shape[1] != 2:
-        raise ValueError(f"points must have shape (n, 2), got {points.shape}")
+        raise GapError(f"points must have shape (n, 2), got {points.shape}")
     if not np.isfinite(points).all():
-        raise ValueError("points must be finite")
+        raise GapError("points must be finite")
     return points
 
 
 def _as_unit(normals, n):
     """Normalise body normals (7), broadcast to (n, 2)."""
-    normals = np.asarray(normals, dtype=float)
+    normals = _as_floats(normals, "normals")
     if normals.shape not in ((2,), (n, 2)):
-        raise ValueError(
+        raise GapError(
             f"normals must have shape (2,) or ({n}, 2), got {normals.shape}")
     normals = np.broadcast_to(normals, (n, 2))
-    length = np.linalg.norm(normals, axis=1, keepdims=True)
+    length = np.hypot(normals[:, 0], normals[:, 1])[:, None]
     if not (np.isfinite(length) & (length > 0)).all():
-        raise ValueError("normals must be finite and non-zero")
+        raise GapError("normals must be finite and non-zero")
     return normals / length
 
 
@@ -174,10 +190,35 @@ def _fail(bad, points, node_ids, reason):
         f"the obstacle: {reason(i)}{more}")
 
 
+def warn_penetration(gap, points, node_ids=None):
+    """Warn (:class:`~solver.errors.InitialPenetrationWarning`) if the
+    obstacle penetrates the undeformed body: gaps s < 0 beyond round-off
+    (1e-12 of the coordinates' magnitude), naming the first nodes, their
+    count and the deepest penetration."""
+    scale = float(np.abs(points).max(initial=0.0))
+    deep = gap < -1e-12 * max(scale, float(np.ptp(points, axis=0).max(
+        initial=0.0)), 1e-300)
+    if not deep.any():
+        return
+    where = np.flatnonzero(deep)
+    labels = where if node_ids is None else np.asarray(node_ids)[where]
+    worst = int(where[np.argmin(gap[where])])
+    label = worst if node_ids is None else node_ids[worst]
+    names = ", ".join(str(v) for v in labels[:5]) \
+        + (", ..." if len(where) > 5 else "")
+    warnings.warn(
+        f"the obstacle penetrates the undeformed body at {len(where)} "
+        f"contact node{'s' if len(where) > 1 else ''} ({names}); deepest "
+        f"{-gap[worst]:.3g} at node {label} ({points[worst, 0]:g}, "
+        f"{points[worst, 1]:g}): initial gaps s < 0, the contact "
+        "conditions will push these nodes out",
+        InitialPenetrationWarning, stacklevel=3)
+
+
 def _samples(window, samples):
     samples = int(samples)
     if samples < 3:
-        raise ValueError(f"samples must be at least 3, got {samples}")
+        raise GapError(f"samples must be at least 3, got {samples}")
     return np.linspace(window[0], window[1], samples)
 
 
@@ -227,9 +268,13 @@ def gap_from_obstacle(points, curve, body_normals, *, window=None,
     :math:`f(t) = (\Gamma_o(t) - B)\cdot\Gamma_o'(t) = 0` with *f* rising
     through zero (local minima of the distance); then
     :math:`B + k\nu = \Gamma_o(t)` holds with ν the obstacle's normal (1)-(2).
-    ν is normalised (7) and oriented so that :math:`\nu \cdot n > 0` for the
-    body's outward normal *n*, i.e. from the body towards the obstacle, and
-    :math:`s = (\Gamma_o(t) - B)\cdot\nu` (signed |k|, errata to (3)).
+    ν is normalised (7) and oriented from the body towards the obstacle:
+    the rigid obstacle lies on one side of Γo, so one orientation of its
+    normal serves every node, the one with :math:`\nu \cdot n > 0` for the
+    body's outward normals *n* (summed over the nodes: a node past a corner
+    of the body, whose own *n* barely faces the obstacle, keeps the sign of
+    its gap), and :math:`s = (\Gamma_o(t) - B)\cdot\nu` (signed |k|,
+    errata to (3)).
 
     Parameters
     ----------
@@ -274,7 +319,9 @@ def gap_from_obstacle(points, curve, body_normals, *, window=None,
     points = _as_points(points)
     n = len(points)
     body = _as_unit(body_normals, n)
-    (t0, t1), curve_ends = parameter_window(points, curve, window)
+    if not n:  # no free contact node: nothing to measure
+        return np.zeros(0), np.zeros((0, 2)), np.zeros(0)
+    (t0, t1), curve_ends = parameter_window(points, curve, window, samples)
     ts = _samples((t0, t1), samples)
     with np.errstate(all="ignore"):
         c_pts = curve.point(ts)
@@ -340,8 +387,8 @@ def gap_from_obstacle(points, curve, body_normals, *, window=None,
                     return (f"its nearest obstacle point is the end "
                             f"t = {end:g} of the obstacle's t_range")
                 return (f"no obstacle point nearer than the end t = {end:g} "
-                        f"of the search window [{t0:g}, {t1:g}]; pass a "
-                        "larger window=")
+                        f"of the search window [{t0:g}, {t1:g}]; give a "
+                        "larger search interval (--search-interval)")
             _fail(bad, points, node_ids, reason)
         t = np.where(at_end >= 0, t_end, t)
     if np.isnan(t).any():
@@ -361,7 +408,12 @@ def gap_from_obstacle(points, curve, body_normals, *, window=None,
         off = np.abs(np.sum(r * tangent, axis=1)) > 1e-9 * distance * \
             np.linalg.norm(tangent, axis=1)
         corner = off & (distance > 0)
-        normal[corner] = r[corner] / distance[corner, None]
+        toward = r[corner] / distance[corner, None]
+        # ... oriented like the curve's own normal there (both sides'
+        # normals agree in sign with it), so that ν_o keeps one orientation
+        # along the whole obstacle
+        flip = np.sign(np.sum(toward * normal[corner], axis=1))
+        normal[corner] = toward * np.where(flip == 0, 1.0, flip)[:, None]
         length[corner] = 1.0
         cosine = np.sum(normal * body, axis=1)
     if not (np.isfinite(length) & (length > 0)).all():
@@ -374,8 +426,16 @@ def gap_from_obstacle(points, curve, body_normals, *, window=None,
             f"the obstacle normal at its nearest point t = {t[i]:g} is "
             f"nearly perpendicular to the body normal "
             f"(cosine {cosine[i]:.2g})"))
-    normal *= np.sign(cosine)[:, None]
+    # ν from the body towards the obstacle: the obstacle is rigid and lies
+    # on one side of Γo, so one orientation of the curve's normal serves all
+    # nodes, the one most body normals agree with (a node past a corner of
+    # the body, whose own normal barely faces the obstacle, keeps the sign
+    # of its gap right).
+    side = np.sign(np.sum(cosine))
+    orient = np.sign(cosine) if side == 0 else np.full(n, side)
+    normal *= orient[:, None]
     gap = np.sum((foot_pt - points) * normal, axis=1)
+    warn_penetration(gap, points, node_ids)
     return gap, normal, t
 
 
@@ -431,7 +491,9 @@ def gap_along_normals(points, normals, curve, *, window=None,
     points = _as_points(points)
     n = len(points)
     nu = _as_unit(normals, n)
-    (t0, t1), curve_ends = parameter_window(points, curve, window)
+    if not n:  # no free contact node: nothing to measure
+        return np.zeros(0), np.zeros((0, 2)), np.zeros(0)
+    (t0, t1), curve_ends = parameter_window(points, curve, window, samples)
     ts = _samples((t0, t1), samples)
     with np.errstate(all="ignore"):
         c_pts = curve.point(ts)
@@ -471,7 +533,8 @@ def gap_along_normals(points, normals, curve, *, window=None,
     if (best < 0).any():
         def reason(i):
             where = "t_range" if all(curve_ends) else "search window"
-            hint = "" if all(curve_ends) else "; pass a larger window="
+            hint = "" if all(curve_ends) else \
+                "; give a larger search interval (--search-interval)"
             return (f"no intersection for t in the {where} "
                     f"[{t0:g}, {t1:g}]{hint}")
         _fail(best < 0, points, node_ids, reason)
@@ -488,4 +551,5 @@ def gap_along_normals(points, normals, curve, *, window=None,
         _fail(grazing, points, node_ids, lambda i: (
             f"it meets the obstacle at a grazing angle at t = {t[i]:g} "
             f"(cosine {cosine[i]:.2g} between the normals)"))
+    warn_penetration(gap, points, node_ids)
     return gap, nu.copy(), t

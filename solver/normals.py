@@ -26,13 +26,34 @@ jumps from node to node). At the ends the natural end condition
 end nodes converge only with order 1; the end error decays into the chain by
 the factor :math:`2 - \sqrt{3} \approx 0.27` per node, so the second node is
 also first order. On a straight chain the normals are exact.
+
+Corners
+-------
+A contact boundary that turns a corner of the body (the thesis's never
+does) is not smooth, and one spline through the corner rounds it off: the
+normals of the nodes past the corner tilt towards the other side, and the
+gap measured along them can change sign. :func:`boundary_normals` therefore
+splits Γc at every node where the polygon turns by more than
+:data:`CORNER_ANGLE` and fits one spline per smooth piece, so every node has
+the **one-sided** normal of its own piece; a corner node itself gets the
+bisector of its two one-sided normals.
+
+Degenerate geometry (a chain of one node, coincident nodes, a zero-area
+triangle on Γc) raises :class:`~solver.errors.GeometryError` naming the
+nodes.
 """
 
 import numpy as np
 from scipy.interpolate import CubicSpline
 
-__all__ = ["chord_parameters", "spline_tangents", "spline_normals",
-           "outward_sign", "boundary_normals"]
+from .errors import GeometryError
+
+__all__ = ["CORNER_ANGLE", "chord_parameters", "spline_tangents",
+           "spline_normals", "outward_sign", "corners", "boundary_normals"]
+
+#: Turning angle of the Γc polygon (degrees) above which a node is a corner
+#: of the body: the splines end there (one-sided normals).
+CORNER_ANGLE = 30.0
 
 
 def chord_parameters(points):
@@ -50,15 +71,16 @@ def chord_parameters(points):
 
     Raises
     ------
-    ValueError
+    GeometryError
         If two consecutive points coincide (the parameter would not
         increase strictly).
     """
     points = np.asarray(points, dtype=float)
-    chords = np.linalg.norm(np.diff(points, axis=0), axis=1)
+    step = np.diff(points, axis=0)
+    chords = np.hypot(step[:, 0], step[:, 1])  # no overflow, no underflow
     if not (chords > 0).all():
         i = int(np.flatnonzero(~(chords > 0))[0])
-        raise ValueError(
+        raise GeometryError(
             f"points {i} and {i + 1} of the chain coincide at "
             f"({points[i, 0]:g}, {points[i, 1]:g})")
     return np.concatenate([[0.0], np.cumsum(chords)])
@@ -67,12 +89,13 @@ def chord_parameters(points):
 def _check_points(points):
     points = np.asarray(points, dtype=float)
     if points.ndim != 2 or points.shape[1] != 2:
-        raise ValueError(f"points must have shape (n, 2), got {points.shape}")
+        raise GeometryError(
+            f"points must have shape (n, 2), got {points.shape}")
     if len(points) < 2:
-        raise ValueError(
+        raise GeometryError(
             f"a spline needs at least 2 points, got {len(points)}")
     if not np.isfinite(points).all():
-        raise ValueError("points must be finite")
+        raise GeometryError("points must be finite")
     return points
 
 
@@ -98,9 +121,13 @@ def spline_tangents(points):
     """
     points = _check_points(points)
     s = chord_parameters(points)
-    spline = CubicSpline(s, points, axis=0, bc_type="natural")
-    tangent = spline(s, 1)
-    return tangent / np.linalg.norm(tangent, axis=1, keepdims=True)
+    # Scaled to unit length first: coordinates of 1e-300 or 1e300 would
+    # underflow or overflow in the spline's squares and cubes.
+    scale = s[-1]
+    spline = CubicSpline(s / scale, points / scale, axis=0,
+                         bc_type="natural")
+    tangent = spline(s / scale, 1)
+    return tangent / np.hypot(tangent[:, 0], tangent[:, 1])[:, None]
 
 
 def spline_normals(points, sign=1):
@@ -155,20 +182,27 @@ def outward_sign(nodes, cells, chain):
 
     Raises
     ------
-    ValueError
+    GeometryError
         If the chain has fewer than 2 nodes, an edge of the chain is not a side
-        of exactly one triangle, a triangle is degenerate, or the edges
-        disagree about the side of the body.
+        of exactly one triangle, a triangle on Γc has zero area, or the edges
+        disagree about the side of the body (the message names the nodes).
     """
     nodes = np.asarray(nodes, dtype=float)
     cells = np.asarray(cells, dtype=np.int64)
     chain = np.asarray(chain, dtype=np.int64)
     if chain.ndim != 1 or len(chain) < 2:
-        raise ValueError("the chain needs at least 2 nodes")
+        only = f" (node {chain.ravel()[0]})" if chain.size == 1 else ""
+        raise GeometryError(f"the contact boundary has {chain.size} "
+                            f"node{only}: normals need at least 2 nodes "
+                            "joined by a boundary edge")
     n = len(nodes)
+    if nodes.ndim != 2 or nodes.shape[1:] != (2,) or cells.ndim != 2 \
+            or cells.shape[1:] != (3,) or not len(cells):
+        raise GeometryError(f"need (n, 2) nodes and (m, 3) triangles, m >= "
+                            f"1, got shapes {nodes.shape}, {cells.shape}")
     if chain.min() < 0 or chain.max() >= n or cells.min() < 0 \
             or cells.max() >= n:
-        raise ValueError(f"node index out of range [0, {n})")
+        raise GeometryError(f"node index out of range [0, {n})")
     # Sorted keys of all triangle sides, each with its opposite vertex.
     sides = np.concatenate([cells[:, [0, 1]], cells[:, [1, 2]],
                             cells[:, [2, 0]]])
@@ -184,29 +218,44 @@ def outward_sign(nodes, cells, chain):
     count = np.searchsorted(keys, wanted, side="right") - first
     if (count != 1).any():
         i = int(np.flatnonzero(count != 1)[0])
-        raise ValueError(
+        raise GeometryError(
             f"chain edge ({a[i]}, {b[i]}) is a side of {count[i]} triangles, "
             "not of exactly one (not a boundary edge)")
     c = opposite[first]
-    edge = nodes[b] - nodes[a]
-    inward = nodes[c] - nodes[a]
+    edge, inward = _unit(nodes[b] - nodes[a]), _unit(nodes[c] - nodes[a])
     side = inward[:, 0] * edge[:, 1] - inward[:, 1] * edge[:, 0]
-    scale = np.linalg.norm(edge, axis=1) * np.linalg.norm(inward, axis=1)
-    if (np.abs(side) <= 1e-12 * scale).any():
-        i = int(np.flatnonzero(np.abs(side) <= 1e-12 * scale)[0])
-        raise ValueError(
-            f"the triangle on chain edge ({a[i]}, {b[i]}) is degenerate")
+    flat = ~(np.abs(side) > 1e-12)  # also NaN: coincident nodes
+    if flat.any():
+        i = int(np.flatnonzero(flat)[0])
+        raise GeometryError(
+            f"the triangle ({a[i]}, {b[i]}, {c[i]}) on the contact boundary "
+            f"edge ({a[i]}, {b[i]}) has zero area"
+            + (f" (and {int(flat.sum()) - 1} more)" if flat.sum() > 1 else ""))
     if (side < 0).all():
         return 1
     if (side > 0).all():
         return -1
-    raise ValueError(
+    raise GeometryError(
         f"the body lies left of {int((side < 0).sum())} and right of "
         f"{int((side > 0).sum())} chain edges: the chain is not ordered "
         "along one piece of boundary")
 
 
-def boundary_normals(nodes, cells, chain):
+def _unit(vectors):
+    """Rows scaled to unit length (hypot: no overflow or underflow)."""
+    with np.errstate(all="ignore"):
+        return vectors / np.hypot(vectors[:, 0], vectors[:, 1])[:, None]
+
+
+def corners(points, angle=CORNER_ANGLE):
+    """Positions of the inner points where the polygon turns by more than
+    ``angle`` degrees (corners of the body)."""
+    step = _unit(np.diff(np.asarray(points, dtype=float), axis=0))
+    cosine = np.sum(step[:-1] * step[1:], axis=1)
+    return np.flatnonzero(cosine < np.cos(np.radians(angle))) + 1
+
+
+def boundary_normals(nodes, cells, chain, corner_angle=CORNER_ANGLE):
     r"""Unit outward normals of Γc at the chain nodes (thesis §2.1.3).
 
     Parameters
@@ -217,15 +266,47 @@ def boundary_normals(nodes, cells, chain):
         Triangle connectivity.
     chain : (n,) int array, n >= 2
         Indices of the contact nodes, ordered along Γc (either direction).
+    corner_angle : float
+        Turning angle (degrees) above which a node is a corner.
 
     Returns
     -------
     (n, 2) float array
-        Unit outward normals at ``nodes[chain]``, from the parametric natural
-        cubic spline (:func:`spline_normals`) oriented by
-        :func:`outward_sign`. For the thesis block (Γc the edge x = 5) they
+        Unit outward normals at ``nodes[chain]``, from parametric natural
+        cubic splines (:func:`spline_normals`) oriented by
+        :func:`outward_sign`, one spline per smooth piece of Γc between
+        corners (:func:`corners`); a corner node gets the bisector of its
+        two one-sided normals. For the thesis block (Γc the edge x = 5) they
         are exactly (1, 0).
+
+    Raises
+    ------
+    GeometryError
+        Naming the nodes: a chain of one node, two consecutive nodes at the
+        same point, a zero-area triangle on Γc.
     """
     nodes = np.asarray(nodes, dtype=float)
     chain = np.asarray(chain, dtype=np.int64)
-    return spline_normals(nodes[chain], outward_sign(nodes, cells, chain))
+    if chain.ndim == 1 and len(chain) >= 2 and 0 <= chain.min() \
+            and chain.max() < len(nodes):
+        points = nodes[chain]
+        step = np.diff(points, axis=0)
+        same = ~(np.hypot(step[:, 0], step[:, 1]) > 0)
+        if same.any():
+            i = int(np.flatnonzero(same)[0])
+            raise GeometryError(
+                f"contact nodes {chain[i]} and {chain[i + 1]} coincide at "
+                f"({points[i, 0]:g}, {points[i, 1]:g})")
+    sign = outward_sign(nodes, cells, chain)
+    points = nodes[chain]
+    cuts = corners(points, corner_angle)
+    bounds = np.r_[0, cuts, len(points) - 1]
+    normals = np.empty_like(points)
+    before = None
+    for lo, hi in zip(bounds[:-1], bounds[1:]):  # pieces between corners
+        piece = spline_normals(points[lo:hi + 1], sign)
+        normals[lo:hi + 1] = piece
+        if before is not None:  # lo is a corner: bisect the one-sided normals
+            normals[lo] = _unit((before + piece[0])[None])[0]
+        before = piece[-1]
+    return normals

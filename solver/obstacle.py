@@ -31,7 +31,7 @@ import sympy
 from .errors import ExpressionError
 
 __all__ = ["ALLOWED_FUNCTIONS", "ALLOWED_CONSTANTS", "parse_expression",
-           "ParametricCurve"]
+           "check_interval", "ParametricCurve"]
 
 class RealSign(sympy.Function):
     """sign(x) of a real argument, derivative 0 (almost everywhere: the
@@ -346,6 +346,20 @@ def _numeric(expr, symbol):
     return evaluate
 
 
+def check_interval(name, interval):
+    """``(t0, t1)`` as floats with t0 < t1 both finite, else
+    :class:`~solver.errors.ExpressionError` naming ``name``."""
+    try:
+        t0, t1 = (float(v) for v in interval)
+    except (TypeError, ValueError, OverflowError):
+        raise ExpressionError(f"{name}: need two numbers t0 < t1, got "
+                              f"{interval!r}"[:200]) from None
+    if not (math.isfinite(t0) and math.isfinite(t1) and t0 < t1):
+        raise ExpressionError(f"{name}: need finite t0 < t1, got "
+                              f"({t0:g}, {t1:g})")
+    return (t0, t1)
+
+
 class ParametricCurve:
     r"""A rigid obstacle :math:`\Gamma_o(t) = (x(t), y(t))`, thesis §4.
 
@@ -357,6 +371,10 @@ class ParametricCurve:
     t_range : (float, float) or None
         Admissible parameter interval ``[t0, t1]``; ``None`` means the whole
         real line.
+    search_interval : (float, float) or None
+        Interval of *t* searched for the gaps (intersected with
+        ``t_range``); ``None``: found from the body's extent
+        (:func:`solver.gap.parameter_window`).
 
     Attributes
     ----------
@@ -366,17 +384,15 @@ class ParametricCurve:
         The parsed expressions.
     """
 
-    def __init__(self, x, y, t_range=None):
+    def __init__(self, x, y, t_range=None, search_interval=None):
         self.x_text, self.y_text = x, y
         self.x_expr = parse_expression(x)
         self.y_expr = parse_expression(y)
         if t_range is not None:
-            t0, t1 = (float(v) for v in t_range)
-            if not (math.isfinite(t0) and math.isfinite(t1) and t0 < t1):
-                raise ExpressionError(
-                    f"t_range: need finite t0 < t1, got {tuple(t_range)}")
-            t_range = (t0, t1)
+            t_range = check_interval("t_range", t_range)
         self.t_range = t_range
+        self.search_interval = None if search_interval is None \
+            else check_interval("search interval", search_interval)
         symbol = self._symbol = sympy.Symbol("t", real=True)
         # t must appear (SymPy has already cancelled 0*t, t - t); a curve
         # that is constant only after simplification, sin(t)**2 + cos(t)**2,
@@ -423,5 +439,7 @@ class ParametricCurve:
 
     def __repr__(self):
         rng = "" if self.t_range is None else f", t_range={self.t_range}"
+        if self.search_interval is not None:
+            rng += f", search_interval={self.search_interval}"
         return (f"ParametricCurve(x={self.x_text!r}, y={self.y_text!r}"
                 f"{rng})")

@@ -16,6 +16,7 @@ defined everywhere.
 import numpy as np
 
 from .errors import ExpressionError
+from .obstacle import check_interval
 
 __all__ = ["PolylineCurve"]
 
@@ -27,6 +28,8 @@ class PolylineCurve:
     ----------
     points : (n + 1, 2) array_like
         Vertices, n ≥ 1 segments of positive length.
+    search_interval : (float, float) or None
+        Arc-length interval searched for the gaps (default: all of it).
 
     Attributes
     ----------
@@ -35,7 +38,7 @@ class PolylineCurve:
         L = total length.
     """
 
-    def __init__(self, points):
+    def __init__(self, points, search_interval=None):
         points = np.asarray(points, dtype=float)
         if points.ndim != 2 or points.shape[1] != 2 or len(points) < 2:
             raise ExpressionError(f"obstacle_points: need an (n, 2) array "
@@ -52,6 +55,8 @@ class PolylineCurve:
         self._t = np.r_[0.0, np.cumsum(lengths)]
         self._tangents = np.diff(points, axis=0) / lengths[:, None]
         self.t_range = (0.0, float(self._t[-1]))
+        self.search_interval = None if search_interval is None \
+            else check_interval("search interval", search_interval)
 
     @property
     def kinks(self):

@@ -203,6 +203,8 @@ def _run(args, state):
 
     _check_input_file(args.problem)
     problem = load_problem(args.problem)
+    if args.search_interval is not None:
+        problem.set_search_interval(*args.search_interval)
     if args.info:
         info = problem.summary()
         if args.json:

@@ -173,7 +173,8 @@ ARRAY_CASES = [
     ("meta nu = 0.5", "mesh", lambda a: dict(a, meta=meta_with(a, nu=0.5)),
      "meta: nu must be"),
     ("meta E infinite", "mesh",
-     lambda a: dict(a, meta=meta_with(a, E=float("inf"))), "meta: E must be"),
+     lambda a: dict(a, meta=meta_with(a, E=float("inf"))),
+     "meta: Infinity is not a number in JSON"),
     ("meta E boolean", "mesh", lambda a: dict(a, meta=meta_with(a, E=True)),
      "meta: E must be"),
     # K and M

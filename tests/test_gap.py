@@ -169,21 +169,33 @@ def test_t_range_missed_is_an_error():
 
 def test_default_window_and_explicit_window():
     points = np.array([[5.0, 3.0]])
-    # |B - Γo(0)| = sqrt(1 + 9), so L = 2 sqrt(10) + 1
-    (t0, t1), ends = parameter_window(points, ParametricCurve("6", "t"))
-    assert np.isclose(t1, 2 * np.sqrt(10) + 1) and t0 == -t1
-    assert ends == (False, False)
-    # A slow parametrisation (y = t / 100) puts the foot at t = 300, outside
-    # the default window: an error that asks for window=, which fixes it.
+    # The window follows the body's extent, not the parametrisation: the
+    # foot of (5, 3) on x = 6 is t = 3 for y = t and t = 300 for the slow
+    # y = t / 100, both found without a window (analytic: gap 1).
+    for curve, foot in ((ParametricCurve("6", "t"), 3.0),
+                        (ParametricCurve("6", "t/100"), 300.0),
+                        (ParametricCurve("6", "1e4*t"), 3e-4)):
+        (t0, t1), ends = parameter_window(points, curve)
+        assert t0 < foot < t1 and ends == (False, False)
+        for result in (gap_from_obstacle(points, curve, (1.0, 0.0)),
+                       gap_along_normals(points, (1.0, 0.0), curve)):
+            assert np.isclose(result[0][0], 1.0, atol=1e-14)
+            assert np.isclose(result[2][0], foot, rtol=1e-12)
+    # An explicit window is used as given (and asks for a larger one when
+    # the foot lies outside it) ...
     slow = ParametricCurve("6", "t/100")
-    with pytest.raises(GapError, match="pass a larger window="):
-        gap_from_obstacle(points, slow, (1.0, 0.0))
-    with pytest.raises(GapError, match="pass a larger window="):
-        gap_along_normals(points, (1.0, 0.0), slow)
+    with pytest.raises(GapError, match="larger search interval"):
+        gap_from_obstacle(points, slow, (1.0, 0.0), window=(-10, 10))
+    with pytest.raises(GapError, match="larger search interval"):
+        gap_along_normals(points, (1.0, 0.0), slow, window=(-10, 10))
     for result in (gap_from_obstacle(points, slow, (1, 0), window=(-1e3, 1e3)),
                    gap_along_normals(points, (1, 0), slow, window=(0, 1e3))):
         assert np.isclose(result[0][0], 1.0, atol=1e-14)
         assert np.isclose(result[2][0], 300.0, atol=1e-10)
+    # ... and so is the curve's own search interval
+    slow.search_interval = (-10.0, 10.0)
+    with pytest.raises(GapError, match="larger search interval"):
+        gap_from_obstacle(points, slow, (1.0, 0.0))
     # an explicit window is clipped to the t_range
     assert parameter_window(points, CIRCLE, (0, 10)) \
         == ((np.pi / 2, 3 * np.pi / 2), (True, True))

@@ -276,3 +276,17 @@ def test_docs_table_is_current():
     from conftest import ROOT
 
     assert format_table() in (ROOT / "docs" / "npz-format.md").read_text()
+
+
+def test_repr_is_short_and_never_dumps_arrays(mesh_arrays, tmp_path,
+                                              bar_problem):
+    path = tmp_path / "p.npz"
+    np.savez(path, **mesh_arrays)
+    problem = load_problem(path)
+    text = repr(problem)
+    assert text.startswith("ContactProblem(kind='mesh', dim=2, dofs=138, "
+                           "contact_nodes=11, triangles=118")
+    assert "x='5.05 + 0.005*t**2'" in text and repr(str(path)) in text
+    assert "array" not in text and "\n" not in text and len(text) < 300
+    assert repr(bar_problem) == ("ContactProblem(kind='discrete', dim=2, "
+                                 "dofs=2, contact_nodes=1, source=None)")

@@ -1,0 +1,256 @@
+"""The contact problem object: what the solver sees of one ``.npz`` file."""
+
+import json
+from dataclasses import dataclass, field
+
+import numpy as np
+import scipy.sparse as sp
+
+from ..errors import ProblemError
+from ..obstacle import ParametricCurve, check_interval
+from ..polyline import PolylineCurve
+from .checks import check_positive_definite
+from .format import FORMAT_VERSION
+from .validate import validate_fields
+
+__all__ = ["ContactProblem", "validate_arrays"]
+
+
+@dataclass(eq=False)
+class ContactProblem:
+    r"""A contact problem as the solver sees it (one ``.npz`` file).
+
+    Array meanings and shapes are those of :data:`KEYS`; K and M are
+    :class:`scipy.sparse.csr_matrix`. Construct it directly (the arrays are
+    validated by :meth:`validate`) or with :func:`load_problem`.
+    """
+
+    K: sp.csr_matrix
+    f: np.ndarray
+    M: sp.csr_matrix
+    contact_dofs: np.ndarray
+    meta: dict
+    nodes: np.ndarray = None
+    cells: np.ndarray = None
+    dof_map: np.ndarray = None
+    u_prescribed: np.ndarray = None
+    contact_nodes: np.ndarray = None
+    obstacle: ParametricCurve = None
+    gap: np.ndarray = None
+    normal: np.ndarray = None
+    load_path: np.ndarray = None
+    load_path_steps: np.ndarray = None
+    load_path_friction: np.ndarray = None
+    load_path_prescribed: np.ndarray = None
+    source: str = field(default=None, compare=False)
+    _checked: object = field(default=None, init=False, repr=False,
+                             compare=False)
+
+    @property
+    def kind(self):
+        """``"mesh"`` if the problem carries a mesh, else ``"discrete"``."""
+        return "mesh" if self.nodes is not None else "discrete"
+
+    @property
+    def n_dofs(self):
+        """Ñ, the number of reduced DOFs."""
+        return self.K.shape[0]
+
+    @property
+    def n_contact(self):
+        """Nc, the number of nodes on Γc."""
+        return self.contact_dofs.shape[0]
+
+    def to_arrays(self):
+        """The ``.npz`` arrays of this problem, keyed as in :data:`KEYS`."""
+        K, M = sp.csr_matrix(self.K), sp.csr_matrix(self.M)
+        arrays = {
+            "format_version": np.array(FORMAT_VERSION, dtype=np.int64),
+            "kind": np.array(self.kind),
+            "meta": np.array(json.dumps(self.meta, sort_keys=True)),
+            "K_data": K.data, "K_indices": K.indices, "K_indptr": K.indptr,
+            "K_shape": np.array(K.shape, dtype=np.int64),
+            "f": self.f,
+            "M_data": M.data, "M_indices": M.indices, "M_indptr": M.indptr,
+            "M_shape": np.array(M.shape, dtype=np.int64),
+            "contact_dofs": self.contact_dofs,
+        }
+        if self.kind == "mesh":
+            arrays.update(nodes=self.nodes, cells=self.cells,
+                          dof_map=self.dof_map,
+                          u_prescribed=self.u_prescribed,
+                          contact_nodes=self.contact_nodes)
+            if isinstance(self.obstacle, PolylineCurve):
+                arrays["obstacle_points"] = self.obstacle.points
+            elif self.obstacle is not None:
+                arrays["obstacle_x"] = np.array(self.obstacle.x_text)
+                arrays["obstacle_y"] = np.array(self.obstacle.y_text)
+                if self.obstacle.t_range is not None:
+                    arrays["obstacle_t_range"] = np.array(
+                        self.obstacle.t_range, dtype=float)
+            search = getattr(self.obstacle, "search_interval", None)
+            if search is not None:
+                arrays["obstacle_search_interval"] = np.array(search,
+                                                              dtype=float)
+        for name in ("gap", "normal", "load_path", "load_path_steps",
+                     "load_path_friction", "load_path_prescribed"):
+            if getattr(self, name) is not None:
+                arrays[name] = getattr(self, name)
+        return arrays
+
+    def validate(self):
+        """Check every array; raise :class:`ProblemError` naming the key."""
+        validate_fields(self.to_arrays())
+        return self
+
+    def set_search_interval(self, t0, t1):
+        """Search the obstacle parameter for the gaps in ``[t0, t1]``
+        (``--search-interval``; see :func:`solver.gap.parameter_window`).
+
+        Raises
+        ------
+        ProblemError
+            For a discrete problem (no obstacle) or unless t0 < t1 are
+            finite.
+        """
+        if self.kind != "mesh":
+            raise ProblemError("search interval: a discrete problem has no "
+                               "obstacle (its gaps are given)")
+        self.obstacle.search_interval = check_interval(
+            "search interval", (t0, t1))
+        return self
+
+    def __repr__(self):
+        """One line: kind, sizes, obstacle and source; never the arrays."""
+        parts = [f"kind={self.kind!r}", "dim=2", f"dofs={self.n_dofs}",
+                 f"contact_nodes={self.n_contact}"]
+        if self.kind == "mesh":
+            parts += [f"triangles={len(self.cells)}",
+                      f"nodes={len(self.nodes)}",
+                      f"obstacle={self.obstacle!r}"]
+        if self.load_path is not None:
+            parts.append(f"load_stages={len(self.load_path)}")
+        parts.append(f"source={self.source!r}")
+        return f"ContactProblem({', '.join(parts)})"
+
+    def check_stiffness(self):
+        """Check that K is positive definite (see
+        :func:`check_positive_definite`).
+
+        Costs one sparse factorisation of K in a fill-reducing order
+        (:func:`solver.linalg.dof_ordering`); the solvers call it before
+        iterating (the condensed ones get it from the factorisation they
+        need anyway). The result is remembered for the K object checked
+        (replace ``problem.K``, do not modify it in place).
+
+        Raises
+        ------
+        ProblemError
+            ``"K_data: K is not positive definite (...)"``.
+        """
+        if self._checked is not self.K:
+            from ..linalg import dof_ordering
+            check_positive_definite(self.K, "K", dof_ordering(self))
+            self._checked = self.K
+        return self
+
+    def n_load_steps(self, steps=None):
+        """Number of load steps: of the ``load_path``, else ``steps``
+        (default 100)."""
+        if self.load_path is not None:
+            return int(self.load_path_steps.sum())
+        return 100 if steps is None else int(steps)
+
+    def load_steps(self, steps=None):
+        """The load path, one entry per load step (a generator: a vector per
+        step is made only when the step is reached).
+
+        Yields (load vector f_κ, friction multiplier, Dirichlet values or
+        None, stage index). Without a ``load_path`` the path has one stage
+        of ``steps`` steps (default 100) with f_κ = κ/κc·f and the
+        Dirichlet values scaled alike.
+        """
+        if self.load_path is None:
+            steps = self.n_load_steps(steps)
+            for k in range(1, steps + 1):
+                yield (k / steps * self.f, 1.0,
+                       None if self.u_prescribed is None
+                       else k / steps * self.u_prescribed, 0)
+            return
+        start = np.zeros_like(self.f)
+        prescribed_start = None if self.u_prescribed is None \
+            else np.zeros_like(self.u_prescribed)
+        for stage, (end, n, factor) in enumerate(zip(
+                self.load_path, self.load_path_steps,
+                self.load_path_friction)):
+            if self.load_path_prescribed is not None:
+                prescribed_end = self.load_path_prescribed[stage]
+            elif self.u_prescribed is not None:
+                prescribed_end = self.u_prescribed * (
+                    np.linalg.norm(end) / max(np.linalg.norm(self.f), 1e-300))
+            else:
+                prescribed_end = None
+            for k in range(1, int(n) + 1):
+                w = k / n
+                value = None if prescribed_end is None else \
+                    (1 - w) * prescribed_start + w * prescribed_end
+                yield ((1 - w) * start + w * end, float(factor), value,
+                       stage)
+            start, prescribed_start = end, prescribed_end
+
+    def full_displacement(self, u, prescribed=None):
+        """Nodal displacements (n_nodes, 2) from a reduced vector ``u``.
+
+        Free DOFs take ``u``, Dirichlet DOFs take ``prescribed`` (default
+        ``u_prescribed``, the values of the full load).
+        """
+        if self.kind != "mesh":
+            raise ProblemError("full_displacement: a discrete problem has "
+                               "no mesh")
+        full = (self.u_prescribed if prescribed is None
+                else np.asarray(prescribed, float)).copy()
+        full[self.dof_map[:, 0], self.dof_map[:, 1]] = u
+        return full
+
+    def summary(self):
+        """A dict of the problem's main figures (for ``--info``)."""
+        from scipy.sparse.linalg import norm as sparse_norm
+
+        active = (self.contact_dofs >= 0).all(axis=1)
+        info = {
+            "kind": self.kind,
+            "dofs": int(self.n_dofs),
+            "contact_nodes": int(self.n_contact),
+            "contact_nodes_free": int(active.sum()),
+            "K_nnz": int(self.K.nnz),
+            "K_norm_fro": float(sparse_norm(self.K)),
+            "K_norm_max": float(abs(self.K).max()),
+            "f_norm": float(np.linalg.norm(self.f)),
+            "M_sum": float(self.M.sum()),
+        }
+        if self.kind == "mesh":
+            info.update(nodes=int(len(self.nodes)),
+                        triangles=int(len(self.cells)),
+                        obstacle=(
+                            [self.obstacle.x_text, self.obstacle.y_text]
+                            if isinstance(self.obstacle, ParametricCurve)
+                            else repr(self.obstacle)),
+                        obstacle_t_range=self.obstacle.t_range,
+                        obstacle_search_interval=getattr(
+                            self.obstacle, "search_interval", None))
+        else:
+            info.update(gap=self.gap.tolist(), normal=self.normal.tolist())
+        info["meta"] = self.meta
+        return info
+
+
+def validate_arrays(arrays):
+    """Validate a dict of ``.npz`` arrays and build a
+    :class:`ContactProblem`.
+
+    Raises
+    ------
+    ProblemError
+        Naming the first key found missing, unexpected or malformed.
+    """
+    return ContactProblem(**validate_fields(arrays))

@@ -1,0 +1,128 @@
+"""Validation of the mesh keys of a problem file and of its geometry.
+
+Besides dtypes and shapes, the geometry must be one double precision can
+resolve and the thesis's normals (§2.1.3) can be computed on: coordinates
+within :data:`COORDINATE_LIMIT`, a body at least :data:`RESOLUTION` times
+as large as its distance from the origin (a body of size 20 shifted by
+1e17 has no two distinct node positions left), a contact boundary of at
+least two nodes, no two consecutive contact nodes at one point, no
+zero-area triangle on Γc (:func:`solver.normals.boundary_normals`).
+Failures raise :class:`~solver.errors.ProblemError` naming the key and the
+nodes.
+"""
+
+import numpy as np
+
+from ..errors import GeometryError, ProblemError
+from ..mesh import is_boundary_chain
+from ..normals import boundary_normals
+from ..obstacle import ParametricCurve
+from ..polyline import PolylineCurve
+from .checks import check_array, check_range, fail
+
+__all__ = ["COORDINATE_LIMIT", "RESOLUTION", "validate_mesh"]
+
+#: Largest accepted |coordinate| (and smallest accepted size of the body):
+#: gaps, squared distances and forces of bodies beyond it overflow or
+#: underflow double precision.
+COORDINATE_LIMIT = 1e30
+
+#: Smallest accepted ratio of the body's size to its largest |coordinate|
+#: (below it the node positions keep fewer than 8 significant digits).
+RESOLUTION = 1e-8
+
+
+def _check_coordinates(nodes):
+    """Coordinates double precision can resolve (see the module doc)."""
+    if not len(nodes):
+        fail("nodes", "the mesh has no nodes")
+    size = np.abs(nodes).max(axis=1)
+    far = int(np.argmax(size))
+    if size[far] > COORDINATE_LIMIT:
+        fail("nodes", f"node {far} at ({nodes[far, 0]:g}, {nodes[far, 1]:g}) "
+                      f"is out of the supported range |x|, |y| <= "
+                      f"{COORDINATE_LIMIT:g} (rescale the units)")
+    extent = float(np.ptp(nodes, axis=0).max())
+    if extent < max(1 / COORDINATE_LIMIT, RESOLUTION * size[far]):
+        fail("nodes", f"the body is {extent:g} across but lies "
+                      f"{size[far]:g} from the origin (node {far}): double "
+                      "precision cannot resolve it (rescale the units or "
+                      "move the body to the origin)")
+
+
+def validate_mesh(arrays, n, contact_dofs):
+    """The mesh keys, the geometry and the obstacle of a ``mesh`` file.
+
+    Returns the fields nodes, cells, dof_map, u_prescribed, contact_nodes
+    and obstacle of a :class:`~solver.problem.ContactProblem`.
+    """
+    nodes = check_array(arrays, "nodes", "float", 2, (None, 2))
+    n_nodes = len(nodes)
+    _check_coordinates(nodes)
+    cells = check_array(arrays, "cells", "int", 2, (None, 3))
+    if len(cells) < 1:
+        fail("cells", "the mesh has no triangles")
+    check_range("cells", cells, 0, n_nodes)
+    dof_map = check_array(arrays, "dof_map", "int", 2, (n, 2))
+    check_range("dof_map", dof_map[:, 0], 0, n_nodes)
+    check_range("dof_map", dof_map[:, 1], 0, 2)
+    flat = dof_map[:, 0] * 2 + dof_map[:, 1]
+    if len(np.unique(flat)) != n:
+        fail("dof_map", "two reduced DOFs map to the same (node, component)")
+    u_prescribed = check_array(arrays, "u_prescribed", "float", 2,
+                               (n_nodes, 2))
+    contact_nodes = check_array(arrays, "contact_nodes", "int", 1,
+                                (len(contact_dofs),))
+    check_range("contact_nodes", contact_nodes, 0, n_nodes)
+    if len(np.unique(contact_nodes)) != len(contact_nodes):
+        fail("contact_nodes", "a node appears twice")
+    if len(contact_nodes) < 2:
+        fail("contact_nodes", f"the contact boundary Γc is the single node "
+                              f"{contact_nodes[0]}: it needs at least 2 "
+                              "nodes joined by a boundary edge")
+    if not is_boundary_chain(contact_nodes, cells):
+        fail("contact_nodes", "not ordered along the boundary (consecutive "
+                              "contact nodes must share a boundary edge)")
+    # contact_dofs must agree with dof_map.
+    lookup = np.full(2 * n_nodes, -1, dtype=np.int64)
+    lookup[flat] = np.arange(n)
+    expected = lookup[(2 * contact_nodes[:, None] + np.arange(2)).ravel()]
+    if not np.array_equal(expected.reshape(-1, 2), contact_dofs):
+        fail("contact_dofs", "does not match dof_map and contact_nodes")
+    try:  # the normals of Γc: coincident nodes, zero-area triangles
+        boundary_normals(nodes, cells, contact_nodes)
+    except GeometryError as exc:
+        fail("contact_nodes", str(exc))
+    search = None
+    if "obstacle_search_interval" in arrays:
+        search = check_array(arrays, "obstacle_search_interval", "float", 1,
+                             (2,))
+    if "obstacle_points" in arrays:
+        for key in ("obstacle_x", "obstacle_y", "obstacle_t_range"):
+            if key in arrays:
+                fail(key, "not allowed with obstacle_points (a polyline "
+                          "is parametrised by its arc length)")
+        points = check_array(arrays, "obstacle_points", "float", 2,
+                             (None, 2))
+        try:
+            obstacle = PolylineCurve(points, search)
+        except ProblemError as exc:
+            fail("obstacle_points", str(exc).split(": ", 1)[-1])
+    else:
+        for key in ("obstacle_x", "obstacle_y"):
+            if key not in arrays:
+                fail(key, "missing (a 'mesh' problem file needs obstacle_x "
+                          "and obstacle_y, or obstacle_points)")
+        t_range = None
+        if "obstacle_t_range" in arrays:
+            t_range = check_array(arrays, "obstacle_t_range", "float", 1,
+                                  (2,))
+        x = check_array(arrays, "obstacle_x", "str", 0)
+        y = check_array(arrays, "obstacle_y", "str", 0)
+        try:
+            obstacle = ParametricCurve(x, y, t_range, search)
+        except ProblemError as exc:
+            fail("obstacle", str(exc))
+    return dict(nodes=nodes, cells=cells, dof_map=dof_map,
+                u_prescribed=u_prescribed, contact_nodes=contact_nodes,
+                obstacle=obstacle)

@@ -1,0 +1,121 @@
+"""The ``meta`` key: a JSON object parsed safely.
+
+The metadata of a problem file (material E, ν, plane; load; mesh name; see
+:data:`~solver.problem.format.KEYS`) is JSON text written by
+``save_problem``. A hostile file can make :func:`json.loads` recurse
+without bound (deeply nested lists), return integers of thousands of digits
+(which overflow every float conversion), the non-standard constants
+``NaN`` and ``Infinity`` (which ``--info --json`` would echo as invalid
+JSON) or strings with lone surrogates (which cannot be printed). Each is
+refused here with a one-line :class:`~solver.errors.ProblemError`.
+"""
+
+import json
+import math
+import re
+
+import numpy as np
+
+from ..errors import ProblemError
+from .format import MAX_INT_DIGITS, MAX_META_DEPTH
+
+__all__ = ["parse_meta", "check_material"]
+
+# A JSON string literal (with escapes); removed before counting brackets.
+_STRING = re.compile(r'"(?:[^"\\]|\\.)*"', re.DOTALL)
+
+
+def _fail(message):
+    raise ProblemError(f"meta: {message}")
+
+
+def _depth(text):
+    """Deepest nesting of [ and { outside strings, without recursion."""
+    bare = _STRING.sub('""', text).encode("utf-8", "surrogatepass")
+    codes = np.frombuffer(bare, dtype=np.uint8)
+    step = (np.isin(codes, (ord("["), ord("{"))).astype(np.int64)
+            - np.isin(codes, (ord("]"), ord("}"))))
+    return int(np.cumsum(step).max(initial=0))
+
+
+def _constant(name):
+    _fail(f"{name} is not a number in JSON (NaN and Infinity are refused)")
+
+
+def _integer(text):
+    digits = text.lstrip("-")
+    if len(digits) > MAX_INT_DIGITS:
+        _fail(f"an integer of {len(digits)} digits (at most "
+              f"{MAX_INT_DIGITS} are accepted)")
+    return int(text)
+
+
+def _float(text):
+    value = float(text)
+    if not math.isfinite(value):
+        _fail(f"the number {text[:40]} overflows double precision")
+    return value
+
+
+def parse_meta(text):
+    """Parse the ``meta`` text into a dict.
+
+    Raises
+    ------
+    ProblemError
+        ``"meta: ..."`` if the text is not a JSON object, nests deeper than
+        :data:`~solver.problem.format.MAX_META_DEPTH`, holds NaN, Infinity,
+        an overflowing number, an integer of more than
+        :data:`~solver.problem.format.MAX_INT_DIGITS` digits, or a string
+        that is not valid Unicode (a lone surrogate).
+    """
+    depth = _depth(text)
+    if depth > MAX_META_DEPTH:
+        _fail(f"nests {depth} levels deep (at most {MAX_META_DEPTH})")
+    try:
+        meta = json.loads(text, parse_constant=_constant,
+                          parse_int=_integer, parse_float=_float)
+    except json.JSONDecodeError as exc:
+        _fail(f"not valid JSON ({exc.msg})")
+    except RecursionError:
+        _fail(f"nests too deeply (at most {MAX_META_DEPTH} levels)")
+    if not isinstance(meta, dict):
+        _fail("must be a JSON object")
+    stack = [meta]
+    while stack:  # every string, key or value, must be valid Unicode
+        item = stack.pop()
+        if isinstance(item, dict):
+            stack.extend(item.keys())
+            stack.extend(item.values())
+        elif isinstance(item, list):
+            stack.extend(item)
+        elif isinstance(item, str):
+            try:
+                item.encode("utf-8")
+            except UnicodeEncodeError:
+                _fail(f"the string {item[:30]!r} is not valid Unicode (lone "
+                      "surrogate)")
+    return meta
+
+
+def _number(value):
+    """A finite real number: JSON true/false are not numbers."""
+    return isinstance(value, (int, float)) and not isinstance(value, bool) \
+        and math.isfinite(value)
+
+
+def check_material(meta):
+    """E > 0 and -1 < ν < 0.5 finite numbers, plane strain or stress (the
+    plane elasticity of thesis §3.1)."""
+    E, nu, plane = meta["E"], meta["nu"], meta["plane"]
+    if not _number(E) or not E > 0:
+        _fail(f"E must be a positive finite number, got {_short(E)}")
+    if not _number(nu) or not -1 < nu < 0.5:
+        _fail(f"nu must be a number in (-1, 0.5), got {_short(nu)}")
+    if plane not in ("strain", "stress"):
+        _fail(f"plane must be 'strain' or 'stress', got {_short(plane)}")
+
+
+def _short(value):
+    text = repr(value)
+    return text if len(text) <= 60 else text[:57] + "..."
