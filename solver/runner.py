@@ -94,7 +94,19 @@ def _check_input_file(path):
 
 def run(args):
     """Run the parsed command line ``args``; return the exit code."""
-    _setup(args)
+    signals = [s for s in (signal.SIGTERM, signal.SIGHUP,
+                           getattr(signal, "SIGXFSZ", None)) if s]
+    saved = {s: signal.getsignal(s) for s in signals}
+    try:
+        with warnings.catch_warnings():  # the caller's filters come back
+            _setup(args)
+            return _guarded(args)
+    finally:  # so do the caller's signal handlers
+        for signum, handler in saved.items():
+            signal.signal(signum, handler)
+
+
+def _guarded(args):
     state = {"folder": None, "summary": None}
     try:
         try:
