@@ -158,7 +158,8 @@ class ContactProblem:
         """Number of load steps: of the ``load_path``, else ``steps``
         (default 100)."""
         if self.load_path is not None:
-            return int(self.load_path_steps.sum())
+            # Python integers: a sum of huge stages must not wrap around
+            return sum(int(k) for k in self.load_path_steps)
         return 100 if steps is None else int(steps)
 
     def load_steps(self, steps=None):

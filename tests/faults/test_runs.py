@@ -284,8 +284,8 @@ def test_load_path_with_too_many_steps(block, tmp_path, capsys):
     from solver.problem import load_problem
 
     problem = load_problem(block)
-    problem.load_path_steps = np.array([2 ** 62])
-    problem.load_path = [problem.f]
+    problem.load_path_steps = np.array([2 ** 62, 2 ** 62])  # int64 wraps
+    problem.load_path = [problem.f, problem.f]
     from solver.jobs import friction
 
     class Args:
