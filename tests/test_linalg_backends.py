@@ -1,0 +1,135 @@
+"""solver.linalg backends: each installed backend against SuperLU (the
+reference, and SciPy's spsolve where named) to 1e-10 relative: solutions,
+the Schur complement S and the condensed right-hand side, the back-
+substitution, the positive-definiteness check, and a whole frictionless
+solve. A backend whose pip extra is missing is skipped, saying which."""
+
+from importlib import import_module
+
+import numpy as np
+import pytest
+import scipy.sparse as sp
+import scipy.sparse.linalg as sla
+
+from solver import load_problem, solve_friction, solve_frictionless
+from solver.contact import contact_geometry
+from solver.errors import ProblemError, SolverError
+from solver.linalg import (AUTO_ORDER, BACKENDS, Condensation, factorize,
+                           available_backends, dof_ordering, resolve)
+
+OTHERS = ("pardiso", "cholmod")
+
+
+def require(name):
+    """Skip, saying which extra installs it, unless ``name`` is installed."""
+    module = import_module(f"solver.linalg.{name}")
+    if not module.available():
+        pytest.skip(f"{name} backend not installed: pip install "
+                    f"'.[{module.EXTRA}]'")
+
+
+@pytest.fixture(scope="module", params=["454", "refined"])
+def problem(request, exported, refined_block):
+    if request.param == "454":
+        return load_problem(exported(454)[0])
+    return refined_block(1)
+
+
+def close(a, b, rtol=1e-10):
+    """max |a − b| ≤ rtol · max |b|."""
+    scale = np.abs(b).max()
+    assert np.abs(np.asarray(a) - b).max() <= rtol * scale
+
+
+@pytest.mark.parametrize("name", BACKENDS)
+def test_solve_matches_spsolve(problem, name):
+    require(name)
+    factor = factorize(problem.K, dof_ordering(problem), backend=name)
+    assert factor.backend == name
+    reference = sla.spsolve(problem.K.tocsc(), problem.f)  # SciPy's UMFPACK/SuperLU LU
+    close(factor.solve(problem.f), reference)
+    B = np.column_stack([problem.f, np.roll(problem.f, 5)])
+    X = factor.solve(B)
+    assert X.shape == B.shape
+    close(X[:, 0], reference)
+    close(X[:, 1], sla.spsolve(problem.K.tocsc(), B[:, 1]))
+
+
+@pytest.mark.parametrize("name", OTHERS)
+def test_schur_complement_matches_superlu(problem, name):
+    """S, g̃ and the back-substitution of each backend equal SuperLU's
+    (itself checked against spsolve in test_linalg)."""
+    require(name)
+    c = contact_geometry(problem).dofs.ravel()[::-1]  # any order of c
+    reference = Condensation(problem, c, backend="superlu")
+    ours = Condensation(problem, c, backend=name)
+    assert ours.backend == name and ours.S.shape == (len(c), len(c))
+    close(ours.S, reference.S)
+    g, w = ours.load(problem.f)
+    g_ref, w_ref = reference.load(problem.f)
+    close(g, g_ref)
+    close(w, w_ref)
+    close(ours.factorization.condensed_rhs(problem.f), g_ref)
+    rng = np.random.default_rng(1)
+    U_c = 1e-3 * rng.standard_normal((len(c), 3))
+    W = np.column_stack([w, 2 * w, -w])
+    close(ours.displacement(U_c, W), reference.displacement(U_c, W))
+    u = ours.factorization.back_substitute(problem.f, U_c[:, 0])
+    r = problem.K @ u - problem.f  # equilibrium off c
+    interior = np.setdiff1d(np.arange(problem.n_dofs), c)
+    assert np.abs(r[interior]).max() <= 1e-9 * np.abs(problem.f).max()
+    close(u[c], U_c[:, 0])
+
+
+@pytest.mark.parametrize("name", BACKENDS)
+@pytest.mark.parametrize("matrix, kind", [
+    (np.array([[2.0, -1, 0], [-1, 1, 2], [0, 2, 1]]), "indefinite"),
+    (np.array([[1.0, -1, 0], [-1, 2, -1], [0, -1, 1]]), "singular")])
+@pytest.mark.parametrize("schur", [None, [2]])
+def test_refuses_indefinite_and_singular(name, matrix, kind, schur):
+    require(name)
+    with pytest.raises(ProblemError, match="K_data: K is not positive "
+                                           "definite"):
+        factorize(sp.csr_matrix(matrix), schur=schur, backend=name)
+
+
+@pytest.mark.parametrize("name", BACKENDS)
+def test_refuses_unsupported_block(problem, name):
+    """The block without its clamp (K·1 = 0 per direction: rigid modes)."""
+    require(name)
+    K = problem.K.tolil()
+    K.setdiag(K.diagonal() - np.asarray(K.sum(axis=1)).ravel())
+    c = contact_geometry(problem).dofs.ravel()
+    with pytest.raises(ProblemError, match="not positive definite"):
+        factorize(K.tocsr(), dof_ordering(problem, last=c), schur=c,
+                  backend=name)
+
+
+@pytest.mark.parametrize("name", OTHERS)
+def test_frictionless_and_friction_equal_superlu(exported, name):
+    require(name)
+    problem = load_problem(exported(454)[0])
+    ref = solve_frictionless(problem, backend="superlu")
+    ours = solve_frictionless(problem, backend=name)
+    assert ours.success and ours.linear_solver == name
+    assert ref.linear_solver == "superlu"
+    close(ours.u, ref.u)
+    close(ours.contact_force, ref.contact_force, 1e-9)
+    kwargs = dict(steps=5, formulation="projection")
+    ref = solve_friction(problem, 0.3, backend="superlu", **kwargs)
+    ours = solve_friction(problem, 0.3, backend=name, **kwargs)
+    assert ours.success and ours.linear_solver == name
+    close(ours.u, ref.u, 1e-9)
+
+
+def test_auto_rule_and_missing_backend(monkeypatch):
+    installed = available_backends()
+    assert installed[-1] == "superlu"  # always there
+    assert resolve("auto") == [n for n in AUTO_ORDER if n in installed][0]
+    with pytest.raises(SolverError, match="must be one of"):
+        resolve("umfpack")
+    from solver.linalg import cholmod
+    monkeypatch.setattr(cholmod, "available", lambda: False)
+    with pytest.raises(SolverError, match=r"pip install 'contact-ssn\["
+                                          r"cholmod\]'"):
+        resolve("cholmod")
