@@ -1,7 +1,8 @@
 r"""Intel oneMKL PARDISO backend, through ctypes on the ``mkl`` wheel.
 
 ``pip install '.[mkl]'`` (Intel Simplified Software Licence) puts MKL's
-single dynamic library ``libmkl_rt.so.*`` in the environment's ``lib/``;
+single dynamic library ``libmkl_rt.so.*`` in the environment's ``lib/``
+(``~/.local/lib`` for a user install; Linux only here);
 it is loaded with ctypes and set to the LP64 interface (32-bit MKL_INT,
 ``MKL_Set_Interface_Layer``). pypardiso does not expose the Schur mode.
 
@@ -28,6 +29,7 @@ half of A, kept alive as long as the factor).
 import ctypes
 import glob
 import os
+import site
 import sys
 import weakref
 
@@ -49,8 +51,9 @@ _LIB = []
 def _library():
     """libmkl_rt from the environment (None if absent), loaded once."""
     if not _LIB:
-        paths = sorted(glob.glob(os.path.join(sys.prefix, "lib",
-                                              "libmkl_rt.so*")))
+        paths = [path for prefix in (sys.prefix, site.USER_BASE)
+                 for path in sorted(glob.glob(os.path.join(
+                     prefix, "lib", "libmkl_rt.so*")))]
         lib = None
         for path in paths:
             try:
@@ -108,9 +111,10 @@ class PardisoFactor(Factor):
         for phase, x in ((11, None), (22, S)):
             error = self._call(phase, None, S if x is None else x, 1)
             if error == -4:
-                raise ProblemError(f"{name}_data: {not_positive_definite(name)}"
-                                   ": a pivot of its Cholesky factorisation "
-                                   "is zero or negative (PARDISO error -4)")
+                raise ProblemError(
+                    f"{name}_data: {not_positive_definite(name)}: a pivot "
+                    "of its Cholesky factorisation is zero or negative "
+                    "(PARDISO error -4)")
             if error:
                 raise SolverError(f"PARDISO phase {phase} failed with error "
                                   f"{error} (oneMKL reference, 'pardiso')")
