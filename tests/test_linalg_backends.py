@@ -169,3 +169,20 @@ def test_cli_missing_backend_exit_2(exported, tmp_path, capsys,
                  str(out)]) == 2
     assert "pip install 'contact-ssn[mkl]'" in capsys.readouterr().err
     assert not out.exists()
+
+
+def test_factorisation_reused_across_solves(exported):
+    """One factorisation and S per K: solves with other methods, gap
+    modes and starts reuse it; a new K is factorised anew."""
+    problem = load_problem(exported(118)[0])
+    c = contact_geometry(problem).dofs.ravel()
+    first = Condensation.of(problem, c)
+    for kwargs in (dict(method="fb"), dict(gap="body"),
+                   dict(start="free")):
+        assert solve_frictionless(problem, **kwargs).success
+    assert solve_friction(problem, 0.2, steps=3,
+                          formulation="projection").success
+    assert Condensation.of(problem, c) is first
+    assert first.n_solves <= 1 + 5  # K⁻¹f once, one back-substitution each
+    problem.K = problem.K.copy()
+    assert Condensation.of(problem, c) is not first

@@ -114,13 +114,13 @@ def contact_stiffness(K, geometry):
 
 
 def condense_onto_contact(problem, geometry, backend="auto"):
-    """Factorise K once with the free contact DOFs last
-    (:class:`solver.linalg.Condensation`, which also checks that K is
+    """Factorise K once per K with the free contact DOFs last
+    (:meth:`solver.linalg.Condensation.of`, which also checks that K is
     positive definite) and renumber ``geometry`` to the condensed DOFs
     (x, y of contact node i → 2i, 2i + 1), with the linear solver
     ``backend``. Returns (condensation, geometry).
     """
-    condensation = Condensation(problem, geometry.dofs.ravel(), backend)
+    condensation = Condensation.of(problem, geometry.dofs.ravel(), backend)
     problem._checked = problem.K  # the factorisation checked K's pivots
     m = len(geometry.dofs)
     local = ContactGeometry(geometry.index, np.arange(2 * m).reshape(m, 2),

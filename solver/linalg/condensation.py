@@ -18,12 +18,16 @@ dual/condensed view). One factorisation, with its S, serves every Newton
 iteration and every load step; nothing here forms a dense Ñ×Ñ array.
 """
 
+import weakref
+
 import numpy as np
 
 from .base import get_backend, resolve
 from .ordering import dof_ordering
 
 __all__ = ["Condensation"]
+
+_MADE = {}  # id(K) -> the last Condensation of that K (dropped with K)
 
 
 class Condensation:
@@ -60,6 +64,23 @@ class Condensation:
         self.S = self.factorization.S
         self._solved = []  # up to two recent (f, K⁻¹f)
         self.n_solves = 0
+
+    @classmethod
+    def of(cls, problem, dofs, backend="auto"):
+        """The condensation of ``problem.K`` onto ``dofs``, made once per K
+        object, set of DOFs and backend: repeated solves of one problem
+        (other methods, gap modes, starts) reuse its factorisation and S.
+        Replace ``problem.K`` rather than modify it in place."""
+        K, dofs, backend = problem.K, np.asarray(dofs).ravel(), \
+            resolve(backend)
+        made = _MADE.get(id(K))
+        if made is not None and made.backend == backend \
+                and np.array_equal(made.dofs, dofs):
+            return made
+        if id(K) not in _MADE:
+            weakref.finalize(K, _MADE.pop, id(K), None)
+        _MADE[id(K)] = made = cls(problem, dofs, backend)
+        return made
 
     def load(self, f):
         """(g̃, w): the condensed load g̃ = S (K⁻¹f)_c and w = K⁻¹f.
