@@ -10,8 +10,9 @@ CHOLMOD User Guide (``cholmod.symbolic``/``numeric``/``solve`` are
 PAPᵀ = LLᵀ, supernodal, in our order P (``nmethods = 1``: the user order
 only; ``postorder = False``: kept as given, so that the Schur set c stays
 last). A non-positive pivot stops ``numeric`` (ArithmeticError, or a
-factor that ``cholmod.diag`` refuses as singular); otherwise the pivots
-diag(L)² go through
+factor that ``cholmod.diag`` refuses as singular; then SuperLU's LDLᵀ
+names the inertia, :func:`~solver.linalg.superlu.refuse`); otherwise the
+pivots diag(L)² go through
 :func:`~solver.linalg.base.check_pivots`.
 
 S = L₂₂L₂₂ᵀ with L₂₂ the trailing block of L. kvxopt hands out L only by
@@ -26,8 +27,8 @@ import numpy as np
 import scipy.linalg as dense
 import scipy.sparse as sp
 
-from ..errors import ProblemError
-from .base import Factor, check_pivots, not_positive_definite
+from .base import Factor, check_pivots
+from .superlu import order_with_last, refuse
 
 __all__ = ["NAME", "EXTRA", "REQUIRES", "LICENCE", "USES_ORDER",
            "available", "factorize", "CholmodFactor"]
@@ -52,7 +53,6 @@ class CholmodFactor(Factor):
 
     def __init__(self, A, order=None, schur=None, name="K", check=True):
         from kvxopt import cholmod, matrix, spmatrix
-        from .superlu import order_with_last
 
         self._cholmod, self._matrix = cholmod, matrix
         L = sp.tril(sp.csr_matrix(A, dtype=np.float64), format="coo")
@@ -62,8 +62,8 @@ class CholmodFactor(Factor):
             if order is None or not np.array_equal(order[n - len(c):], c):
                 order = order_with_last(A, c) if order is None else \
                     np.concatenate([np.setdiff1d(order, c, True), c])
-        A = spmatrix(matrix(L.data), matrix(L.row.astype(np.int64)),
-                     matrix(L.col.astype(np.int64)), (n, n))
+        lower = spmatrix(matrix(L.data), matrix(L.row.astype(np.int64)),
+                         matrix(L.col.astype(np.int64)), (n, n))
         del L
         saved = dict(cholmod.options)
         cholmod.options.update(supernodal=2, postorder=False,
@@ -71,17 +71,17 @@ class CholmodFactor(Factor):
         try:
             p = {} if order is None else dict(
                 p=matrix(np.asarray(order, np.int64)))
-            self._F = cholmod.symbolic(A, uplo="L", **p)
-            cholmod.numeric(A, self._F)
+            self._F = cholmod.symbolic(lower, uplo="L", **p)
+            cholmod.numeric(lower, self._F)
             pivots = np.array(cholmod.diag(self._F)).ravel() ** 2
         except (ArithmeticError, ValueError):  # stopped at a pivot ≤ 0
-            raise ProblemError(f"{name}_data: {not_positive_definite(name)}"
-                               ": a pivot of its Cholesky factorisation is "
-                               "zero or negative (CHOLMOD)") from None
+            pivots = None
         finally:
             cholmod.options.clear()
             cholmod.options.update(saved)
-        del A
+        del lower
+        if pivots is None:
+            refuse(A, name, "CHOLMOD")
         if check:
             check_pivots(pivots, name)
         if schur is not None:

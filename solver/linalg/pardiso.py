@@ -20,8 +20,10 @@ interior unknowns: :meth:`~PardisoFactor.condensed_rhs` and
 :meth:`~PardisoFactor.back_substitute` cost one triangular sweep each.
 
 Positive definiteness: PARDISO stops with error -4 (zero pivot) on a non-
-positive pivot; otherwise the n pivots (``pardiso_getdiag``'s ``df``, those
-of S included) go through :func:`~solver.linalg.base.check_pivots`.
+positive pivot (then SuperLU's LDLᵀ names the inertia,
+:func:`~solver.linalg.superlu.refuse`); otherwise the n pivots
+(``pardiso_getdiag``'s ``df``, those of S included) go through
+:func:`~solver.linalg.base.check_pivots`.
 PARDISO keeps its own copy of the values (the upper triangle passed here,
 half of A, kept alive as long as the factor).
 """
@@ -36,8 +38,9 @@ import weakref
 import numpy as np
 import scipy.sparse as sp
 
-from ..errors import ProblemError, SolverError
-from .base import Factor, check_pivots, not_positive_definite
+from ..errors import SolverError
+from .base import Factor, check_pivots
+from .superlu import refuse
 
 __all__ = ["NAME", "EXTRA", "REQUIRES", "LICENCE", "USES_ORDER",
            "available", "factorize", "PardisoFactor"]
@@ -110,11 +113,8 @@ class PardisoFactor(Factor):
         weakref.finalize(self, _release, lib, self._pt, self._iparm, n)
         for phase, x in ((11, None), (22, S)):
             error = self._call(phase, None, S if x is None else x, 1)
-            if error == -4:
-                raise ProblemError(
-                    f"{name}_data: {not_positive_definite(name)}: a pivot "
-                    "of its Cholesky factorisation is zero or negative "
-                    "(PARDISO error -4)")
+            if error == -4:  # zero pivot
+                refuse(A, name, "PARDISO error -4")
             if error:
                 raise SolverError(f"PARDISO phase {phase} failed with error "
                                   f"{error} (oneMKL reference, 'pardiso')")

@@ -27,7 +27,7 @@ from ..errors import ProblemError
 from .base import Factor, check_pivots, not_positive_definite
 
 __all__ = ["NAME", "EXTRA", "REQUIRES", "LICENCE", "USES_ORDER",
-           "available", "factorize", "Factorization"]
+           "available", "factorize", "Factorization", "refuse"]
 
 NAME, EXTRA, REQUIRES = "superlu", None, "scipy"
 LICENCE = "BSD-3-Clause (SuperLU, SciPy)"
@@ -125,3 +125,13 @@ class Factorization(Factor):
 
 def factorize(A, order=None, schur=None, name="K", check=True):
     return Factorization(A, order, name, check, schur)
+
+
+def refuse(A, name, backend):
+    """Raise the refusal of A after ``backend``'s Cholesky factorisation met
+    a pivot ≤ 0: the LDLᵀ above counts the negative and round-off pivots
+    (its inertia), so that every backend gives the same message."""
+    Factorization(A, None, name, True)
+    raise ProblemError(f"{name}_data: {not_positive_definite(name)}: a "
+                       f"pivot of its Cholesky factorisation ({backend}) "
+                       "is zero or negative")
