@@ -190,3 +190,22 @@ def test_factorisation_reused_across_solves(exported):
     assert first.n_solves <= 1 + 5  # K⁻¹f once, one back-substitution each
     problem.K = problem.K.copy()
     assert Condensation.of(problem, c) is not first
+
+
+@pytest.mark.parametrize("read_in_place", [True, False])
+def test_cholmod_schur_both_ways(exported, monkeypatch, read_in_place):
+    """CHOLMOD's S read in place from the factor (the fast path, which must
+    not silently fall back) and by forward sweeps equal SuperLU's."""
+    require("cholmod")
+    from solver.linalg import cholmod, cholmod_struct
+
+    problem = load_problem(exported(454)[0])
+    c = contact_geometry(problem).dofs.ravel()
+    order = dof_ordering(problem, last=c)
+    reference = factorize(problem.K, order, schur=c, backend="superlu")
+    if not read_in_place:
+        monkeypatch.setattr(cholmod, "trailing_block", lambda *a: None)
+    ours = factorize(problem.K, order, schur=c, backend="cholmod")
+    assert (cholmod_struct.trailing_block(ours._F, order, len(c))
+            is not None)
+    close(ours.S, reference.S)

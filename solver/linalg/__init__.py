@@ -7,8 +7,9 @@ three backends, each its own module: :mod:`~solver.linalg.superlu` (SciPy,
 always there), :mod:`~solver.linalg.pardiso` (oneMKL, ``pip install
 '.[mkl]'``) and :mod:`~solver.linalg.cholmod` (SuiteSparse via kvxopt,
 ``pip install '.[cholmod]'``). :func:`resolve` says which one "auto" takes.
-:mod:`~solver.linalg.ordering` holds the fill-reducing orderings and
-:mod:`~solver.linalg.condensation` condenses K onto Γc.
+:mod:`~solver.linalg.ordering` holds the fill-reducing orderings,
+:mod:`~solver.linalg.condensation` condenses K onto Γc and
+:mod:`~solver.linalg.cholmod_struct` reads CHOLMOD's factor in place.
 """
 
 from .base import (AUTO_ORDER, BACKENDS, PIVOT_RTOL, Factor,
