@@ -82,6 +82,17 @@ def _int(value):
     return ctypes.byref(ctypes.c_int32(value))
 
 
+def _pardiso(lib, arrays, phase, n, b, x, nrhs=1):
+    """One ``pardiso`` call (maxfct = mnum = 1, mtype = 2, msglvl = 0) on
+    ``arrays`` = (pt, a, ia, ja, perm, iparm); returns its error code."""
+    pt, a, ia, ja, perm, iparm = map(_ptr, arrays)
+    error = ctypes.c_int32(0)
+    lib.pardiso(pt, _int(1), _int(1), _int(2), _int(phase), _int(n), a, ia,
+                ja, perm, _int(nrhs), iparm, _int(0), _ptr(b), _ptr(x),
+                ctypes.byref(error))
+    return error.value
+
+
 class PardisoFactor(Factor):
     """LLᵀ of an SPD matrix by MKL PARDISO (see the module docstring)."""
 
@@ -95,24 +106,23 @@ class PardisoFactor(Factor):
         if U.nnz >= 2 ** 31:
             raise SolverError("pardiso backend: more than 2³¹ nonzeros")
         self.n = n = U.shape[0]
-        self._a = np.ascontiguousarray(U.data)
-        self._ia = U.indptr.astype(np.int32)
-        self._ja = U.indices.astype(np.int32)
-        del U
-        self._pt = np.zeros(64, np.int64)
-        self._iparm = iparm = np.zeros(64, np.int32)
-        iparm[[0, 1, 34, 55]] = 1, 2, 1, 1
-        self._perm = np.zeros(n, np.int32)
-        m = 1
+        iparm = np.zeros(64, np.int32)
+        iparm[[0, 1, 34, 55]] = 1, 2, 1, 1  # ours, METIS, 0-based, getdiag
+        perm, m = np.zeros(n, np.int32), 1
         if schur is not None:
             self.schur_dofs = c = np.asarray(schur, np.int64).ravel()
             m = len(c)
-            self._perm[c] = 1
-            iparm[35] = 2 if m else 0
+            perm[c] = 1
+            iparm[35] = 2 if m else 0  # S, and the factors of all of A
         S = np.zeros((m, m))
-        weakref.finalize(self, _release, lib, self._pt, self._iparm, n)
-        for phase, x in ((11, None), (22, S)):
-            error = self._call(phase, None, S if x is None else x, 1)
+        self._arrays = (np.zeros(64, np.int64), np.ascontiguousarray(U.data),
+                        U.indptr.astype(np.int32),
+                        U.indices.astype(np.int32), perm, iparm)
+        del U
+        weakref.finalize(self, _pardiso, lib, self._arrays, -1, n,
+                         np.zeros(1), np.zeros(1))  # phase −1: free memory
+        for phase in (11, 22):
+            error = _pardiso(lib, self._arrays, phase, n, np.zeros(1), S)
             if error == -4:  # zero pivot
                 refuse(A, name, "PARDISO error -4")
             if error:
@@ -122,7 +132,8 @@ class PardisoFactor(Factor):
         if check:
             pivots, diagonal = np.zeros(n), np.zeros(n)
             error = ctypes.c_int32(0)
-            lib.pardiso_getdiag(_ptr(self._pt), _ptr(pivots), _ptr(diagonal),
+            lib.pardiso_getdiag(_ptr(self._arrays[0]), _ptr(pivots),
+                                _ptr(diagonal),
                                 _int(1), ctypes.byref(error))
             check_pivots(pivots, name)
         if schur is not None:
@@ -130,22 +141,12 @@ class PardisoFactor(Factor):
             S = S[np.ix_(rank, rank)]
             self.S = 0.5 * (S + S.T)
 
-    def _call(self, phase, b, x, nrhs):
-        error = ctypes.c_int32(0)
-        b = np.zeros(1) if b is None else b
-        self._lib.pardiso(
-            _ptr(self._pt), _int(1), _int(1), _int(2), _int(phase),
-            _int(self.n), _ptr(self._a), _ptr(self._ia), _ptr(self._ja),
-            _ptr(self._perm), _int(nrhs), _ptr(self._iparm), _int(0),
-            _ptr(b), _ptr(x), ctypes.byref(error))
-        return error.value
-
     def _sweep(self, phase, b):
         """One solve phase on b (n,) or (n, k); columns in Fortran order."""
         b = np.asfortranarray(b, dtype=np.float64)
         x = np.zeros_like(b, order="F")
         nrhs = 1 if b.ndim == 1 else b.shape[1]
-        error = self._call(phase, b, x, nrhs)
+        error = _pardiso(self._lib, self._arrays, phase, self.n, b, x, nrhs)
         if error:
             raise SolverError(f"PARDISO phase {phase} failed with error "
                               f"{error}")
@@ -166,17 +167,6 @@ class PardisoFactor(Factor):
             else self._sweep(331, b)
         y[self.schur_dofs] = u_c
         return self._sweep(333, y)
-
-
-def _release(lib, pt, iparm, n):
-    """Phase −1: free PARDISO's memory of this factor."""
-    error = ctypes.c_int32(0)
-    zero = np.zeros(1)
-    lib.pardiso(_ptr(pt), _int(1), _int(1), _int(2), _int(-1), _int(n),
-                _ptr(zero), _ptr(np.zeros(1, np.int32)),
-                _ptr(np.zeros(1, np.int32)), _ptr(np.zeros(1, np.int32)),
-                _int(1), _ptr(iparm), _int(0), _ptr(zero), _ptr(zero),
-                ctypes.byref(error))
 
 
 def factorize(A, order=None, schur=None, name="K", check=True):
