@@ -10,12 +10,14 @@ Cholesky up to the first non-positive pivot, hence backward stable where it
 matters.
 
 With the Schur set c ordered last, the trailing blocks of the factors give
-S = L₂₂U₂₂ = U₂₂ᵀD₂₂⁻¹U₂₂. SciPy exposes the factors only as copies
-(``SuperLU.U`` builds a new CSC matrix): this backend reads U once, for
-the pivots and U₂₂, and drops it at once — the one backend that copies a
-factor, transiently (about half the factorisation's time and a third of
-its memory). The others build S inside the factorisation (PARDISO) or read
-nothing back (CHOLMOD).
+S = L₂₂U₂₂ (= U₂₂ᵀD₂₂⁻¹U₂₂ in exact arithmetic; L₂₂U₂₂ is what the
+project has always used, and the condensed thesis split with φ_FB is
+sensitive even to that round-off). SciPy exposes the factors only as
+copies (``SuperLU.U``/``.L`` build new CSC matrices): this backend reads
+them once, for the pivots and the trailing blocks, and drops them at once
+— the one backend that copies its factors, transiently (about half the
+factorisation's time). PARDISO builds S inside the factorisation and
+CHOLMOD's trailing block is read in place.
 """
 
 import numpy as np
@@ -106,11 +108,11 @@ class Factorization(Factor):
             pivots = U.diagonal()
             if check:
                 check_pivots(pivots, name)
-            if schur is not None:
+            if schur is not None:  # L₂₂U₂₂, as SuperLU computed them
                 m = len(self.schur_dofs)
                 U22 = U[n - m:, n - m:].toarray()
                 del U
-                S = U22.T @ (U22 / pivots[n - m:, None])
+                S = self.lu.L[n - m:, n - m:].toarray() @ U22
                 self.S = 0.5 * (S + S.T)
 
     def solve(self, b):
