@@ -102,6 +102,16 @@ def build_parser():
                              "free = from no contact force, u = K^-1 f; "
                              "default nested (the full system starts from "
                              "the thesis's u = 0)")
+    parser.add_argument("--linear-solver",
+                        choices=("auto", "superlu", "pardiso", "cholmod"),
+                        default="auto",
+                        help="sparse direct solver of the condensed system "
+                             "(factorisation of K and its Schur complement "
+                             "on the contact DOFs): superlu (SciPy, always "
+                             "there), pardiso (pip install '.[mkl]'), "
+                             "cholmod (pip install '.[cholmod]'); default "
+                             "auto = the first installed of pardiso, "
+                             "cholmod, superlu; summary.json records it")
     friction = parser.add_argument_group(
         "Coulomb friction by load steps (thesis §5)")
     friction.add_argument("--friction", type=_nonnegative_float,

@@ -30,10 +30,13 @@ def _condense(args):
 
 
 def _geometry(args, problem):
-    """Every input error that can be found before solving: K positive
-    definite on the full system, gaps and normals (GapError)."""
+    """Every input error that can be found before solving: the linear
+    solver installed, K positive definite on the full system, gaps and
+    normals (GapError)."""
     from .contact import contact_geometry
+    from .linalg import resolve
 
+    resolve(args.linear_solver)  # not installed: SolverError, exit 2
     if _condense(args) is False:  # else checked by the solve's factorisation
         problem.check_stiffness()
     return contact_geometry(problem, args.gap)
@@ -57,7 +60,8 @@ def frictionless(args, problem, open_folder, emit, write_summary):
     result = solve_frictionless(problem, method=args.method, gap=args.gap,
                                 tol=args.tol, max_iter=args.max_iter,
                                 gap_scale=args.gap_scale, geometry=geometry,
-                                condense=_condense(args), start=args.start)
+                                condense=_condense(args), start=args.start,
+                                backend=args.linear_solver)
     summary = summary_of(result, problem, tol=args.tol,
                          max_iter=args.max_iter)
     write_result(folder.file("result.npz"), result, problem)
@@ -138,7 +142,7 @@ def friction(args, problem, open_folder, emit, write_summary):
             method=args.method, gap=args.gap, tol=args.tol,
             max_iter=args.max_iter, gap_scale=args.gap_scale,
             progress=progress, geometry=geometry, condense=_condense(args),
-            on_step=writer, keep_steps=False)
+            on_step=writer, keep_steps=False, backend=args.linear_solver)
     finally:
         progress.close()
         folder.extra = {"steps_completed": writer.count}

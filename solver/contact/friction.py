@@ -59,6 +59,7 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as sla
 
 from ..errors import SolverError
+from ..linalg import resolve
 from ..ncp import solve_ncp
 from .result import FrictionResult
 from .steps import MAX_LOAD_STEPS, StepStream
@@ -291,7 +292,7 @@ def solve_friction(problem, friction, steps=None, formulation="thesis",
                    coulomb="lagged", method="fb", gap="obstacle", tol=1e-10,
                    max_iter=100, gap_scale=None, options=None, progress=None,
                    geometry=None, condense=None, on_step=None,
-                   keep_steps=True):
+                   keep_steps=True, backend="auto"):
     r"""Quasi-static Coulomb friction in load steps (thesis §5, (110)/(111)).
 
     Parameters
@@ -341,6 +342,10 @@ def solve_friction(problem, friction, steps=None, formulation="thesis",
         function; condensed (interior equilibrium always exact) it needs
         about twice the iterations and failed on the 118 block at f_c =
         0.05 (the same solution where both converge).
+    backend : {"auto", "superlu", "pardiso", "cholmod"}
+        Sparse direct solver of the condensed system, as in
+        :func:`solve_frictionless`: one factorisation and its Schur
+        complement serve every load step and Newton iteration.
 
     Returns
     -------
@@ -356,7 +361,8 @@ def solve_friction(problem, friction, steps=None, formulation="thesis",
         (over all nodes of Γc; supports are never in contact), and
         ``records``: a list of dicts (κ, converged, njev, nfev, nit,
         n_contact, n_stick, n_slip, error, message); per contact node
-        (steps share them): ``gap`` s and ``normal`` ν (NaN at supports).
+        (steps share them): ``gap`` s and ``normal`` ν (NaN at supports);
+        ``linear_solver`` (the backend that factorised K).
 
     Raises
     ------
@@ -394,8 +400,12 @@ def solve_friction(problem, friction, steps=None, formulation="thesis",
     gap_scale = 1.0 if gap_scale is None else gap_scale
     if condense is None:
         condense = formulation != "thesis"
+    linear_solver = resolve(backend)  # unknown or not installed: raises
+    if not condense:  # K checked by SuperLU, Newton steps by SciPy's LU
+        linear_solver = "superlu"
     if condense:
-        condensation, local = condense_onto_contact(problem, geometry)
+        condensation, local = condense_onto_contact(problem, geometry,
+                                                    linear_solver)
         system = FrictionSystem(condensation.S,
                                 condensation.load(problem.f)[0], local,
                                 lumped, friction, formulation, coulomb,
@@ -504,5 +514,6 @@ def solve_friction(problem, friction, steps=None, formulation="thesis",
         friction=float(friction), formulation=formulation, coulomb=coulomb,
         method=method, gap_mode=geometry.mode, records=records,
         condensed=bool(condense), gap=gap_all, normal=normal,
+        linear_solver=linear_solver,
         time=time.perf_counter() - start, **totals, **arrays)
 

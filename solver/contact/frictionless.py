@@ -37,7 +37,7 @@ import scipy.sparse.linalg as sla
 from scipy.optimize import OptimizeResult
 
 from ..errors import SolverError
-from ..linalg import Condensation
+from ..linalg import Condensation, resolve
 from .result import ContactResult
 from ..ncp import solve_ncp
 
@@ -113,13 +113,14 @@ def contact_stiffness(K, geometry):
     return float(K.diagonal()[geometry.dofs].mean())
 
 
-def condense_onto_contact(problem, geometry):
-    """Factorise K once with the free contact DOFs last
-    (:class:`solver.linalg.Condensation`, which also checks that K is
+def condense_onto_contact(problem, geometry, backend="auto"):
+    """Factorise K once per K with the free contact DOFs last
+    (:meth:`solver.linalg.Condensation.of`, which also checks that K is
     positive definite) and renumber ``geometry`` to the condensed DOFs
-    (x, y of contact node i → 2i, 2i + 1). Returns (condensation, geometry).
+    (x, y of contact node i → 2i, 2i + 1), with the linear solver
+    ``backend``. Returns (condensation, geometry).
     """
-    condensation = Condensation(problem, geometry.dofs.ravel())
+    condensation = Condensation.of(problem, geometry.dofs.ravel(), backend)
     problem._checked = problem.K  # the factorisation checked K's pivots
     m = len(geometry.dofs)
     local = ContactGeometry(geometry.index, np.arange(2 * m).reshape(m, 2),
@@ -223,7 +224,8 @@ def _start_mode(start, x0, condense):
 
 def solve_frictionless(problem, method="min", gap="obstacle", tol=1e-10,
                        max_iter=100, x0=None, gap_scale=None, options=None,
-                       geometry=None, condense=None, start=None):
+                       geometry=None, condense=None, start=None,
+                       backend="auto"):
     r"""Solve the frictionless contact problem (67) by semismooth Newton.
 
     Parameters
@@ -268,6 +270,11 @@ def solve_frictionless(problem, method="min", gap="obstacle", tol=1e-10,
         (:func:`solver.contact.nested.solve_nested`); "free" starts from no
         contact force, u = K⁻¹f. The full system always starts from the
         thesis's u = 0.
+    backend : {"auto", "superlu", "pardiso", "cholmod"}
+        Sparse direct solver of the condensed system
+        (:mod:`solver.linalg`; "auto": the fastest installed). The full
+        system's Newton steps are general sparse LUs (SciPy) whatever it
+        is.
 
     Returns
     -------
@@ -288,7 +295,7 @@ def solve_frictionless(problem, method="min", gap="obstacle", tol=1e-10,
         ``start`` ("nested", "free", "zero" or "x0"), ``levels`` (per-level
         counts of a nested start, coarsest first, else []; ``nit``,
         ``njev`` and ``nfev`` then count all levels), ``geometry_time``,
-        ``time``.
+        ``time``, ``linear_solver`` (the backend that factorised K).
 
     Raises
     ------
@@ -310,10 +317,14 @@ def solve_frictionless(problem, method="min", gap="obstacle", tol=1e-10,
     stiffness = contact_stiffness(problem.K, geometry)
     condense = condense is None or bool(condense)
     start = _start_mode(start, x0, condense)
+    linear_solver = resolve(backend)  # unknown or not installed: raises
+    if not condense:  # K checked by SuperLU, Newton steps by SciPy's LU
+        linear_solver = "superlu"
     if gap_scale is None:
         gap_scale = stiffness if condense else 1.0
     if condense:
-        condensation, local = condense_onto_contact(problem, geometry)
+        condensation, local = condense_onto_contact(problem, geometry,
+                                                    linear_solver)
         g, w = condensation.load(problem.f)
         w_c = w[condensation.dofs]
         if start == "nested":
@@ -372,6 +383,6 @@ def solve_frictionless(problem, method="min", gap="obstacle", tol=1e-10,
         complementarity=float(comp.max(initial=0.0)),
         n_contact=int(in_contact.sum()), gap_mode=geometry.mode,
         gap_scale=float(gap_scale), geometry_time=geometry_time,
-        condensed=bool(condense), start=start,
+        condensed=bool(condense), start=start, linear_solver=linear_solver,
         time=time.perf_counter() - clock)
     return ContactResult(result)

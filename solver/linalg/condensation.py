@@ -1,0 +1,125 @@
+r"""K condensed onto the contact DOFs, on any backend's Schur complement.
+
+With c = the DOFs of the free contact nodes and i the others, K u = f + Pᵀr
+(r: forces acting on the c DOFs only) is equivalent to
+
+.. math:: S u_c = g̃ + r, \qquad S = K_{cc} − K_{ci}K_{ii}^{-1}K_{ic},
+          \quad g̃ = f_c − K_{ci}K_{ii}^{-1}f_i,
+
+the stiffness of the body seen from Γc (its inverse is the Neumann-to-
+Dirichlet map, the "influence coefficients" of the contact literature).
+Contact acts only on these DOFs, so the thesis's systems (67) and
+(110)/(111) are *exactly* the same systems with K replaced by the dense
+2Nc×2Nc matrix S and f by g̃: the Newton iterations then cost dense algebra
+of the size of Γc, and the whole solve costs about one factorisation of K
+and two solves (Wriggers, *Computational Contact Mechanics*, 2006, §6.2.2;
+Dostál, *Optimal Quadratic Programming Algorithms*, 2009, for the
+dual/condensed view). One factorisation, with its S, serves every Newton
+iteration and every load step; nothing here forms a dense Ñ×Ñ array.
+"""
+
+import weakref
+
+import numpy as np
+
+from .base import get_backend, resolve
+from .ordering import dof_ordering
+
+__all__ = ["Condensation"]
+
+_MADE = {}  # id(K) -> the last Condensation of that K (dropped with K)
+
+
+class Condensation:
+    r"""K of ``problem`` condensed onto the DOFs ``dofs``.
+
+    Parameters
+    ----------
+    problem : ContactProblem
+    dofs : (m,) int array
+        Reduced DOFs to condense onto, in the order wanted.
+    backend : str
+        Linear solver: "auto" (default), "superlu", "pardiso" or "cholmod"
+        (:mod:`solver.linalg.base`). The factorisation checks that K is
+        positive definite.
+
+    Attributes
+    ----------
+    S : (m, m) array
+    factorization : :class:`~solver.linalg.base.Factor`
+    backend : str
+        The backend used.
+    n_solves : int
+        Solves with K so far (proportional loads reuse them).
+    """
+
+    def __init__(self, problem, dofs, backend="auto"):
+        self.dofs = np.asarray(dofs, np.int64).ravel()
+        self.backend = resolve(backend)
+        module = get_backend(self.backend)
+        order = dof_ordering(problem, last=self.dofs) \
+            if module.USES_ORDER else None
+        self.factorization = module.factorize(problem.K, order, self.dofs,
+                                              "K", True)
+        self.S = self.factorization.S
+        self._solved = []  # up to two recent (f, K⁻¹f)
+        self.n_solves = 0
+
+    @classmethod
+    def of(cls, problem, dofs, backend="auto"):
+        """The condensation of ``problem.K`` onto ``dofs``, made once per K
+        object, set of DOFs and backend: repeated solves of one problem
+        (other methods, gap modes, starts) reuse its factorisation and S.
+        Replace ``problem.K`` rather than modify it in place."""
+        K, dofs, backend = problem.K, np.asarray(dofs).ravel(), \
+            resolve(backend)
+        made = _MADE.get(id(K))
+        if made is not None and made.backend == backend \
+                and np.array_equal(made.dofs, dofs):
+            return made
+        if id(K) not in _MADE:
+            weakref.finalize(K, _MADE.pop, id(K), None)
+        _MADE[id(K)] = made = cls(problem, dofs, backend)
+        return made
+
+    def load(self, f):
+        """(g̃, w): the condensed load g̃ = S (K⁻¹f)_c and w = K⁻¹f.
+
+        A load that is a combination a f₁ + b f₂ of the last two loads (to
+        1e-13 relative) reuses their solutions: the load steps of a
+        proportional load or of a piecewise linear load path cost no solve.
+        """
+        f = np.asarray(f, dtype=np.float64)
+        w = self._combination(f)
+        if w is None:
+            w = self.factorization.solve(f)
+            self.n_solves += 1
+            self._solved = (self._solved + [(f.copy(), w)])[-2:]
+        return self.S @ w[self.dofs], w
+
+    def _combination(self, f):
+        """K⁻¹f from the stored solutions if f is in their span, else None
+        (least squares by the 2×2 normal equations; the residual is then
+        checked directly)."""
+        loads = [g for g, _ in self._solved]
+        if not loads:
+            return None
+        G = np.array([[a @ b for b in loads] for a in loads])
+        rhs = [a @ f for a in loads]
+        try:
+            coef = np.linalg.solve(G, rhs)
+        except np.linalg.LinAlgError:  # two parallel loads
+            coef = np.linalg.lstsq(G, rhs, rcond=None)[0]
+        residual = f - sum(c * g for c, g in zip(coef, loads))
+        if np.linalg.norm(residual) > 1e-13 * np.linalg.norm(f):
+            return None
+        return sum(c * v for c, (_, v) in zip(coef, self._solved))
+
+    def displacement(self, u_c, w):
+        """The full u with contact DOFs u_c, given w = K⁻¹f from
+        :meth:`load`: u = w + (the interior response to u_c − w_c), one
+        back-substitution. Several at once: u_c and w of shape (m, k) and
+        (n, k), one sweep with k right-hand sides."""
+        self.n_solves += 1
+        return w + self.factorization.back_substitute(
+            None, np.asarray(u_c, float) - w[self.dofs])

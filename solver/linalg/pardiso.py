@@ -1,0 +1,173 @@
+r"""Intel oneMKL PARDISO backend, through ctypes on the ``mkl`` wheel.
+
+``pip install '.[mkl]'`` (Intel Simplified Software Licence) puts MKL's
+single dynamic library ``libmkl_rt.so.*`` in the environment's ``lib/``
+(``~/.local/lib`` for a user install; Linux only here);
+it is loaded with ctypes and set to the LP64 interface (32-bit MKL_INT,
+``MKL_Set_Interface_Layer``). pypardiso does not expose the Schur mode.
+
+Settings (oneMKL Developer Reference, "pardiso", "pardiso iparm Parameter",
+"pardiso_getdiag"): ``mtype = 2`` (real symmetric positive definite; the
+upper triangle in CSR with sorted columns), ``iparm[0] = 1`` (our values),
+``iparm[1] = 2`` (METIS nested dissection), ``iparm[34] = 1`` (zero-based
+indices), ``iparm[55] = 1`` (``pardiso_getdiag`` may read the pivots) and,
+for a Schur set c, ``iparm[35] = 2`` with ``perm[c] = 1``: phase 22
+factorises all of A *and* returns the dense Schur complement S on c (rows
+in increasing index order) in the ``x`` argument. Phase 331 (forward
+substitution only) then leaves the condensed right-hand side g̃ in the c
+rows, and phase 333 (backward only) with u_c put in those rows gives the
+interior unknowns: :meth:`~PardisoFactor.condensed_rhs` and
+:meth:`~PardisoFactor.back_substitute` cost one triangular sweep each.
+
+Positive definiteness: PARDISO stops with error -4 (zero pivot) on a non-
+positive pivot (then SuperLU's LDLᵀ names the inertia,
+:func:`~solver.linalg.superlu.refuse`); otherwise the n pivots
+(``pardiso_getdiag``'s ``df``, those of S included) go through
+:func:`~solver.linalg.base.check_pivots`.
+PARDISO keeps its own copy of the values (the upper triangle passed here,
+half of A, kept alive as long as the factor).
+"""
+
+import ctypes
+import glob
+import os
+import site
+import sys
+import weakref
+
+import numpy as np
+import scipy.sparse as sp
+
+from ..errors import SolverError
+from .base import Factor, check_pivots
+from .superlu import refuse
+
+__all__ = ["NAME", "EXTRA", "REQUIRES", "LICENCE", "USES_ORDER",
+           "available", "factorize", "PardisoFactor"]
+
+NAME, EXTRA, REQUIRES = "pardiso", "mkl", "mkl>=2023"
+LICENCE = "Intel Simplified Software Licence (oneMKL)"
+USES_ORDER = False
+_LIB = []
+
+
+def _library():
+    """libmkl_rt from the environment (None if absent), loaded once."""
+    if not _LIB:
+        paths = [path for prefix in (sys.prefix, site.USER_BASE)
+                 for path in sorted(glob.glob(os.path.join(
+                     prefix, "lib", "libmkl_rt.so*")))]
+        lib = None
+        for path in paths:
+            try:
+                lib = ctypes.CDLL(path)
+                lib.MKL_Set_Interface_Layer(0)  # MKL_INTERFACE_LP64
+                lib.pardiso, lib.pardiso_getdiag  # noqa: B018 (exist?)
+                break
+            except (OSError, AttributeError):
+                lib = None
+        _LIB.append(lib)
+    return _LIB[0]
+
+
+def available():
+    return _library() is not None
+
+
+def _ptr(array):
+    return array.ctypes.data_as(ctypes.c_void_p)
+
+
+def _int(value):
+    return ctypes.byref(ctypes.c_int32(value))
+
+
+def _pardiso(lib, arrays, phase, n, b, x, nrhs=1):
+    """One ``pardiso`` call (maxfct = mnum = 1, mtype = 2, msglvl = 0) on
+    ``arrays`` = (pt, a, ia, ja, perm, iparm); returns its error code."""
+    pt, a, ia, ja, perm, iparm = map(_ptr, arrays)
+    error = ctypes.c_int32(0)
+    lib.pardiso(pt, _int(1), _int(1), _int(2), _int(phase), _int(n), a, ia,
+                ja, perm, _int(nrhs), iparm, _int(0), _ptr(b), _ptr(x),
+                ctypes.byref(error))
+    return error.value
+
+
+class PardisoFactor(Factor):
+    """LLᵀ of an SPD matrix by MKL PARDISO (see the module docstring)."""
+
+    backend = NAME
+
+    def __init__(self, A, schur=None, name="K", check=True):
+        lib = self._lib = _library()
+        U = sp.triu(sp.csr_matrix(A, dtype=np.float64), format="csr")
+        U.sum_duplicates()
+        U.sort_indices()
+        if U.nnz >= 2 ** 31:
+            raise SolverError("pardiso backend: more than 2³¹ nonzeros")
+        self.n = n = U.shape[0]
+        iparm = np.zeros(64, np.int32)
+        iparm[[0, 1, 34, 55]] = 1, 2, 1, 1  # ours, METIS, 0-based, getdiag
+        perm, m = np.zeros(n, np.int32), 1
+        if schur is not None:
+            self.schur_dofs = c = np.asarray(schur, np.int64).ravel()
+            m = len(c)
+            perm[c] = 1
+            iparm[35] = 2 if m else 0  # S, and the factors of all of A
+        S = np.zeros((m, m))
+        self._arrays = (np.zeros(64, np.int64), np.ascontiguousarray(U.data),
+                        U.indptr.astype(np.int32),
+                        U.indices.astype(np.int32), perm, iparm)
+        del U
+        weakref.finalize(self, _pardiso, lib, self._arrays, -1, n,
+                         np.zeros(1), np.zeros(1))  # phase −1: free memory
+        for phase in (11, 22):
+            error = _pardiso(lib, self._arrays, phase, n, np.zeros(1), S)
+            if error == -4:  # zero pivot
+                refuse(A, name, "PARDISO error -4")
+            if error:
+                raise SolverError(f"PARDISO phase {phase} failed with error "
+                                  f"{error} (oneMKL reference, 'pardiso')")
+        self.nnz = int(iparm[17])
+        if check:
+            pivots, diagonal = np.zeros(n), np.zeros(n)
+            error = ctypes.c_int32(0)
+            lib.pardiso_getdiag(_ptr(self._arrays[0]), _ptr(pivots),
+                                _ptr(diagonal),
+                                _int(1), ctypes.byref(error))
+            check_pivots(pivots, name)
+        if schur is not None:
+            rank = np.argsort(np.argsort(c))  # S's rows: c sorted
+            S = S[np.ix_(rank, rank)]
+            self.S = 0.5 * (S + S.T)
+
+    def _sweep(self, phase, b):
+        """One solve phase on b (n,) or (n, k); columns in Fortran order."""
+        b = np.asfortranarray(b, dtype=np.float64)
+        x = np.zeros_like(b, order="F")
+        nrhs = 1 if b.ndim == 1 else b.shape[1]
+        error = _pardiso(self._lib, self._arrays, phase, self.n, b, x, nrhs)
+        if error:
+            raise SolverError(f"PARDISO phase {phase} failed with error "
+                              f"{error}")
+        return x
+
+    def solve(self, b):
+        """A⁻¹b (phase 33) for b of shape (n,) or (n, k)."""
+        return self._sweep(33, b)
+
+    def condensed_rhs(self, b):
+        """g̃ from the forward substitution alone (phase 331)."""
+        return self._sweep(331, b)[self.schur_dofs]
+
+    def back_substitute(self, b, u_c):
+        """Forward (331) on b, u_c into the c rows, backward (333)."""
+        u_c = np.asarray(u_c, float)
+        y = np.zeros((self.n,) + u_c.shape[1:], order="F") if b is None \
+            else self._sweep(331, b)
+        y[self.schur_dofs] = u_c
+        return self._sweep(333, y)
+
+
+def factorize(A, order=None, schur=None, name="K", check=True):
+    return PardisoFactor(A, schur, name, check)
