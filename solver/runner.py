@@ -94,7 +94,7 @@ def _check_input_file(path):
 
 def run(args):
     """Run the parsed command line ``args``; return the exit code."""
-    signals = [s for s in (signal.SIGTERM, signal.SIGHUP,
+    signals = [s for s in (signal.SIGINT, signal.SIGTERM, signal.SIGHUP,
                            getattr(signal, "SIGXFSZ", None)) if s]
     saved = {s: signal.getsignal(s) for s in signals}
     try:
@@ -116,7 +116,8 @@ def _guarded(args):
         except KeyboardInterrupt:
             raise Interrupted(signal.SIGINT) from None
     except Interrupted as exc:
-        signal.signal(signal.SIGINT, signal.SIG_IGN)  # finish the marking
+        for signum in (signal.SIGINT, signal.SIGTERM, signal.SIGHUP):
+            signal.signal(signum, signal.SIG_IGN)  # finish the marking
         _finish(state, "interrupted", f"interrupted by {exc}")
         print(f"error: interrupted by {exc}"
               + (f"; completed work kept in {state['folder'].path}/"
@@ -183,6 +184,7 @@ def _finish(state, status, message, remove=False):
     folder = state["folder"]
     if folder is None:
         return
+    folder.sweep_temporaries()
     if remove and not folder.files[1:]:  # only the "running" summary
         try:
             os.unlink(os.path.join(folder.path, "summary.json"))

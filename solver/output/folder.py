@@ -129,6 +129,20 @@ class OutputFolder:
         with contextlib.suppress(OSError):
             os.rmdir(os.path.join(self.path, "steps"))
 
+    def sweep_temporaries(self):
+        """Remove temporary files a cut-short write may have left (a signal
+        can land between creating a temporary name and guarding it)."""
+        import shutil
+
+        for pattern in (".tmp-*", os.path.join("steps", ".tmp-*")):
+            for name in glob.glob(pattern, root_dir=self.path):
+                path = os.path.join(self.path, name)
+                if os.path.isdir(path):
+                    shutil.rmtree(path, ignore_errors=True)
+                else:
+                    with contextlib.suppress(OSError):
+                        os.unlink(path)
+
     def file(self, name):
         """The path of output ``name``, recorded as written by this run."""
         if name not in self.files:
