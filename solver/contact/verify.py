@@ -48,7 +48,7 @@ from ..ncp import stable_norm as _norm
 
 __all__ = ["VERIFY_FACTOR", "VERIFY_FLOOR", "verification_tolerance",
            "force_scale", "typical_sizes", "unit_free_options",
-           "verify_contact"]
+           "verify_contact", "worst_verification", "describe_failure"]
 
 #: tol_v = max(VERIFY_FACTOR·tol, VERIFY_FLOOR).
 VERIFY_FACTOR = 10.0
@@ -65,11 +65,20 @@ def force_scale(load_norm, lam):
     return max(float(load_norm), _norm(np.maximum(lam, 0.0)))
 
 
+#: ρ of φ_FB's descent test (26) in unit-free form (Φ in units of the
+#: force scale F, x in units of F/k̄). The thesis's ρ = 1e-8 in its units
+#: (N, mm) is 8e-20 in these on the §4 block and 8e-19 on the §6 bar; a
+#: larger unit-free ρ (1e-8 itself, or F with lengths in mm) rejects good
+#: Newton steps near degenerate stick/slip nodes, and the bar stalled at
+#: load step 47. 1e-20 is as lenient as the thesis on both.
+UNIT_FREE_RHO = 1e-20
+
+
 def typical_sizes(load_norm, stiffness, gap):
-    """(force, length) of a problem, for the unit-free descent test (26) of
-    φ_FB (option ``typical`` of :func:`solver.ncp.solve_ncp`): the load's
+    """(force, length) of a problem for φ_FB's unit-free descent test (26)
+    (option ``typical`` of :func:`solver.ncp.solve_ncp`): F = the load's
     norm (else k̄ times the norm of the negative gaps, else of the gaps)
-    and that force over k̄."""
+    and F/k̄."""
     force = float(load_norm)
     for candidate in (np.minimum(gap, 0.0), gap):
         if force > 0:
@@ -80,10 +89,14 @@ def typical_sizes(load_norm, stiffness, gap):
 
 
 def unit_free_options(method, options, load_norm, stiffness, gap):
-    """``options`` with φ_FB's ``typical`` sizes added (unless given)."""
+    """``options`` with φ_FB's descent test (26) made unit-free (``typical``
+    sizes and :data:`UNIT_FREE_RHO`), unless either is given: then the
+    iterates do not depend on the units of force or length."""
     options = dict(options or {})
-    if method == "fb" and options.get("typical") is None:
-        options["typical"] = typical_sizes(load_norm, stiffness, gap)
+    if method == "fb" and options.get("typical") is None \
+            and "rho" not in options:
+        options.update(typical=typical_sizes(load_norm, stiffness, gap),
+                       rho=UNIT_FREE_RHO)
     return options
 
 
@@ -186,4 +199,31 @@ def describe_failure(verification):
         relation = "<" if name == "min_multiplier" else ">"
         parts.append(f"{name.replace('_', ' ')} {value:.2e} {relation} "
                      f"{bound:.1e}")
-    return "; ".join(parts)
+    text = "; ".join(parts)
+    if "equilibrium" in verification["failed"]:
+        text += (" (K u − f is off: the factorisation is too inaccurate "
+                 "for this K; is K nearly singular?)")
+    return text
+
+
+def worst_verification(checks, tol_v):
+    """The worst of several :func:`verify_contact` results (load steps):
+    largest measures, smallest multiplier, every failure; with no checks,
+    an empty pass."""
+    names = ("max_penetration", "min_multiplier", "complementarity",
+             "equilibrium", "friction_bound_violation")
+    out = dict(passed=all(c["passed"] for c in checks),
+               finite=all(c["finite"] for c in checks))
+    for name in names:
+        values = [c[name] for c in checks if name in c]
+        if values:
+            out[name] = float(min(values) if name == "min_multiplier"
+                              else max(values))
+    failed = []
+    for c in checks:
+        failed += [name for name in c["failed"] if name not in failed]
+    tolerances = {name: tol_v for name in names if name in out}
+    if "min_multiplier" in tolerances:
+        tolerances["min_multiplier"] = -tol_v
+    out.update(tolerances=tolerances, failed=failed)
+    return out
