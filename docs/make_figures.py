@@ -5,13 +5,16 @@ Usage (from the repository root, after ``pip install .``)::
     python docs/make_figures.py
 
 Exports the thesis block on the 454-element mesh with SfePy (``sfepy-run``),
-then solves it and the 2-DOF bar with the library and saves PNGs.
+then solves it and the 2-DOF bar with the library and saves PNGs. Units as
+everywhere in the figures (``solver.output.figures.UNITS``): lengths in mm,
+forces in N, pressures in MPa, plane strain per mm of thickness.
 """
 
 import subprocess
 import sys
 import tempfile
 from pathlib import Path
+from types import SimpleNamespace
 
 import numpy as np
 
@@ -57,6 +60,12 @@ def main():
     r = solve_friction(block, 0.3, steps=100)
     plt.close(figures.plot_friction_along_boundary(
         block, r, path=FIGURES / "friction_tractions_fc0.3.png"))
+    last = SimpleNamespace(displacement=r.displacement[-1],
+                           in_contact=r.in_contact[-1])
+    plt.close(figures.plot_deformed(
+        block, last, path=FIGURES / "friction_deformed_fc0.3.png",
+        title=f"after {r.steps_completed} load steps, f_c = 0.3, "
+              f"{r.formulation} formulation"))
     for path in sorted(FIGURES.glob("*.png")):
         print(path.relative_to(ROOT))
 

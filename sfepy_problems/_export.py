@@ -1,8 +1,22 @@
 r"""Shared export of SfePy problems to the contact solver's ``.npz`` format.
 
 Used by the problem files in this folder (``block_obstacle.py``,
-``hertz_cylinder.py``) from their ``post_process_hook_final``. The leading
-underscore marks it as a helper, not a problem file for ``sfepy-run``.
+``hertz_cylinder.py``, ``cattaneo_mindlin.py``) from their
+``post_process_hook_final``, from their ``define()`` (:func:`set_verbosity`)
+and when they are run as scripts (:func:`main`). The leading underscore marks
+it as a helper, not a problem file for ``sfepy-run``.
+
+**Quiet by default.** An export prints one line, ``exported N DOFs, Nc
+contact nodes -> PATH`` (and errors). SfePy's messages (the problem set-up,
+the ``left over:`` keys of ``define()``, the log of its own linear solve) are
+switched off in ``define()`` unless asked for: ``-d "..., verbose=True"`` or
+the environment variable ``CONTACT_SSN_VERBOSE=1``. One more notice cannot be
+switched off from a problem file: without jax installed, SfePy prints
+``install jax and jaxlib to use terms_jax.py!`` and three ``sfepy:`` lines
+when it imports its optional JAX terms, i.e. when ``sfepy-run`` starts,
+before any problem file is read. Running the problem file as a script,
+``python sfepy_problems/FILE.py -d "..."`` (:func:`main`, the same options
+as ``sfepy-run``), drops exactly that notice; there ``-v`` shows everything.
 
 What is exported (``docs/npz-format.md``):
 
@@ -27,13 +41,97 @@ What is exported (``docs/npz-format.md``):
   P1 field, assembled over the whole mesh and restricted to the contact nodes
   in chain order.
 """
+import contextlib
+import io
+import os
+import re
+import sys
+
 import numpy as nm
 
 from solver.mesh import order_along_boundary
 from solver.problem import ContactProblem, save_problem
 
 __all__ = ['export_contact_problem', 'reduced_system', 'full_stiffness',
-           'stage_loads']
+           'stage_loads', 'set_verbosity', 'main', 'VERBOSE_ENV']
+
+#: Environment variable that makes exports verbose (any value but '' or '0').
+VERBOSE_ENV = 'CONTACT_SSN_VERBOSE'
+
+#: What SfePy prints when it imports ``sfepy/terms/terms_jax.py`` without jax
+#: (a ``print`` in that module, then ``load_classes``'s warning).
+JAX_NOTICE = re.compile(
+    r"install jax and jaxlib to use terms_jax\.py!\n"
+    r"sfepy: WARNING: module \S*terms_jax\.py cannot be imported!\n"
+    r"sfepy: reason:\n No module named 'jax[\w.]*'\n")
+
+_silenced = False  # whether set_verbosity() switched SfePy's output off
+
+
+def set_verbosity(verbose=None):
+    """Switch SfePy's screen messages off, unless ``verbose``.
+
+    Called first in the problem files' ``define()``, so that it also covers
+    the ``left over:`` message SfePy prints right after ``define()``, the
+    set-up and the log of SfePy's own solve. ``verbose=None`` reads
+    :data:`VERBOSE_ENV`. Only plain screen output is switched off: with
+    ``sfepy-run -q`` or ``--log FILE`` SfePy's own setting is kept.
+
+    Returns
+    -------
+    bool
+        The verbosity in force.
+    """
+    global _silenced
+    from sfepy.base.base import output
+
+    if verbose is None:
+        verbose = os.environ.get(VERBOSE_ENV, '') not in ('', '0')
+    verbose = bool(verbose)
+    if not verbose:
+        if output.output_function.__name__ == 'output_screen':
+            output.set_output(quiet=True)
+            _silenced = True
+    elif _silenced:  # an earlier quiet export in this process
+        output.set_output()
+        _silenced = False
+    return verbose
+
+
+def _import_sfepy_run(verbose):
+    """``sfepy.scripts.simple.main``, imported without SfePy's jax notice.
+
+    Everything the import prints except :data:`JAX_NOTICE` is passed on.
+    """
+    if verbose:
+        from sfepy.scripts.simple import main as sfepy_run
+        return sfepy_run
+    captured = io.StringIO()
+    try:
+        with contextlib.redirect_stdout(captured):
+            from sfepy.scripts.simple import main as sfepy_run
+    finally:
+        sys.stdout.write(JAX_NOTICE.sub('', captured.getvalue()))
+    return sfepy_run
+
+
+def main(problem_file, argv=None):
+    """``python sfepy_problems/FILE.py ARGS``: ``sfepy-run FILE ARGS``, quiet.
+
+    ARGS are ``sfepy-run``'s options (``-d "mesh='...', output='...'"``,
+    ``-o``, ...) plus ``-v``/``--verbose``, which shows SfePy's messages
+    (it sets :data:`VERBOSE_ENV`). Without ``-v`` the run prints only the
+    export line; the jax notice SfePy prints at its import is dropped.
+    Returns the exit code (errors raise, as in ``sfepy-run``).
+    """
+    argv = sys.argv[1:] if argv is None else list(argv)
+    verbose = any(arg in ('-v', '--verbose') for arg in argv)
+    argv = [arg for arg in argv if arg not in ('-v', '--verbose')]
+    if verbose:
+        os.environ[VERBOSE_ENV] = '1'
+    sfepy_run = _import_sfepy_run(verbose)
+    sys.argv = ['sfepy-run', os.path.abspath(problem_file)] + argv
+    return sfepy_run() or 0
 
 
 def full_stiffness(pb, stiffness):

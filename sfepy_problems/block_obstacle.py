@@ -49,16 +49,29 @@ and marked as a support (no free DOFs) in the exported ``contact_dofs``.
 
 Usage examples::
 
-  sfepy-run sfepy_problems/block_obstacle.py \
+  python sfepy_problems/block_obstacle.py \
+      -d "mesh='meshes/block_118.mesh', output='output/block_118.npz'"
+  python sfepy_problems/block_obstacle.py \
       -d "mesh='meshes/block_454.mesh', output='output/block_454.npz'"
-  python -m solver output/block_454.npz --info
+  python sfepy_problems/block_obstacle.py \
+      -d "mesh='meshes/block_1878.mesh', output='output/block_1878.npz'"
+  python -m solver output/block_454.npz
+
+Each export prints one line, e.g. ``exported 492 DOFs, 20 contact nodes ->
+/.../output/block_454.npz``. ``python FILE.py`` takes ``sfepy-run``'s
+options and runs it quietly; ``-v`` shows SfePy's messages. ``sfepy-run
+sfepy_problems/block_obstacle.py -d "..."`` does the same export, quiet too
+except for the notice SfePy prints at its start when jax is not installed;
+add ``verbose=True`` to ``-d`` (or set ``CONTACT_SSN_VERBOSE=1``) for SfePy's
+messages there (``_export.py``).
 
 The parameters of ``define()`` can all be set with ``-d``: ``mesh``,
-``output`` (the ``.npz``; the unconstrained solution goes beside it as
-``.vtk``), ``E``, ``nu``, ``plane`` ('strain' or 'stress'), ``F`` (the force
-vector) and the obstacle (``obstacle_x``, ``obstacle_y``, or
-``obstacle_points``, a list of (x, y) vertices of a polyline obstacle, e.g.
-``-d "obstacle_points=[(5.5, -10), (5.1, 0), (5.5, 10)]"``).
+``output`` (the ``.npz``; the unconstrained solution goes in the same folder
+as ``.vtk``, named after the mesh), ``E``, ``nu``, ``plane`` ('strain' or
+'stress'), ``F`` (the force vector), the obstacle (``obstacle_x``,
+``obstacle_y``, or ``obstacle_points``, a list of (x, y) vertices of a
+polyline obstacle, e.g. ``-d "obstacle_points=[(5.5, -10), (5.1, 0), (5.5,
+10)]"``) and ``verbose``.
 """
 import importlib.util
 import os.path as op
@@ -113,7 +126,8 @@ def export_contact_problem(pb, variables):
 def define(mesh='meshes/block_454.mesh', output='output/block_454.npz',
            E=2e5, nu=0.3, plane='strain', F=(4000.0, 0.0),
            obstacle_x='5.05 + 0.005*t**2', obstacle_y='t', order=1,
-           obstacle_points=None):
+           obstacle_points=None, verbose=None):
+    _load_export().set_verbosity(verbose)  # before SfePy's 'left over:'
     from solver.obstacle import ParametricCurve
     from solver.polyline import PolylineCurve
 
@@ -184,3 +198,7 @@ def define(mesh='meshes/block_454.mesh', output='output/block_454.npz',
     }
 
     return locals()
+
+
+if __name__ == '__main__':
+    sys.exit(_load_export().main(__file__))

@@ -32,15 +32,25 @@ values.
 
 Usage examples::
 
-  sfepy-run sfepy_problems/cattaneo_mindlin.py \
+  python sfepy_problems/cattaneo_mindlin.py \
       -d "mesh='meshes/hertz.mesh', output='output/cm.npz'"
   python -m solver output/cm.npz --friction 0.5 --formulation projection \
       --method min --plots
 
-Parameters of ``define()`` (``-d``): ``mesh``, ``output``, ``E``, ``nu``,
-``plane``, ``d`` (0.016), ``delta`` (the sideways motion of the top,
+The export prints one line, ``exported 7106 DOFs, 109 contact nodes ->
+/.../output/cm.npz``; ``-v`` shows SfePy's messages. ``sfepy-run
+sfepy_problems/cattaneo_mindlin.py -d "..."`` does the same (with
+``verbose=True`` in ``-d`` for SfePy's messages; see ``block_obstacle.py``).
+The solve needs the friction coefficient, ``--friction``: the ``.npz``
+carries only the load path.
+
+Parameters of ``define()`` (``-d``): ``mesh``, ``output`` (the ``.npz``;
+SfePy's solution without contact goes in the same folder as ``.vtk``, named
+after the mesh, so ``hertz.vtk`` as for ``hertz_cylinder.py``), ``E``,
+``nu``, ``plane``, ``d`` (0.016), ``delta`` (the sideways motion of the top,
 default 7e-3, which gives Q/(f_c P) ≈ 0.5 for f_c = 0.5), ``R``,
-``gamma_c_y``, ``steps_normal`` (10), ``steps_shear`` (20).
+``gamma_c_y``, ``steps_normal`` (10), ``steps_shear`` (20), ``order`` and
+``verbose``.
 """
 import importlib.util
 import os.path as op
@@ -91,7 +101,8 @@ def export_contact_problem(pb, variables):
 
 def define(mesh='meshes/hertz.mesh', output='output/cm.npz', E=2e5, nu=0.3,
            plane='strain', d=0.016, delta=7e-3, R=1.0, gamma_c_y=-0.8,
-           steps_normal=10, steps_shear=20, order=1):
+           steps_normal=10, steps_shear=20, order=1, verbose=None):
+    _load('_contact_ssn_sfepy_export', '_export.py').set_verbosity(verbose)
     from solver.obstacle import ParametricCurve
 
     filename_mesh = op.abspath(mesh)
@@ -148,3 +159,7 @@ def define(mesh='meshes/hertz.mesh', output='output/cm.npz', E=2e5, nu=0.3,
                                   'eps_r': 1e-12}),
     }
     return locals()
+
+
+if __name__ == '__main__':
+    sys.exit(_load('_contact_ssn_sfepy_export', '_export.py').main(__file__))

@@ -6,7 +6,11 @@ with the thesis's numbers beside ours; nothing here prints or plots.
 
 from .contact import contact_geometry, solve_friction, solve_frictionless
 
+import numpy as np
+
 __all__ = ["THESIS_TABLE1", "THESIS_TABLE2", "table1", "table2",
+           "system_comparison", "gradient_steps_by_load_step",
+           "relative_difference", "tangential_displacement",
            "markdown_table"]
 
 #: Thesis Table 1: (method, elements) -> (J evaluations, F evaluations).
@@ -63,7 +67,7 @@ def table2(problem, frictions=(0.05, 0.3, 10.0), steps=100,
                 friction=fc, formulation=formulation, coulomb=coulomb,
                 method=method, thesis_J=thesis[0], thesis_F=thesis[1],
                 J=r.njev, F=r.nfev, converged=bool(r.success),
-                steps_completed=r.steps_completed,
+                result=r, steps_completed=r.steps_completed,
                 gradient_steps=sum(x["gradient_steps"] for x in r.records),
                 contact_nodes=int(r.in_contact[-1].sum())
                 if r.steps_completed else None,
@@ -71,6 +75,53 @@ def table2(problem, frictions=(0.05, 0.3, 10.0), steps=100,
                 slip=int(r.slip[-1].sum()) if r.steps_completed else None,
                 time=r.time))
     return rows
+
+
+def relative_difference(a, b):
+    """max|a − b| / max|a|: how far two solutions (arrays) differ."""
+    a, b = np.asarray(a, float), np.asarray(b, float)
+    return float(np.abs(a - b).max() / np.abs(a).max())
+
+
+def system_comparison(problems, methods=("fb", "min"), gap="obstacle"):
+    """The thesis's full system from u = 0 against our default, condensed
+    onto Γc with the nested start, for each of ``problems`` ({elements:
+    ContactProblem}) and method: J/F counts of both (the condensed ones
+    over all levels and on the full Γc, the last level) and the relative
+    difference of the two displacement solutions."""
+    rows = []
+    for elements, problem in problems.items():
+        geometry = contact_geometry(problem, gap)
+        for method in methods:
+            full = solve_frictionless(problem, method=method, gap=gap,
+                                      geometry=geometry, condense=False)
+            condensed = solve_frictionless(problem, method=method, gap=gap,
+                                           geometry=geometry)
+            last = condensed.levels[-1] if condensed.levels else condensed
+            rows.append(dict(
+                elements=elements, method=method, full_J=full.njev,
+                full_F=full.nfev, condensed_start=condensed.start,
+                condensed_J=condensed.njev, condensed_F=condensed.nfev,
+                levels=len(condensed.levels),
+                last_level_J=int(last["njev"]),
+                du=relative_difference(full.u, condensed.u),
+                converged=bool(full.success and condensed.success)))
+    return rows
+
+
+def tangential_displacement(problem, result):
+    """u_t = u · γ at the nodes of Γc of a frictionless result, with the
+    tangent γ = (−ν_y, ν_x) of the friction solver (NaN at supports)."""
+    normal = np.asarray(result.normal)
+    tangent = np.c_[-normal[:, 1], normal[:, 0]]
+    return (result.displacement[problem.contact_nodes] * tangent).sum(axis=1)
+
+
+def gradient_steps_by_load_step(result):
+    """{load step κ: number of gradient steps} of a friction run (only the
+    steps that took any)."""
+    return {r["step"]: r["gradient_steps"] for r in result.records
+            if r["gradient_steps"]}
 
 
 def markdown_table(rows, columns, headers=None):

@@ -166,7 +166,7 @@ def test_zero_load_command_line(unloaded, tmp_path, capsys):
     path = unloaded[0]
     assert main([str(path), "-o", str(tmp_path / "a")]) == 0
     out = capsys.readouterr().out
-    assert "iterations        0" in out and "max pressure      0\n" in out
+    assert "iterations        0" in out and "max pressure      0 " in out
     assert main([str(path), "--friction", "0.3", "--steps", "3", "-o",
                  str(tmp_path / "b")]) == 0
     summary = json.loads((tmp_path / "b" / "summary.json").read_text())

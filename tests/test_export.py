@@ -5,6 +5,8 @@ problem (K must reproduce it), the analytic P1 boundary mass matrix of a
 straight edge (M), and the geometry of the block (|Γc| = 20).
 """
 
+import importlib.util
+import os
 import subprocess
 import sys
 from pathlib import Path
@@ -122,14 +124,117 @@ def test_parameters_from_define(tmp_path):
     assert problem.K.diagonal().sum() < load_problem(base).K.diagonal().sum()
 
 
+def export_module():
+    """``sfepy_problems/_export.py``, under the name the problem files use."""
+    name = "_contact_ssn_sfepy_export"
+    if name not in sys.modules:
+        spec = importlib.util.spec_from_file_location(
+            name, ROOT / "sfepy_problems" / "_export.py")
+        module = importlib.util.module_from_spec(spec)
+        sys.modules[name] = module
+        spec.loader.exec_module(module)
+    return sys.modules[name]
+
+
+def run_export(argv, out, env=None):
+    """Run an export command from the repository root; its combined output."""
+    environ = {k: v for k, v in os.environ.items()
+               if k != "CONTACT_SSN_VERBOSE"}
+    environ.update(env or {})
+    result = subprocess.run(argv, cwd=ROOT, env=environ, timeout=300,
+                            stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                            text=True)
+    assert result.returncode == 0, result.stdout[-2000:]
+    assert load_problem(out).n_contact == 11  # the 118 mesh: 11 on x = 5
+    return result.stdout
+
+
+def block_118_argv(out, *extra):
+    return ["-d", f"mesh='{MESHES / 'block_118.mesh'}', output='{out}'"
+            + "".join(f", {e}" for e in extra)]
+
+
 def test_sfepy_run_command(tmp_path):
-    """The README's export command, as a subprocess."""
+    """The ``sfepy-run`` command prints only the export line, once SfePy's
+    own notice about missing jax (printed at its import, before the problem
+    file is read) is taken away."""
     out = tmp_path / "sub" / "block_118.npz"
-    result = subprocess.run(
-        [sfepy_run(), str(BLOCK_PROBLEM), "-d",
-         f"mesh='{MESHES / 'block_118.mesh'}', output='{out}'"],
-        cwd=ROOT, capture_output=True, text=True, timeout=300)
-    assert result.returncode == 0, result.stderr[-2000:]
+    printed = run_export([sfepy_run(), str(BLOCK_PROBLEM)]
+                         + block_118_argv(out), out)
+    if importlib.util.find_spec("jax") is None:
+        assert "install jax and jaxlib" in printed  # what is stripped below
+    assert export_module().JAX_NOTICE.sub("", printed) == \
+        f"exported 138 DOFs, 11 contact nodes -> {out}\n"
     problem = load_problem(out)
     assert len(problem.cells) == 118
     assert (out.parent / "block_118.vtk").exists()  # SfePy's own solution
+
+
+def test_script_export_prints_one_line(tmp_path):
+    """``python sfepy_problems/block_obstacle.py -d ...``: exactly one line,
+    no ``sfepy:`` message, no jax notice."""
+    out = tmp_path / "block_118.npz"
+    printed = run_export([sys.executable, str(BLOCK_PROBLEM)]
+                         + block_118_argv(out), out)
+    assert printed == f"exported 138 DOFs, 11 contact nodes -> {out}\n"
+
+
+@pytest.mark.parametrize("how", ["-v", "env", "define"])
+def test_verbose_shows_sfepy_messages(tmp_path, how):
+    """``-v`` (script), ``CONTACT_SSN_VERBOSE=1`` and ``-d "verbose=True"``
+    (``sfepy-run``) bring back SfePy's messages: the left-over keys of
+    define(), the set-up and the log of its own solve."""
+    out = tmp_path / "block_118.npz"
+    if how == "-v":
+        argv = [sys.executable, str(BLOCK_PROBLEM), "-v"] + block_118_argv(out)
+    else:
+        argv = [sfepy_run(), str(BLOCK_PROBLEM)] + block_118_argv(
+            out, *(["verbose=True"] if how == "define" else []))
+    printed = run_export(argv, out,
+                         {"CONTACT_SSN_VERBOSE": "1"} if how == "env" else {})
+    lines = printed.splitlines()
+    assert any(line.startswith("sfepy: left over:") for line in lines)
+    assert "sfepy: reading mesh (" + str(MESHES / "block_118.mesh") + ")..." \
+        in lines
+    assert any(line.startswith("sfepy: nls: iter: 1, residual:")
+               for line in lines)
+    assert lines[-1] == f"exported 138 DOFs, 11 contact nodes -> {out}"
+
+
+def test_jax_notice_pattern_drops_only_that_notice():
+    """The runner drops SfePy's jax notice and passes on anything else."""
+    notice = ("install jax and jaxlib to use terms_jax.py!\n"
+              "sfepy: WARNING: module /x/sfepy/terms/terms_jax.py cannot be "
+              "imported!\nsfepy: reason:\n No module named 'jax'\n")
+    other = ("sfepy: WARNING: module /x/sfepy/terms/terms_new.py cannot be "
+             "imported!\nsfepy: reason:\n No module named 'foo'\n")
+    pattern = export_module().JAX_NOTICE
+    assert pattern.sub("", "a\n" + notice + other) == "a\n" + other
+    # A jax that is installed but broken is reported, not hidden.
+    broken = notice.replace("No module named 'jax'", "jaxlib version too old")
+    assert pattern.sub("", broken) == broken
+
+
+def test_set_verbosity(capsys, monkeypatch):
+    """Quiet silences SfePy's screen output; verbose brings it back; the
+    environment variable decides when neither is asked for."""
+    from sfepy.base.base import output
+
+    module = export_module()
+    monkeypatch.setattr(module, "_silenced", module._silenced)
+    monkeypatch.setattr(output, "output_function", output.output_function)
+    monkeypatch.delenv("CONTACT_SSN_VERBOSE", raising=False)
+    output.set_output()  # SfePy's default: the screen
+    assert module.set_verbosity(False) is False
+    output("hidden")
+    assert capsys.readouterr().out == ""
+    assert module.set_verbosity(True) is True
+    output("shown")
+    assert capsys.readouterr().out.endswith("shown\n")
+    assert module.set_verbosity(None) is False  # unset: quiet
+    monkeypatch.setenv("CONTACT_SSN_VERBOSE", "1")
+    assert module.set_verbosity(None) is True
+    output("shown")
+    assert capsys.readouterr().out.endswith("shown\n")
+    monkeypatch.setenv("CONTACT_SSN_VERBOSE", "0")
+    assert module.set_verbosity(None) is False

@@ -56,10 +56,12 @@ import time
 
 import numpy as np
 import scipy.sparse as sp
-from scipy.optimize import OptimizeResult
+import scipy.sparse.linalg as sla
 
 from ..errors import SolverError
 from ..ncp import MESSAGES, solve_ncp, stable_norm
+from .result import FrictionResult
+from .steps import MAX_LOAD_STEPS, StepStream
 from .frictionless import (condense_onto_contact, contact_geometry,
                            contact_stiffness, rotation)
 from .verify import (describe_failure, force_scale, unit_free_options,
@@ -338,7 +340,8 @@ def _is_real(value):
 def solve_friction(problem, friction, steps=None, formulation="thesis",
                    coulomb="lagged", method="fb", gap="obstacle", tol=1e-10,
                    max_iter=100, gap_scale=None, options=None, progress=None,
-                   geometry=None, condense=None):
+                   geometry=None, condense=None, on_step=None,
+                   keep_steps=True):
     r"""Quasi-static Coulomb friction in load steps (thesis §5, (110)/(111)).
 
     Parameters
@@ -378,6 +381,17 @@ def solve_friction(problem, friction, steps=None, formulation="thesis",
         iterates do not depend on the units).
     progress : callable, optional
         ``progress(step_record)`` after every completed step.
+    on_step : callable, optional
+        ``on_step(fields)`` once per completed step, in order, with that
+        step's arrays (the per-step keys listed under Returns, without the
+        first axis). On the condensed system the displacements of up to 32
+        steps are recovered in one batched solve, so calls may lag the
+        steps by up to 32; an exception (KeyboardInterrupt included) still
+        delivers every completed step before it propagates.
+    keep_steps : bool
+        Keep the per-step arrays in the result (default). False keeps only
+        the records, so that memory does not grow with the number of steps
+        (stream them with ``on_step`` instead).
     geometry : ContactGeometry, optional
     condense : bool or None
         True: factorise K once and solve every step's system condensed
@@ -397,15 +411,17 @@ def solve_friction(problem, friction, steps=None, formulation="thesis",
         (None or κ), totals ``njev``, ``nfev``, ``nit``, ``time``; per step
         (arrays, first axis = completed steps): ``load_factor``,
         ``displacement`` (nodal), ``u`` (reduced), ``contact_force`` λ,
-        ``contact_pressure`` (lumped λ/D), ``friction_traction`` g_t,
+        ``contact_pressure`` (lumped λ/D, ≥ 0), ``contact_pressure_consistent``
+        (M⁻¹λ, thesis (87)), ``friction_traction`` g_t,
         ``friction_bound`` f_c p used in the step (p_{κ−1} if lagged),
         ``tangential_displacement``, ``in_contact``, ``stick``, ``slip``
         (over all nodes of Γc; supports are never in contact), and
         ``records``: a list of dicts (κ, converged, verified, status, njev,
         nfev, nit, n_contact, n_stick, n_slip, error, relative (the
-        stopping measure over its scale), message); ``verification`` (the
-        worst of every completed step's checks, plus the last step's
-        against the original K and f: keys as in
+        stopping measure over its scale), message); per contact node
+        (steps share them): ``gap`` s and ``normal`` ν (NaN at supports);
+        ``verification`` (the worst of every completed step's checks, plus
+        the last step's against the original K and f: keys as in
         :func:`solve_frictionless`, with ``friction_bound_violation``) and
         ``stopping`` (that of the step with the largest relative measure,
         with its ``step``).
@@ -436,7 +452,11 @@ def solve_friction(problem, friction, steps=None, formulation="thesis",
     start = time.perf_counter()
     if geometry is None:
         geometry = contact_geometry(problem, gap)
+    if steps > MAX_LOAD_STEPS:
+        raise SolverError(f"{steps} load steps: at most {MAX_LOAD_STEPS} are "
+                          "supported")
     lumped_all = np.asarray(problem.M.sum(axis=1)).ravel()
+    mass = sla.splu(problem.M.tocsc())  # M⁻¹λ of every step
     lumped = lumped_all[geometry.index]
     stiffness = contact_stiffness(problem.K, geometry)
     if condense is None:
@@ -461,124 +481,106 @@ def solve_friction(problem, friction, steps=None, formulation="thesis",
     nc, idx = problem.n_contact, geometry.index
     u = np.zeros(system.n)  # u, or u on Γc if condensed
     w_previous = np.zeros(problem.n_dofs)  # K⁻¹f of the previous step
-    pending = []  # condensed: (u on Γc, K⁻¹f, prescribed) of each step
     p_previous = np.zeros(system.m)
     g = np.zeros(system.m)
-    fields = {k: [] for k in ("load_factor", "stage", "u", "displacement",
-                              "contact_force", "contact_pressure",
-                              "friction_traction", "friction_bound",
-                              "tangential_displacement", "in_contact",
-                              "stick", "slip")}
+    delivered = StepStream(problem, condensation if condense else None,
+                           on_step, keep_steps)
     records, failed = [], None
     checks, stoppings, last = [], [], None
     totals = dict(njev=0, nfev=0, nit=0)
     message = "all load steps converged"
-    for kappa, (load, factor, prescribed, stage) in enumerate(path, 1):
-        step_friction = friction * factor
-        f_step, step_norm = load, max(reference_norm, stable_norm(load))
-        du = None
-        if condense:
-            load, w = condensation.load(load)
-            # Start with the contact forces of the previous step, as the
-            # full system's Δu = 0 does: Γc moves as the unconstrained body.
-            du = (w - w_previous)[condensation.dofs]
-        x0 = system.initial_guess(g, du)
-        system.set_step(u, load, p_previous, step_friction, step_norm)
-        result = solve_ncp(system.residual, system.jacobian, x0,
-                           method=method, tol=tol, max_iter=max_iter,
-                           options=options, error=system.error,
-                           scale=system.scale)
-        result.stopping.update(test=STOPPING_TEST, step=kappa)
-        for key in totals:
-            totals[key] += int(result[key])
-        du, g_new = result.x[:system.n], system.traction(result.x)
-        check = _check_step(system, result.x, load, step_friction,
-                            p_previous, tol_v)
-        if result.success and not check["passed"]:
-            result.update(success=False, status=6, message=(
-                f"{MESSAGES[6]}: {describe_failure(check)}"))
-        record = dict(step=kappa, converged=bool(result.success),
-                      verified=bool(check["passed"]),
-                      status=int(result.status),
-                      njev=int(result.njev), nfev=int(result.nfev),
-                      nit=int(result.nit), error=float(result.error),
-                      relative=float(result.stopping["relative"]),
-                      message=result.message,
-                      gradient_steps=int(sum(s == "gradient" for s in
-                                             result.history["step"])))
-        if not result.success:
-            failed = kappa
-            record.update(n_contact=None, n_stick=None, n_slip=None,
-                          residual_history=list(map(float, result.history[
-                              "residual"])))
+    try:
+        for kappa, (load, factor, prescribed, stage) in enumerate(path, 1):
+            step_friction = friction * factor
+            f_step, step_norm = load, max(reference_norm, stable_norm(load))
+            du = None
+            if condense:
+                load, w = condensation.load(load)
+                # Start with the contact forces of the previous step, as the
+                # full system's Δu = 0 does: Γc moves as the unconstrained body.
+                du = (w - w_previous)[condensation.dofs]
+            x0 = system.initial_guess(g, du)
+            system.set_step(u, load, p_previous, step_friction, step_norm)
+            result = solve_ncp(system.residual, system.jacobian, x0,
+                               method=method, tol=tol, max_iter=max_iter,
+                               options=options, error=system.error,
+                               scale=system.scale)
+            result.stopping.update(test=STOPPING_TEST, step=kappa)
+            for key in totals:
+                totals[key] += int(result[key])
+            du, g_new = result.x[:system.n], system.traction(result.x)
+            check = _check_step(system, result.x, load, step_friction,
+                                p_previous, tol_v)
+            if result.success and not check["passed"]:
+                result.update(success=False, status=6, message=(
+                    f"{MESSAGES[6]}: {describe_failure(check)}"))
+            record = dict(step=kappa, converged=bool(result.success),
+                          verified=bool(check["passed"]),
+                          status=int(result.status),
+                          njev=int(result.njev), nfev=int(result.nfev),
+                          nit=int(result.nit), error=float(result.error),
+                          relative=float(result.stopping["relative"]),
+                          message=result.message,
+                          gradient_steps=int(sum(s == "gradient" for s in
+                                                 result.history["step"])))
+            if not result.success:
+                failed = kappa
+                record.update(n_contact=None, n_stick=None, n_slip=None,
+                              residual_history=list(map(float, result.history[
+                                  "residual"])))
+                records.append(record)
+                message = (f"load step {kappa} of {steps} did not converge: "
+                           f"{result.message}")
+                break
+            checks.append(check)
+            stoppings.append(result.stopping)
+            u = u + du
+            g = g_new
+            r = system._force(du)
+            lam = -r[system.n_rows]
+            pressure = np.maximum(lam, 0.0) / lumped
+            bound = step_friction * (p_previous if coulomb == "lagged"
+                                     else pressure)
+            scale = force_scale(step_norm, lam)  # as the stopping test's
+            threshold = 1e-9 * scale
+            contact = lam > threshold
+            # Slip: the traction is at the Coulomb bound (a node in contact with
+            # a zero bound slides freely); stick: strictly inside it.
+            at_bound = np.abs(g) >= bound * (1 - 1e-6) - 1e-12 * scale
+            slip_nodes = contact & at_bound
+            stick_nodes = contact & ~slip_nodes
+            ut = (system.R @ u)[system.t_rows]
+            last = (kappa, u.copy(), w if condense else None, f_step, lam,
+                    lumped * g, lumped * bound, result.history["residual"])
+            if condense:
+                w_previous = w
+            record.update(stage=int(stage), n_contact=int(contact.sum()),
+                          n_stick=int(stick_nodes.sum()),
+                          n_slip=int(slip_nodes.sum()),
+                          max_pressure=float(pressure.max(initial=0.0)))
             records.append(record)
-            message = (f"load step {kappa} of {steps} did not converge: "
-                       f"{result.message}")
-            break
-        checks.append(check)
-        stoppings.append(result.stopping)
-        u = u + du
-        g = g_new
-        r = system._force(du)
-        lam = -r[system.n_rows]
-        pressure = np.maximum(lam, 0.0) / lumped
-        bound = step_friction * (p_previous if coulomb == "lagged"
-                                 else pressure)
-        scale = force_scale(step_norm, lam)  # as the stopping test's
-        threshold = 1e-9 * scale
-        contact = lam > threshold
-        # Slip: the traction is at the Coulomb bound (a node in contact with
-        # a zero bound slides freely); stick: strictly inside it.
-        at_bound = np.abs(g) >= bound * (1 - 1e-6) - 1e-12 * scale
-        slip_nodes = contact & at_bound
-        stick_nodes = contact & ~slip_nodes
-        ut = (system.R @ u)[system.t_rows]
-        last = (kappa, u.copy(), w if condense else None, f_step, lam,
-                lumped * g, lumped * bound, result.history["residual"])
-        if condense:  # u on Γc; the full u of all steps at the end, at once
-            u_full, w_previous = None, w
-            pending.append((u.copy(), w, prescribed))
-        else:
-            u_full = u
-        record.update(stage=int(stage), n_contact=int(contact.sum()),
-                      n_stick=int(stick_nodes.sum()),
-                      n_slip=int(slip_nodes.sum()),
-                      max_pressure=float(pressure.max(initial=0.0)))
-        records.append(record)
 
-        def full(values, fill=0.0, dtype=float):
-            out = np.full(nc, fill, dtype=dtype)
-            out[idx] = values
-            return out
+            def full(values, fill=0.0, dtype=float):
+                out = np.full(nc, fill, dtype=dtype)
+                out[idx] = values
+                return out
 
-        fields["load_factor"].append(kappa / steps)
-        fields["stage"].append(stage)
-        if u_full is not None:
-            fields["u"].append(u_full.copy())
-            fields["displacement"].append(
-                problem.full_displacement(u_full, prescribed)
-                if problem.kind == "mesh" else u_full[problem.contact_dofs])
-        fields["contact_force"].append(full(lam))
-        fields["contact_pressure"].append(full(pressure))
-        fields["friction_traction"].append(full(g))
-        fields["friction_bound"].append(full(bound))
-        fields["tangential_displacement"].append(full(ut, np.nan))
-        fields["in_contact"].append(full(contact, False, bool))
-        fields["stick"].append(full(stick_nodes, False, bool))
-        fields["slip"].append(full(slip_nodes, False, bool))
-        p_previous = pressure
-        if progress is not None:
-            progress(record)
-    for first in range(0, len(pending), 32):  # 32 right-hand sides a solve
-        chunk = pending[first:first + 32]
-        U = condensation.displacement(np.column_stack([c[0] for c in chunk]),
-                                      np.column_stack([c[1] for c in chunk]))
-        for k, (_, _, prescribed) in enumerate(chunk):
-            fields["u"].append(U[:, k])
-            fields["displacement"].append(
-                problem.full_displacement(U[:, k], prescribed)
-                if problem.kind == "mesh"
-                else U[problem.contact_dofs, k])
+            lam_all = full(lam)
+            delivered.add(dict(
+                load_factor=kappa / steps, stage=stage,
+                contact_force=lam_all, contact_pressure=full(pressure),
+                contact_pressure_consistent=mass.solve(lam_all) + 0.0,
+                friction_traction=full(g), friction_bound=full(bound),
+                tangential_displacement=full(ut, np.nan),
+                in_contact=full(contact, False, bool),
+                stick=full(stick_nodes, False, bool),
+                slip=full(slip_nodes, False, bool)),
+                u, w if condense else None, prescribed)
+            p_previous = pressure
+            if progress is not None:
+                progress(record)
+    finally:  # also on KeyboardInterrupt: deliver every completed step
+        delivered.flush()
     verification = _final_check(problem, geometry, stiffness, tol_v,
                                 condensation if condense else None, last,
                                 checks)
@@ -593,12 +595,17 @@ def solve_friction(problem, friction, steps=None, formulation="thesis",
     stopping = max(stoppings, key=lambda s: s["relative"]) if stoppings \
         else dict(test=STOPPING_TEST, tol=float(tol), scale=np.nan,
                   absolute=np.nan, relative=np.nan, step=None)
-    arrays = {k: np.array(v) for k, v in fields.items()}
-    return OptimizeResult(
+    arrays = delivered.arrays()
+    normal = np.full((nc, geometry.normal.shape[1]), np.nan)
+    normal[idx] = geometry.normal
+    gap_all = np.full(nc, np.nan)
+    gap_all[idx] = geometry.gap
+    return FrictionResult(
         success=failed is None, message=message, failed_step=failed,
-        verification=verification, stopping=stopping,
-        steps=int(steps), steps_completed=len(arrays["load_factor"]),
+        steps=int(steps), steps_completed=delivered.count,
         friction=float(friction), formulation=formulation, coulomb=coulomb,
         method=method, gap_mode=geometry.mode, records=records,
-        condensed=bool(condense),
+        condensed=bool(condense), gap=gap_all, normal=normal,
+        verification=verification, stopping=stopping,
         time=time.perf_counter() - start, **totals, **arrays)
+

@@ -39,6 +39,7 @@ from scipy.optimize import OptimizeResult
 from ..errors import SolverError
 from ..linalg import Condensation
 from ..ncp import MESSAGES, solve_ncp, stable_norm
+from .result import ContactResult
 from .verify import (describe_failure, force_scale, unit_free_options,
                      verification_tolerance, verify_contact)
 
@@ -299,9 +300,10 @@ def solve_frictionless(problem, method="min", gap="obstacle", tol=1e-10,
         ``njev``, ``nfev``, ``history``, ``residual``) plus ``u`` (reduced),
         ``displacement`` (nodal, (n_nodes, 2); for a discrete problem the
         contact nodes' (Nc, 2)), and over all nodes of Γc: ``contact_force``
-        λ, ``contact_pressure`` p_i = λ_i / D_ii with the lumped boundary
-        matrix D_ii = Σ_j M_ij (a nodal force per unit length, ≥ 0 by
-        complementarity), ``contact_pressure_consistent`` M⁻¹λ (the
+        λ, ``contact_pressure`` p_i = max(λ_i, 0) / D_ii with the lumped
+        boundary matrix D_ii = Σ_j M_ij (a nodal force per unit length; λ
+        is ≥ 0 by complementarity up to the tolerance, cut off at 0 here
+        as in the friction bound), ``contact_pressure_consistent`` M⁻¹λ (the
         thesis's g_n = −p of (87); it oscillates, negative outside the
         contact zone),
         ``gap`` s and ``normal`` ν (NaN at supports), ``normal_displacement``
@@ -389,7 +391,7 @@ def solve_frictionless(problem, method="min", gap="obstacle", tol=1e-10,
     normal = np.full((nc, 2), np.nan)
     normal[geometry.index] = geometry.normal
     pressure = sla.spsolve(problem.M.tocsc(), lam) + 0.0  # no -0.0
-    lumped = lam / np.asarray(problem.M.sum(axis=1)).ravel() + 0.0
+    lumped = np.maximum(lam, 0.0) / np.asarray(problem.M.sum(axis=1)).ravel()
     remaining = s - un
     comp = np.abs(np.minimum(lam, remaining))[geometry.index]
     verification = verify_contact(problem.K, problem.f, u, geometry.dofs,
@@ -414,4 +416,4 @@ def solve_frictionless(problem, method="min", gap="obstacle", tol=1e-10,
         gap_scale=float(gap_scale), geometry_time=geometry_time,
         condensed=bool(condense), start=start, verification=verification,
         time=time.perf_counter() - clock)
-    return result
+    return ContactResult(result)

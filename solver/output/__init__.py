@@ -1,10 +1,14 @@
-"""Output of solves: result files (:mod:`.files`) and figures
-(:mod:`.figures`, imported lazily because it needs matplotlib)."""
+"""Output of solves: the output folder (:mod:`.folder`), result files
+(:mod:`.files`), VTK (:mod:`.vtk`), friction steps streamed to disk
+(:mod:`.stepfiles`) and figures (:mod:`.figures`, imported lazily because
+it needs matplotlib)."""
 
-from .files import (atomic_path, friction_summary_of, summary_of,
-                    write_friction_result, write_result, write_summary,
-                    write_vtk, write_vtk_series)
+from .files import (friction_summary_of, summary_of, write_result,
+                    write_summary)
+from .folder import OutputError, OutputFolder, atomic_path
+from .stepfiles import StepWriter
+from .vtk import write_pvd, write_vtk
 
-__all__ = ["atomic_path", "summary_of", "write_result", "write_summary",
-           "write_vtk", "friction_summary_of", "write_friction_result",
-           "write_vtk_series"]
+__all__ = ["atomic_path", "OutputFolder", "OutputError", "StepWriter",
+           "summary_of", "write_result", "write_summary", "write_vtk",
+           "write_pvd", "friction_summary_of"]

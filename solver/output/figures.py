@@ -1,14 +1,29 @@
-"""Figures of a frictionless solve, in the manner of the thesis's Fig. 4-6.
+"""Figures of a solve, in the manner of the thesis's Fig. 4-8 and 18-27.
 
 matplotlib is imported here only (Agg backend, never ``plt.show()``); each
 function returns the Figure and, given ``path``, saves it as PNG.
+
+Units: the figures label their axes in one convention, :data:`UNITS` —
+lengths in mm, E in MPa, plane strain per unit thickness, so a nodal force
+is in N (per mm of thickness) and a pressure or traction in MPa = N/mm². The
+solver itself is unit-free; the labels hold when the exported K, f and M
+were built in mm, MPa and N, as ``sfepy_problems/`` does.
 """
 
 import numpy as np
 
-__all__ = ["plot_deformed", "plot_displacement_arrows", "plot_convergence",
+__all__ = ["UNITS", "magnification", "plot_deformed",
+           "plot_displacement_arrows", "step_halvings", "plot_convergence",
            "plot_contact_pressure", "write_figures", "plot_step_history",
            "plot_friction_along_boundary", "write_friction_figures"]
+
+#: The unit convention of every axis label (stated once, here).
+UNITS = ("lengths in mm, forces in N and pressures in MPa = N/mm², "
+         "plane strain per mm of thickness")
+
+#: Fraction of the body's size that the largest magnified displacement
+#: should appear as (:func:`magnification`).
+TARGET_FRACTION = 0.12
 
 
 def _pyplot():
@@ -34,6 +49,27 @@ def _save(fig, path):
     return fig
 
 
+def _legend_outside(ax, where="below", **kwargs):
+    """A legend next to the axes, never over the data: ``"below"`` (under
+    the x label) or ``"right"``."""
+    kwargs.setdefault("fontsize", 8)
+    if where == "right":
+        return ax.legend(loc="upper left", bbox_to_anchor=(1.02, 1.0),
+                         borderaxespad=0.0, **kwargs)
+    return ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.16),
+                     borderaxespad=0.0, **kwargs)
+
+
+def _arc_length(problem):
+    """Position of each contact node along Γc (mm), or its index for a
+    discrete problem; returns (positions, axis label)."""
+    if problem.kind == "mesh":
+        xy = problem.nodes[problem.contact_nodes]
+        arc = np.r_[0, np.cumsum(np.hypot(*np.diff(xy, axis=0).T))]
+        return arc, "arc length along Γc from its first node [mm]"
+    return np.arange(problem.n_contact), "contact node"
+
+
 def _obstacle_curve(problem, y_range):
     """Points of the obstacle covering the body's height (with margin)."""
     curve = problem.obstacle
@@ -45,28 +81,109 @@ def _obstacle_curve(problem, y_range):
     return curve.point(t)
 
 
-def plot_deformed(problem, result, scale=1.0, path=None, title=None):
-    """Deformed body, contact nodes starred, obstacle in blue (thesis Fig. 4,
-    left). ``scale`` magnifies the displacements; with scale ≠ 1 the body
-    appears to cross the (unscaled) obstacle."""
+def _outline(cells):
+    """Boundary edges of a triangulation: the edges of exactly one cell."""
+    cells = np.asarray(cells)
+    edges = np.sort(np.concatenate([cells[:, [0, 1]], cells[:, [1, 2]],
+                                    cells[:, [2, 0]]]), axis=1)
+    unique, count = np.unique(edges, axis=0, return_counts=True)
+    return unique[count == 1]
+
+
+def magnification(problem, displacement, fraction=TARGET_FRACTION):
+    """Factor for drawing ``displacement``: a 1-2-5 number (…, 2, 5, 10, 20,
+    …) that makes the largest |u| appear as about ``fraction`` of the body's
+    size (the larger side of its bounding box), between 0.6 and 1.6 times
+    that; never below 1 (large displacements are drawn as they are)."""
+    size = np.ptp(problem.nodes, axis=0).max()
+    largest = np.hypot(*np.asarray(displacement, dtype=float).T).max()
+    if not largest > 0:
+        return 1.0
+    target = fraction * size / largest
+    if target <= 1:
+        return 1.0
+    decade = int(np.floor(np.log10(target)))
+    candidates = [m * 10.0 ** e for e in (decade, decade + 1)
+                  for m in (1, 2, 5)]
+    return min(candidates, key=lambda c: abs(np.log(c / target)))
+
+
+def plot_deformed(problem, result, scale=None, path=None, title=None):
+    """Deformed body (thesis Fig. 4, left) and, beside it, Γc at true scale.
+
+    Left: the body with its displacements magnified by ``scale`` (default
+    :func:`magnification`, stated in the title) over the faint undeformed
+    outline; contact nodes starred. The obstacle is drawn unscaled, so the
+    magnified contact nodes appear beyond it. Right: Γc before and after
+    deformation at scale 1 with the obstacle, on stretched axes — there
+    the contact nodes lie on the obstacle.
+
+    ``result`` needs ``displacement`` (nodal) and ``in_contact``; ``method``
+    and ``gap_mode`` are used in the default title when present.
+    """
+    from matplotlib.collections import LineCollection
+
     plt = _pyplot()
-    u = result.displacement
-    xy = problem.nodes + scale * u
-    fig, ax = plt.subplots(figsize=(5, 7))
+    u = np.asarray(result.displacement, dtype=float)
+    if scale is None:
+        scale = magnification(problem, u)
+    nodes = problem.nodes
+    largest = np.hypot(*u.T).max()
+    xy = nodes + scale * u
+    fig, (ax, zoom) = plt.subplots(
+        1, 2, figsize=(9, 7), layout="constrained",
+        gridspec_kw=dict(width_ratios=(1.2, 1)))
+    outline = _outline(problem.cells)
+    ax.add_collection(LineCollection(nodes[outline], colors="0.55", lw=1.0,
+                                     linestyles="--", label="undeformed"))
     ax.triplot(xy[:, 0], xy[:, 1], problem.cells, color="0.6", lw=0.5)
-    contact = problem.contact_nodes[result.in_contact]
+    ax.add_collection(LineCollection(xy[outline], colors="k", lw=1.0,
+                                     label=f"deformed, displacements × "
+                                     f"{scale:g}"))
+    contact = problem.contact_nodes[np.asarray(result.in_contact, bool)]
     ax.plot(xy[contact, 0], xy[contact, 1], "r*", ms=8,
             label=f"in contact ({len(contact)} nodes)")
-    ymin, ymax = problem.nodes[:, 1].min(), problem.nodes[:, 1].max()
+    ymin, ymax = nodes[:, 1].min(), nodes[:, 1].max()
     margin = 0.1 * (ymax - ymin)
     obstacle = _obstacle_curve(problem, (ymin - margin, ymax + margin))
-    ax.plot(obstacle[:, 0], obstacle[:, 1], "b-", lw=2, label="obstacle Γo")
+    ax.plot(obstacle[:, 0], obstacle[:, 1], "b-", lw=2,
+            label="obstacle Γo (not magnified)")
     ax.set_aspect("equal")
-    ax.set_xlabel("x [length]")
-    ax.set_ylabel("y [length]")
-    ax.set_title(title or f"deformed body, displacements × {scale:g}\n"
-                 f"{result.method} method, gap from {result.gap_mode}")
-    ax.legend(loc="lower left", fontsize=8)
+    ax.set_xlabel("x [mm]")
+    ax.set_ylabel("y [mm]")
+    ax.set_title(f"whole body, displacements × {scale:g}\n(largest |u| = "
+                 f"{largest:.3g} mm drawn as {scale * largest:.3g} mm)",
+                 fontsize=10)
+    _legend_outside(ax, ncols=2)
+
+    gc = problem.contact_nodes
+    moved = nodes[gc] + u[gc]
+    zoom.plot(nodes[gc, 0], nodes[gc, 1], "--", color="0.55", lw=1.0,
+              label="Γc undeformed")
+    zoom.plot(moved[:, 0], moved[:, 1], "k.-", lw=1.0, ms=4,
+              label="Γc deformed (× 1)")
+    zoom.plot(nodes[contact, 0] + u[contact, 0],
+              nodes[contact, 1] + u[contact, 1], "r*", ms=8,
+              label="in contact")
+    zoom.plot(obstacle[:, 0], obstacle[:, 1], "b-", lw=2, label="obstacle Γo")
+    box = np.vstack([nodes[gc], moved])
+    low, high = box.min(axis=0), box.max(axis=0)
+    pad = np.maximum(0.1 * (high - low), 0.005 * (high - low).max())
+    zoom.set_xlim(low[0] - pad[0], high[0] + pad[0])
+    zoom.set_ylim(low[1] - pad[1], high[1] + pad[1])
+    zoom.set_xlabel("x [mm]")
+    zoom.set_ylabel("y [mm]")
+    zoom.set_title("Γc at true scale (axes not to scale)", fontsize=10)
+    _legend_outside(zoom, ncols=2)
+    if title is None:
+        parts = [getattr(result, "method", None),
+                 getattr(result, "gap_mode", None)]
+        title = "deformed body"
+        if parts[0] is not None:
+            title += f", {parts[0]} method"
+        if parts[1] is not None:
+            title += f", gap from {parts[1]}"
+    fig.suptitle(title)
     return _save(fig, path)
 
 
@@ -74,83 +191,143 @@ def plot_displacement_arrows(problem, result, path=None):
     """Undeformed body with displacement directions (thesis Fig. 4, right)."""
     plt = _pyplot()
     u = result.displacement
-    fig, ax = plt.subplots(figsize=(5, 7))
+    fig, ax = plt.subplots(figsize=(5, 7), layout="constrained")
     ax.triplot(problem.nodes[:, 0], problem.nodes[:, 1], problem.cells,
                color="0.75", lw=0.5)
     q = ax.quiver(problem.nodes[:, 0], problem.nodes[:, 1], u[:, 0], u[:, 1],
                   np.hypot(u[:, 0], u[:, 1]), cmap="viridis")
-    fig.colorbar(q, ax=ax, label="|u| [length]")
+    fig.colorbar(q, ax=ax, label="|u| [mm]")
     ax.set_aspect("equal")
-    ax.set_xlabel("x [length]")
-    ax.set_ylabel("y [length]")
-    ax.set_title("undeformed body, displacement directions")
+    ax.set_xlabel("x [mm]")
+    ax.set_ylabel("y [mm]")
+    ax.margins(0.06)
+    ax.set_title("undeformed body, displacement directions\n"
+                 "(arrows magnified, colour = |u|)", fontsize=10)
     return _save(fig, path)
 
 
+def step_halvings(history, method):
+    """Halvings of the step length α per Newton iteration.
+
+    Returns ``(taken, tried)``: ``taken`` = −log₂ α of the step taken (0 for
+    a full step, NaN where no step was taken, α = 0); ``tried`` = for an
+    iteration whose line search found no acceptable α, the number of
+    halvings it tried before giving up (NaN elsewhere). φ_min then takes the
+    full step anyway (α = 1, so ``taken`` = 0 hides the search), φ_FB
+    stops. The count comes from ``history["halvings"]`` if recorded, else
+    from the method's default options (``alpha_min`` = 2⁻¹⁰ for min,
+    ``max_halvings`` for fb).
+    """
+    from ..ncp.newton import DEFAULT_OPTIONS
+
+    alpha = np.asarray(history["alpha"], dtype=float)
+    failed = np.asarray(history["line_search_failed"], dtype=bool)
+    with np.errstate(divide="ignore"):
+        taken = np.where(alpha > 0, -np.log2(np.where(alpha > 0, alpha, 1)),
+                         np.nan)
+    if "halvings" in history:
+        limit = np.asarray(history["halvings"], dtype=float)
+    elif method == "min":
+        limit = np.full(len(alpha), np.floor(
+            -np.log2(DEFAULT_OPTIONS["min"]["alpha_min"])))
+    else:
+        limit = np.full(len(alpha), float(DEFAULT_OPTIONS["fb"]
+                                          ["max_halvings"]))
+    tried = np.where(failed, limit, np.nan)
+    return taken, tried
+
+
 def plot_convergence(result, path=None):
-    """‖Φ‖ and the step length α per iteration (thesis Fig. 5 and 8). A
-    nested start's levels (``history["level"]``) are drawn as separate
-    lines, labelled with their number of contact nodes."""
+    """‖Φ‖ (log axis) and the number of step halvings (−log₂ α) per
+    iteration (thesis Fig. 5 and 8). A nested start's levels
+    (``history["level"]``) are drawn as separate ‖Φ‖ lines, labelled with
+    their number of contact nodes; a failed line search is marked with the
+    halvings it tried."""
+    from matplotlib.ticker import MaxNLocator
+
     plt = _pyplot()
     history = result.history
     k = np.arange(len(history["residual"]) + 1)
     residual = list(history["residual"]) + [result.residual]
-    fig, (top, bottom) = plt.subplots(2, 1, figsize=(6, 6), sharex=True)
+    fig, (top, bottom) = plt.subplots(2, 1, figsize=(7.5, 6), sharex=True,
+                                      layout="constrained",
+                                      gridspec_kw=dict(height_ratios=(3, 2)))
     level = np.asarray(history.get("level", []) + [None], dtype=object)
     if len(set(level[:-1])) > 1:  # each level from its start to the next's
         level[-1] = level[-2]
         starts = np.flatnonzero(np.r_[True, level[1:] != level[:-1]])
         for a, b in zip(starts, np.r_[starts[1:], len(k)]):
             top.semilogy(k[a:b], np.maximum(residual[a:b], 1e-300), "o-",
-                         label=f"{level[a]} contact nodes")
-        top.legend(fontsize=8, title="nested start, level of",
-                   title_fontsize=8)
+                         ms=4, label=f"{level[a]} contact nodes")
+        _legend_outside(top, "right", title="nested start,\nlevel of",
+                        title_fontsize=8)
     else:
-        top.semilogy(k, np.maximum(residual, 1e-300), "o-")
-    top.set_ylabel("‖Φ(x)‖")
+        top.semilogy(k, np.maximum(residual, 1e-300), "o-", ms=4)
+    top.set_ylabel("‖Φ(x_k)‖")
+    top.grid(alpha=0.3)
     top.set_title(f"{result.method} method: {result.njev} Jacobian, "
-                  f"{result.nfev} residual evaluations")
-    alpha = np.array(history["alpha"], dtype=float)
-    failed = np.array(history["line_search_failed"], dtype=bool)
-    gradient = np.array([s == "gradient" for s in history["step"]])
-    it = np.arange(len(alpha))
-    bottom.semilogy(it, alpha, "s-", label="α (step length)")
+                  f"{result.nfev} residual evaluations", fontsize=10)
+    taken, tried = step_halvings(history, result.method)
+    it = np.arange(len(taken))
+    bottom.plot(it, taken, "o-", ms=4, label="halvings of the step taken")
+    failed = np.isfinite(tried)
     if failed.any():
-        bottom.semilogy(it[failed], alpha[failed], "rx", ms=10,
-                        label="no decreasing α found")
+        then = ("then the full step" if result.method == "min"
+                else "no step")
+        bottom.plot(it[failed], tried[failed], "rx", ms=9, mew=2,
+                    label=f"line search failed after\nthese halvings; {then}")
+    gradient = np.array([s == "gradient" for s in history["step"]], bool)
     if gradient.any():
-        bottom.semilogy(it[gradient], alpha[gradient], "k^",
-                        label="gradient step")
-    bottom.set_ylabel("α")
+        bottom.plot(it[gradient], taken[gradient], "k^", ms=7,
+                    label="gradient step")
+    if not failed.any() and np.nan_to_num(taken).max() == 0:
+        bottom.text(0.5, 0.45, "every step a full step, α = 1",
+                    transform=bottom.transAxes, ha="center", va="center",
+                    fontsize=9,
+                    color="0.3")
+    highest = np.nanmax(np.r_[taken, tried, 1.0])
+    bottom.set_ylim(-0.6, highest + 0.6)
+    bottom.yaxis.set_major_locator(MaxNLocator(integer=True, nbins=6))
+    bottom.xaxis.set_major_locator(MaxNLocator(integer=True))
+    bottom.grid(alpha=0.3)
+    bottom.set_ylabel("halvings −log₂ α")
     bottom.set_xlabel("iteration k")
-    bottom.legend(fontsize=8)
+    if failed.any() or gradient.any():
+        _legend_outside(bottom, "right")
     return _save(fig, path)
 
 
 def plot_contact_pressure(problem, result, path=None):
-    """Contact pressure p = −g_n (87) and contact force λ along Γc."""
+    """Contact pressure along Γc: the nodal contact force per length
+    p_i = λ_i / D_ii, D_ii = Σ_j M_ij (non-negative by complementarity),
+    and, thin and dashed, the consistent M⁻¹λ of thesis (87), which spreads
+    the same forces with the consistent boundary matrix and so oscillates
+    below zero next to the contact zone."""
     plt = _pyplot()
+    arc, xlabel = _arc_length(problem)
+    fig, ax = plt.subplots(figsize=(9, 4.2), layout="constrained")
+    ax.plot(arc, result.contact_pressure, "o-", color="C0", ms=5, zorder=3,
+            label="p_i = λ_i / Σ_j M_ij:\nnodal contact force per length")
+    contact = np.asarray(result.in_contact, bool)
+    ax.plot(arc[contact], np.asarray(result.contact_pressure)[contact], "r*",
+            ms=10, zorder=4, label="in contact")
+    consistent = getattr(result, "contact_pressure_consistent", None)
+    if consistent is not None:
+        note = "M⁻¹λ, thesis (87): the same\nforces, consistent M"
+        if np.min(consistent) < -1e-9 * np.max(np.abs(consistent)):
+            note += "; dips\nbelow 0 beside the zone"
+        ax.plot(arc, consistent, "--", color="0.45", lw=1.0, marker=".",
+                ms=4, zorder=2, label=note)
+    ax.axhline(0.0, color="0.5", lw=0.8, zorder=1)
+    ax.set_xlabel(xlabel)
     if problem.kind == "mesh":
-        xy = problem.nodes[problem.contact_nodes]
-        arc = np.r_[0, np.cumsum(np.hypot(*np.diff(xy, axis=0).T))]
-        label = "arc length along Γc from its first node [length]"
-    else:
-        arc = np.arange(problem.n_contact)
-        label = "contact node"
-    fig, ax = plt.subplots(figsize=(7, 4))
-    ax.plot(arc, result.contact_pressure_consistent, "s--", ms=4,
-            label="p = −g_n = M⁻¹λ (thesis (87), consistent M)")
-    ax.plot(arc, result.contact_pressure, "o-",
-            label="λ_i / Σ_j M_ij (lumped M)")
-    ax.plot(arc[result.in_contact], result.contact_pressure[result.in_contact],
-            "r*", ms=9, label="in contact")
-    ax.axhline(0.0, color="0.5", lw=0.8)
-    ax.set_xlabel(label)
-    ax.set_ylabel("contact pressure [force / length]")
-    ax.set_title("contact stress along Γc; the consistent M⁻¹ spreads the "
-                 "nodal forces\nand oscillates next to the contact zone, "
-                 "the lumped value does not", fontsize=10)
-    ax.legend(fontsize=8)
+        ax.set_ylabel("contact pressure [MPa]")
+    else:  # M is the problem's own; with M = I (the bar) p is λ in N
+        ax.set_ylabel("λ_i / Σ_j M_ij")
+        ax.set_xticks(arc)
+    ax.grid(alpha=0.3)
+    ax.set_title("contact pressure along Γc", fontsize=10)
+    _legend_outside(ax, "right")
     return _save(fig, path)
 
 
@@ -183,7 +360,7 @@ def plot_step_history(problem, result, node=None, path=None,
     ``node`` is a position along Γc; default: the node with the largest
     final contact force (for the bar, its only node A). ``reference``, an
     array (steps, 4) of (u_x, u_y, λ, t) such as the bar's closed form, is
-    drawn as lines under the computed points.
+    drawn as a line over the computed points (hollow markers).
     """
     plt = _pyplot()
     if node is None:
@@ -193,29 +370,32 @@ def plot_step_history(problem, result, node=None, path=None,
     if problem.kind == "mesh":
         u = result.displacement[:, problem.contact_nodes[node]]
         where = problem.nodes[problem.contact_nodes[node]]
-        label = f"contact node at ({where[0]:g}, {where[1]:g})"
+        label = f"contact node at ({where[0]:.3g}, {where[1]:.3g}) mm"
     else:
         u = result.displacement[:, node]
         label = "point A"
-    fig, axes = plt.subplots(2, 2, figsize=(10, 7), sharex=True)
+    fig, axes = plt.subplots(2, 2, figsize=(10, 7), sharex=True,
+                             layout="constrained")
     panels = [
-        (axes[0, 0], result.contact_force[:, node], "contact force λ [force]",
+        (axes[0, 0], result.contact_force[:, node], "contact force λ [N]",
          "Fig. 18: contact force"),
         (axes[0, 1], lumped * result.friction_traction[:, node],
-         "friction force t = D g_t [force]", "Fig. 19: friction force"),
-        (axes[1, 0], u[:, 0], "u_x [length]", "Fig. 20: u_x"),
-        (axes[1, 1], u[:, 1], "u_y [length]", "Fig. 21: u_y")]
+         "friction force t = D g_t [N]", "Fig. 19: friction force"),
+        (axes[1, 0], u[:, 0], "u_x [mm]", "Fig. 20: u_x"),
+        (axes[1, 1], u[:, 1], "u_y [mm]", "Fig. 21: u_y")]
     order = (2, 3, 0, 1)  # reference columns of the four panels
     for i, (ax, values, ylabel, title) in enumerate(panels):
+        ax.plot(steps, values, "o", ms=4, mfc="none", mew=0.8, color="C0",
+                zorder=2, label="computed")
         if reference is not None:
             ax.plot(steps, np.asarray(reference)[:len(steps), order[i]],
-                    "-", color="0.6", lw=3, label="closed form")
-        ax.plot(steps, values, ".", color="C0", label="computed")
-        if reference is not None and i == 0:
-            ax.legend(fontsize=8)
+                    "-", color="k", lw=1.2, zorder=3, label="closed form")
         ax.set_ylabel(ylabel)
         ax.set_title(title, fontsize=10)
         ax.grid(alpha=0.3)
+    if reference is not None:
+        fig.legend(*axes[0, 0].get_legend_handles_labels(), loc="outside "
+                   "lower center", ncols=2, fontsize=9)
     for ax in axes[1]:
         ax.set_xlabel("load step κ")
     fig.suptitle(f"{label}: f_c = {result.friction:g}, {result.steps} steps, "
@@ -228,26 +408,28 @@ def plot_friction_along_boundary(problem, result, step=-1, path=None):
     """Contact pressure and friction traction along Γc at one load step
     (thesis Fig. 23-27), stick and slip nodes marked."""
     plt = _pyplot()
-    xy = problem.nodes[problem.contact_nodes]
-    arc = np.r_[0, np.cumsum(np.hypot(*np.diff(xy, axis=0).T))]
+    arc, label = _arc_length(problem)
     p = result.contact_pressure[step]
     g = result.friction_traction[step]
     bound = result.friction_bound[step]
     stick, slip = result.stick[step], result.slip[step]
-    fig, ax = plt.subplots(figsize=(8, 4.5))
-    ax.plot(arc, p, "o-", label="contact pressure p = λ / D")
-    ax.plot(arc, g, "s-", label="friction traction g_t")
-    ax.plot(arc, bound, "k:", label="± f_c p (bound used in the step)")
+    fig, ax = plt.subplots(figsize=(9, 4.5), layout="constrained")
+    ax.plot(arc, p, "o-", ms=5, label="contact pressure\np = λ / D")
+    ax.plot(arc, g, "s-", ms=4, label="friction traction g_t")
+    ax.plot(arc, bound, "k:", label="± f_c p (bound used\nin the step)")
     ax.plot(arc, -bound, "k:")
-    ax.plot(arc[stick], g[stick], "g^", ms=9, label="stick")
-    ax.plot(arc[slip], g[slip], "rv", ms=9, label="slip")
+    ax.plot(arc[stick], g[stick], "g^", ms=9, mfc="none", mew=1.5,
+            label="stick")
+    ax.plot(arc[slip], g[slip], "rv", ms=9, mfc="none", mew=1.5,
+            label="slip")
     ax.axhline(0.0, color="0.5", lw=0.8)
-    ax.set_xlabel("arc length along Γc from its first node [length]")
-    ax.set_ylabel("traction [force / length]")
+    ax.set_xlabel(label)
+    ax.set_ylabel("traction [MPa]")
+    ax.grid(alpha=0.3)
     k = result.steps_completed if step == -1 else step + 1
     ax.set_title(f"step {k} of {result.steps}, f_c = {result.friction:g} "
-                 f"({result.formulation}, {result.coulomb})")
-    ax.legend(fontsize=8)
+                 f"({result.formulation}, {result.coulomb})", fontsize=10)
+    _legend_outside(ax, "right")
     return _save(fig, path)
 
 
@@ -265,7 +447,7 @@ def write_friction_figures(folder, problem, result):
         last = SimpleNamespace(displacement=result.displacement[-1],
                                in_contact=result.in_contact[-1])
         title = (f"deformed body after step {result.steps_completed} of "
-                 f"{result.steps}\nf_c = {result.friction:g}, "
+                 f"{result.steps}: f_c = {result.friction:g}, "
                  f"{result.formulation} formulation, {result.method} method")
         jobs += [("deformed", lambda p: plot_deformed(problem, last, path=p,
                                                        title=title)),

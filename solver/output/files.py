@@ -4,36 +4,49 @@ Every file is written to a temporary name in the output folder and renamed
 when complete, so an interrupted run never leaves a half-written file.
 """
 
-import contextlib
 import json
-import os
-import tempfile
 
 import numpy as np
 
-__all__ = ["atomic_path", "write_summary", "write_result", "write_vtk",
-           "summary_of", "friction_summary_of", "write_friction_result",
-           "write_vtk_series"]
+from .folder import atomic_path
+
+__all__ = ["write_summary", "write_result", "summary_of",
+           "friction_summary_of"]
 
 
-@contextlib.contextmanager
-def atomic_path(path):
-    """Yield a temporary path beside ``path``; rename it over ``path`` on
-    success, delete it on failure."""
-    path = os.fspath(path)
-    folder = os.path.dirname(os.path.abspath(path))
-    suffix = os.path.splitext(path)[1]
-    fd, tmp = tempfile.mkstemp(prefix=".tmp-", suffix=suffix, dir=folder)
-    os.close(fd)
-    try:
-        yield tmp
-        os.replace(tmp, path)
-    finally:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
+def _json_safe(value):
+    """A float for JSON: finite values as they are, others as strings
+    ("inf", "nan"), so that summary.json is always valid JSON."""
+    value = float(value)
+    return value if np.isfinite(value) else str(value)
 
 
-def summary_of(result, problem, **extra):
+def stopping_of(result, tol):
+    """The stopping test that was applied, with the final values.
+
+    Uses ``result.stopping`` when the solver records it, else the test of
+    :func:`solver.ncp.solve_ncp`: error ≤ tol · scale."""
+    stopping = result.get("stopping")
+    if stopping is None:
+        records = result.get("records") or [{}]
+        error = result.get("error", records[-1].get("error", float("nan")))
+        scale = result.get("scale", 1.0)
+        stopping = {"test": "error <= tol * scale", "tol": tol,
+                    "scale": scale, "absolute": error,
+                    "relative": error / scale}
+    return {key: (_json_safe(value) if isinstance(value, (float, int,
+                  np.floating, np.integer)) and not isinstance(value, bool)
+                  else value) for key, value in dict(stopping).items()}
+
+
+def verification_of(result):
+    """``result.verification`` (the checks of the answer), JSON-safe."""
+    checks = dict(result.get("verification") or {})
+    return {key: (_json_safe(value) if isinstance(value, (float,
+                  np.floating)) else value) for key, value in checks.items()}
+
+
+def summary_of(result, problem, tol=None, **extra):
     """The ``summary.json`` fields of a frictionless solve."""
     history = result.history
     summary = {
@@ -42,18 +55,22 @@ def summary_of(result, problem, **extra):
         "method": result.method,
         "gap": result.gap_mode,
         "system": "condensed" if result.get("condensed") else "full",
+        "status": "converged" if result.success else "not_converged",
         "converged": bool(result.success),
-        "status": int(result.status),
+        "ncp_status": int(result.status),
         "message": result.message,
+        "stopping": stopping_of(result, tol),
+        "verification": verification_of(result),
         "iterations": int(result.nit),
         "n_jacobian": int(result.njev),
         "n_residual": int(result.nfev),
-        "residual": float(result.residual),
-        "error": float(result.error),
-        "complementarity": float(result.complementarity),
+        # ‖Φ‖ of the final iterate and the stopping test's measure of it
+        "residual": _json_safe(result.residual),
+        "error": _json_safe(result.error),
+        "complementarity": _json_safe(result.complementarity),
         "n_contact_nodes": int(result.n_contact),
-        "max_contact_pressure": float(np.max(result.contact_pressure)),
-        "max_contact_force": float(np.max(result.contact_force)),
+        "max_contact_pressure": _json_safe(np.max(result.contact_pressure)),
+        "max_contact_force": _json_safe(np.max(result.contact_force)),
         "n_dof": int(problem.n_dofs),
         "n_contact_candidates": int(np.isfinite(result.gap).sum()),
         "line_search_failures": int(sum(history["line_search_failed"])),
@@ -64,19 +81,19 @@ def summary_of(result, problem, **extra):
         # success, time); the counts above include them all
         "levels": [dict(level) for level in result.get("levels", [])],
         "wall_time": float(result.time),
-        # ‖Φ‖ before each iteration (as printed on a failure, and as in a
-        # friction step's record; the final one is "residual"); result.npz
-        # holds the full per-iteration history
-        "residual_history": [float(r) for r in history["residual"]],
+        # ‖Φ‖ before each iteration and, last, of the final iterate
+        "residual_history": [_json_safe(r) for r in history["residual"]]
+        + [_json_safe(result.residual)],
     }
-    summary.update(extra)
+    summary.update(extra, tol=tol)
     return summary
 
 
 def write_summary(path, summary):
+    """``summary.json``, written atomically; strict JSON (no NaN)."""
     with atomic_path(path) as tmp:
         with open(tmp, "w") as stream:
-            json.dump(summary, stream, indent=2)
+            json.dump(summary, stream, indent=2, allow_nan=False)
             stream.write("\n")
 
 
@@ -106,33 +123,16 @@ def write_result(path, result, problem):
             np.savez_compressed(stream, **arrays)
 
 
-def write_vtk(path, result, problem):
-    """A VTK unstructured grid (meshio) with u, contact pressure and mask."""
-    import meshio
-
-    n = len(problem.nodes)
-    points = np.c_[problem.nodes, np.zeros(n)]
-    displacement = np.c_[result.displacement, np.zeros(n)]
-    pressure = np.zeros(n)
-    pressure[problem.contact_nodes] = result.contact_pressure
-    mask = np.zeros(n, dtype=np.int32)
-    mask[problem.contact_nodes[result.in_contact]] = 1
-    gap = np.full(n, np.nan)
-    gap[problem.contact_nodes] = result.gap
-    mesh = meshio.Mesh(points, [("triangle", problem.cells)],
-                       point_data={"u": displacement,
-                                   "contact_pressure": pressure,
-                                   "in_contact": mask, "initial_gap": gap})
-    with atomic_path(path) as tmp:
-        meshio.write(tmp, mesh, file_format="vtu")
-
-
-def friction_summary_of(result, problem, **extra):
+def friction_summary_of(result, problem, tol=None, **extra):
     """The ``summary.json`` fields of a friction run (Table 2's metrics)."""
+    done = [r for r in result.records if r["converged"]]
     summary = {
         "problem": problem.source,
         "kind": problem.kind,
         "mode": "friction",
+        "status": "converged" if result.success else "not_converged",
+        "converged": bool(result.success),
+        "message": result.message,
         "friction": result.friction,
         "steps": result.steps,
         "steps_completed": int(result.steps_completed),
@@ -142,8 +142,8 @@ def friction_summary_of(result, problem, **extra):
         "method": result.method,
         "gap": result.gap_mode,
         "system": "condensed" if result.get("condensed") else "full",
-        "converged": bool(result.success),
-        "message": result.message,
+        "stopping": stopping_of(result, tol),
+        "verification": verification_of(result),
         "n_jacobian": int(result.njev),
         "n_residual": int(result.nfev),
         "iterations": int(result.nit),
@@ -153,65 +153,11 @@ def friction_summary_of(result, problem, **extra):
         "wall_time": float(result.time),
         "per_step": result.records,
     }
-    if result.steps_completed:
-        summary.update(
-            final_n_contact=int(result.in_contact[-1].sum()),
-            final_n_stick=int(result.stick[-1].sum()),
-            final_n_slip=int(result.slip[-1].sum()),
-            final_max_contact_pressure=float(
-                result.contact_pressure[-1].max()))
-    summary.update(extra)
+    if done:
+        last = done[-1]
+        summary.update(final_n_contact=last["n_contact"],
+                       final_n_stick=last["n_stick"],
+                       final_n_slip=last["n_slip"],
+                       final_max_contact_pressure=last["max_pressure"])
+    summary.update(extra, tol=tol)
     return summary
-
-
-def write_friction_result(path, result, problem):
-    """``result.npz`` of a friction run: per-step fields (first axis =
-    completed load steps) and per-step counts."""
-    records = result.records[:result.steps_completed]
-    arrays = {key: result[key] for key in (
-        "load_factor", "u", "displacement", "contact_force",
-        "contact_pressure", "friction_traction", "friction_bound",
-        "tangential_displacement", "in_contact", "stick", "slip")}
-    arrays.update(
-        contact_nodes=(problem.contact_nodes if problem.kind == "mesh"
-                       else np.arange(problem.n_contact)),
-        step_njev=np.array([r["njev"] for r in records], dtype=np.int64),
-        step_nfev=np.array([r["nfev"] for r in records], dtype=np.int64),
-        converged=np.array(bool(result.success)),
-        steps_completed=np.array(result.steps_completed))
-    with atomic_path(path) as tmp:
-        with open(tmp, "wb") as stream:
-            np.savez_compressed(stream, **arrays)
-
-
-def write_vtk_series(folder, result, problem):
-    """One ``.vtu`` per completed load step and a ParaView ``.pvd`` index."""
-    import meshio
-
-    os.makedirs(os.path.join(folder, "steps"), exist_ok=True)
-    n = len(problem.nodes)
-    points = np.c_[problem.nodes, np.zeros(n)]
-    entries = []
-    for k in range(result.steps_completed):
-        data = {"u": np.c_[result.displacement[k], np.zeros(n)]}
-        for name, fill, dtype in (("contact_pressure", 0.0, float),
-                                  ("friction_traction", 0.0, float),
-                                  ("in_contact", 0, np.int32),
-                                  ("stick", 0, np.int32),
-                                  ("slip", 0, np.int32)):
-            values = np.full(n, fill, dtype=dtype)
-            values[problem.contact_nodes] = result[name][k]
-            data[name] = values
-        name = os.path.join("steps", f"step_{k + 1:04d}.vtu")
-        mesh = meshio.Mesh(points, [("triangle", problem.cells)],
-                           point_data=data)
-        with atomic_path(os.path.join(folder, name)) as tmp:
-            meshio.write(tmp, mesh, file_format="vtu")
-        entries.append(f'    <DataSet timestep="{result.load_factor[k]!r}" '
-                       f'file="{name}"/>')
-    pvd = ('<?xml version="1.0"?>\n<VTKFile type="Collection" '
-           'version="0.1">\n  <Collection>\n' + "\n".join(entries)
-           + "\n  </Collection>\n</VTKFile>\n")
-    with atomic_path(os.path.join(folder, "result.pvd")) as tmp:
-        with open(tmp, "w") as stream:
-            stream.write(pvd)

@@ -1,0 +1,204 @@
+"""The two jobs of the command line: a frictionless solve and a friction
+run, each checking its inputs before it makes the output folder, then
+solving, writing the outputs and printing the summary (called by
+:func:`solver.runner.run`, which maps every outcome to an exit code)."""
+
+import os
+import sys
+import time
+
+from .runner import EXIT_NOT_CONVERGED, EXIT_OK
+
+__all__ = ["frictionless", "friction", "default_outdir"]
+
+
+def default_outdir(args, problem):
+    """PROBLEM-METHOD-GAP (or the friction options) beside the problem."""
+    stem = os.path.splitext(args.problem)[0]
+    gap = args.gap if problem.kind == "mesh" else "given"
+    if args.friction is not None:
+        steps = "path" if problem.load_path is not None else \
+            f"{args.steps or 100}steps"
+        return (f"{stem}-fc{args.friction:g}-{steps}-"
+                f"{args.formulation}-{args.coulomb}-{args.method}")
+    return f"{stem}-{args.method}-{gap}"
+
+
+def _condense(args):
+    """``condense`` of the solvers from ``--system`` (None = auto)."""
+    return {"auto": None, "condensed": True, "full": False}[args.system]
+
+
+def _geometry(args, problem):
+    """Every input error that can be found before solving: K positive
+    definite on the full system, gaps and normals (GapError)."""
+    from .contact import contact_geometry
+
+    if _condense(args) is False:  # else checked by the solve's factorisation
+        problem.check_stiffness()
+    return contact_geometry(problem, args.gap)
+
+
+def _failure_line(message, nit, history, tail=""):
+    values = ", ".join(f"{r:.3e}" for r in history)
+    return (f"error: {message} after {nit} iterations; residual history "
+            f"||Phi||: [{values}]{tail}")
+
+
+def frictionless(args, problem, open_folder, emit, write_summary):
+    """Solve (67), write summary.json, result.npz, result.vtu, figures."""
+    from .contact import solve_frictionless
+    from .output import summary_of, write_result, write_vtk
+    from .output.report import format_result
+
+    args.method = args.method or "min"
+    geometry = _geometry(args, problem)
+    folder = open_folder(args.outdir or default_outdir(args, problem))
+    result = solve_frictionless(problem, method=args.method, gap=args.gap,
+                                tol=args.tol, max_iter=args.max_iter,
+                                gap_scale=args.gap_scale, geometry=geometry,
+                                condense=_condense(args), start=args.start)
+    summary = summary_of(result, problem, tol=args.tol,
+                         max_iter=args.max_iter)
+    write_result(folder.file("result.npz"), result, problem)
+    if problem.kind == "mesh":
+        write_vtk(folder.file("result.vtu"), result, problem)
+    if args.plots:
+        from .output.figures import write_figures
+
+        for path in write_figures(folder.path, problem, result).values():
+            folder.file(os.path.basename(path))
+    write_summary(summary)
+    emit(format_result(summary, folder.path))
+    if not result.success:
+        print(_failure_line(result.message, result.nit,
+                            summary["residual_history"]), file=sys.stderr)
+        return EXIT_NOT_CONVERGED
+    return EXIT_OK
+
+
+class Progress:
+    """Progress of the load steps on stderr: a bar on a terminal, else a
+    line per 10 % of the steps (step, J, stopping measure, elapsed)."""
+
+    def __init__(self, total):
+        self.total, self.done, self.start = total, 0, time.perf_counter()
+        self.bar = None
+        if sys.stderr.isatty():
+            from tqdm import tqdm
+
+            self.bar = tqdm(total=total, desc="load steps", unit="step",
+                            file=sys.stderr)
+        self.every = max(1, total // 10)
+
+    def __call__(self, record):
+        self.done += 1
+        if self.bar is not None:
+            self.bar.set_postfix(J=record["njev"],
+                                 contact=record["n_contact"],
+                                 slip=record["n_slip"])
+            self.bar.update()
+        elif self.done % self.every == 0 or self.done == self.total:
+            print(f"load step {self.done}/{self.total} "
+                  f"({100 * self.done // self.total} %): J {record['njev']},"
+                  f" stopping measure {record['error']:.2e}, "
+                  f"{record['n_contact']} in contact, elapsed "
+                  f"{time.perf_counter() - self.start:.1f} s",
+                  file=sys.stderr, flush=True)
+
+    def close(self):
+        if self.bar is not None:
+            self.bar.close()
+
+
+def friction(args, problem, open_folder, emit, write_summary):
+    """Load steps with Coulomb friction; every completed step is written at
+    once (steps/*.vtu and scratch arrays), result.npz at the end, also when
+    the run stops early."""
+    from .contact import solve_friction
+    from .contact.steps import MAX_LOAD_STEPS
+    from .errors import SolverError
+    from .output import StepWriter, friction_summary_of
+    from .output.report import format_friction_result
+
+    args.method = args.method or "fb"
+    total = problem.n_load_steps(args.steps)
+    if total > MAX_LOAD_STEPS:
+        raise SolverError(f"the load path has {total} load steps; at most "
+                          f"{MAX_LOAD_STEPS} are supported")
+    geometry = _geometry(args, problem)
+    folder = open_folder(args.outdir or default_outdir(args, problem))
+    writer = StepWriter(folder, problem, total)
+    progress = Progress(total)
+    result = None
+    try:
+        result = solve_friction(
+            problem, args.friction, steps=args.steps,
+            formulation=args.formulation, coulomb=args.coulomb,
+            method=args.method, gap=args.gap, tol=args.tol,
+            max_iter=args.max_iter, gap_scale=args.gap_scale,
+            progress=progress, geometry=geometry, condense=_condense(args),
+            on_step=writer, keep_steps=False)
+    finally:
+        progress.close()
+        folder.extra = {"steps_completed": writer.count}
+        _finish_steps(writer, problem, geometry, result)
+    summary = friction_summary_of(result, problem, tol=args.tol,
+                                  max_iter=args.max_iter)
+    if args.plots and result.steps_completed:
+        from .output.figures import write_friction_figures
+
+        steps = _load_steps(folder, result)
+        for path in write_friction_figures(folder.path, problem,
+                                           steps).values():
+            folder.file(os.path.basename(path))
+    write_summary(summary)
+    emit(format_friction_result(summary, folder.path))
+    if not result.success:
+        failed = result.records[-1]
+        print(_failure_line(result.message, failed["nit"],
+                            failed["residual_history"],
+                            f"; {result.steps_completed} completed steps "
+                            f"kept in {folder.path}/"), file=sys.stderr)
+        return EXIT_NOT_CONVERGED
+    return EXIT_OK
+
+
+def _finish_steps(writer, problem, geometry, result):
+    """result.npz and result.pvd of the completed steps (also after an
+    interrupt, when ``result`` is None)."""
+    import numpy as np
+
+    nc = problem.n_contact
+    normal = np.full((nc, geometry.normal.shape[1]), np.nan)
+    normal[geometry.index] = geometry.normal
+    gap = np.full(nc, np.nan)
+    gap[geometry.index] = geometry.gap
+    records = [] if result is None else result.records
+    extra = dict(
+        contact_nodes=(problem.contact_nodes if problem.kind == "mesh"
+                       else np.arange(nc)),
+        gap=gap, normal=normal,
+        step_njev=np.array([r["njev"] for r in records[:writer.count]],
+                           dtype=np.int64),
+        step_nfev=np.array([r["nfev"] for r in records[:writer.count]],
+                           dtype=np.int64),
+        converged=np.array(result is not None and bool(result.success)),
+        steps_completed=np.array(writer.count))
+    if writer.count == 0:
+        writer.close()
+        return
+    writer.finish(extra)
+
+
+def _load_steps(folder, result):
+    """The written result.npz with the run's settings, for the figures."""
+    import numpy as np
+    from scipy.optimize import OptimizeResult
+
+    with np.load(os.path.join(folder.path, "result.npz")) as data:
+        steps = OptimizeResult({key: data[key] for key in data.files})
+    steps.update({key: result[key] for key in (
+        "steps", "friction", "formulation", "coulomb", "method",
+        "steps_completed", "records")})
+    return steps

@@ -1,0 +1,130 @@
+"""Readable text of the command line: the ``--info`` summary and the
+summaries of a frictionless solve and of a friction run (from the same
+dictionaries as ``summary.json``)."""
+
+import json
+
+__all__ = ["format_summary", "format_result", "format_friction_result"]
+
+
+def format_summary(info):
+    """The ``--info`` summary as readable lines."""
+    meta = info["meta"]
+    lines = [f"problem kind      {info['kind']}",
+             f"reduced DOFs      {info['dofs']}",
+             f"contact nodes Nc  {info['contact_nodes']} "
+             f"({info['contact_nodes_free']} free, "
+             f"{info['contact_nodes'] - info['contact_nodes_free']} "
+             "supported)",
+             f"K                 nnz {info['K_nnz']}, "
+             f"‖K‖_F = {info['K_norm_fro']:.6g}, "
+             f"max |K_ij| = {info['K_norm_max']:.6g}",
+             f"‖f‖               {info['f_norm']:.6g}",
+             f"sum of M          {info['M_sum']:.12g}"]
+    if info["kind"] == "mesh":
+        x, y = info["obstacle"]
+        rng = info["obstacle_t_range"]
+        lines += [f"mesh              {meta.get('mesh')}: "
+                  f"{info['triangles']} triangles, {info['nodes']} nodes",
+                  f"material          E = {meta['E']:g}, nu = {meta['nu']:g},"
+                  f" plane {meta['plane']}",
+                  f"obstacle          x(t) = {x}, y(t) = {y}"
+                  + ("" if rng is None else f", t in [{rng[0]}, {rng[1]}]")]
+    else:
+        lines += [f"description       {meta['description']}",
+                  f"gaps s            {info['gap']}",
+                  f"normals           {info['normal']}"]
+    if "load" in meta:
+        lines.append(f"load              {json.dumps(meta['load'])}")
+    return "\n".join(lines)
+
+
+def format_friction_result(summary, outdir):
+    """A readable summary of a friction run."""
+    state = "converged" if summary["converged"] else "NOT CONVERGED"
+    lines = [
+        f"f_c = {summary['friction']:g}, {summary['steps']} load steps, "
+        f"{summary['formulation']} formulation, {summary['coulomb']} "
+        f"normal force, {summary['method']} method: {state}",
+        f"steps completed   {summary['steps_completed']} of "
+        f"{summary['steps']}",
+        f"evaluations       J {summary['n_jacobian']}, F "
+        f"{summary['n_residual']} in total (thesis Table 2 metrics)",
+        f"system            {_system_text(summary)}",
+        f"gradient steps    {summary['gradient_steps']}",
+        *verification_text(summary)]
+    if summary["steps_completed"]:
+        lines += [
+            f"last step         {summary['final_n_contact']} nodes in "
+            f"contact: {summary['final_n_stick']} stick, "
+            f"{summary['final_n_slip']} slip; max pressure "
+            f"{summary['final_max_contact_pressure']:.6g}"]
+    lines += [f"reduced DOFs      {summary['n_dof']}",
+              f"wall time         {summary['wall_time']:.3f} s",
+              f"outputs           {outdir}/"]
+    return "\n".join(lines)
+
+
+def _system_text(summary):
+    if summary["system"] == "full":
+        return "full (the thesis's, in all unknowns)"
+    text = "condensed onto the contact boundary (--system full: the thesis's)"
+    levels = summary.get("levels") or []
+    if len(levels) > 1:
+        text += (f"\nnested start      {len(levels)} levels of "
+                 f"{levels[0]['n_nodes']}..{levels[-1]['n_nodes']} contact "
+                 f"nodes; J per level {[lv['njev'] for lv in levels]}")
+    return text
+
+
+def _e(value):
+    """A number in %.3e, or as written ("inf", "nan")."""
+    return f"{value:.3e}" if isinstance(value, (int, float)) else str(value)
+
+
+def stopping_text(summary):
+    """The stopping test as applied: measure ≤ tol × scale."""
+    stop = summary.get("stopping") or {}
+    if "absolute" not in stop:
+        return "-"
+    return (f"{_e(stop['absolute'])} <= tol {_e(stop['tol'])} x scale "
+            f"{_e(stop['scale'])} (relative {_e(stop['relative'])}; "
+            f"{stop.get('test', '')})")
+
+
+def verification_text(summary):
+    """One line on the checks of the answer (empty if none were made)."""
+    checks = summary.get("verification") or {}
+    if not checks:
+        return []
+    state = "passed" if checks.get("passed") else (
+        "FAILED: " + ", ".join(checks.get("failed", [])))
+    return [f"verification      {state}"]
+
+
+def format_result(summary, outdir):
+    """A readable summary of a solve."""
+    state = "converged" if summary["converged"] else "NOT CONVERGED"
+    lines = [
+        f"{summary['method']} method, gap from {summary['gap']}: {state} "
+        f"({summary['message']})",
+        f"iterations        {summary['iterations']}",
+        f"evaluations       J {summary['n_jacobian']}, F "
+        f"{summary['n_residual']}  ("
+        + ("thesis Table 1 metrics)" if summary["system"] == "full" else
+           "all levels; Table 1's: --system full)"),
+        f"system            {_system_text(summary)}",
+        f"stopping test     {stopping_text(summary)}",
+        f"final ||Phi||     {_e(summary['residual'])}",
+        *verification_text(summary),
+        f"complementarity   max|min(lambda, s - u_n)| = "
+        f"{_e(summary['complementarity'])}",
+        f"contact nodes     {summary['n_contact_nodes']} in contact, of "
+        f"{summary['n_contact_candidates']} candidates (contact nodes not "
+        "on a support)",
+        f"max pressure      {summary['max_contact_pressure']:.6g} "
+        "(lumped, lambda_i / D_ii)",
+        f"reduced DOFs      {summary['n_dof']}",
+        f"wall time         {summary['wall_time']:.3f} s",
+        f"outputs           {outdir}/"]
+    return "\n".join(lines)

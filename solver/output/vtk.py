@@ -1,0 +1,74 @@
+"""VTK output for ParaView (written with meshio): the deformed body of a
+frictionless solve (``result.vtu``) and one file per load step of a
+friction run with a ``result.pvd`` index.
+
+Point data: ``u`` (displacement, 3 components so that ParaView's *Warp By
+Vector* applies it), and on the contact nodes (zero elsewhere)
+``contact_pressure`` (λ_i / D_ii), ``in_contact``; friction steps add
+``friction_traction``, ``stick`` and ``slip``; ``initial_gap`` is NaN off Γc.
+"""
+
+import numpy as np
+
+__all__ = ["result_mesh", "step_mesh", "write_vtk", "write_pvd"]
+
+
+def _points(problem):
+    return np.c_[problem.nodes, np.zeros(len(problem.nodes))]
+
+
+def _on_nodes(problem, values, fill=0.0, dtype=float):
+    out = np.full(len(problem.nodes), fill, dtype=dtype)
+    out[problem.contact_nodes] = values
+    return out
+
+
+def result_mesh(problem, result):
+    """meshio.Mesh of a frictionless solve."""
+    import meshio
+
+    data = {"u": np.c_[result.displacement, np.zeros(len(problem.nodes))],
+            "contact_pressure": _on_nodes(problem, result.contact_pressure),
+            "in_contact": _on_nodes(problem, result.in_contact, 0, np.int32),
+            "initial_gap": _on_nodes(problem, result.gap, np.nan)}
+    return meshio.Mesh(_points(problem), [("triangle", problem.cells)],
+                       point_data=data)
+
+
+def step_mesh(problem, fields):
+    """meshio.Mesh of one friction load step (``fields`` of the step)."""
+    import meshio
+
+    data = {"u": np.c_[fields["displacement"],
+                       np.zeros(len(problem.nodes))]}
+    for name, fill, dtype in (("contact_pressure", 0.0, float),
+                              ("friction_traction", 0.0, float),
+                              ("in_contact", 0, np.int32),
+                              ("stick", 0, np.int32), ("slip", 0, np.int32)):
+        data[name] = _on_nodes(problem, fields[name], fill, dtype)
+    return meshio.Mesh(_points(problem), [("triangle", problem.cells)],
+                       point_data=data)
+
+
+def write_vtk(path, result, problem):
+    """``result.vtu`` of a frictionless solve, written atomically."""
+    import meshio
+
+    from .folder import atomic_path
+
+    with atomic_path(path) as tmp:
+        meshio.write(tmp, result_mesh(problem, result), file_format="vtu")
+
+
+def write_pvd(path, timesteps):
+    """A ParaView collection: ``timesteps`` = [(load factor, file name)].
+    The load factor is written as a plain decimal number."""
+    from xml.sax.saxutils import quoteattr
+
+    entries = "".join(
+        f"    <DataSet timestep=\"{float(t)!s}\" file={quoteattr(name)}/>\n"
+        for t, name in timesteps)
+    with open(path, "w") as stream:
+        stream.write('<?xml version="1.0"?>\n<VTKFile type="Collection" '
+                     'version="0.1">\n  <Collection>\n' + entries
+                     + "  </Collection>\n</VTKFile>\n")

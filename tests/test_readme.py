@@ -1,0 +1,118 @@
+"""The README as a newcomer uses it (issue 15, items 2, 4 and 11).
+
+- Every ``bash`` block parses (``bash -n``), has no placeholder such as
+  ``[a|b]`` or ``<FILE>``, and the blocks made only of export and solver
+  commands are run as pasted, in a scratch folder, and must exit 0.
+- The first run's numbers that the README quotes are the numbers a run
+  prints (the reference is the run itself, through the command line).
+- The Python examples run as doctests.
+"""
+
+import doctest
+import os
+import re
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from conftest import ROOT
+
+README = (ROOT / "README.md").read_text()
+BLOCKS = re.findall(r"```bash\n(.*?)```", README, flags=re.S)
+RUNNABLE = ("sfepy-run ", "python -m solver ", "python sfepy_problems/")
+
+
+def test_blocks_found():
+    assert len(BLOCKS) >= 5
+    assert BLOCKS[0].startswith("pip install . && sfepy-run")
+    assert BLOCKS[1].strip() == 'pip install ".[test]" && python -m pytest'
+
+
+@pytest.mark.parametrize("index", range(len(BLOCKS)))
+def test_block_parses_without_placeholders(index):
+    block = BLOCKS[index]
+    subprocess.run(["bash", "-n"], input=block, text=True, check=True)
+    code = re.sub(r"#.*", "", block)
+    assert not re.search(r"\[[\w-]+\|[\w-]+", code), block
+    assert not re.search(r"<[A-Z_]+>", code), block
+
+
+def _commands(block):
+    """The block's commands (continuation lines joined)."""
+    return [line.strip() for line in block.replace("\\\n", " ").splitlines()
+            if line.strip() and not line.strip().startswith("#")]
+
+
+def _runnable():
+    return [i for i, block in enumerate(BLOCKS)
+            if all(c.startswith(RUNNABLE) for c in _commands(block))]
+
+
+@pytest.fixture(scope="module")
+def scratch(tmp_path_factory):
+    """A folder like a checkout: the problem files and meshes linked, the
+    venv's scripts first on PATH, and the first command's export made."""
+    folder = tmp_path_factory.mktemp("readme")
+    for name in ("sfepy_problems", "meshes"):
+        os.symlink(ROOT / name, folder / name)
+    env = dict(os.environ, PATH=f"{Path(sys.executable).parent}:"
+               f"{os.environ['PATH']}", PYTHONPATH=str(ROOT))
+    first = BLOCKS[0].split("&&", 1)[1].strip()  # without "pip install ."
+    first = first.replace("python ", f"{sys.executable} ")
+    proc = subprocess.run(first, shell=True, cwd=folder, env=env,
+                          capture_output=True, text=True)
+    assert proc.returncode == 0, proc.stderr
+    return folder, env, proc.stdout
+
+
+def test_runnable_blocks_exist():
+    assert len(_runnable()) >= 3
+
+
+@pytest.mark.parametrize("index", _runnable())
+def test_block_runs_as_pasted(scratch, index):
+    folder, env, _ = scratch
+    block = BLOCKS[index].replace("python ", f"{sys.executable} ")
+    proc = subprocess.run(["bash", "-e", "-c", block], cwd=folder, env=env,
+                          capture_output=True, text=True, timeout=900)
+    assert proc.returncode == 0, proc.stderr[-2000:]
+    assert "Traceback" not in proc.stderr
+
+
+def test_first_run_numbers_are_what_the_run_prints(scratch):
+    """The text block under "What the first command prints" and the
+    numbers in the prose around it."""
+    folder, env, stdout = scratch
+    section = README.split("### What the first command prints", 1)[1]
+    section = section.split("\n### ", 1)[0]
+    shown = re.search(r"```text\n(.*?)```", section, flags=re.S).group(1)
+    for line in shown.splitlines():
+        if line != "...":
+            assert line in stdout.splitlines(), (line, stdout)
+    assert "exported 492 DOFs, 20 contact nodes ->" in section
+    assert "exported 492 DOFs, 20 contact nodes ->" in stdout
+    levels = re.search(r"J per level \[(\d+), (\d+), (\d+)\]", stdout)
+    assert f"{levels[1]} + {levels[2]} + {levels[3]} = 18" in section
+    full = subprocess.run(
+        [sys.executable, "-m", "solver", "output/block_454.npz", "--method",
+         "fb", "--system", "full", "-o", "full"], cwd=folder, env=env,
+        capture_output=True, text=True, check=True).stdout
+    counts = re.search(r"evaluations +J (\d+), F (\d+)", full)
+    assert f"`J {counts[1]}, F {counts[2]}`" in section
+    table = README.split("### Table 1 of the thesis", 1)[1]
+    assert f"| φ_FB  | 454  | 22 / 117 | {counts[1]} / {counts[2]} |" in table
+    assert "4 in contact, of 19 candidates" in stdout
+
+
+def test_python_examples(scratch, monkeypatch):
+    folder, _, _ = scratch
+    monkeypatch.chdir(folder)
+    parser = doctest.DocTestParser()
+    test = parser.get_doctest(README, {}, "README", "README.md", 0)
+    assert len(test.examples) >= 10
+    runner = doctest.DocTestRunner(optionflags=doctest.ELLIPSIS)
+    runner.run(test)
+    assert runner.failures == 0
