@@ -208,11 +208,11 @@ def describe_failure(verification):
 
 def worst_verification(checks, tol_v):
     """The worst of several :func:`verify_contact` results (load steps):
-    largest measures, smallest multiplier, every failure; with no checks,
-    an empty pass."""
+    largest measures, smallest multiplier, every failure; with no checks
+    (no step completed) nothing was verified: ``passed`` is False."""
     names = ("max_penetration", "min_multiplier", "complementarity",
              "equilibrium", "friction_bound_violation")
-    out = dict(passed=all(c["passed"] for c in checks),
+    out = dict(passed=bool(checks) and all(c["passed"] for c in checks),
                finite=all(c["finite"] for c in checks))
     for name in names:
         values = [c[name] for c in checks if name in c]
