@@ -60,11 +60,14 @@ import scipy.sparse.linalg as sla
 
 from ..errors import SolverError
 from ..linalg import resolve
-from ..ncp import solve_ncp
+from ..ncp import MESSAGES, solve_ncp, stable_norm
 from .result import FrictionResult
 from .steps import MAX_LOAD_STEPS, StepStream
 from .frictionless import (condense_onto_contact, contact_geometry,
                            contact_stiffness, rotation)
+from .verify import (describe_failure, force_scale, unit_free_options,
+                     verification_tolerance, verify_contact,
+                     worst_verification)
 
 __all__ = ["FORMULATIONS", "COULOMB", "FrictionSystem", "solve_friction"]
 
@@ -137,19 +140,25 @@ class FrictionSystem:
                 [RK[a], -sp.diags(self.lumped)]], format="csr")
             self._JA = sp.hstack([-RK[b], Z0], format="csr")
             self._JB = sp.hstack([-self.gap_scale * R[b], Z0], format="csr")
+        self.load_norm = stable_norm(self.f)
         self.set_step(np.zeros(n), 1.0, np.zeros(m))
 
     @property
     def n_unknowns(self):
         return self.n + (3 if self.formulation == "thesis" else 1) * self.m
 
-    def set_step(self, u_previous, load, p_previous, friction=None):
+    def set_step(self, u_previous, load, p_previous, friction=None,
+                 load_norm=None):
         """Fix u_{κ−1}, the step's load, the lagged pressure p_{κ−1} and
-        (optionally) the step's friction coefficient.
+        (optionally) the step's friction coefficient and the ‖f‖₂ of the
+        stopping test's force scale (:meth:`scale`; a condensed system is
+        given that of the problem's load).
 
         ``load`` is the load vector f_κ of the step, or a number κ/κc
         meaning κ/κc · f.
         """
+        if load_norm is not None:
+            self.load_norm = float(load_norm)
         self.u_previous = np.asarray(u_previous, float)
         load = np.asarray(load, float)
         self._Rf_step = (float(load) * self.Rf if load.ndim == 0
@@ -266,7 +275,12 @@ class FrictionSystem:
         else:
             E = np.concatenate([E[:nx + m], self.lumped * E[nx + m:]])
             pairs = np.minimum(A, k / c * B)
-        return float(np.hypot(np.linalg.norm(E), np.linalg.norm(pairs)))
+        return float(np.hypot(stable_norm(E), stable_norm(pairs)))
+
+    def scale(self, E, A, B):
+        """Force scale F = max(‖f‖₂, ‖λ⁺‖₂) of the stopping test error ≤
+        tol·F (A[:m] = λ in both formulations; :mod:`.verify`)."""
+        return force_scale(self.load_norm, A[:self.m])
 
     def initial_guess(self, g_previous, du=None):
         """Each step starts from the previous solution: the same g_t and
@@ -281,6 +295,52 @@ class FrictionSystem:
                 x[self.n + self.m:self.n + 2 * self.m] = np.maximum(dut, 0)
                 x[self.n + 2 * self.m:] = np.maximum(-dut, 0)
         return x
+
+
+#: c = GAP_WEIGHT·k̄ on the condensed system. Any c ∝ k̄ makes the
+#: iterates independent of the units. With 1e-5·k̄ (close to the thesis's
+#: c = 1 in N, mm) φ_FB took 30 % fewer Jacobians on the projection form
+#: (75 against 108 on the 118 block, f_c = 0.3, 25 steps), but the thesis's
+#: split, condensed, stalled at a relative residual of 1e-9 (454 block,
+#: f_c = 0.05, step 26): Φ then weighs the gaps 1e5 times less than the
+#: stopping test does. c = k̄ (as frictionless) converged in every case
+#: measured.
+GAP_WEIGHT = 1.0
+
+#: The stopping test of each load step, as reported.
+STOPPING_TEST = ("‖[E; min(A, k̄B)]‖₂ (force units) ≤ "
+                 "tol·max(‖f‖₂, ‖f_κ‖₂, ‖λ⁺‖₂)")
+
+
+def _check_step(system, x, load, friction, p_previous, tol_v):
+    """:func:`verify_contact` of a load step's answer x on the system
+    solved (the condensed one when condensed), ``load`` its load vector."""
+    du, g = x[:system.n], system.traction(x)
+    r = system._force(du)
+    lam = -r[system.n_rows]
+    pressure = np.maximum(lam, 0.0) / system.lumped
+    bound = friction * (p_previous if system.coulomb == "lagged"
+                        else pressure)
+    geometry = system.geometry
+    return verify_contact(system.K, load, system.u_previous + du,
+                          geometry.dofs, geometry.normal, geometry.gap, lam,
+                          system.stiffness, tol_v, system.lumped * g,
+                          system.lumped * bound)
+
+
+def _final_check(problem, geometry, stiffness, tol_v, condensation, last,
+                 checks):
+    """The worst of the steps' checks, merged with the last completed
+    step's check against the original K and f (condensed: u recovered by
+    one solve with K; the full system's steps were checked with K
+    already)."""
+    if condensation is not None and last is not None:
+        _, u_c, w, f_step, lam, t, bound, _ = last
+        u = condensation.displacement(u_c, w)
+        checks = checks + [verify_contact(
+            problem.K, f_step, u, geometry.dofs, geometry.normal,
+            geometry.gap, lam, stiffness, tol_v, t, bound)]
+    return worst_verification(checks, tol_v)
 
 
 def _is_real(value):
@@ -314,10 +374,22 @@ def solve_friction(problem, friction, steps=None, formulation="thesis",
     gap : {"obstacle", "body"}
         As in :func:`solve_frictionless`.
     tol, max_iter, options
-        Per step, as in :func:`solve_frictionless`.
+        Per step, as in :func:`solve_frictionless`: the stopping test is
+        relative, ‖[E; min(A, k̄B)]‖₂ (force units, :meth:`FrictionSystem.
+        error`) ≤ tol·max(‖f‖₂, ‖f_κ‖₂, ‖λ⁺‖₂), with f the full load and
+        f_κ the step's, so the verdict does not depend on units (nor, on
+        the condensed system, the iterates); every converged step is then
+        verified (:func:`~solver.contact.verify.verify_contact`: finite,
+        penetration, λ ≥ 0, complementarity, Coulomb bound |t| ≤ f_c λ on
+        nodal forces, equilibrium of the system solved), and the last one
+        also against the original K and f when condensed. A step that
+        fails verification ends the run like one that does not converge
+        (its record says ``verified`` False, status 6).
     gap_scale : float, optional
-        c of the gap rows, as in :func:`solve_frictionless`; default 1 (the
-        thesis) on both systems.
+        c of the gap rows, as in :func:`solve_frictionless`: default 1 (the
+        thesis) on the full system, :data:`GAP_WEIGHT`·k̄ on the condensed
+        one (every row of Φ then in force units, so that its iterates do
+        not depend on the units).
     progress : callable, optional
         ``progress(step_record)`` after every completed step.
     on_step : callable, optional
@@ -359,10 +431,16 @@ def solve_friction(problem, friction, steps=None, formulation="thesis",
         ``friction_bound`` f_c p used in the step (p_{κ−1} if lagged),
         ``tangential_displacement``, ``in_contact``, ``stick``, ``slip``
         (over all nodes of Γc; supports are never in contact), and
-        ``records``: a list of dicts (κ, converged, njev, nfev, nit,
-        n_contact, n_stick, n_slip, error, message); per contact node
+        ``records``: a list of dicts (κ, converged, verified, status, njev,
+        nfev, nit, n_contact, n_stick, n_slip, error, relative (the
+        stopping measure over its scale), message); per contact node
         (steps share them): ``gap`` s and ``normal`` ν (NaN at supports);
-        ``linear_solver`` (the backend that factorised K).
+        ``verification`` (the worst of every completed step's checks, plus
+        the last step's against the original K and f: keys as in
+        :func:`solve_frictionless`, with ``friction_bound_violation``) and
+        ``stopping`` (that of the step with the largest relative measure,
+        with its ``step``); ``linear_solver`` (the backend that factorised
+        K).
 
     Raises
     ------
@@ -397,13 +475,18 @@ def solve_friction(problem, friction, steps=None, formulation="thesis",
     mass = sla.splu(problem.M.tocsc())  # M⁻¹λ of every step
     lumped = lumped_all[geometry.index]
     stiffness = contact_stiffness(problem.K, geometry)
-    gap_scale = 1.0 if gap_scale is None else gap_scale
     if condense is None:
         condense = formulation != "thesis"
     linear_solver = resolve(backend)  # unknown or not installed: raises
     if not condense:  # K checked by SuperLU, Newton steps by SciPy's LU
         linear_solver = "superlu"
-    if condense:
+    if gap_scale is None:  # ∝ k̄: Φ's rows all in force units
+        gap_scale = GAP_WEIGHT * stiffness if condense else 1.0
+    reference_norm = stable_norm(problem.f)
+    tol_v = verification_tolerance(tol)
+    if condense:  # φ_FB's (26) unit-free, as in solve_frictionless
+        options = unit_free_options(method, options, reference_norm,
+                                    stiffness, geometry.gap)
         condensation, local = condense_onto_contact(problem, geometry,
                                                     linear_solver)
         system = FrictionSystem(condensation.S,
@@ -415,7 +498,6 @@ def solve_friction(problem, friction, steps=None, formulation="thesis",
         system = FrictionSystem(problem.K, problem.f, geometry, lumped,
                                 friction, formulation, coulomb, gap_scale,
                                 stiffness)
-    scale = max(np.linalg.norm(problem.f), 1.0)
     nc, idx = problem.n_contact, geometry.index
     u = np.zeros(system.n)  # u, or u on Γc if condensed
     w_previous = np.zeros(problem.n_dofs)  # K⁻¹f of the previous step
@@ -424,11 +506,13 @@ def solve_friction(problem, friction, steps=None, formulation="thesis",
     delivered = StepStream(problem, condensation if condense else None,
                            on_step, keep_steps)
     records, failed = [], None
+    checks, stoppings, last = [], [], None
     totals = dict(njev=0, nfev=0, nit=0)
     message = "all load steps converged"
     try:
         for kappa, (load, factor, prescribed, stage) in enumerate(path, 1):
             step_friction = friction * factor
+            f_step, step_norm = load, max(reference_norm, stable_norm(load))
             du = None
             if condense:
                 load, w = condensation.load(load)
@@ -436,17 +520,26 @@ def solve_friction(problem, friction, steps=None, formulation="thesis",
                 # full system's Δu = 0 does: Γc moves as the unconstrained body.
                 du = (w - w_previous)[condensation.dofs]
             x0 = system.initial_guess(g, du)
-            system.set_step(u, load, p_previous, step_friction)
+            system.set_step(u, load, p_previous, step_friction, step_norm)
             result = solve_ncp(system.residual, system.jacobian, x0,
-                               method=method,
-                               tol=tol * scale, max_iter=max_iter,
-                               options=options, error=system.error)
+                               method=method, tol=tol, max_iter=max_iter,
+                               options=options, error=system.error,
+                               scale=system.scale)
+            result.stopping.update(test=STOPPING_TEST, step=kappa)
             for key in totals:
                 totals[key] += int(result[key])
             du, g_new = result.x[:system.n], system.traction(result.x)
+            check = _check_step(system, result.x, load, step_friction,
+                                p_previous, tol_v)
+            if result.success and not check["passed"]:
+                result.update(success=False, status=6, message=(
+                    f"{MESSAGES[6]}: {describe_failure(check)}"))
             record = dict(step=kappa, converged=bool(result.success),
+                          verified=bool(check["passed"]),
+                          status=int(result.status),
                           njev=int(result.njev), nfev=int(result.nfev),
                           nit=int(result.nit), error=float(result.error),
+                          relative=float(result.stopping["relative"]),
                           message=result.message,
                           gradient_steps=int(sum(s == "gradient" for s in
                                                  result.history["step"])))
@@ -459,6 +552,8 @@ def solve_friction(problem, friction, steps=None, formulation="thesis",
                 message = (f"load step {kappa} of {steps} did not converge: "
                            f"{result.message}")
                 break
+            checks.append(check)
+            stoppings.append(result.stopping)
             u = u + du
             g = g_new
             r = system._force(du)
@@ -466,7 +561,8 @@ def solve_friction(problem, friction, steps=None, formulation="thesis",
             pressure = np.maximum(lam, 0.0) / lumped
             bound = step_friction * (p_previous if coulomb == "lagged"
                                      else pressure)
-            threshold = 1e-9 * max(scale, np.abs(lam).max(initial=0.0))
+            scale = force_scale(step_norm, lam)  # as the stopping test's
+            threshold = 1e-9 * scale
             contact = lam > threshold
             # Slip: the traction is at the Coulomb bound (a node in contact with
             # a zero bound slides freely); stick: strictly inside it.
@@ -474,6 +570,8 @@ def solve_friction(problem, friction, steps=None, formulation="thesis",
             slip_nodes = contact & at_bound
             stick_nodes = contact & ~slip_nodes
             ut = (system.R @ u)[system.t_rows]
+            last = (kappa, u.copy(), w if condense else None, f_step, lam,
+                    lumped * g, lumped * bound, result.history["residual"])
             if condense:
                 w_previous = w
             record.update(stage=int(stage), n_contact=int(contact.sum()),
@@ -503,6 +601,20 @@ def solve_friction(problem, friction, steps=None, formulation="thesis",
                 progress(record)
     finally:  # also on KeyboardInterrupt: deliver every completed step
         delivered.flush()
+    verification = _final_check(problem, geometry, stiffness, tol_v,
+                                condensation if condense else None, last,
+                                checks)
+    if failed is None and not verification["passed"]:
+        failed = last[0]
+        message = (f"load step {failed} of {steps} fails verification "
+                   f"against the original K and f: "
+                   f"{describe_failure(verification)}")
+        records[-1].update(converged=False, verified=False, status=6,
+                           message=f"{MESSAGES[6]}: {message}",
+                           residual_history=list(map(float, last[-1])))
+    stopping = max(stoppings, key=lambda s: s["relative"]) if stoppings \
+        else dict(test=STOPPING_TEST, tol=float(tol), scale=np.nan,
+                  absolute=np.nan, relative=np.nan, step=None)
     arrays = delivered.arrays()
     normal = np.full((nc, geometry.normal.shape[1]), np.nan)
     normal[idx] = geometry.normal
@@ -514,6 +626,7 @@ def solve_friction(problem, friction, steps=None, formulation="thesis",
         friction=float(friction), formulation=formulation, coulomb=coulomb,
         method=method, gap_mode=geometry.mode, records=records,
         condensed=bool(condense), gap=gap_all, normal=normal,
-        linear_solver=linear_solver,
+        linear_solver=linear_solver, verification=verification,
+        stopping=stopping,
         time=time.perf_counter() - start, **totals, **arrays)
 

@@ -38,8 +38,10 @@ from scipy.optimize import OptimizeResult
 
 from ..errors import SolverError
 from ..linalg import Condensation, resolve
+from ..ncp import MESSAGES, solve_ncp, stable_norm
 from .result import ContactResult
-from ..ncp import solve_ncp
+from .verify import (describe_failure, force_scale, unit_free_options,
+                     verification_tolerance, verify_contact)
 
 __all__ = ["GAP_MODES", "ContactGeometry", "contact_geometry",
            "condense_onto_contact", "FrictionlessSystem",
@@ -158,9 +160,13 @@ class FrictionlessSystem:
     stiffness : float, optional
         k̄ of :meth:`error` (default: mean of diag K at the contact DOFs; a
         condensed system passes that of the full K).
+    load_norm : float, optional
+        ‖f‖₂ of :meth:`scale` (default: of ``f``; a condensed system or a
+        coarse level passes that of the problem's load).
     """
 
-    def __init__(self, K, f, geometry, gap_scale=1.0, stiffness=None):
+    def __init__(self, K, f, geometry, gap_scale=1.0, stiffness=None,
+                 load_norm=None):
         n = K.shape[0]
         self.K, self.f, self.geometry = sp.csr_matrix(K), f, geometry
         self.gap_scale = float(gap_scale)
@@ -175,6 +181,8 @@ class FrictionlessSystem:
         self._JB = -self.gap_scale * self.R[self.y_rows]
         self.stiffness = contact_stiffness(self.K, geometry) \
             if stiffness is None else float(stiffness)
+        self.load_norm = stable_norm(f) if load_norm is None \
+            else float(load_norm)
 
     def residual(self, u):
         """(E, A, B) = (X(RKu − Rf), −Y(RKu − Rf), c(s − YRu)), thesis (67)."""
@@ -190,8 +198,13 @@ class FrictionlessSystem:
         """Stopping measure in force units, whatever c and the NCP function:
         ‖[E; min(A, k̄ B / c)]‖₂ with k̄ the mean stiffness diag(K) at the
         normal DOFs, so that a gap error δ counts as the force k̄δ."""
-        return float(np.hypot(np.linalg.norm(E), np.linalg.norm(
+        return float(np.hypot(stable_norm(E), stable_norm(
             np.minimum(A, self.stiffness / self.gap_scale * B))))
+
+    def scale(self, E, A, B):
+        """The force scale F = max(‖f‖₂, ‖λ⁺‖₂) of the stopping test
+        error ≤ tol·F (A = λ; :mod:`solver.contact.verify`)."""
+        return force_scale(self.load_norm, A)
 
     def contact_force(self, u):
         """λ = −Y(RKu − Rf): normal contact force at the free contact nodes."""
@@ -201,6 +214,9 @@ class FrictionlessSystem:
         """u_n = YRu at the free contact nodes."""
         return (self.R @ u)[self.y_rows]
 
+
+#: The stopping test of :func:`solve_frictionless`, as reported.
+STOPPING_TEST = ("‖[E; min(λ, k̄(s − u_n))]‖₂ ≤ tol·max(‖f‖₂, ‖λ⁺‖₂)")
 
 #: Starts of :func:`solve_frictionless` (when no x0 is given).
 STARTS = ("nested", "free")
@@ -237,9 +253,17 @@ def solve_frictionless(problem, method="min", gap="obstacle", tol=1e-10,
         Gap and normals from the obstacle (§2.1.1) or from the body's spline
         normals (§2.1.2-2.1.3). Ignored for discrete problems.
     tol : float
-        Relative tolerance: stop when ‖[E; min(A, k̄B/c)]‖ ≤ tol·max(‖f‖, 1),
-        a measure in force units (:meth:`FrictionlessSystem.error`); the
-        methods iterate on their own Φ (gap rows scaled by ``gap_scale``).
+        Relative tolerance, independent of units: stop when
+        ‖[E; min(λ, k̄(s − u_n))]‖₂ ≤ tol·F with the force scale
+        F = max(‖f‖₂, ‖λ⁺‖₂) of the iterate (:mod:`solver.contact.verify`;
+        :meth:`FrictionlessSystem.error`, :meth:`FrictionlessSystem.scale`).
+        Scaling K and f by any factor, or all lengths, gives the same
+        verdict; the condensed and nested solves (c = k̄) also take the
+        same iterates. The full system's thesis choice c = 1 compares a
+        force with a length in φ(λ, c(s − u_n)), so its Newton path (not
+        its verdict or answer) depends on the units. The methods iterate
+        on their own Φ (gap rows scaled by ``gap_scale``). A converged
+        answer is then verified (see Returns).
     max_iter : int
         Maximum number of Newton iterations (all levels of a nested start
         together).
@@ -295,7 +319,16 @@ def solve_frictionless(problem, method="min", gap="obstacle", tol=1e-10,
         ``start`` ("nested", "free", "zero" or "x0"), ``levels`` (per-level
         counts of a nested start, coarsest first, else []; ``nit``,
         ``njev`` and ``nfev`` then count all levels), ``geometry_time``,
-        ``time``, ``linear_solver`` (the backend that factorised K).
+        ``time``, ``linear_solver`` (the backend that factorised K);
+        ``stopping`` (dict: ``test``, the formula; ``tol``;
+        ``scale``, F at the answer; ``absolute``, the measure at the
+        answer; ``relative`` = absolute / F) and ``verification`` (dict of
+        :func:`~solver.contact.verify.verify_contact`: ``passed``,
+        ``finite``, ``max_penetration``, ``min_multiplier``,
+        ``complementarity``, ``equilibrium``, ``force_scale``,
+        ``length_scale``, ``tolerances``, ``failed``). An answer that meets
+        the stopping test but fails verification is reported with
+        ``success`` False and ``status`` 6, its history kept.
 
     Raises
     ------
@@ -313,7 +346,7 @@ def solve_frictionless(problem, method="min", gap="obstacle", tol=1e-10,
     if geometry is None:
         geometry = contact_geometry(problem, gap)
     geometry_time = time.perf_counter() - clock
-    scale = max(np.linalg.norm(problem.f), 1.0)
+    load_norm = stable_norm(problem.f)
     stiffness = contact_stiffness(problem.K, geometry)
     condense = condense is None or bool(condense)
     start = _start_mode(start, x0, condense)
@@ -322,7 +355,9 @@ def solve_frictionless(problem, method="min", gap="obstacle", tol=1e-10,
         linear_solver = "superlu"
     if gap_scale is None:
         gap_scale = stiffness if condense else 1.0
-    if condense:
+    if condense:  # c = k̄ and (26) unit-free: iterates independent of units
+        options = unit_free_options(method, options, load_norm, stiffness,
+                                    geometry.gap)
         condensation, local = condense_onto_contact(problem, geometry,
                                                     linear_solver)
         g, w = condensation.load(problem.f)
@@ -332,10 +367,10 @@ def solve_frictionless(problem, method="min", gap="obstacle", tol=1e-10,
 
             result, system = solve_nested(
                 contact_levels(condensation.S, w_c, local), method,
-                tol * scale, max_iter, gap_scale, stiffness, options)
+                tol, max_iter, gap_scale, stiffness, options, load_norm)
         else:
             system = FrictionlessSystem(condensation.S, g, local, gap_scale,
-                                        stiffness)
+                                        stiffness, load_norm)
             # "free": no contact force, as the thesis's u = 0 has λ = 0 on
             # Γc; condensed, λ = 0 is the unconstrained solution w = K⁻¹f.
             x0 = w_c if x0 is None else np.asarray(x0, float)[
@@ -345,12 +380,14 @@ def solve_frictionless(problem, method="min", gap="obstacle", tol=1e-10,
             np.asarray(x0, float)
         problem.check_stiffness()  # singular / indefinite K: input error
         system = FrictionlessSystem(problem.K, problem.f, geometry,
-                                    gap_scale, stiffness)
+                                    gap_scale, stiffness, load_norm)
     if start != "nested":
         result = solve_ncp(system.residual, system.jacobian, x0,
-                           method=method, tol=tol * scale, max_iter=max_iter,
-                           options=options, error=system.error)
+                           method=method, tol=tol, max_iter=max_iter,
+                           options=options, error=system.error,
+                           scale=system.scale)
         result.levels = []
+    result.stopping["test"] = STOPPING_TEST
     lam_free = system.contact_force(result.x)
     un_free = system.normal_displacement(result.x)
     if condense:
@@ -369,7 +406,13 @@ def solve_frictionless(problem, method="min", gap="obstacle", tol=1e-10,
     lumped = np.maximum(lam, 0.0) / np.asarray(problem.M.sum(axis=1)).ravel()
     remaining = s - un
     comp = np.abs(np.minimum(lam, remaining))[geometry.index]
-    threshold = 1e-9 * max(scale, np.abs(lam).max(initial=0.0))
+    verification = verify_contact(problem.K, problem.f, u, geometry.dofs,
+                                  geometry.normal, geometry.gap, lam_free,
+                                  stiffness, verification_tolerance(tol))
+    if result.success and not verification["passed"]:
+        result.update(success=False, status=6, message=(
+            f"{MESSAGES[6]}: {describe_failure(verification)}"))
+    threshold = 1e-9 * force_scale(load_norm, lam)
     in_contact = lam > threshold
     if problem.kind == "mesh":
         displacement = problem.full_displacement(u)
@@ -384,5 +427,6 @@ def solve_frictionless(problem, method="min", gap="obstacle", tol=1e-10,
         n_contact=int(in_contact.sum()), gap_mode=geometry.mode,
         gap_scale=float(gap_scale), geometry_time=geometry_time,
         condensed=bool(condense), start=start, linear_solver=linear_solver,
+        verification=verification,
         time=time.perf_counter() - clock)
     return ContactResult(result)

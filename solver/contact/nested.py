@@ -135,12 +135,16 @@ def contact_levels(S, w, geometry, coarsest=COARSEST):
 
 
 def solve_nested(levels, method="min", tol=1e-10, max_iter=100,
-                 gap_scale=1.0, stiffness=1.0, options=None):
+                 gap_scale=1.0, stiffness=1.0, options=None, load_norm=None):
     """Solve the condensed frictionless system level by level, coarsest
     (from λ = 0) to finest (from the prolonged coarser solution).
 
-    ``tol`` is absolute (force units, as :func:`solver.ncp.solve_ncp` with
-    :meth:`FrictionlessSystem.error`) and applies on every level.
+    ``tol`` is relative, as in :func:`solve_frictionless`: error ≤ tol·F
+    with :meth:`FrictionlessSystem.error` and the force scale F =
+    max(‖f‖₂, ‖λ⁺‖₂) of :meth:`FrictionlessSystem.scale`, ‖f‖₂ =
+    ``load_norm`` (the problem's load; default: that of the finest level's
+    condensed load) on every level. Every level checks that its residual
+    and iterate are finite (status 4 otherwise, as for any NCP solve).
     ``max_iter`` bounds the iterations of all levels together: once spent,
     the last iterate is prolonged to the finest level and reported there as
     not converged (status 1). A coarse level that stops for another reason
@@ -159,16 +163,17 @@ def solve_nested(levels, method="min", tol=1e-10, max_iter=100,
         ``nfev``, ``success`` and ``time`` for each level that ran.
     """
     fine = levels[0]
-    fine_system = _system(fine, gap_scale, stiffness)
+    fine_system = _system(fine, gap_scale, stiffness, load_norm)
+    load_norm = fine_system.load_norm
     start = time.perf_counter()
     probe = solve_ncp(fine_system.residual, fine_system.jacobian, fine.w,
                       method=method, tol=tol, max_iter=0, options=options,
-                      error=fine_system.error)
-    if probe.success:
+                      error=fine_system.error, scale=fine_system.scale)
+    if probe.success or probe.status == 4:  # solved, or overflow at λ = 0
         probe.history["level"] = []
-        probe.update(levels=[dict(n_nodes=len(fine.nodes), nit=0, njev=0,
-                                  nfev=probe.nfev, success=True,
-                                  time=time.perf_counter() - start)])
+        probe.update(levels=[dict(
+            n_nodes=len(fine.nodes), nit=0, njev=0, nfev=probe.nfev,
+            success=bool(probe.success), time=time.perf_counter() - start)])
         return probe, fine_system
     u, report, budget = None, [], max_iter
     totals, history = dict(nit=0, njev=0, nfev=probe.nfev), {}
@@ -179,11 +184,12 @@ def solve_nested(levels, method="min", tol=1e-10, max_iter=100,
             u = x0
             continue
         start = time.perf_counter()
-        system = fine_system if depth == 0 else _system(level, gap_scale,
-                                                        stiffness)
+        system = fine_system if depth == 0 else _system(
+            level, gap_scale, stiffness, load_norm)
         result = solve_ncp(system.residual, system.jacobian, x0,
                            method=method, tol=tol, max_iter=budget,
-                           options=options, error=system.error)
+                           options=options, error=system.error,
+                           scale=system.scale)
         budget -= result.nit
         u = result.x if result.success or result.status == 1 else None
         for key in totals:
@@ -200,7 +206,7 @@ def solve_nested(levels, method="min", tol=1e-10, max_iter=100,
     return result, system
 
 
-def _system(level, gap_scale, stiffness):
+def _system(level, gap_scale, stiffness, load_norm=None):
     """(67) on a level: K → S_ℓ, f → S_ℓ w_ℓ."""
     return FrictionlessSystem(level.S, level.S @ level.w, level.geometry,
-                              gap_scale, stiffness)
+                              gap_scale, stiffness, load_norm)

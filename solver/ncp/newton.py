@@ -51,24 +51,44 @@ from scipy.optimize import OptimizeResult
 
 from .functions import NCP_FUNCTIONS, derivative_weights, phi
 
-__all__ = ["solve_ncp", "MESSAGES", "DEFAULT_OPTIONS"]
+__all__ = ["solve_ncp", "MESSAGES", "DEFAULT_OPTIONS", "stable_norm"]
 
-#: Termination messages keyed by ``status``.
+#: Termination messages keyed by ``status``. Statuses 4 and 5 get the
+#: detail of the case appended (which value was not finite; how far the
+#: residual got); status 6 is set by the contact solvers
+#: (:mod:`solver.contact`), whose answers are checked after the stopping
+#: test passes.
 MESSAGES = {
     0: "converged: residual ≤ tol",
     1: "not converged: maximum number of iterations reached",
     2: "not converged: line search found no acceptable step",
     3: "not converged: singular Jacobian",
     4: "not converged: non-finite residual",
-    5: "not converged: no progress, the residual is at round-off level "
+    5: "not converged: no progress, the residual stopped decreasing "
        "(tol too small?)",
+    6: "not converged: the answer fails verification",
 }
+
+#: Stagnation (status 5): an iteration makes progress when ‖Φ‖ or the
+#: stopping measure falls below STALL_DECREASE times its best value so far
+#: (or the step moves x by more than round-off); STALL_ITERATIONS
+#: iterations in a row without progress stop the run. On the thesis's
+#: meshes (frictionless and every friction step, both methods, all systems)
+#: the longest run without progress that still converged was 14 iterations
+#: (φ_FB's gradient phases); 30 leaves a margin of two.
+STALL_ITERATIONS = 30
+STALL_DECREASE = 0.9
+
+#: A relative residual below this is at round-off level: when a run stalls
+#: there, its message says that tol is below what floating point reaches
+#: (measured: 1e-16…1e-14 on the thesis's meshes with tol = 1e-300).
+ROUNDOFF_LEVEL = 1e-12
 
 #: Options of each method (thesis §2.2 and (32)).
 DEFAULT_OPTIONS = {
     "min": {"alpha_min": 2.0 ** -10},
     "fb": {"rho": 1e-8, "p": 2.1, "beta": 1e-4, "max_halvings": 60,
-           "z": None},
+           "z": None, "typical": None},
 }
 
 
@@ -144,8 +164,22 @@ def _newton_direction(J, F):
     return d if np.all(np.isfinite(d)) else None
 
 
+def stable_norm(v):
+    """‖v‖₂ without overflow or underflow of the squares (entries of 1e200
+    or 1e-200 are fine; inf and NaN propagate)."""
+    v = np.asarray(v, dtype=float)
+    with np.errstate(over="ignore", under="ignore"):
+        plain = float(np.linalg.norm(v))
+    if (np.isfinite(plain) and plain > 1e-150) or not v.size:
+        return plain  # no over- or underflow: the usual value, bit for bit
+    top = float(np.max(np.abs(v)))
+    if top == 0.0 or not np.isfinite(top):
+        return top
+    return top * float(np.linalg.norm(v / top))
+
+
 def solve_ncp(fun, jac, x0, method="min", tol=1e-10, max_iter=100,
-              options=None, callback=None, error=None):
+              options=None, callback=None, error=None, scale=None):
     r"""Solve a mixed NCP by a semismooth Newton method.
 
     Parameters
@@ -161,20 +195,38 @@ def solve_ncp(fun, jac, x0, method="min", tol=1e-10, max_iter=100,
         Damped Newton with φ_min (thesis §2.2.1) or the Fischer–Burmeister
         method of De Luca, Facchinei and Kanzow (§2.2.2).
     tol : float
-        Stop when ‖Φ(x)‖₂ ≤ tol (thesis Step 1), or ``error(E, A, B)`` ≤ tol
-        if ``error`` is given.
+        Relative tolerance of the stopping test
+
+        .. math::  \mathrm{error}(x) \le \mathrm{tol} \cdot
+                   \mathrm{scale}(x),
+
+        with error = ‖Φ(x)‖₂ (thesis Step 1) and scale = 1 unless the
+        callables below are given. The test is exactly as invariant under a
+        change of units as the caller's ``error`` and ``scale``: when both
+        are homogeneous of the same degree in the problem's units (forces,
+        for the contact systems of :mod:`solver.contact`), the verdict and
+        the iterates do not depend on the units. A scale of 0 demands an
+        exact zero residual.
     max_iter : int
         Maximum number of Newton iterations (Jacobian evaluations).
     options : dict, optional
         Method options, see :data:`DEFAULT_OPTIONS`: ``alpha_min`` (min);
-        ``rho``, ``p``, ``beta``, ``max_halvings`` and ``z`` (fb; ``z(gamma)``
-        returns the direction of rule (31) for the boolean mask γ).
+        ``rho``, ``p``, ``beta``, ``max_halvings``, ``z`` and ``typical``
+        (fb; ``z(gamma)`` returns the direction of rule (31) for the
+        boolean mask γ; ``typical`` = (force, length), typical sizes of Φ
+        and of x: the descent test (26) ∇ψᵀd ≤ −ρ‖d‖ᵖ is then applied to
+        Φ/force and x/length, ∇ψᵀd/force² ≤ −ρ(‖d‖/length)ᵖ, so that it
+        does not depend on units; None, the thesis's (26) as printed, in
+        the problem's own units).
     callback : callable, optional
         ``callback(x, record)`` after every iteration.
     error : callable, optional
         ``error(E, A, B) -> float``, the measure of the stopping test. Use it
         when the rows of Φ have different units (forces and gaps): the
         iteration itself (directions, line search) still works with Φ.
+    scale : callable, optional
+        ``scale(E, A, B) -> float ≥ 0``, the problem's own size at x in the
+        units of ``error`` (e.g. the load's norm), making ``tol`` relative.
 
     Returns
     -------
@@ -183,12 +235,26 @@ def solve_ncp(fun, jac, x0, method="min", tol=1e-10, max_iter=100,
         ``nit`` (iterations), ``njev`` (Jacobian evaluations), ``nfev``
         (residual evaluations, line search included), ``fun`` (Φ at x),
         ``residual`` (‖Φ(x)‖), ``error`` (the stopping measure at x),
-        ``method``, ``time`` (wall seconds) and ``history``: a dict of
-        per-iteration lists ``residual`` (‖Φ‖ before the step), ``error``
-        (the stopping measure before the step), ``merit`` (ψ = ½‖Φ‖²),
-        ``alpha`` (step length), ``step``
+        ``stopping`` (dict: ``test``, the formula; ``tol``; ``scale``, its
+        value at x; ``absolute``, the stopping measure at x; ``relative`` =
+        absolute / scale), ``method``, ``time`` (wall seconds) and
+        ``history``: a dict of per-iteration lists ``residual`` (‖Φ‖
+        before the step), ``error`` (the stopping measure before the step),
+        ``merit`` (ψ = ½‖Φ‖²), ``alpha`` (step length), ``step``
         ("newton" or "gradient"), ``active`` (rows with A_i > B_i, i.e.
         predicted contacts) and ``line_search_failed``.
+
+    Notes
+    -----
+    Besides ``max_iter`` the run ends without converging when it stops
+    making progress (status 5): the step leaves x unchanged, or neither
+    ‖Φ‖ nor the stopping measure has fallen below
+    :data:`STALL_DECREASE` times its best value for
+    :data:`STALL_ITERATIONS` iterations in a row. A tol below what floating
+    point reaches (say 1e-300) thus ends in status 5 within a few dozen
+    iterations whatever ``max_iter``; the message says when the residual
+    is at round-off level. A residual, x or scale that is not finite
+    (overflow, NaN) ends the run with status 4.
     """
     if method not in NCP_FUNCTIONS:
         raise ValueError(f"unknown method {method!r}; use one of "
@@ -205,18 +271,35 @@ def solve_ncp(fun, jac, x0, method="min", tol=1e-10, max_iter=100,
                                "active", "line_search_failed")}
 
     def measure(F, parts):
-        return np.linalg.norm(F) if error is None else float(error(*parts))
+        norm = stable_norm(F)
+        err = norm if error is None else float(error(*parts))
+        size = 1.0 if scale is None else float(scale(*parts))
+        return norm, err, size
 
     x = np.array(x0, dtype=float)
     F, parts = counted.residual(x)
-    status = 1
-    for _ in range(max_iter):
-        norm, err = np.linalg.norm(F), measure(F, parts)
-        if not (np.isfinite(norm) and np.isfinite(err)):
-            status = 4
+    status, detail = 1, ""
+    best, quiet = [np.inf, np.inf], 0
+    while True:
+        norm, err, size = measure(F, parts)
+        if not (np.isfinite(norm) and np.isfinite(err) and np.isfinite(size)
+                and np.all(np.isfinite(x))):
+            status, detail = 4, _nonfinite(x, norm, err, size)
             break
-        if err <= tol:
+        if err <= tol * size:
             status = 0
+            break
+        if norm < STALL_DECREASE * best[0] or err < STALL_DECREASE * best[1]:
+            quiet = 0
+        else:
+            quiet += 1
+        best = [min(best[0], norm), min(best[1], err)]
+        if quiet >= STALL_ITERATIONS:
+            status, detail = 5, _stalled(err, size, tol, (
+                f"the residual did not decrease in {quiet} iterations"))
+            break
+        if len(history["residual"]) >= max_iter:
+            status = 1
             break
         J, active = counted.jacobian(x, parts, opts.get("z"))
         previous = x
@@ -224,27 +307,57 @@ def solve_ncp(fun, jac, x0, method="min", tol=1e-10, max_iter=100,
             x, F, parts, record = _min_step(counted, x, F, parts, J, opts)
         else:
             x, F, parts, record = _fb_step(counted, x, F, parts, J, opts)
-        record.update(residual=norm, error=err, merit=0.5 * norm ** 2,
+        with np.errstate(over="ignore"):
+            merit = 0.5 * np.float64(norm) ** 2
+        record.update(residual=norm, error=err, merit=float(merit),
                       active=active)
         for key in history:
             history[key].append(record[key])
         if callback is not None:
             callback(x, record)
         if record.get("status"):
-            status = record["status"]
+            status, detail = record["status"], record.get("detail", "")
             break
         if np.array_equal(x, previous):
-            status = 5
+            norm, err, size = measure(F, parts)
+            status, detail = 5, _stalled(err, size, tol, "the Newton step "
+                                         "no longer changes x")
             break
-    else:
-        if measure(F, parts) <= tol:
-            status = 0
-    norm, err = np.linalg.norm(F), measure(F, parts)
+    norm, err, size = measure(F, parts)
+    message = MESSAGES[status] + (f": {detail}" if detail else "")
+    relative = err / size if size > 0 else (0.0 if err == 0 else np.inf)
+    stopping = dict(test="‖Φ(x)‖₂ ≤ tol" if error is None and scale is None
+                    else "error(x) ≤ tol·scale(x)", tol=float(tol),
+                    scale=float(size), absolute=float(err),
+                    relative=float(relative))
     return OptimizeResult(
-        x=x, success=status == 0, status=status, message=MESSAGES[status],
+        x=x, success=status == 0, status=status, message=message,
         nit=len(history["residual"]), njev=counted.njev, nfev=counted.nfev,
-        fun=F, residual=norm, error=err, method=method, history=history,
-        time=time.perf_counter() - start)
+        fun=F, residual=norm, error=err, stopping=stopping, method=method,
+        history=history, time=time.perf_counter() - start)
+
+
+def _nonfinite(x, norm, err, size):
+    """Which value of the stopping test is not finite (status 4)."""
+    if not np.all(np.isfinite(x)):
+        return "the iterate x has non-finite entries"
+    names = [name for name, v in (("‖Φ‖", norm), ("the stopping measure",
+                                                  err), ("the scale", size))
+             if not np.isfinite(v)]
+    return (" and ".join(names) + " not finite (an overflow: are the "
+            "problem's values within the floating-point range?)")
+
+
+def _stalled(err, size, tol, what):
+    """The detail of status 5: how far the residual got, and whether tol
+    is below what floating point reaches."""
+    relative = err / size if size > 0 else np.inf
+    if relative <= ROUNDOFF_LEVEL:
+        return (f"{what}; the residual is at round-off level (relative "
+                f"{relative:.1e}): tol = {tol:.1e} is below what floating "
+                "point reaches for this problem")
+    return (f"{what}; the relative residual {relative:.1e} is above "
+            f"tol = {tol:.1e}")
 
 
 def _min_step(counted, x, F, parts, J, opts):
@@ -253,11 +366,11 @@ def _min_step(counted, x, F, parts, J, opts):
     if d is None:
         return x, F, parts, dict(alpha=0.0, step="newton",
                                 line_search_failed=False, status=3)
-    norm, alpha = np.linalg.norm(F), 1.0
+    norm, alpha = stable_norm(F), 1.0
     while True:
         trial = x + alpha * d
         F_trial, trial_parts = counted.residual(trial)
-        if np.linalg.norm(F_trial) < norm:
+        if stable_norm(F_trial) < norm:
             return trial, F_trial, trial_parts, dict(
                 alpha=alpha, step="newton", line_search_failed=False)
         if alpha / 2 < opts["alpha_min"]:
@@ -275,14 +388,27 @@ def _fb_step(counted, x, F, parts, J, opts):
     grad = J.T @ F  # ∇ψ = JᵀΦ (28)
     d = _newton_direction(J, F)
     step = "newton"
-    if d is None or grad @ d > -opts["rho"] * np.linalg.norm(d) ** opts["p"]:
+    force, length = map(np.float64, opts["typical"] or (1.0, 1.0))
+    with np.errstate(over="ignore", invalid="ignore"):
+        descent = d is not None and (grad @ d) / force ** 2 <= -opts["rho"] * (
+            np.linalg.norm(d) / length) ** opts["p"]  # (26)
+    if not descent:
         d, step = -grad, "gradient"  # (26) failed or J singular
-    psi, slope = 0.5 * F @ F, grad @ d
+    with np.errstate(over="ignore", invalid="ignore"):
+        psi, slope = 0.5 * F @ F, grad @ d
+    if not (np.isfinite(psi) and np.isfinite(slope)):
+        return x, F, parts, dict(
+            alpha=0.0, step=step, line_search_failed=False, status=4,
+            detail="the merit function ψ = ½‖Φ‖² or its slope overflows "
+                   "(are the problem's values within the floating-point "
+                   "range?)")
     t = 1.0
     for _ in range(opts["max_halvings"] + 1):
         trial = x + t * d
         F_trial, trial_parts = counted.residual(trial)
-        if 0.5 * F_trial @ F_trial <= psi + opts["beta"] * t * slope:  # (27)
+        with np.errstate(over="ignore", invalid="ignore"):
+            psi_trial = 0.5 * F_trial @ F_trial
+        if psi_trial <= psi + opts["beta"] * t * slope:  # (27)
             return trial, F_trial, trial_parts, dict(
                 alpha=t, step=step, line_search_failed=False)
         t /= 2
