@@ -105,8 +105,12 @@ class _Counted:
         E, A, B = (np.asarray(v, dtype=float) for v in self.fun(x))
         return np.concatenate([E, phi(A, B, self.kind)]), (E, A, B)
 
-    def jacobian(self, x, parts, z=None):
-        """J ∈ ∂_B Φ(x) (CSC) and the number of predicted contacts."""
+    def jacobian(self, x, parts, z=None, ties=0.0):
+        """J ∈ ∂_B Φ(x) (CSC) and the number of predicted contacts.
+
+        ``ties`` > 0 (φ_min only): rows with |A_i − B_i| ≤ ties take ∇A_i,
+        the element of ∂_B φ_min at an exact tie, where round-off may have
+        put A_i a hair above B_i (see :data:`TIE_RTOL`)."""
         self.njev += 1
         JE, JA, JB = self.jac(x)
         E, A, B = parts
@@ -118,6 +122,9 @@ class _Counted:
                     JA, gamma)
                 za, zb = JA @ direction, JB @ direction
         wa, wb, _ = derivative_weights(A, B, self.kind, za, zb)
+        if ties > 0 and self.kind == "min":
+            near = np.abs(A - B) <= ties
+            wa, wb = np.where(near, 1.0, wa), np.where(near, 0.0, wb)
         rows = sp.diags(wa) @ sp.csr_matrix(JA) + sp.diags(wb) @ \
             sp.csr_matrix(JB)
         J = sp.vstack([sp.csr_matrix(JE), rows], format="csc")
@@ -143,6 +150,15 @@ def _default_z(JA, gamma):
 #: dense blocks, where SuperLU is several times slower than LAPACK.
 DENSE_FRACTION = 0.2
 DENSE_MIN_SIZE = 64
+
+
+#: φ_min's Jacobian is singular at some B-subdifferential elements of a
+#: degenerate formulation (the thesis's split (110)/(111) where p = 0):
+#: rows whose |A_i − B_i| is below this fraction of max(|A|, |B|) are then
+#: read as exact ties, and their ∇A_i row tried instead (one more Jacobian,
+#: counted). Without it, whether the thesis split runs on the 2-DOF bar
+#: depended on the round-off sign of g_t ≈ ±3e-17 in load step 37.
+TIE_RTOL = 1e-12
 
 
 def _newton_direction(J, F):
@@ -304,7 +320,14 @@ def solve_ncp(fun, jac, x0, method="min", tol=1e-10, max_iter=100,
         J, active = counted.jacobian(x, parts, opts.get("z"))
         previous = x
         if method == "min":
-            x, F, parts, record = _min_step(counted, x, F, parts, J, opts)
+            step = _min_step(counted, x, F, parts, J, opts)
+            if step[3].get("status") == 3:  # singular: break round-off ties
+                E_, A_, B_ = parts
+                ties = TIE_RTOL * max(np.abs(A_).max(initial=0.0),
+                                      np.abs(B_).max(initial=0.0))
+                J, active = counted.jacobian(x, parts, opts.get("z"), ties)
+                step = _min_step(counted, x, F, parts, J, opts)
+            x, F, parts, record = step
         else:
             x, F, parts, record = _fb_step(counted, x, F, parts, J, opts)
         with np.errstate(over="ignore"):
