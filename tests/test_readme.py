@@ -116,3 +116,42 @@ def test_python_examples(scratch, monkeypatch):
     runner = doctest.DocTestRunner(optionflags=doctest.ELLIPSIS)
     runner.run(test)
     assert runner.failures == 0
+
+
+def _table(title):
+    """Rows of the README's Markdown table under ``title`` (cells split)."""
+    section = README.split(title, 1)[1].split("\n### ", 1)[0]
+    rows = [line.strip("|").split("|") for line in section.splitlines()
+            if line.startswith("| ") and "---" not in line]
+    return [[cell.strip() for cell in row] for row in rows[1:]]
+
+
+def test_table1_is_what_the_solver_counts(exported):
+    """Every count of the README's Table 1 from a run (thesis's system)."""
+    from solver import load_problem
+    from solver.studies import table1
+
+    problems = {n: load_problem(exported(n)[0]) for n in (118, 454, 1878)}
+    got = {(r["method"], r["elements"], r["gap"]): f"{r['J']} / {r['F']}"
+           for r in table1(problems)}
+    rows = _table("### Table 1 of the thesis, next to ours")
+    assert len(rows) == 6
+    for method, elements, thesis, obstacle, body in rows:
+        key = ("fb" if "FB" in method else "min", int(elements))
+        assert obstacle == got[key + ("obstacle",)], (key, obstacle)
+        assert body == got[key + ("body",)], (key, body)
+
+
+def test_table2_is_what_the_solver_counts(exported):
+    """Every count of the README's Table 2 from a run (454 block)."""
+    from solver import load_problem
+    from solver.studies import table2
+
+    rows = _table("### Table 2 of the thesis, next to ours")
+    got = table2(load_problem(exported(454)[0]))
+    assert len(rows) == 3 and len(got) == 9
+    for i, row in enumerate(rows):
+        for j, cell in enumerate(row[2:]):
+            run = got[3 * i + j]
+            assert run["converged"]
+            assert cell == f"{run['J']} / {run['F']}", (row[0], j, cell)
