@@ -40,12 +40,13 @@ def _pyplot():
     return plt
 
 
-def _save(fig, path):
+def _save(fig, path, dpi=120):
+    """Save ``fig`` as PNG at ``path`` (atomically), if a path is given."""
     if path is not None:
-        from .files import atomic_path
+        from .folder import atomic_path
 
         with atomic_path(path) as tmp:
-            fig.savefig(tmp, dpi=120, bbox_inches="tight", format="png")
+            fig.savefig(tmp, dpi=dpi, bbox_inches="tight", format="png")
     return fig
 
 

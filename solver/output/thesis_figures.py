@@ -20,6 +20,9 @@ bar's computed load path.
 
 import numpy as np
 
+from .figures import _pyplot
+from .figures import _save as save_png
+
 __all__ = ["LENGTH", "FORCE", "PRESSURE", "UNITS",
            "ncp_functions", "boundary_conditions_sketch", "model_problem",
            "deformed_and_directions", "obstacle_for_display",
@@ -38,27 +41,8 @@ UNITS = ("Units: lengths in mm, E in MPa, plane strain per unit thickness; "
 DPI = 100
 
 
-def _pyplot():
-    """pyplot, on the Agg backend unless the caller (a notebook) already
-    chose one by importing pyplot itself."""
-    import sys
-
-    import matplotlib
-
-    if "matplotlib.pyplot" not in sys.modules:
-        matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    return plt
-
-
 def _save(fig, path):
-    if path is not None:
-        from .files import atomic_path
-
-        with atomic_path(path) as tmp:
-            fig.savefig(tmp, dpi=DPI, bbox_inches="tight", format="png")
-    return fig
+    return save_png(fig, path, dpi=DPI)
 
 
 def _position(problem, axis=1):
