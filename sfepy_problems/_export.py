@@ -36,7 +36,7 @@ What is exported (``docs/npz-format.md``):
   :math:`f_{ext,F}`.
 * **u_prescribed**, the Dirichlet values per node and component.
 * **contact_nodes**, the vertices of the facet region Γc ordered along the
-  boundary (:func:`solver.mesh.order_along_boundary`), and their reduced DOFs.
+  boundary (:func:`solver.geometry.mesh.order_along_boundary`), and their reduced DOFs.
 * **M**, :math:`M_{ij} = \int_{\Gamma_c} \varphi_i \varphi_j` for the scalar
   P1 field, assembled over the whole mesh and restricted to the contact nodes
   in chain order.
@@ -49,7 +49,7 @@ import sys
 
 import numpy as nm
 
-from solver.mesh import order_along_boundary
+from solver.geometry.mesh import order_along_boundary
 from solver.problem import ContactProblem, save_problem
 
 __all__ = ['export_contact_problem', 'reduced_system', 'full_stiffness',
@@ -239,7 +239,7 @@ def export_contact_problem(pb, variables, filename, *, stiffness, load=None,
         The ``.npz`` to write.
     stiffness, load : str
         Terms for :func:`reduced_system`.
-    obstacle : solver.obstacle.ParametricCurve
+    obstacle : solver.geometry.obstacle.ParametricCurve
     meta : dict
         Problem metadata (E, nu, plane, load, mesh, ...); the SfePy version
         is added to ``meta['versions']``.

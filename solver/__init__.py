@@ -11,7 +11,7 @@ Public API
 load_problem, save_problem, ContactProblem, FORMAT_VERSION
     The ``.npz`` problem format (:mod:`solver.problem`).
 ParametricCurve, parse_expression
-    Rigid obstacles given by safe expressions in t (:mod:`solver.obstacle`).
+    Rigid obstacles given by safe expressions in t (:mod:`solver.geometry.obstacle`).
 two_dof_bar
     The thesis's §6 two-DOF bar system (:mod:`solver.examples`).
 solve_frictionless, contact_geometry
@@ -27,15 +27,15 @@ Factorization, Condensation, nested_dissection
     One LDLᵀ factorisation of K per solve, condensation onto Γc
     (:mod:`solver.linalg`).
 SolverError, ProblemError, ExpressionError, GapError
-    Errors caused by bad input (:mod:`solver.errors`, :mod:`solver.gap`).
+    Errors caused by bad input (:mod:`solver.errors`, :mod:`solver.geometry.gap`).
 """
 
 from .errors import ExpressionError, ProblemError, SolverError
-from .gap import GapError
+from .geometry.gap import GapError
 from .contact import contact_geometry, solve_friction, solve_frictionless
 from .examples import two_dof_bar
 from .ncp import solve_ncp
-from .obstacle import ParametricCurve, parse_expression
+from .geometry.obstacle import ParametricCurve, parse_expression
 from .problem import (FORMAT_VERSION, ContactProblem, load_problem,
                       save_problem)
 

@@ -1,9 +1,9 @@
-"""Boundary topology helpers of solver.mesh, on hand-made meshes."""
+"""Boundary topology helpers of solver.geometry.mesh, on hand-made meshes."""
 
 import numpy as np
 import pytest
 
-from solver.mesh import boundary_edges, is_boundary_chain, order_along_boundary
+from solver.geometry.mesh import boundary_edges, is_boundary_chain, order_along_boundary
 
 
 def grid(nx, ny):

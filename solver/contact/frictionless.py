@@ -91,8 +91,8 @@ def contact_geometry(problem, gap="obstacle"):
                                problem.normal[free])
     if gap not in GAP_MODES:
         raise SolverError(f"gap mode must be one of {GAP_MODES}, got {gap!r}")
-    from ..gap import gap_along_normals, gap_from_obstacle
-    from ..normals import boundary_normals
+    from ..geometry.gap import gap_along_normals, gap_from_obstacle
+    from ..geometry.normals import boundary_normals
 
     body = boundary_normals(problem.nodes, problem.cells,
                             problem.contact_nodes)[free]
@@ -338,7 +338,7 @@ def solve_frictionless(problem, method="min", gap="obstacle", tol=1e-10,
     ProblemError
         If K is not positive definite (checked once per K by one sparse
         factorisation, :meth:`ContactProblem.check_stiffness`), or a normal
-        line misses the obstacle (:class:`~solver.gap.GapError`). A solve
+        line misses the obstacle (:class:`~solver.geometry.gap.GapError`). A solve
         that does not converge raises nothing: see ``success`` and
         ``status``.
     """

@@ -7,8 +7,8 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..errors import ProblemError
-from ..obstacle import ParametricCurve, check_interval
-from ..polyline import PolylineCurve
+from ..geometry.obstacle import ParametricCurve, check_interval
+from ..geometry.polyline import PolylineCurve
 from .checks import check_positive_definite
 from .format import FORMAT_VERSION
 from .validate import validate_fields
@@ -105,7 +105,7 @@ class ContactProblem:
 
     def set_search_interval(self, t0, t1):
         """Search the obstacle parameter for the gaps in ``[t0, t1]``
-        (``--search-interval``; see :func:`solver.gap.parameter_window`).
+        (``--search-interval``; see :func:`solver.geometry.gap.parameter_window`).
 
         Raises
         ------

@@ -131,7 +131,7 @@ META_REQUIRED = {"mesh": ("E", "nu", "plane", "load", "mesh"),
 # the number of nodes from ``nodes``), and these are bounded here.
 
 #: Most characters of a text key (the obstacle expressions are limited
-#: further, to 1000, by :mod:`solver.obstacle`).
+#: further, to 1000, by :mod:`solver.geometry.obstacle`).
 MAX_TEXT = 1_000_000
 
 #: Deepest nesting of lists and objects in the ``meta`` JSON.

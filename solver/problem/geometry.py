@@ -6,7 +6,7 @@ within :data:`COORDINATE_LIMIT`, a body at least :data:`RESOLUTION` times
 as large as its distance from the origin (a body of size 20 shifted by
 1e17 has no two distinct node positions left), a contact boundary of at
 least two nodes, no two consecutive contact nodes at one point, no
-zero-area triangle on Γc (:func:`solver.normals.boundary_normals`).
+zero-area triangle on Γc (:func:`solver.geometry.normals.boundary_normals`).
 Failures raise :class:`~solver.errors.ProblemError` naming the key and the
 nodes.
 """
@@ -14,10 +14,10 @@ nodes.
 import numpy as np
 
 from ..errors import GeometryError, ProblemError
-from ..mesh import is_boundary_chain
-from ..normals import boundary_normals
-from ..obstacle import ParametricCurve
-from ..polyline import PolylineCurve
+from ..geometry.mesh import is_boundary_chain
+from ..geometry.normals import boundary_normals
+from ..geometry.obstacle import ParametricCurve
+from ..geometry.polyline import PolylineCurve
 from .checks import check_array, check_range, fail
 
 __all__ = ["COORDINATE_LIMIT", "RESOLUTION", "validate_mesh"]

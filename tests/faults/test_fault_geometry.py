@@ -19,10 +19,10 @@ from fault_tools import assert_one_error_line, run_cli
 from solver.contact import contact_geometry
 from solver.errors import GeometryError, ProblemError, SolverError
 from solver.examples import two_dof_bar
-from solver.gap import GapError, gap_from_obstacle
-from solver.normals import boundary_normals, outward_sign, spline_tangents
-from solver.obstacle import ParametricCurve
-from solver.polyline import PolylineCurve
+from solver.geometry.gap import GapError, gap_from_obstacle
+from solver.geometry.normals import boundary_normals, outward_sign, spline_tangents
+from solver.geometry.obstacle import ParametricCurve
+from solver.geometry.polyline import PolylineCurve
 from solver.problem import ContactProblem, load_problem, save_problem
 
 

@@ -28,7 +28,7 @@ import math
 import numpy as np
 import sympy
 
-from .errors import ExpressionError
+from ..errors import ExpressionError
 
 __all__ = ["ALLOWED_FUNCTIONS", "ALLOWED_CONSTANTS", "parse_expression",
            "check_interval", "ParametricCurve"]
@@ -374,7 +374,7 @@ class ParametricCurve:
     search_interval : (float, float) or None
         Interval of *t* searched for the gaps (intersected with
         ``t_range``); ``None``: found from the body's extent
-        (:func:`solver.gap.parameter_window`).
+        (:func:`solver.geometry.gap.parameter_window`).
 
     Attributes
     ----------

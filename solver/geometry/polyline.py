@@ -2,20 +2,20 @@ r"""Piecewise linear rigid obstacles given as points.
 
 A polyline Γo through points P_0, …, P_n is parametrised by arc length t
 (t_0 = 0 at P_0), so it offers the interface of
-:class:`solver.obstacle.ParametricCurve` (``point``, ``derivative``,
+:class:`solver.geometry.obstacle.ParametricCurve` (``point``, ``derivative``,
 ``second_derivative``, ``t_range``) and the gap functions of
-:mod:`solver.gap` work with it unchanged. The tangent jumps at the inner
+:mod:`solver.geometry.gap` work with it unchanged. The tangent jumps at the inner
 vertices (kinks); there ``derivative`` returns the tangent of the segment
 that starts at the vertex. A nearest point that falls on a kink has no
-unique normal: :func:`solver.gap.gap_from_obstacle` then reports the node
+unique normal: :func:`solver.geometry.gap.gap_from_obstacle` then reports the node
 (the normal line "misses" the obstacle's smooth part), while
-:func:`solver.gap.gap_along_normals` (normals from the body) is well
+:func:`solver.geometry.gap.gap_along_normals` (normals from the body) is well
 defined everywhere.
 """
 
 import numpy as np
 
-from .errors import ExpressionError
+from ..errors import ExpressionError
 from .obstacle import check_interval
 
 __all__ = ["PolylineCurve"]

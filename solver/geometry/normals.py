@@ -46,7 +46,7 @@ nodes.
 import numpy as np
 from scipy.interpolate import CubicSpline
 
-from .errors import GeometryError
+from ..errors import GeometryError
 
 __all__ = ["CORNER_ANGLE", "chord_parameters", "spline_tangents",
            "spline_normals", "outward_sign", "corners", "boundary_normals"]

@@ -1,7 +1,7 @@
 r"""The interval of the obstacle parameter *t* searched for the gaps.
 
 The gaps of thesis §2.1 are roots in *t* of a function sampled on a window
-(:mod:`solver.gap`). The window must contain every root that matters, and
+(:mod:`solver.geometry.gap`). The window must contain every root that matters, and
 be small enough for the samples to separate the roots: it should follow the
 **geometry**, not the speed of the parametrisation. The thesis's parabola
 :math:`[5.05 + 0.005t^2, t]` and the same curve run a hundred times slower,
@@ -22,7 +22,7 @@ disc (a closed or periodic one) keeps the starting window.
 
 import numpy as np
 
-from .errors import GeometryError
+from ..errors import GeometryError
 
 __all__ = ["GROWTH_STEPS", "fit_window", "start_window"]
 

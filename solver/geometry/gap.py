@@ -13,7 +13,7 @@ two equations for the unknowns *k* and *t*, with two choices of ν:
   *B*, :math:`(\Gamma_o(t) - B)\cdot\Gamma_o'(t) = 0`; of all foot points the
   nearest one is taken.
 * :func:`gap_along_normals` -- "measured from the body" (§2.1.2, (4)-(6)):
-  ν is the body's outward normal at *B* (from :mod:`solver.normals`), and
+  ν is the body's outward normal at *B* (from :mod:`solver.geometry.normals`), and
   *t* is a root of :math:`h(t) = (\Gamma_o(t) - B) \times \nu`; of all roots
   the one with the smallest :math:`|k|` is taken.
 
@@ -49,7 +49,7 @@ import warnings
 import numpy as np
 from scipy.optimize.elementwise import find_root
 
-from .errors import GeometryError, InitialPenetrationWarning
+from ..errors import GeometryError, InitialPenetrationWarning
 from .window import fit_window, start_window
 
 __all__ = ["GapError", "parameter_window", "gap_from_obstacle",
@@ -108,7 +108,7 @@ def parameter_window(points, curve, window=None, samples=DEFAULT_SAMPLES):
     Notes
     -----
     Without an explicit interval the window is fitted to the body's extent
-    (:func:`solver.window.fit_window`), starting from ``t_range`` or, for
+    (:func:`solver.geometry.window.fit_window`), starting from ``t_range`` or, for
     an unbounded curve, from :math:`[-L, L]`,
     :math:`L = 2 \max_i |B_i - \Gamma_o(0)| + 1`: it does not depend on how
     fast the parametrisation runs. When a normal line of the body meets the
@@ -462,7 +462,7 @@ def gap_along_normals(points, normals, curve, *, window=None,
         Contact nodes *B* (undeformed).
     normals : (n, 2) or (2,) array
         Outward normals of the body at the nodes, e.g. from
-        :func:`solver.normals.boundary_normals`; normalised here.
+        :func:`solver.geometry.normals.boundary_normals`; normalised here.
     curve : ParametricCurve
         The obstacle.
     window, samples, min_cosine, node_ids
