@@ -31,6 +31,18 @@ def solve_block(mesh, output, **params):
     return solve_pde(conf, save_results=False)
 
 
+def run_cli(argv, capsys):
+    """``main(argv)`` -> (exit code, stdout, stderr); usage errors exit."""
+    from solver.cli import main
+
+    try:
+        code = main([str(a) for a in argv])
+    except SystemExit as exc:
+        code = exc.code
+    captured = capsys.readouterr()
+    return code, captured.out, captured.err
+
+
 @pytest.fixture(scope="session")
 def exported(tmp_path_factory):
     """``exported(n)`` -> (npz path, SfePy problem, SfePy variables)."""

@@ -24,6 +24,7 @@ import numpy as np
 import pytest
 import scipy.sparse as sp
 
+from conftest import run_cli
 from solver.cli import main
 from solver.examples import two_dof_bar
 from solver.problem import save_problem
@@ -41,14 +42,7 @@ def bar_arrays():
     return two_dof_bar().to_arrays()
 
 
-def run(argv, capsys):
-    """main(argv) -> (exit code, stdout, stderr); usage errors exit."""
-    try:
-        code = main([str(a) for a in argv])
-    except SystemExit as exc:
-        code = exc.code
-    captured = capsys.readouterr()
-    return code, captured.out, captured.err
+run = run_cli  # main(argv) -> (exit code, stdout, stderr)
 
 
 def tree(folder):

@@ -215,6 +215,17 @@ def warn_penetration(gap, points, node_ids=None):
         InitialPenetrationWarning, stacklevel=3)
 
 
+def _setup(points, vectors, curve, window, samples):
+    """Checked points, unit vectors (one per point), the window (t0, t1),
+    its parameter samples and whether it reaches the curve's ends."""
+    points = _as_points(points)
+    vectors = _as_unit(vectors, len(points))
+    if not len(points):
+        return points, vectors, (None, None), None, None
+    window, curve_ends = parameter_window(points, curve, window, samples)
+    return points, vectors, window, _samples(window, samples), curve_ends
+
+
 def _samples(window, samples):
     samples = int(samples)
     if samples < 3:
@@ -316,13 +327,11 @@ def gap_from_obstacle(points, curve, body_normals, *, window=None,
         (:math:`|\nu\cdot n| <` ``min_cosine``; e.g. the obstacle runs
         along the body normal), or the obstacle has no tangent there.
     """
-    points = _as_points(points)
-    n = len(points)
-    body = _as_unit(body_normals, n)
-    if not n:  # no free contact node: nothing to measure
+    points, body, (t0, t1), ts, curve_ends = _setup(
+        points, body_normals, curve, window, samples)
+    if not len(points):  # no free contact node: nothing to measure
         return np.zeros(0), np.zeros((0, 2)), np.zeros(0)
-    (t0, t1), curve_ends = parameter_window(points, curve, window, samples)
-    ts = _samples((t0, t1), samples)
+    n = len(points)
     with np.errstate(all="ignore"):
         c_pts = curve.point(ts)
         c_der = curve.derivative(ts)
@@ -488,13 +497,11 @@ def gap_along_normals(points, normals, curve, *, window=None,
         grazing angle (:math:`|\nu_o\cdot\nu| <` ``min_cosine``, e.g. an
         obstacle line parallel to the normal).
     """
-    points = _as_points(points)
-    n = len(points)
-    nu = _as_unit(normals, n)
-    if not n:  # no free contact node: nothing to measure
+    points, nu, (t0, t1), ts, curve_ends = _setup(
+        points, normals, curve, window, samples)
+    if not len(points):  # no free contact node: nothing to measure
         return np.zeros(0), np.zeros((0, 2)), np.zeros(0)
-    (t0, t1), curve_ends = parameter_window(points, curve, window, samples)
-    ts = _samples((t0, t1), samples)
+    n = len(points)
     with np.errstate(all="ignore"):
         c_pts = curve.point(ts)
 

@@ -14,7 +14,7 @@ import zlib
 
 import numpy as np
 
-from solver.cli import main
+from conftest import run_cli  # noqa: F401  (re-exported for the tests)
 
 
 def npy_bytes(array):
@@ -111,16 +111,6 @@ def with_meta(arrays, text):
 def meta_fields(arrays, **fields):
     return with_meta(arrays, json.dumps(dict(json.loads(str(
         arrays["meta"])), **fields)))
-
-
-def run_cli(argv, capsys):
-    """main(argv) -> (exit code, stdout, stderr)."""
-    try:
-        code = main([str(a) for a in argv])
-    except SystemExit as exc:
-        code = exc.code
-    captured = capsys.readouterr()
-    return code, captured.out, captured.err
 
 
 def assert_one_error_line(code, out, err, phrase=""):
