@@ -25,7 +25,6 @@ import pytest
 import scipy.sparse as sp
 
 from conftest import run_cli
-from solver.cli import main
 from solver.examples import two_dof_bar
 from solver.problem import save_problem
 
