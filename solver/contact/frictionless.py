@@ -34,7 +34,6 @@ import time
 import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as sla
-from scipy.optimize import OptimizeResult
 
 from ..errors import SolverError
 from ..linalg import Condensation, resolve

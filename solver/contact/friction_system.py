@@ -1,0 +1,241 @@
+"""The system of one load step of Coulomb friction (thesis (110)/(111),
+and the projection formulation): residual and Jacobian for
+:func:`solver.ncp.solve_ncp`. The formulations, the bound f_c p and the
+references are described in :mod:`solver.contact.friction`, whose driver
+builds one :class:`FrictionSystem` per run and moves it from step to step.
+"""
+
+import numpy as np
+import scipy.sparse as sp
+
+from ..errors import SolverError
+from ..ncp import stable_norm
+from .frictionless import contact_stiffness, rotation
+from .verify import force_scale
+
+__all__ = ["FORMULATIONS", "COULOMB", "FrictionSystem"]
+
+FORMULATIONS = ("thesis", "projection")
+COULOMB = ("lagged", "implicit")
+
+
+class FrictionSystem:
+    """Residual and Jacobian of one load step, for :func:`solve_ncp`.
+
+    Parameters
+    ----------
+    K, f : reduced stiffness and full load.
+    geometry : ContactGeometry
+        Gaps and normals at the free contact nodes.
+    lumped : (Nca,) array
+        D_ii = Σ_j M_ij at the free contact nodes.
+    friction : float
+        f_c ≥ 0.
+    formulation : {"thesis", "projection"}
+    coulomb : {"lagged", "implicit"}
+    gap_scale : float
+        c in the normal pair's B = c(s − YRu) (1 = thesis).
+    stiffness : float, optional
+        k̄ of the stopping measure and of c_t (default: mean of diag K at
+        the contact DOFs; a condensed system passes that of the full K).
+    """
+
+    def __init__(self, K, f, geometry, lumped, friction,
+                 formulation="thesis", coulomb="lagged", gap_scale=1.0,
+                 stiffness=None):
+        if formulation not in FORMULATIONS:
+            raise SolverError(f"formulation must be one of {FORMULATIONS}, "
+                              f"got {formulation!r}")
+        if coulomb not in COULOMB:
+            raise SolverError(f"coulomb must be one of {COULOMB}, got "
+                              f"{coulomb!r}")
+        n = K.shape[0]
+        self.n, self.m = n, len(geometry.dofs)
+        self.K, self.f = sp.csr_matrix(K), np.asarray(f, float)
+        self.geometry, self.lumped = geometry, np.asarray(lumped, float)
+        self.friction, self.formulation = float(friction), formulation
+        self.coulomb, self.gap_scale = coulomb, float(gap_scale)
+        self.R, other, a, b = rotation(n, geometry)
+        self.x_rows, self.t_rows, self.n_rows = other, a, b  # X, Z, Y
+        self.RK = (self.R @ self.K).tocsr()
+        self.Rf = self.R @ self.f
+        self.stiffness = contact_stiffness(self.K, geometry) \
+            if stiffness is None else float(stiffness)
+        # c_t of the projection: stiffness per unit contact length.
+        self.c_t = self.stiffness / float(self.lumped.mean()) \
+            if self.m else 1.0
+        m = self.m
+        I, Z0 = sp.identity(m, format="csr"), sp.csr_matrix((m, m))
+        self._I, self._Z0 = I, Z0
+        RK, R = self.RK, self.R
+        if formulation == "thesis":
+            Zn = sp.csr_matrix((m, n))
+            self._JE = sp.bmat([
+                [RK[other], None, None, None],
+                [RK[a], -sp.diags(self.lumped), None, None],
+                [R[a], None, -I, I]], format="csr")
+            self._JA = sp.bmat([[-RK[b], Z0, Z0, Z0], [Zn, Z0, Z0, I],
+                                [Zn, Z0, I, Z0]], format="csr")
+            self._JB_normal = sp.hstack([-self.gap_scale * R[b], Z0, Z0,
+                                         Z0], format="csr")
+        else:
+            self._JE_fixed = sp.bmat([
+                [RK[other], sp.csr_matrix((len(other), m))],
+                [RK[a], -sp.diags(self.lumped)]], format="csr")
+            self._JA = sp.hstack([-RK[b], Z0], format="csr")
+            self._JB = sp.hstack([-self.gap_scale * R[b], Z0], format="csr")
+        self.load_norm = stable_norm(self.f)
+        self.set_step(np.zeros(n), 1.0, np.zeros(m))
+
+    @property
+    def n_unknowns(self):
+        return self.n + (3 if self.formulation == "thesis" else 1) * self.m
+
+    def set_step(self, u_previous, load, p_previous, friction=None,
+                 load_norm=None):
+        """Fix u_{κ−1}, the step's load, the lagged pressure p_{κ−1} and
+        (optionally) the step's friction coefficient and the ‖f‖₂ of the
+        stopping test's force scale (:meth:`scale`; a condensed system is
+        given that of the problem's load).
+
+        ``load`` is the load vector f_κ of the step, or a number κ/κc
+        meaning κ/κc · f.
+        """
+        if load_norm is not None:
+            self.load_norm = float(load_norm)
+        self.u_previous = np.asarray(u_previous, float)
+        load = np.asarray(load, float)
+        self._Rf_step = (float(load) * self.Rf if load.ndim == 0
+                         else self.R @ load)
+        self.p_previous = np.asarray(p_previous, float)
+        if friction is not None:
+            self.friction = float(friction)
+        self._r_previous = self.RK @ self.u_previous
+
+    def _split(self, x):
+        """(Δu, g_t, Δu_t⁺, Δu_t⁻) from the unknown vector x.
+
+        x holds the traction as ĝ = g_t / c_t, a length like every other
+        unknown: the descent test (26) of the FB method, ∇ψᵀd ≤ −ρ‖d‖ᵖ,
+        compares norms of d and is meaningless when d mixes displacements
+        (~1e-3) with tractions (~1e2); unscaled, it rejects good Newton
+        directions and the method stalls on gradient steps.
+        """
+        n, m = self.n, self.m
+        return (x[:n], self.c_t * x[n:n + m], x[n + m:n + 2 * m],
+                x[n + 2 * m:])
+
+    def traction(self, x):
+        """g_t from the unknown vector x."""
+        return self.c_t * x[self.n:self.n + self.m]
+
+    def _force(self, du):
+        """r = R(Ku − f_κ) with u = u_{κ−1} + Δu."""
+        return self._r_previous + self.RK @ du - self._Rf_step
+
+    def pressure(self, r):
+        """Lumped contact pressure of the current iterate, ≥ 0."""
+        return np.maximum(-r[self.n_rows], 0.0) / self.lumped
+
+    def bound(self, r):
+        """f_c p and its derivative rows (None if lagged)."""
+        if self.coulomb == "lagged":
+            return self.friction * self.p_previous, None
+        active = (-r[self.n_rows] > 0.0) / self.lumped
+        d = -self.friction * (sp.diags(active) @ self.RK[self.n_rows])
+        return self.friction * self.pressure(r), d
+
+    def residual(self, x):
+        du, g, dp, dm = self._split(x)
+        r = self._force(du)
+        u = self.u_previous + du
+        lam = -r[self.n_rows]
+        gap = self.gap_scale * (self.geometry.gap - (self.R @ u)[self.n_rows])
+        b, _ = self.bound(r)
+        tangential = r[self.t_rows] - self.lumped * g
+        if self.formulation == "thesis":
+            split = (self.R @ du)[self.t_rows] - dp + dm
+            E = np.concatenate([r[self.x_rows], tangential, split])
+            A = np.concatenate([lam, dm, dp])
+            B = np.concatenate([gap, b - g, b + g])
+        else:
+            w = g - self.c_t * (self.R @ du)[self.t_rows]
+            E = np.concatenate([r[self.x_rows], tangential,
+                                g - np.clip(w, -b, b)])
+            A, B = lam, gap
+        return E, A, B
+
+    def jacobian(self, x):
+        """(JE, JA, JB) with respect to x (ĝ columns scaled by c_t)."""
+        scale = np.ones(self.n_unknowns)
+        scale[self.n:self.n + self.m] = self.c_t
+        S = sp.diags(scale)
+        return tuple((J @ S).tocsr() for J in self._jacobian(x))
+
+    def _jacobian(self, x):
+        du, g, dp, dm = self._split(x)
+        r = self._force(du)
+        b, db = self.bound(r)
+        if self.formulation == "thesis":
+            if db is None:
+                JB = sp.vstack([self._JB_normal,
+                                sp.hstack([sp.csr_matrix((self.m, self.n)),
+                                           -self._I, self._Z0, self._Z0]),
+                                sp.hstack([sp.csr_matrix((self.m, self.n)),
+                                           self._I, self._Z0, self._Z0])],
+                               format="csr")
+            else:
+                JB = sp.vstack([self._JB_normal,
+                                sp.hstack([db, -self._I, self._Z0,
+                                           self._Z0]),
+                                sp.hstack([db, self._I, self._Z0,
+                                           self._Z0])], format="csr")
+            return self._JE, self._JA, JB
+        # projection row: g − clip(w, −b, b), w = g − c_t ZRΔu
+        w = g - self.c_t * (self.R @ du)[self.t_rows]
+        stick = np.abs(w) < b
+        upper = ~stick & (w >= 0)
+        stick_rows = sp.diags(stick.astype(float)) @ (
+            self.c_t * self.R[self.t_rows])
+        slip_g = sp.diags((~stick).astype(float))
+        rows_du = stick_rows
+        if db is not None:
+            sign = np.where(upper, -1.0, 1.0) * (~stick)
+            rows_du = rows_du + sp.diags(sign) @ db
+        J3 = sp.hstack([rows_du, slip_g], format="csr")
+        return sp.vstack([self._JE_fixed, J3], format="csr"), self._JA, \
+            self._JB
+
+    def error(self, E, A, B):
+        """Stopping measure in force units (cf. FrictionlessSystem.error)."""
+        k, c = self.stiffness, self.gap_scale
+        m, nx = self.m, len(self.x_rows)
+        if self.formulation == "thesis":
+            E = np.concatenate([E[:nx + m], k * E[nx + m:]])
+            pairs = np.concatenate([
+                np.minimum(A[:m], k / c * B[:m]),
+                np.minimum(k * A[m:2 * m], self.lumped * B[m:2 * m]),
+                np.minimum(k * A[2 * m:], self.lumped * B[2 * m:])])
+        else:
+            E = np.concatenate([E[:nx + m], self.lumped * E[nx + m:]])
+            pairs = np.minimum(A, k / c * B)
+        return float(np.hypot(stable_norm(E), stable_norm(pairs)))
+
+    def scale(self, E, A, B):
+        """Force scale F = max(‖f‖₂, ‖λ⁺‖₂) of the stopping test error ≤
+        tol·F (A[:m] = λ in both formulations; :mod:`.verify`)."""
+        return force_scale(self.load_norm, A[:self.m])
+
+    def initial_guess(self, g_previous, du=None):
+        """Each step starts from the previous solution: the same g_t and
+        Δu = 0 (or ``du``; the thesis's split then starts consistent,
+        Δu_t± = max(±ZRΔu, 0))."""
+        x = np.zeros(self.n_unknowns)
+        x[self.n:self.n + self.m] = np.asarray(g_previous) / self.c_t
+        if du is not None:
+            x[:self.n] = du
+            if self.formulation == "thesis":
+                dut = (self.R @ du)[self.t_rows]
+                x[self.n + self.m:self.n + 2 * self.m] = np.maximum(dut, 0)
+                x[self.n + 2 * self.m:] = np.maximum(-dut, 0)
+        return x
