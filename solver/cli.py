@@ -23,7 +23,6 @@ code meaning
 """
 
 import argparse
-import sys
 
 from . import __version__
 from .problem import FORMAT_VERSION
