@@ -155,3 +155,24 @@ def test_table2_is_what_the_solver_counts(exported):
             run = got[3 * i + j]
             assert run["converged"]
             assert cell == f"{run['J']} / {run['F']}", (row[0], j, cell)
+
+
+def test_condensed_counts_quoted_beside_table1(exported):
+    """The prose above Table 1: the default (condensed, nested start) on
+    the 1878 mesh, its counts and its agreement with the thesis's system."""
+    import numpy as np
+
+    from solver import load_problem, solve_frictionless
+
+    problem = load_problem(exported(1878)[0])
+    text = " ".join(README.split("### Table 1 of the thesis", 1)[1]
+                    .split("| method |", 1)[0].split())
+    finest = []
+    for method, name in (("min", "φ_min"), ("fb", "φ_FB")):
+        nested = solve_frictionless(problem, method=method)
+        full = solve_frictionless(problem, method=method, condense=False)
+        assert f"{nested.njev} / {nested.nfev} for {name}" in text
+        finest.append(nested.levels[-1]["njev"])
+        difference = np.abs(nested.u - full.u).max() / np.abs(full.u).max()
+        assert difference <= 1e-12 and "same solution to 1e-12" in text
+    assert f"of which {finest[0]} and {finest[1]} Jacobians" in text
