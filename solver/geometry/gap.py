@@ -49,7 +49,9 @@ import warnings
 import numpy as np
 from scipy.optimize.elementwise import find_root
 
-from ..errors import GeometryError, InitialPenetrationWarning
+from ..errors import (ExpressionError, GeometryError,
+                      InitialPenetrationWarning)
+from .obstacle import check_interval
 from .window import fit_window, start_window
 
 __all__ = ["GapError", "parameter_window", "gap_from_obstacle",
@@ -131,13 +133,9 @@ def parameter_window(points, curve, window=None, samples=DEFAULT_SAMPLES):
             (t0 <= t_range[0], t1 >= t_range[1])
         return (float(t0), float(t1)), ends
     try:
-        t0, t1 = (float(v) for v in window)
-    except (TypeError, ValueError, OverflowError):
-        raise GapError(f"search interval: need two numbers, got "
-                       f"{window!r}"[:200]) from None
-    if not (np.isfinite(t0) and np.isfinite(t1) and t0 < t1):
-        raise GapError(f"search interval: need finite t0 < t1, got "
-                       f"({t0:g}, {t1:g})")
+        t0, t1 = check_interval("search interval", window)
+    except ExpressionError as exc:  # the same check, as a gap error
+        raise GapError(str(exc)) from None
     ends = (False, False)
     if t_range is not None:
         ends = (t0 <= t_range[0], t1 >= t_range[1])
