@@ -17,13 +17,26 @@ It assumes no coupling between normal and tangential tractions, exact for
 ν = 0.5 or identical materials; an elastic body on a rigid obstacle with
 ν = 0.3 is coupled, so the stick zone is shifted and its size is close to,
 not equal to, c.
+
+Hertz point contact (Johnson §4.2): an elastic sphere of radius R pressed
+with force P onto a rigid flat, E* = E/(1 − ν²):
+
+.. math::
+    a = \left(\frac{3PR}{4E^*}\right)^{1/3}, \qquad p_0 = \frac{3P}{2\pi a^2},
+    \qquad p(r) = p_0 \sqrt{1 − r^2/a^2},
+
+and its Cattaneo–Mindlin stick radius (Johnson §7.2) c = a(1 − Q/(f_c P))^{1/3}.
+The first moment of the Hertz pressure, ∫ p r dA / ∫ p dA = 3πa/16, gives
+a from the nodal contact forces without a fit
+(:func:`contact_radius_from_moment`).
 """
 
 import numpy as np
 
 __all__ = ["hertz_line_contact", "hertz_pressure", "fit_semi_ellipse",
            "cattaneo_mindlin_stick_half_width", "contact_resultants",
-           "zone_of"]
+           "zone_of", "hertz_point_contact", "cattaneo_mindlin_stick_radius",
+           "contact_radius_from_moment", "fit_hertz_profile"]
 
 
 def hertz_line_contact(P, R, E, nu, plane="strain"):
@@ -95,3 +108,45 @@ def zone_of(x, mask):
     left = x[lo] - 0.5 * (x[lo] - x[lo - 1]) if lo > 0 else x[lo]
     right = x[hi] + 0.5 * (x[hi + 1] - x[hi]) if hi + 1 < len(x) else x[hi]
     return 0.5 * (right - left), 0.5 * (right + left)
+
+
+def hertz_point_contact(P, R, E, nu):
+    """(a, p0) of Hertz's sphere on a rigid flat (Johnson §4.2)."""
+    E_star = E / (1 - nu ** 2)
+    a = (3.0 * P * R / (4.0 * E_star)) ** (1.0 / 3.0)
+    return a, 3.0 * P / (2.0 * np.pi * a ** 2)
+
+
+def cattaneo_mindlin_stick_radius(a, Q, P, friction):
+    """c = a (1 − Q/(f_c P))^(1/3) for |Q| < f_c P (Johnson §7.2)."""
+    ratio = abs(Q) / (friction * P)
+    if ratio >= 1:
+        raise ValueError(f"Q/(f_c P) = {ratio:.3g} >= 1: full sliding")
+    return a * (1.0 - ratio) ** (1.0 / 3.0)
+
+
+def contact_radius_from_moment(radius, force):
+    """a = 16/(3π) · Σ F_i r_i / Σ F_i: the contact radius whose Hertz
+    pressure has the first moment of the nodal contact forces F_i at
+    distances r_i from the axis. A symmetric quarter (or half) model gives
+    the same ratio as the whole, so its nodes can be used as they are."""
+    radius, force = np.asarray(radius, float), np.asarray(force, float)
+    return 16.0 / (3.0 * np.pi) * (force @ radius) / force.sum()
+
+
+def fit_hertz_profile(radius, p, guess):
+    """Least-squares (a, p0) of p(r) = p0 sqrt(1 − r²/a²) through nodal
+    pressures ``p`` at distances ``radius`` from the axis, over the nodes
+    with p > 0 (``guess`` = (a, p0)). The fit's residual uses every node
+    with p > 0 and the model's zero outside r < a."""
+    from scipy.optimize import least_squares
+
+    radius, p = np.asarray(radius, float), np.asarray(p, float)
+    keep = p > 0
+
+    def residual(x):
+        return hertz_pressure(radius[keep], x[0], x[1]) - p[keep]
+
+    fit = least_squares(residual, x0=[guess[0], guess[1]],
+                        x_scale=[guess[0], guess[1]])
+    return abs(fit.x[0]), fit.x[1]
