@@ -1,0 +1,248 @@
+"""The dimension-free contact core in 3D (issue 18, parts 1 and 6).
+
+The problems are P1 tetrahedral blocks assembled here (tests/tet_elasticity.py,
+independent of SfePy and of the solver) with gaps and normals given
+directly, so that these tests do not depend on the 3D obstacle surfaces.
+Independent references, each named where it is used: the exact linear
+field of a uniaxially pressed block (patch test), Clarabel (an interior-
+point QP solver sharing no code with ours), the 2D P1 triangle problem
+solved by the 2D path, and the 2D answers computed on main before the
+change.
+"""
+
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+sys.path.insert(0, str(Path(__file__).parent))
+
+from tet_elasticity import (box, extrude, mesh_problem, rectangle,  # noqa: E402
+                            stiffness)
+from solver.contact import ContactGeometry, solve_frictionless  # noqa: E402
+from solver.contact.candidates import (enlarge_candidates,  # noqa: E402
+                                       initial_candidates)
+from solver.contact.geometry import rotation  # noqa: E402
+from solver.errors import SolverError  # noqa: E402
+from solver.geometry.frames import frames, tangent_basis  # noqa: E402
+
+METHODS = ("min", "fb")
+
+
+def bottom_faces(ids):
+    """The bottom (z = 0) triangles of a box's node grid ``ids`` (nx+1,
+    ny+1, nz+1), oriented with the outward normal −z."""
+    a, b = ids[:-1, :-1, 0].ravel(), ids[1:, :-1, 0].ravel()
+    c, d = ids[1:, 1:, 0].ravel(), ids[:-1, 1:, 0].ravel()
+    return np.concatenate([np.stack([a, c, b], 1), np.stack([a, d, c], 1)])
+
+
+def pressed_block(n=(4, 3, 3), E=200.0, nu=0.3, dz=0.01):
+    """A unit block on the rigid plane z = 0 (gaps 0, ν = −z), its top face
+    moved by the exact uniaxial field u = (ν dz x, ν dz y, −dz z)."""
+    nodes, tets = box(n)
+    x, y, z = nodes.T
+    prescribed = np.full(nodes.shape, np.nan)
+    top = np.isclose(z, 1.0)
+    prescribed[top] = np.column_stack([nu * dz * x, nu * dz * y,
+                                       -dz * z])[top]
+    ids = np.arange(len(nodes)).reshape(tuple(m + 1 for m in n))
+    problem = mesh_problem(nodes, tets, stiffness(nodes, tets, E, nu),
+                           prescribed, np.flatnonzero(np.isclose(z, 0.0)),
+                           bottom_faces(ids))
+    free = np.flatnonzero((problem.contact_dofs >= 0).all(axis=1))
+    m = len(free)
+    geometry = ContactGeometry(free, problem.contact_dofs[free], np.zeros(m),
+                               np.tile([0.0, 0.0, -1.0], (m, 1)))
+    return problem, geometry, E * dz
+
+
+def dome_block(n=(10, 10, 3), curvature=0.5, dz=0.05):
+    """A block clamped at its top (pushed down by dz) onto a paraboloid
+    bump z = −κ r² under it: gaps κ r², normals tilted with the bump's
+    slope (ν = (h_x, h_y, −1)/|·|, h = −κ r²), so only a patch touches."""
+    nodes, tets = box(n)
+    x, y, z = nodes.T
+    prescribed = np.full(nodes.shape, np.nan)
+    top = np.isclose(z, 1.0)
+    prescribed[top] = 0.0
+    prescribed[top, 2] = -dz
+    ids = np.arange(len(nodes)).reshape(tuple(m + 1 for m in n))
+    problem = mesh_problem(nodes, tets, stiffness(nodes, tets, 100.0, 0.3),
+                           prescribed, np.flatnonzero(np.isclose(z, 0.0)),
+                           bottom_faces(ids))
+    free = np.flatnonzero((problem.contact_dofs >= 0).all(axis=1))
+    px, py = nodes[problem.contact_nodes[free], :2].T - 0.5
+    normal = np.column_stack([-2 * curvature * px, -2 * curvature * py,
+                              -np.ones(len(free))])
+    normal /= np.linalg.norm(normal, axis=1)[:, None]
+    geometry = ContactGeometry(free, problem.contact_dofs[free],
+                               curvature * (px ** 2 + py ** 2), normal)
+    return problem, geometry
+
+
+# --- frames -----------------------------------------------------------
+
+def test_tangent_basis_2d_is_the_thesis_gamma():
+    nu = np.array([[0.6, -0.8], [0.0, 1.0]])
+    np.testing.assert_array_equal(tangent_basis(nu)[:, 0],
+                                  [[0.8, 0.6], [-1.0, 0.0]])
+
+
+def test_tangent_basis_3d_orthonormal_right_handed():
+    rng = np.random.default_rng(0)
+    nu = rng.normal(size=(500, 3))
+    nu[:4] = [[0, 0, 1], [0, 0, -1], [1, 0, 0], [0, 1e-17, -1]]
+    nu /= np.linalg.norm(nu, axis=1)[:, None]
+    Q = frames(nu)
+    eye = np.broadcast_to(np.eye(3), Q.shape)
+    np.testing.assert_allclose(Q @ Q.transpose(0, 2, 1), eye, atol=1e-15)
+    np.testing.assert_allclose(np.linalg.det(Q), 1.0, atol=1e-14)
+    np.testing.assert_array_equal(Q[:, 2], nu)
+
+
+def test_rotation_rows_are_tangents_then_normal():
+    problem, geometry = dome_block((2, 2, 1))
+    R, other, t_rows, n_rows = rotation(problem.n_dofs, geometry)
+    np.testing.assert_array_equal(n_rows, geometry.dofs[:, 2])
+    np.testing.assert_array_equal(t_rows, geometry.dofs[:, :2].ravel())
+    u = np.random.default_rng(1).normal(size=problem.n_dofs)
+    Ru = R @ u
+    np.testing.assert_allclose(Ru[n_rows], (geometry.normal
+                                            * u[geometry.dofs]).sum(1))
+    np.testing.assert_allclose(Ru[other], u[other])
+    np.testing.assert_allclose((R @ R.T).toarray(), np.eye(problem.n_dofs),
+                               atol=1e-15)
+
+
+# --- patch test ---------------------------------------------------------
+
+@pytest.mark.parametrize("method", METHODS)
+@pytest.mark.parametrize("path", ["candidates", "contact", "full"])
+def test_patch_uniform_pressure(method, path):
+    """Reference: the exact linear field u = (ν dz x, ν dz y, −dz z) of a
+    block in uniaxial compression (P1 reproduces it), p = E dz / H."""
+    problem, geometry, p = pressed_block()
+    kw = dict(candidates=dict(candidates=True), contact=dict(
+        candidates=False), full=dict(condense=False))[path]
+    result = solve_frictionless(problem, method=method, geometry=geometry,
+                                tol=1e-12, **kw)
+    assert result.success, result.message
+    assert result.condensation == {"candidates": "normal candidates",
+                                   "contact": "contact",
+                                   "full": "none"}[path]
+    for pressure in (result.contact_pressure,
+                     result.contact_pressure_consistent):
+        assert np.abs(pressure / p - 1).max() <= 1e-10
+    assert result.n_contact == problem.n_contact
+    assert result.displacement.shape == (len(problem.nodes), 3)
+    assert result.normal.shape == (problem.n_contact, 3)
+
+
+# --- a curved contact: paths, candidates, Clarabel --------------------
+
+@pytest.fixture(scope="module")
+def dome():
+    problem, geometry = dome_block()
+    reference = solve_frictionless(problem, "min", geometry=geometry,
+                                   condense=False, tol=1e-13)
+    assert reference.success
+    return problem, geometry, reference
+
+
+@pytest.mark.parametrize("method", METHODS)
+@pytest.mark.parametrize("kw", [dict(), dict(candidates=False)],
+                         ids=["normal candidates", "all of Γc"])
+def test_condensed_agrees_with_full(dome, method, kw):
+    """Condensed (normal candidates, or every DOF of Γc) and full system:
+    the same answer to 1e-10."""
+    problem, geometry, reference = dome
+    result = solve_frictionless(problem, method, geometry=geometry,
+                                tol=1e-13, **kw)
+    assert result.success, result.message
+    assert result.verification["passed"]
+    scale = np.abs(reference.u).max()
+    assert np.abs(result.u - reference.u).max() <= 1e-10 * scale
+    lam = np.abs(reference.contact_force).max()
+    assert np.abs(result.contact_force
+                  - reference.contact_force).max() <= 1e-10 * lam
+    assert 0 < result.n_contact < problem.n_contact  # a patch, not all
+
+
+def test_default_3d_path(dome):
+    problem, geometry, _ = dome
+    result = solve_frictionless(problem, geometry=geometry)
+    assert result.condensation == "normal candidates"
+    assert result.start == "free"
+    screening = result.candidates
+    assert not screening["exhausted"]
+    assert screening["rounds"][-1]["penetrating"] == 0
+    assert screening["n_candidates"] < problem.n_contact
+    with pytest.raises(SolverError, match="nested start"):
+        solve_frictionless(problem, geometry=geometry, start="nested")
+
+
+@pytest.mark.parametrize("method", METHODS)
+def test_candidate_enlargement(dome, method):
+    """Too small a margin (only the apex is a candidate): the rounds grow
+    the set until no other node penetrates, with the same answer."""
+    problem, geometry, reference = dome
+    result = solve_frictionless(problem, method, geometry=geometry,
+                                tol=1e-13, margin=0.0)
+    assert result.success, result.message
+    rounds = result.candidates["rounds"]
+    assert rounds[0]["n_candidates"] < reference.n_contact
+    assert rounds[0]["penetrating"] > 0
+    assert result.candidates["enlarged"] >= 1
+    assert rounds[-1]["penetrating"] == 0
+    assert sum(r["nit"] for r in rounds) == result.nit
+    scale = np.abs(reference.u).max()
+    assert np.abs(result.u - reference.u).max() <= 1e-10 * scale
+
+
+def test_candidate_rules():
+    gap = np.array([0.0, 0.1, 0.2, 1.0, 2.0])
+    nodes, delta = initial_candidates(gap)
+    assert delta == pytest.approx(0.1) and list(nodes) == [0, 1]
+    assert list(initial_candidates(gap, 0.5)[0]) == [0, 1, 2]
+    assert list(initial_candidates(np.zeros(3))[0]) == [0, 1, 2]
+    remaining = np.array([0.0, 0.0, -0.3, 0.2, 0.4])
+    assert list(enlarge_candidates(np.array([0, 1]), remaining, 1e-9)) == \
+        [0, 1, 2, 3]
+    assert enlarge_candidates(np.array([0, 1]), np.abs(remaining),
+                              1e-9) is None
+
+
+def clarabel_solution(problem, geometry):
+    """min ½uᵀKu − fᵀu s.t. ν_i·u_i ≤ s_i, by Clarabel (objective / k̄, as
+    in tests/test_qp_crosscheck.py)."""
+    clarabel = pytest.importorskip("clarabel")
+    import scipy.sparse as sp
+
+    n, (m, d) = problem.n_dofs, geometry.dofs.shape
+    k = problem.K.diagonal().mean()
+    C = sp.csc_matrix((geometry.normal.ravel(),
+                       (np.repeat(np.arange(m), d), geometry.dofs.ravel())),
+                      shape=(m, n))
+    settings = clarabel.DefaultSettings()
+    settings.verbose = False
+    settings.tol_gap_abs = settings.tol_gap_rel = 1e-13
+    settings.tol_feas = 1e-13
+    settings.max_iter = 400
+    solver = clarabel.DefaultSolver(sp.triu(problem.K / k).tocsc(),
+                                    -problem.f / k, C, geometry.gap,
+                                    [clarabel.NonnegativeConeT(m)], settings)
+    solution = solver.solve()
+    assert str(solution.status) == "Solved", solution.status
+    return np.asarray(solution.x)
+
+
+@pytest.mark.parametrize("method", METHODS)
+def test_clarabel_crosscheck_3d(dome, method):
+    problem, geometry, _ = dome
+    ours = solve_frictionless(problem, method, geometry=geometry, tol=1e-12)
+    assert ours.success
+    reference = clarabel_solution(problem, geometry)
+    err = np.abs(ours.u - reference).max() / np.abs(reference).max()
+    assert err <= 1e-8, err
