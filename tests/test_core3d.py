@@ -170,6 +170,23 @@ def test_condensed_agrees_with_full(dome, method, kw):
     assert 0 < result.n_contact < problem.n_contact  # a patch, not all
 
 
+@pytest.mark.parametrize("backend", ["superlu", "pardiso", "cholmod"])
+def test_candidates_on_every_backend(dome, backend):
+    """The Schur complement on the candidates' normal rows of K̂ = RKRᵀ,
+    from each backend (SuperLU/CHOLMOD with dof_ordering, PARDISO's Schur
+    mode): the answer of the full system to 1e-10."""
+    from solver.linalg import available_backends
+
+    if backend not in available_backends():
+        pytest.skip(f"{backend} not installed")
+    problem, geometry, reference = dome
+    result = solve_frictionless(problem, geometry=geometry, tol=1e-13,
+                                backend=backend)
+    assert result.success and result.linear_solver == backend
+    scale = np.abs(reference.u).max()
+    assert np.abs(result.u - reference.u).max() <= 1e-10 * scale
+
+
 def test_default_3d_path(dome):
     problem, geometry, _ = dome
     result = solve_frictionless(problem, geometry=geometry)
@@ -360,3 +377,52 @@ def test_2d_unchanged_bit_for_bit(exported, key):
     assert result.contact_force[10:14].tolist() == lam
     assert result.condensation == ("none" if start == "full" else "contact")
     assert result.candidates is None
+
+
+# --- contact_geometry in 3D (through the contract's interfaces) -----------
+
+class _Plane:
+    """Stand-in for GEOM3D's plane surface z = 0 (the obstacle below):
+    the contract's two gap methods, written out for this test."""
+
+    def gap_along_obstacle_normal(self, points):
+        nu = np.tile([0.0, 0.0, -1.0], (len(points), 1))
+        return points[:, 2], nu, points * [1.0, 1.0, 0.0]
+
+    def gap_along_rays(self, points, directions):
+        t = -points[:, 2] / directions[:, 2]
+        return t, points + t[:, None] * directions
+
+
+def test_contact_geometry_3d_modes(monkeypatch):
+    """Both gap modes through the contract: "obstacle" takes the surface's
+    closest point and −its normal; "body" the ray along the body normals
+    (solver.geometry.surface_normals, stubbed here with tilted normals)."""
+    import types
+
+    from solver.contact import contact_geometry
+
+    nodes = np.array([[0.0, 0, 0.1], [1, 0, 0.2], [0, 1, 0.3], [1, 1, 0.4]])
+    contact_dofs = np.array([[0, 1, 2], [3, 4, 5], [-1, 6, 7], [8, 9, 10]])
+    problem = types.SimpleNamespace(
+        kind="mesh", dim=3, nodes=nodes, contact_nodes=np.arange(4),
+        contact_faces=np.array([[0, 2, 1], [1, 2, 3]]),
+        contact_dofs=contact_dofs, obstacle=_Plane())
+    tilted = np.array([[0.6, 0.0, -0.8]] * 4)
+    stub = types.ModuleType("solver.geometry.surface_normals")
+    stub.surface_normals = lambda nodes, faces, contact: tilted[contact]
+    monkeypatch.setitem(sys.modules, "solver.geometry.surface_normals", stub)
+    for mode, gap, normal in (
+            ("obstacle", [0.1, 0.2, 0.4], [[0.0, 0.0, -1.0]] * 3),
+            ("body", [0.125, 0.25, 0.5], tilted[:3])):
+        geometry = contact_geometry(problem, mode)
+        assert geometry.dim == 3 and geometry.mode == mode
+        np.testing.assert_array_equal(geometry.index, [0, 1, 3])
+        np.testing.assert_array_equal(geometry.dofs, contact_dofs[[0, 1, 3]])
+        np.testing.assert_allclose(geometry.gap, gap)
+        np.testing.assert_allclose(geometry.normal, normal)
+        assert geometry.tangents.shape == (3, 2, 3)
+        np.testing.assert_allclose(
+            np.einsum("mkd,md->mk", geometry.tangents, geometry.normal), 0,
+            atol=1e-16)
+        assert geometry.foot.shape == (3, 3)
