@@ -426,3 +426,24 @@ def test_contact_geometry_3d_modes(monkeypatch):
             np.einsum("mkd,md->mk", geometry.tangents, geometry.normal), 0,
             atol=1e-16)
         assert geometry.foot.shape == (3, 3)
+
+
+@pytest.mark.parametrize("backend", ["superlu", "pardiso", "cholmod"])
+def test_candidates_empty_sets(backend):
+    """No free contact node, and a margin below every gap (round 0 without
+    candidates): a plain factorisation, then the rounds as usual."""
+    from solver.linalg import available_backends
+
+    if backend not in available_backends():
+        pytest.skip(f"{backend} not installed")
+    problem, geometry = dome_block((4, 4, 2))
+    none = solve_frictionless(problem, geometry=geometry.subset(
+        np.arange(0)), backend=backend)
+    assert none.success and none.n_contact == 0
+    late = solve_frictionless(problem, geometry=geometry, margin=-1.0,
+                              backend=backend)
+    early = solve_frictionless(problem, geometry=geometry, backend=backend)
+    assert late.success and late.candidates["rounds"][0]["n_candidates"] == 0
+    assert late.candidates["enlarged"] >= 1
+    np.testing.assert_allclose(late.u, early.u, rtol=0,
+                               atol=1e-10 * np.abs(early.u).max())

@@ -130,19 +130,21 @@ class NormalCondensation:
         c = self.normal_rows[self.nodes]
         order = dof_ordering(self.problem, last=c) \
             if self.module.USES_ORDER else None
-        self.factor = self.module.factorize(self.K, order, c, "K",
-                                            self.factorizations == 0)
+        self.factor = self.module.factorize(
+            self.K, order, c if len(c) else None, "K",
+            self.factorizations == 0)  # no candidates: a plain factor
         self.factorizations += 1
         self.w = self.factor.solve(self.f)
-        S = self.factor.S
+        S = self.factor.S if len(c) else np.zeros((0, 0))
         return S, S @ self.w[c], self.w
 
     def displacement(self, u_n):
         """(u, normal displacement at every free contact node) from the
         candidates' normal displacements u_n: one back-substitution."""
         c = self.normal_rows[self.nodes]
-        u_hat = self.w + self.factor.back_substitute(
-            None, np.asarray(u_n, float) - self.w[c])
+        u_hat = self.w if not len(c) else self.w + \
+            self.factor.back_substitute(None, np.asarray(u_n, float)
+                                        - self.w[c])
         return self.R.T @ u_hat, u_hat[self.normal_rows]
 
 
