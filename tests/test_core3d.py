@@ -447,3 +447,17 @@ def test_candidates_empty_sets(backend):
     assert late.candidates["enlarged"] >= 1
     np.testing.assert_allclose(late.u, early.u, rtol=0,
                                atol=1e-10 * np.abs(early.u).max())
+
+
+def test_candidates_exhausted_is_reported(dome, monkeypatch):
+    """Out of rounds with a non-candidate still penetrating: not success,
+    status 6 (verification: penetration), and the message says why."""
+    import solver.contact.candidates as candidates
+
+    problem, geometry, _ = dome
+    monkeypatch.setattr(candidates, "MAX_ROUNDS", 1)
+    result = solve_frictionless(problem, geometry=geometry, margin=0.0)
+    assert not result.success and result.status == 6
+    assert result.candidates["exhausted"]
+    assert "max penetration" in result.message
+    assert "larger margin" in result.message

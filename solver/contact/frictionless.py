@@ -385,6 +385,10 @@ def solve_frictionless(problem, method="min", gap="obstacle", tol=1e-10,
     if result.success and not verification["passed"]:
         result.update(success=False, status=6, message=(
             f"{MESSAGES[6]}: {describe_failure(verification)}"))
+        if screening and screening["exhausted"]:
+            result.message += (f" (the candidates still grew after "
+                               f"{len(screening['rounds'])} rounds: give a "
+                               "larger margin)")
     result.update(_nodal_arrays(problem, geometry, u, lam_free, un_free,
                                 load_norm))
     result.update(
