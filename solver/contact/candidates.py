@@ -46,9 +46,9 @@ candidates (125, one round): 27-29 s end to end, ratio 1.1-1.4, peak RSS
 normal-candidate condensation is therefore the 3D default; at 13 230 DOFs
 (20×20×10) it costs 1.2× (PARDISO), 1.7× (CHOLMOD), 1.4× (SuperLU) the
 floor of the same backend. Newton on the sparse full system
-(``condense=False``) costs one sparse LU of the (Ñ + ...)-sized Jacobian
-per iteration and is the fallback when even the candidates' S would not
-fit (m ≳ 10⁴).
+(``condense=False``) costs one sparse LU of the Ñ×Ñ Jacobian per
+iteration (not measured at this size); it is the fallback when even the
+candidates' S would not fit (m ≳ 10⁴).
 
 References
 ----------
