@@ -47,8 +47,9 @@ normal-candidate condensation is therefore the 3D default; at 13 230 DOFs
 (20×20×10) it costs 1.2× (PARDISO), 1.7× (CHOLMOD), 1.4× (SuperLU) the
 floor of the same backend. Newton on the sparse full system
 (``condense=False``) costs one sparse LU of the Ñ×Ñ Jacobian per
-iteration (not measured at this size); it is the fallback when even the
-candidates' S would not fit (m ≳ 10⁴).
+iteration (at 13 230 DOFs: 17.9 s for 4 iterations against 1.6 s
+condensed); it is the fallback when even the candidates' S would not fit
+(m ≳ 10⁴).
 
 References
 ----------
