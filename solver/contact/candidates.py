@@ -54,8 +54,8 @@ condensed); it is the fallback when even the candidates' S would not fit
 References
 ----------
 P. Wriggers, *Computational Contact Mechanics*, 2nd ed., Springer 2006,
-§6.2.2 (condensation onto the contact DOFs) and §4.1 (global search with a
-bounding margin, local search after).
+§6.2.2 (condensation onto the contact DOFs) and its chapter on contact
+search (a global screening with a margin, then the exact local check).
 """
 
 import numpy as np
