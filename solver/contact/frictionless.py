@@ -1,9 +1,11 @@
 r"""The frictionless discrete contact system (thesis §3.2, (56)-(69), (87)).
 
 Unknown: the reduced displacement vector u (Ñ entries). At each contact node
-i with DOFs (a_i, b_i), unit normal ν_i (from the body towards the obstacle)
-and tangent γ_i = (−ν_y, ν_x), the rotation **R** maps the nodal vector to
-(tangential, normal) components (58)-(60); R is the identity elsewhere.
+i with DOFs (a_i, …), unit normal ν_i (from the body towards the obstacle)
+and tangents (2D: γ_i = (−ν_y, ν_x); 3D: τ_1, τ_2 of
+:func:`solver.geometry.frames.tangent_basis`), the rotation **R** maps the
+nodal vector to (tangential, normal) components (58)-(60); R is the
+identity elsewhere (:func:`~solver.contact.geometry.rotation`).
 **X** keeps every row except the normal rows of contact nodes and **Y** keeps
 only those (66). The system (67) is the mixed NCP
 
@@ -15,18 +17,40 @@ only those (66). The system (67) is the mixed NCP
 "−Y(RKu + Rf)" is a typo for −Y(RKu − Rf)). A is the normal contact force
 λ at each contact node, B the remaining gap. The contact stress (87) is
 g_n = M⁻¹Y(RKu − Rf) = −M⁻¹λ; we report the contact pressure p = M⁻¹λ ≥ 0
-(so g_n = −p), solving with the sparse M, never inverting it.
+(so g_n = −p), solving with the sparse M, never inverting it. Everything
+here works from the :class:`ContactGeometry` (DOFs, gaps, frames) and is
+the same in 2D and 3D.
 
-Only contact nodes whose two DOFs are free take part (a node with a
+Only contact nodes whose DOFs are all free take part (a node with a
 Dirichlet DOF is a support); their λ is 0 in the nodal arrays, which cover
 every node of Γc in ``problem.contact_nodes`` order.
 
 Optionally the gap rows are scaled, B = c(s − YRu) with c > 0 (same solution,
 other Newton path); c = 1 is the thesis.
 
-Condensed onto Γc (the default), the solve starts by nested iteration over
-ever coarser node subsets of Γc (:mod:`solver.contact.nested`), which keeps
-the Newton iterations on the full Γc at a fixed small number.
+Three ways to solve it (:func:`solve_frictionless`):
+
+* 2D default: condensed onto every DOF of Γc (S of size 2Nc), started by
+  nested iteration over ever coarser node subsets of Γc
+  (:mod:`solver.contact.nested`), which keeps the Newton iterations on the
+  full Γc at a fixed small number.
+* 3D default: condensed onto the *normal* DOF of *candidate* nodes only
+  (:mod:`solver.contact.candidates`: one unknown per node that can touch,
+  enlarged and re-solved if a non-candidate penetrates), from the free
+  start. The nested start coarsens by taking every other node along the
+  ordered curve Γc; a contact surface has no such order, so 3D uses the
+  free start (λ = 0) instead.
+* ``condense=False``: the thesis's system in all Ñ unknowns.
+
+In 2D the (x, y) condensation onto all of Γc stays the default. Measured
+on the thesis blocks 118/454/1878 (gap from the obstacle, free start,
+every node a candidate): the normal-only condensation takes the same
+Newton counts as the (x, y) one (φ_min 3/5/6 J, φ_FB 8/11/14 J) and the
+same u to 2e-14 (the tangential rows are linear and stay satisfied from
+the free start on), but the nested start, the 2D default, is built on the
+(x, y) condensation and its answers are kept bit for bit; with the
+default margin the candidates grow once on those blocks (one more
+factorisation), which a 2D Γc of 10²-10³ nodes does not need to save.
 """
 
 import time
@@ -38,110 +62,28 @@ import scipy.sparse.linalg as sla
 from ..errors import SolverError
 from ..linalg import Condensation, resolve
 from ..ncp import MESSAGES, solve_ncp, stable_norm
+from .geometry import (GAP_MODES, ContactGeometry, contact_geometry,
+                       contact_stiffness, rotation)
 from .result import ContactResult
 from .verify import (describe_failure, force_scale, unit_free_options,
                      verification_tolerance, verify_contact)
 
 __all__ = ["GAP_MODES", "ContactGeometry", "contact_geometry",
            "condense_onto_contact", "FrictionlessSystem",
-           "solve_frictionless", "STARTS"]
-
-#: How gaps and normals are found (thesis §2.1.1 / §2.1.2).
-GAP_MODES = ("obstacle", "body")
-
-
-class ContactGeometry:
-    """Gaps and normals at the free contact nodes (evaluated once, §2.1).
-
-    Attributes
-    ----------
-    index : (Nca,) int
-        Rows of ``problem.contact_dofs`` (positions along Γc) of the free
-        contact nodes.
-    dofs : (Nca, 2) int
-        Their reduced DOFs (x, y).
-    gap : (Nca,) float
-        Initial signed gap s along ``normal`` (negative = penetration).
-    normal : (Nca, 2) float
-        Unit normals ν from the body towards the obstacle.
-    foot : (Nca,) float or None
-        Obstacle parameter t of the point the gap is measured to.
-    mode : str
-        ``"obstacle"``, ``"body"`` or ``"given"`` (discrete problems).
-    """
-
-    def __init__(self, index, dofs, gap, normal, foot=None, mode="given"):
-        self.index, self.dofs = index, dofs
-        self.gap, self.normal, self.foot, self.mode = gap, normal, foot, mode
-
-
-def contact_geometry(problem, gap="obstacle"):
-    """Gaps and normals of ``problem`` (thesis §2.1).
-
-    ``gap="obstacle"``: nearest obstacle point, ν = obstacle normal there
-    (§2.1.1). ``gap="body"``: ν = the body's outward normal from a natural
-    cubic spline through Γc (§2.1.3), gap along that line (§2.1.2).
-    Discrete problems carry their gaps and normals; ``gap`` is ignored.
-    """
-    free = np.flatnonzero((problem.contact_dofs >= 0).all(axis=1))
-    dofs = problem.contact_dofs[free]
-    if problem.kind == "discrete":
-        return ContactGeometry(free, dofs, problem.gap[free],
-                               problem.normal[free])
-    if gap not in GAP_MODES:
-        raise SolverError(f"gap mode must be one of {GAP_MODES}, got {gap!r}")
-    from ..geometry.gap import gap_along_normals, gap_from_obstacle
-    from ..geometry.normals import boundary_normals
-
-    body = boundary_normals(problem.nodes, problem.cells,
-                            problem.contact_nodes)[free]
-    ids = problem.contact_nodes[free]
-    points = problem.nodes[ids]
-    if gap == "obstacle":
-        s, normal, t = gap_from_obstacle(points, problem.obstacle, body,
-                                         node_ids=ids)
-    else:
-        s, normal, t = gap_along_normals(points, body, problem.obstacle,
-                                         node_ids=ids)
-    return ContactGeometry(free, dofs, s, normal, t, gap)
-
-
-def contact_stiffness(K, geometry):
-    """k̄: the mean diagonal stiffness at the contact DOFs (1 if none), the
-    force per unit gap of the stopping measures."""
-    if not len(geometry.dofs):
-        return 1.0
-    return float(K.diagonal()[geometry.dofs].mean())
+           "solve_frictionless", "STARTS", "rotation", "contact_stiffness"]
 
 
 def condense_onto_contact(problem, geometry, backend="auto"):
     """Factorise K once per K with the free contact DOFs last
     (:meth:`solver.linalg.Condensation.of`, which also checks that K is
     positive definite) and renumber ``geometry`` to the condensed DOFs
-    (x, y of contact node i → 2i, 2i + 1), with the linear solver
-    ``backend``. Returns (condensation, geometry).
+    (the d DOFs of contact node i → d·i, …, d·i + d − 1), with the linear
+    solver ``backend``. Returns (condensation, geometry).
     """
     condensation = Condensation.of(problem, geometry.dofs.ravel(), backend)
     problem._checked = problem.K  # the factorisation checked K's pivots
-    m = len(geometry.dofs)
-    local = ContactGeometry(geometry.index, np.arange(2 * m).reshape(m, 2),
-                            geometry.gap, geometry.normal, geometry.foot,
-                            geometry.mode)
-    return condensation, local
-
-
-def rotation(n, geometry):
-    """R of (58)-(60), sparse (n, n): at contact node i with DOFs (a_i, b_i)
-    row a_i = γ_i = (−ν_y, ν_x) (tangential), row b_i = ν_i (normal);
-    identity elsewhere. Returns (R, other DOFs, a, b)."""
-    a, b = geometry.dofs[:, 0], geometry.dofs[:, 1]
-    nu = geometry.normal
-    other = np.setdiff1d(np.arange(n), geometry.dofs.ravel())
-    rows = np.concatenate([other, a, a, b, b])
-    cols = np.concatenate([other, a, b, a, b])
-    vals = np.concatenate([np.ones(len(other)), -nu[:, 1], nu[:, 0],
-                           nu[:, 0], nu[:, 1]])
-    return sp.csr_matrix((vals, (rows, cols)), shape=(n, n)), other, a, b
+    m, d = geometry.dofs.shape
+    return condensation, geometry.renumbered(np.arange(d * m).reshape(m, d))
 
 
 class FrictionlessSystem:
@@ -221,8 +163,10 @@ STOPPING_TEST = ("‖[E; min(λ, k̄(s − u_n))]‖₂ ≤ tol·max(‖f‖₂,
 STARTS = ("nested", "free")
 
 
-def _start_mode(start, x0, condense):
-    """The start actually used: "nested", "free", "x0" or "zero"."""
+def _start_mode(start, x0, condense, nested=True):
+    """The start actually used: "nested", "free", "x0" or "zero".
+    ``nested``: whether the nested start is possible (2D, condensed onto
+    all of Γc); else "free" is the default and "nested" refused."""
     if start is not None and start not in STARTS:
         raise SolverError(f"start must be one of {STARTS}, got {start!r}")
     if x0 is not None:
@@ -234,13 +178,30 @@ def _start_mode(start, x0, condense):
             raise SolverError("the nested start needs the condensed system "
                               "(condense=True)")
         return "zero"
+    if not nested:
+        if start == "nested":
+            raise SolverError("the nested start coarsens along the ordered "
+                              "2D curve Γc: use start='free' in 3D and with "
+                              "candidates=True")
+        return "free"
     return start or "nested"
+
+
+def _use_candidates(candidates, condense, dim):
+    """Whether to condense onto the candidates' normal DOFs (default: in
+    3D, condensed)."""
+    if candidates is None:
+        return condense and dim == 3
+    if candidates and not condense:
+        raise SolverError("candidates=True needs the condensed system "
+                          "(condense=True)")
+    return bool(candidates)
 
 
 def solve_frictionless(problem, method="min", gap="obstacle", tol=1e-10,
                        max_iter=100, x0=None, gap_scale=None, options=None,
                        geometry=None, condense=None, start=None,
-                       backend="auto"):
+                       backend="auto", candidates=None, margin=None):
     r"""Solve the frictionless contact problem (67) by semismooth Newton.
 
     Parameters
@@ -288,24 +249,34 @@ def solve_frictionless(problem, method="min", gap="obstacle", tol=1e-10,
         the Jacobian per iteration (faithful mode; its iteration counts are
         those of Table 1).
     start : {"nested", "free"}, optional
-        Start when ``x0`` is not given. Condensed: "nested" (default) solves
-        the problem on ever coarser subsets of Γc first
+        Start when ``x0`` is not given. Condensed in 2D: "nested" (default)
+        solves the problem on ever coarser subsets of Γc first
         (:func:`solver.contact.nested.solve_nested`); "free" starts from no
-        contact force, u = K⁻¹f. The full system always starts from the
-        thesis's u = 0.
+        contact force, u = K⁻¹f. In 3D and with ``candidates=True`` only
+        "free" (the default there; "nested" raises). The full system
+        always starts from the thesis's u = 0.
     backend : {"auto", "superlu", "pardiso", "cholmod"}
         Sparse direct solver of the condensed system
         (:mod:`solver.linalg`; "auto": the fastest installed). The full
         system's Newton steps are general sparse LUs (SciPy) whatever it
         is.
+    candidates : bool, optional
+        Condense onto the normal DOFs of candidate nodes only
+        (:mod:`solver.contact.candidates`). Default: True in 3D when
+        condensed, False in 2D (the (x, y) condensation onto all of Γc).
+    margin : float, optional
+        The candidates' round-0 screening margin δ₀, a length: nodes with
+        initial gap s_i ≤ δ₀ (default
+        :func:`~solver.contact.candidates.initial_candidates`). Too small
+        a margin costs refactorisations, never accuracy.
 
     Returns
     -------
     OptimizeResult
         The NCP result (``success``, ``status``, ``message``, ``nit``,
         ``njev``, ``nfev``, ``history``, ``residual``) plus ``u`` (reduced),
-        ``displacement`` (nodal, (n_nodes, 2); for a discrete problem the
-        contact nodes' (Nc, 2)), and over all nodes of Γc: ``contact_force``
+        ``displacement`` (nodal, (n_nodes, d); for a discrete problem the
+        contact nodes' (Nc, d)), and over all nodes of Γc: ``contact_force``
         λ, ``contact_pressure`` p_i = max(λ_i, 0) / D_ii with the lumped
         boundary matrix D_ii = Σ_j M_ij (a nodal force per unit length; λ
         is ≥ 0 by complementarity up to the tolerance, cut off at 0 here
@@ -315,6 +286,11 @@ def solve_frictionless(problem, method="min", gap="obstacle", tol=1e-10,
         ``gap`` s and ``normal`` ν (NaN at supports), ``normal_displacement``
         u_n, ``in_contact``; and ``complementarity`` = max|min(λ, s − u_n)|,
         ``n_contact``, ``gap_mode``, ``gap_scale`` (c used), ``condensed``,
+        ``condensation`` ("contact": every DOF of Γc; "normal candidates";
+        "none": the full system), ``candidates`` (None, or the screening
+        dict of :func:`~solver.contact.candidates.solve_on_candidates`:
+        ``margin``, ``rounds``, ``n_candidates``, ``enlarged``,
+        ``exhausted``),
         ``start`` ("nested", "free", "zero" or "x0"), ``levels`` (per-level
         counts of a nested start, coarsest first, else []; ``nit``,
         ``njev`` and ``nfev`` then count all levels), ``geometry_time``,
@@ -333,7 +309,8 @@ def solve_frictionless(problem, method="min", gap="obstacle", tol=1e-10,
     ------
     SolverError
         If ``start`` is unknown, given together with ``x0``, or "nested"
-        on the full system.
+        on the full system, in 3D or with candidates; or candidates=True
+        with condense=False.
     ProblemError
         If K is not positive definite (checked once per K by one sparse
         factorisation, :meth:`ContactProblem.check_stiffness`), or a normal
@@ -348,7 +325,9 @@ def solve_frictionless(problem, method="min", gap="obstacle", tol=1e-10,
     load_norm = stable_norm(problem.f)
     stiffness = contact_stiffness(problem.K, geometry)
     condense = condense is None or bool(condense)
-    start = _start_mode(start, x0, condense)
+    by_candidates = _use_candidates(candidates, condense, geometry.dim)
+    start = _start_mode(start, x0, condense,
+                        geometry.dim == 2 and not by_candidates)
     linear_solver = resolve(backend)  # unknown or not installed: raises
     if not condense:  # K checked by SuperLU, Newton steps by SciPy's LU
         linear_solver = "superlu"
@@ -357,6 +336,14 @@ def solve_frictionless(problem, method="min", gap="obstacle", tol=1e-10,
     if condense:  # c = k̄ and (26) unit-free: iterates independent of units
         options = unit_free_options(method, options, load_norm, stiffness,
                                     geometry.gap)
+    screening = None
+    if by_candidates:
+        from .candidates import solve_on_candidates
+
+        result, u, lam_free, un_free, screening = solve_on_candidates(
+            problem, geometry, method, tol, max_iter, x0, gap_scale,
+            stiffness, options, load_norm, linear_solver, margin)
+    elif condense:
         condensation, local = condense_onto_contact(problem, geometry,
                                                     linear_solver)
         g, w = condensation.load(problem.f)
@@ -380,52 +367,64 @@ def solve_frictionless(problem, method="min", gap="obstacle", tol=1e-10,
         problem.check_stiffness()  # singular / indefinite K: input error
         system = FrictionlessSystem(problem.K, problem.f, geometry,
                                     gap_scale, stiffness, load_norm)
-    if start != "nested":
-        result = solve_ncp(system.residual, system.jacobian, x0,
-                           method=method, tol=tol, max_iter=max_iter,
-                           options=options, error=system.error,
-                           scale=system.scale)
-        result.levels = []
+    if not by_candidates:
+        if start != "nested":
+            result = solve_ncp(system.residual, system.jacobian, x0,
+                               method=method, tol=tol, max_iter=max_iter,
+                               options=options, error=system.error,
+                               scale=system.scale)
+            result.levels = []
+        lam_free = system.contact_force(result.x)
+        un_free = system.normal_displacement(result.x)
+        u = condensation.displacement(result.x, w) if condense else result.x
     result.stopping["test"] = STOPPING_TEST
-    lam_free = system.contact_force(result.x)
-    un_free = system.normal_displacement(result.x)
-    if condense:
-        result.x = condensation.displacement(result.x, w)
-    u = result.x
-    nc = problem.n_contact
-    lam = np.zeros(nc)
-    lam[geometry.index] = lam_free
-    un = np.full(nc, np.nan)
-    un[geometry.index] = un_free
-    s = np.full(nc, np.nan)
-    s[geometry.index] = geometry.gap
-    normal = np.full((nc, 2), np.nan)
-    normal[geometry.index] = geometry.normal
-    pressure = sla.spsolve(problem.M.tocsc(), lam) + 0.0  # no -0.0
-    lumped = np.maximum(lam, 0.0) / np.asarray(problem.M.sum(axis=1)).ravel()
-    remaining = s - un
-    comp = np.abs(np.minimum(lam, remaining))[geometry.index]
+    result.x = u
     verification = verify_contact(problem.K, problem.f, u, geometry.dofs,
                                   geometry.normal, geometry.gap, lam_free,
                                   stiffness, verification_tolerance(tol))
     if result.success and not verification["passed"]:
         result.update(success=False, status=6, message=(
             f"{MESSAGES[6]}: {describe_failure(verification)}"))
+        if screening and screening["exhausted"]:
+            result.message += (f" (the candidates still grew after "
+                               f"{len(screening['rounds'])} rounds: give a "
+                               "larger margin)")
+    result.update(_nodal_arrays(problem, geometry, u, lam_free, un_free,
+                                load_norm))
+    result.update(
+        gap_mode=geometry.mode, gap_scale=float(gap_scale),
+        geometry_time=geometry_time, condensed=bool(condense),
+        condensation=("normal candidates" if by_candidates else
+                      "contact" if condense else "none"),
+        candidates=screening, start=start, linear_solver=linear_solver,
+        verification=verification, time=time.perf_counter() - clock)
+    return ContactResult(result)
+
+
+def _nodal_arrays(problem, geometry, u, lam_free, un_free, load_norm):
+    """The result's arrays over every node of Γc (NaN / 0 at supports)."""
+    nc, d = problem.n_contact, geometry.dim
+    lam = np.zeros(nc)
+    lam[geometry.index] = lam_free
+    un = np.full(nc, np.nan)
+    un[geometry.index] = un_free
+    s = np.full(nc, np.nan)
+    s[geometry.index] = geometry.gap
+    normal = np.full((nc, d), np.nan)
+    normal[geometry.index] = geometry.normal
+    pressure = sla.spsolve(problem.M.tocsc(), lam) + 0.0  # no -0.0
+    lumped = np.maximum(lam, 0.0) / np.asarray(problem.M.sum(axis=1)).ravel()
+    remaining = s - un
+    comp = np.abs(np.minimum(lam, remaining))[geometry.index]
     threshold = 1e-9 * force_scale(load_norm, lam)
     in_contact = lam > threshold
     if problem.kind == "mesh":
         displacement = problem.full_displacement(u)
     else:
         displacement = u[problem.contact_dofs]
-    result.update(
+    return dict(
         u=u, displacement=displacement, contact_force=lam,
         contact_pressure=lumped, contact_pressure_consistent=pressure,
-        gap=s, normal=normal,
-        normal_displacement=un, in_contact=in_contact,
+        gap=s, normal=normal, normal_displacement=un, in_contact=in_contact,
         complementarity=float(comp.max(initial=0.0)),
-        n_contact=int(in_contact.sum()), gap_mode=geometry.mode,
-        gap_scale=float(gap_scale), geometry_time=geometry_time,
-        condensed=bool(condense), start=start, linear_solver=linear_solver,
-        verification=verification,
-        time=time.perf_counter() - clock)
-    return ContactResult(result)
+        n_contact=int(in_contact.sum()))

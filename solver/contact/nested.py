@@ -34,6 +34,14 @@ search rejects good steps; the nested solve therefore scales the gap rows
 by the contact stiffness k̄ (force units, :func:`contact_stiffness`) unless
 told otherwise. The solution is the same for every c.
 
+Dimension: the arithmetic works for any d (d DOFs per node), but the
+coarsening keeps every other node *in the order of Γc*, which is the
+order along the boundary curve in 2D and means nothing on a 3D contact
+surface (``problem.contact_nodes`` has no order there). 3D therefore uses
+the free start (:func:`solver.contact.solve_frictionless`); a spatial
+coarsening (one node per cell of ever coarser grids) would be the 3D
+counterpart, not built.
+
 References
 ----------
 S. Hüeber, B. Wohlmuth: A primal-dual active set strategy for non-linear
@@ -49,7 +57,7 @@ import numpy as np
 import scipy.linalg as sla
 
 from ..ncp import solve_ncp
-from .frictionless import ContactGeometry, FrictionlessSystem
+from .frictionless import FrictionlessSystem
 
 __all__ = ["COARSEST", "ContactLevel", "contact_levels", "solve_nested"]
 
@@ -64,17 +72,17 @@ class ContactLevel:
     ----------
     nodes : (m,) int
         The level's nodes, as positions in the finest level's node list.
-    S : (2m, 2m) float
-        Schur complement of K on the level's DOFs (x, y of node i → 2i,
-        2i + 1).
-    w : (2m,) float
+    S : (dm, dm) float
+        Schur complement of K on the level's DOFs (the d DOFs of node i →
+        d·i, …, d·i + d − 1; d = 2 in use).
+    w : (dm,) float
         The unconstrained displacement K⁻¹f at those DOFs.
     geometry : ContactGeometry
         Gaps and normals at the level's nodes, renumbered to its DOFs.
     keep : (m,) bool or None
         Which of this level's nodes the next coarser level keeps (None on
         the coarsest).
-    X : (2m − 2m', 2m') float or None
+    X : (dm − dm', dm') float or None
         S_rr⁻¹S_rk: prolongation of a coarser level's u to the dropped DOFs.
     """
 
@@ -85,7 +93,7 @@ class ContactLevel:
     def prolong(self, u_coarse):
         """This level's u from the next coarser level's u: the kept DOFs
         take it, the others follow from equilibrium without contact force."""
-        kept = np.repeat(self.keep, 2)
+        kept = np.repeat(self.keep, self.geometry.dim)
         u = np.empty(len(self.w))
         u[kept] = u_coarse
         u[~kept] = self.w[~kept] - self.X @ (u_coarse - self.w[kept])
@@ -94,11 +102,8 @@ class ContactLevel:
 
 def _subset(geometry, nodes):
     """``geometry`` (of the finest level, local DOFs) at ``nodes``."""
-    foot = None if geometry.foot is None else geometry.foot[nodes]
-    return ContactGeometry(geometry.index[nodes],
-                           np.arange(2 * len(nodes)).reshape(-1, 2),
-                           geometry.gap[nodes], geometry.normal[nodes],
-                           foot, geometry.mode)
+    d = geometry.dim
+    return geometry.subset(nodes, np.arange(d * len(nodes)).reshape(-1, d))
 
 
 def contact_levels(S, w, geometry, coarsest=COARSEST):
@@ -108,10 +113,10 @@ def contact_levels(S, w, geometry, coarsest=COARSEST):
 
     Parameters
     ----------
-    S : (2m, 2m) dense array
+    S : (dm, dm) dense array
         Schur complement of K on the free contact DOFs
         (:class:`solver.linalg.Condensation`).
-    w : (2m,) array
+    w : (dm,) array
         K⁻¹f at those DOFs.
     geometry : ContactGeometry
         Renumbered to the condensed DOFs (:func:`condense_onto_contact`).
@@ -122,8 +127,8 @@ def contact_levels(S, w, geometry, coarsest=COARSEST):
         level = levels[-1]
         keep = np.zeros(len(level.nodes), dtype=bool)
         keep[::2] = keep[-1] = True
-        k = np.flatnonzero(np.repeat(keep, 2))
-        r = np.flatnonzero(~np.repeat(keep, 2))
+        k = np.flatnonzero(np.repeat(keep, geometry.dim))
+        r = np.flatnonzero(~np.repeat(keep, geometry.dim))
         S_rk = level.S[np.ix_(r, k)]
         level.keep = keep
         level.X = sla.cho_solve(sla.cho_factor(level.S[np.ix_(r, r)]), S_rk)

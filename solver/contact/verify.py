@@ -32,8 +32,9 @@ at most tol_v·F (lengths through F/k̄); and the equilibrium residual
 
 .. math::  \frac{\|K u − f − f_c\|_2}{\|f\|_2 + \|f_c\|_2} \le \mathrm{tol}_v,
 
-where f_c = Σ_i (−λ_i ν_i + t_i γ_i) are the contact forces on the body (t_i
-the nodal friction force). The last one catches a factorisation that is
+where f_c = Σ_i (−λ_i ν_i + Σ_k t_ik τ_ik) are the contact forces on the
+body (t_i the nodal friction force, τ_ik the tangents of node i: in 2D the
+one γ_i = (−ν_y, ν_x), in 3D two; any d). The last one catches a factorisation that is
 too inaccurate for the problem (a nearly free rigid body mode, cond(K) ~
 1e13), where the condensed system is solved to tol but the displacement
 recovered from it violates equilibrium and the contact conditions.
@@ -44,6 +45,7 @@ round-off of recomputing them from K.
 
 import numpy as np
 
+from ..geometry.frames import tangent_basis
 from ..ncp import stable_norm as _norm
 
 __all__ = ["VERIFY_FACTOR", "VERIFY_FLOOR", "verification_tolerance",
@@ -108,7 +110,7 @@ def _relative(value, size):
 
 
 def verify_contact(K, f, u, dofs, normal, gap, lam, stiffness, tol_v,
-                   friction_force=None, friction_bound=None):
+                   friction_force=None, friction_bound=None, tangents=None):
     """Check a computed contact answer against the original K and f.
 
     Parameters
@@ -119,9 +121,9 @@ def verify_contact(K, f, u, dofs, normal, gap, lam, stiffness, tol_v,
         The load of the answer (a load step's f_κ).
     u : (Ñ,) array
         The reduced displacement.
-    dofs : (Nca, 2) int
+    dofs : (Nca, d) int
         Reduced DOFs of the free contact nodes.
-    normal, gap : (Nca, 2), (Nca,)
+    normal, gap : (Nca, d), (Nca,)
         ν and s at those nodes.
     lam : (Nca,)
         Normal contact forces reported by the solver.
@@ -129,9 +131,13 @@ def verify_contact(K, f, u, dofs, normal, gap, lam, stiffness, tol_v,
         k̄ (force per unit gap).
     tol_v : float
         :func:`verification_tolerance`.
-    friction_force, friction_bound : (Nca,), optional
-        Nodal friction force t_i = D_ii g_t,i and its Coulomb bound
-        D_ii f_c p_i.
+    friction_force, friction_bound : (Nca,) or (Nca, d − 1), (Nca,), optional
+        Nodal friction force t_i = D_ii g_t,i (its components along the
+        tangents; a scalar per node in 2D) and its Coulomb bound
+        D_ii f_c p_i, which bounds |t_i|.
+    tangents : (Nca, d − 1, d), optional
+        The tangents of ``friction_force`` (default
+        :func:`solver.geometry.frames.tangent_basis` of ``normal``).
 
     Returns
     -------
@@ -161,18 +167,20 @@ def verify_contact(K, f, u, dofs, normal, gap, lam, stiffness, tol_v,
         checks["complementarity"] = _relative(np.max(np.abs(np.minimum(
             lam, stiffness * remaining)), initial=0.0), F)
         contact = np.zeros_like(u)
-        t = np.zeros_like(lam) if friction_force is None else \
-            np.asarray(friction_force, float)
-        if len(dofs):  # −λν + tγ, γ = (−ν_y, ν_x); distinct nodes
-            contact[dofs[:, 0]] = -lam * normal[:, 0] - t * normal[:, 1]
-            contact[dofs[:, 1]] = -lam * normal[:, 1] + t * normal[:, 0]
+        if len(dofs):  # −λν + Σ_k t_k τ_k; distinct nodes
+            contact[dofs] = -lam[:, None] * normal
+        if friction_force is not None and len(dofs):
+            tau = tangent_basis(normal) if tangents is None else tangents
+            t = np.asarray(friction_force, float).reshape(len(dofs), -1)
+            contact[dofs] += (t[:, :, None] * tau).sum(axis=1)
         residual = _norm(K @ u - f - contact)
         checks["equilibrium"] = _relative(residual,
                                           _norm(f) + _norm(contact))
         if friction_force is not None:
+            t = np.asarray(friction_force, float)
+            size = np.abs(t) if t.ndim == 1 else np.linalg.norm(t, axis=1)
             checks["friction_bound_violation"] = _relative(np.max(
-                np.abs(t) - np.asarray(friction_bound, float),
-                initial=0.0), F)
+                size - np.asarray(friction_bound, float), initial=0.0), F)
     tolerances = {name: tol_v for name in checks}
     tolerances["min_multiplier"] = -tol_v
     failed = [] if finite else ["finite"]
