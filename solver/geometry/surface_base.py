@@ -72,7 +72,9 @@ def as_points(points, name="points"):
 
 def as_directions(directions, m):
     """Unit (m, 3) directions (GapError for a wrong shape or zero)."""
-    d = np.broadcast_to(as_points(directions, "directions"), (m, 3))
+    d = np.asarray(directions, dtype=float)
+    d = np.broadcast_to(as_points(d.reshape(-1, 3) if d.shape == (3,) else d,
+                                  "directions"), (m, 3))
     length = np.linalg.norm(d, axis=1)
     if not (length > 0).all():
         raise GapError("directions must be non-zero")

@@ -32,12 +32,43 @@ class _MapSurface(Surface):
         return self._box(points)[:2]
 
     def _closest(self, points):
-        lower, upper, start = self._box(points)
-        u, converged = closest_points(self.map, points, lower, upper, start)
+        """Closest-point parameters, restarting runs that end off a foot
+        point on an edge of the box from farther start candidates."""
+        lower, upper, starts = self._box(points)
+        m = len(points)
+        lower = np.broadcast_to(lower, (m, 2))
+        upper = np.broadcast_to(upper, (m, 2))
+        u, converged = closest_points(self.map, points, lower, upper,
+                                      starts[:, 0])
+        bad = ~converged | self._off_edge(u, points, lower, upper)
+        width = (upper - lower) / 32
+        for j in range(1, starts.shape[1]):
+            far = np.abs(starts[:, j] - u) > np.where(np.isfinite(width),
+                                                      width, 0)
+            retry = np.flatnonzero(bad & far.any(axis=1))
+            if not len(retry):
+                continue
+            v, ok = closest_points(self.map, points[retry], lower[retry],
+                                   upper[retry], starts[retry, j])
+            ok &= ~self._off_edge(v, points[retry], lower[retry],
+                                  upper[retry])
+            u[retry[ok]], converged[retry[ok]] = v[ok], True
+            bad[retry[ok]] = False
         if not converged.all():
             fail(~converged, points, "the closest-point Newton on the "
                  "obstacle surface did not converge", SolverError)
         return u, lower, upper
+
+    def _off_edge(self, u, points, lower, upper):
+        """On an edge of the box but not a foot point there."""
+        r = points - self.map.point(u[:, 0], u[:, 1])
+        normal, _ = self.map.normal(u[:, 0], u[:, 1])
+        distance = np.linalg.norm(r, axis=1)
+        on_edge = ((u <= lower) | (u >= upper)).any(axis=1)
+        with np.errstate(invalid="ignore"):
+            cosine = np.abs(np.sum(r * normal, axis=1)) / np.where(
+                distance > 0, distance, 1.0)
+        return on_edge & (distance > 0) & ~(cosine >= 1 - 1e-8)
 
     def _frame(self, u, points):
         normal, length = self.map.normal(u[:, 0], u[:, 1])
@@ -54,17 +85,11 @@ class _MapSurface(Surface):
         u, lower, upper = self._closest(points)
         foot = self.map.point(u[:, 0], u[:, 1])
         normal = self._frame(u, points)
-        r = points - foot
-        distance = np.linalg.norm(r, axis=1)
-        on_edge = ((u <= lower) | (u >= upper)).any(axis=1)
-        cosine = np.abs(np.sum(r * normal, axis=1)) / np.where(
-            distance > 0, distance, 1.0)
-        off = on_edge & (distance > 0) & ~(cosine >= 1 - 1e-8)
-        if off.any():
-            fail(off, points, "the nearest obstacle point lies on the edge "
-                 "of s_range × t_range (not a foot point; enlarge the "
-                 "ranges)")
-        return np.sum(r * normal, axis=1), -normal, foot
+        if self._off_edge(u, points, lower, upper).any():
+            fail(self._off_edge(u, points, lower, upper), points,
+                 "the nearest obstacle point lies on the edge of "
+                 "s_range × t_range (not a foot point; enlarge the ranges)")
+        return np.sum((points - foot) * normal, axis=1), -normal, foot
 
     def gap_along_rays(self, points, directions):
         points = as_points(points)
@@ -75,6 +100,18 @@ class _MapSurface(Surface):
         lower, upper = self._ray_box(points)
         tau, _, ok = ray_hits(self.map, points, d, u, lower, upper,
                               MIN_COSINE)
+        if not ok.all():  # restart from the grid samples nearest the
+            bad = np.flatnonzero(~ok)  # last iterate (another basin)
+            guess = points[bad] + tau[bad, None] * d[bad]
+            starts = self._box(np.where(np.isfinite(guess), guess,
+                                        points[bad]))[2]
+            for j in range(starts.shape[1]):
+                t, _, good = ray_hits(self.map, points[bad], d[bad],
+                                      starts[:, j], lower, upper, MIN_COSINE)
+                tau[bad[good]], ok[bad[good]] = t[good], True
+                starts, bad = starts[~good], bad[~good]
+                if not len(bad):
+                    break
         if not ok.all():
             fail(~ok, points, "the rays miss the obstacle surface (inside "
                  "its parameter range) or graze it")

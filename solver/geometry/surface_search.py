@@ -8,7 +8,9 @@ conditions are :math:`(c - x)\cdot c_s = (c - x)\cdot c_t = 0`. Method:
 
 1. *Bracketing start*: the box is sampled on a grid; each point starts from
    its nearest sample (a k-d tree over the samples for a shared box, or a
-   small grid per point when every point has its own box).
+   small grid per point when every point has its own box); a run that ends
+   on an edge of the box without being a foot point there restarts from the
+   next nearest sample in another basin (:data:`CANDIDATES`).
 2. *Safeguarded projected Newton* (Bertsekas 1982, "Projected Newton methods
    for optimization problems with simple constraints", SIAM J. Control
    Optim. 20, 221-246): gradient :math:`g = J^T r`, Hessian
@@ -38,32 +40,42 @@ __all__ = ["DEFAULT_SAMPLES", "grid_start", "local_grid_start",
 #: Samples per parameter of the start grid over a shared parameter box.
 DEFAULT_SAMPLES = 65
 
+#: Start samples kept per point, nearest first: a point whose Newton run
+#: ends on an edge of the box without being a foot point there (the start
+#: was in the wrong basin, e.g. the wrong copy of a periodic parameter)
+#: restarts from the next candidate farther than two grid spacings away.
+CANDIDATES = 12
+
 _EPS = np.finfo(float).eps
 _MAX_ITER = 60
 _MAX_HALVINGS = 40
 
 
-def grid_start(surface_map, points, lower, upper, samples=DEFAULT_SAMPLES):
-    """Nearest of ``samples`` × ``samples`` grid points of the box
-    [lower, upper] to each point: the start parameters (m, 2)."""
+def grid_start(surface_map, points, lower, upper, samples=DEFAULT_SAMPLES,
+               k=CANDIDATES):
+    """The ``k`` grid points of the box [lower, upper] (``samples`` per
+    parameter) nearest to each point, nearest first: starts (m, k, 2)."""
     s, t = (np.linspace(lower[i], upper[i], samples) for i in (0, 1))
     S, T = (a.ravel() for a in np.meshgrid(s, t, indexing="ij"))
     cloud = surface_map.point(S, T)
     good = np.isfinite(cloud).all(axis=1)
-    _, nearest = cKDTree(cloud[good]).query(points)
-    return np.c_[S[good][nearest], T[good][nearest]]
+    k = min(k, int(good.sum()))
+    _, nearest = cKDTree(cloud[good]).query(points, k=k)
+    nearest = nearest.reshape(len(points), k)
+    return np.stack([S[good][nearest], T[good][nearest]], axis=-1)
 
 
-def local_grid_start(surface_map, points, lower, upper, samples=5):
+def local_grid_start(surface_map, points, lower, upper, samples=5,
+                     k=CANDIDATES):
     """As :func:`grid_start` for one box per point (lower, upper: (m, 2))."""
     w = np.linspace(0.0, 1.0, samples)
     a, b = (g.ravel() for g in np.meshgrid(w, w, indexing="ij"))
     S = lower[:, :1] + a * (upper[:, :1] - lower[:, :1])
     T = lower[:, 1:] + b * (upper[:, 1:] - lower[:, 1:])
     d2 = np.sum((surface_map.point(S, T) - points[:, None, :]) ** 2, -1)
-    best = np.argmin(np.where(np.isfinite(d2), d2, np.inf), axis=1)
-    rows = np.arange(len(points))
-    return np.c_[S[rows, best], T[rows, best]]
+    order = np.argsort(np.where(np.isfinite(d2), d2, np.inf), axis=1)[:, :k]
+    rows = np.arange(len(points))[:, None]
+    return np.stack([S[rows, order], T[rows, order]], axis=-1)
 
 
 def _phi(surface_map, u, x):
