@@ -254,3 +254,11 @@ def test_no_points_and_broadcast_direction():
     assert gap.shape == (0,) and nu.shape == foot.shape == (0, 3)
     tau, _ = surface.gap_along_rays([[0.5, 0.5, 2.0]], [0, 0, -2.0])
     assert tau[0] == pytest.approx(2.0 - 0.5 / (2 * R), abs=1e-14)
+
+
+def test_module_example_runs():
+    import doctest
+
+    import solver.geometry.surface as module
+
+    assert doctest.testmod(module).failed == 0

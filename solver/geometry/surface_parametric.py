@@ -15,8 +15,8 @@ from .obstacle import check_interval
 from .surface_base import (Surface, as_directions, as_points, fail,
                            spec_fields)
 from .surface_expression import SurfaceMap
-from .surface_search import (DEFAULT_SAMPLES, closest_points, grid_start,
-                             local_grid_start, ray_hits)
+from .surface_search import (CANDIDATES, DEFAULT_SAMPLES, closest_points,
+                             grid_start, local_grid_start, ray_hits)
 from .surface_shapes import MIN_COSINE
 
 __all__ = ["ParametricSurface", "GraphSurface"]
@@ -25,22 +25,28 @@ __all__ = ["ParametricSurface", "GraphSurface"]
 class _MapSurface(Surface):
     """Shared gap computations of the surfaces given by a SurfaceMap."""
 
-    def _box(self, points):  # (lower, upper) of the closest-point search
+    def _box(self, points, k):
+        """(lower, upper, starts (m, k, 2)) of the closest-point search."""
         raise NotImplementedError
 
     def _ray_box(self, points):
-        return self._box(points)[:2]
+        """(lower, upper) of the ray search."""
+        raise NotImplementedError
 
     def _closest(self, points):
         """Closest-point parameters, restarting runs that end off a foot
         point on an edge of the box from farther start candidates."""
-        lower, upper, starts = self._box(points)
+        lower, upper, starts = self._box(points, 1)
         m = len(points)
         lower = np.broadcast_to(lower, (m, 2))
         upper = np.broadcast_to(upper, (m, 2))
         u, converged = closest_points(self.map, points, lower, upper,
                                       starts[:, 0])
         bad = ~converged | self._off_edge(u, points, lower, upper)
+        if not bad.any():
+            return u, lower, upper
+        starts = np.zeros((m, CANDIDATES, 2))
+        starts[bad] = self._box(points[bad], CANDIDATES)[2]
         width = (upper - lower) / 32
         for j in range(1, starts.shape[1]):
             far = np.abs(starts[:, j] - u) > np.where(np.isfinite(width),
@@ -104,7 +110,7 @@ class _MapSurface(Surface):
             bad = np.flatnonzero(~ok)  # last iterate (another basin)
             guess = points[bad] + tau[bad, None] * d[bad]
             starts = self._box(np.where(np.isfinite(guess), guess,
-                                        points[bad]))[2]
+                                        points[bad]), CANDIDATES)[2]
             for j in range(starts.shape[1]):
                 t, _, good = ray_hits(self.map, points[bad], d[bad],
                                       starts[:, j], lower, upper, MIN_COSINE)
@@ -151,9 +157,12 @@ class ParametricSurface(_MapSurface):
         return {"kind": self.kind, "x": x, "y": y, "z": z,
                 "s_range": list(self.s_range), "t_range": list(self.t_range)}
 
-    def _box(self, points):
+    def _ray_box(self, points):
+        return self.lower, self.upper
+
+    def _box(self, points, k):
         start = grid_start(self.map, points, self.lower, self.upper,
-                           self.samples)
+                           self.samples, k)
         return self.lower, self.upper, start
 
 
@@ -181,7 +190,7 @@ class GraphSurface(_MapSurface):
     def spec(self):
         return {"kind": self.kind, "z": self.text}
 
-    def _box(self, points):
+    def _box(self, points, k):
         h = self.map.point(points[:, 0], points[:, 1])[:, 2]
         if not np.isfinite(h).all():
             fail(~np.isfinite(h), points, "the obstacle height h(x, y) is "
@@ -189,7 +198,8 @@ class GraphSurface(_MapSurface):
         v = np.abs(points[:, 2] - h)
         v = v * (1 + 1e-12) + 1e-300
         lower, upper = points[:, :2] - v[:, None], points[:, :2] + v[:, None]
-        return lower, upper, local_grid_start(self.map, points, lower, upper)
+        return lower, upper, local_grid_start(self.map, points, lower, upper,
+                                              k=k)
 
     def _ray_box(self, points):
         return np.full(2, -np.inf), np.full(2, np.inf)

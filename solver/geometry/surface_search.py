@@ -34,6 +34,8 @@ cases.
 import numpy as np
 from scipy.spatial import cKDTree
 
+from .gap import GapError
+
 __all__ = ["DEFAULT_SAMPLES", "grid_start", "local_grid_start",
            "closest_points", "ray_hits"]
 
@@ -59,9 +61,12 @@ def grid_start(surface_map, points, lower, upper, samples=DEFAULT_SAMPLES,
     S, T = (a.ravel() for a in np.meshgrid(s, t, indexing="ij"))
     cloud = surface_map.point(S, T)
     good = np.isfinite(cloud).all(axis=1)
-    k = min(k, int(good.sum()))
-    _, nearest = cKDTree(cloud[good]).query(points, k=k)
-    nearest = nearest.reshape(len(points), k)
+    if not good.any():
+        raise GapError("the obstacle surface is not finite at any sample of "
+                       "its parameter box")
+    _, nearest = cKDTree(cloud[good]).query(points, k=min(k, good.sum()))
+    nearest = nearest.reshape(len(points), -1)
+    nearest = np.pad(nearest, ((0, 0), (0, k - nearest.shape[1])), "edge")
     return np.stack([S[good][nearest], T[good][nearest]], axis=-1)
 
 
