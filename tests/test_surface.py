@@ -262,3 +262,21 @@ def test_module_example_runs():
     import solver.geometry.surface as module
 
     assert doctest.testmod(module).failed == 0
+
+
+def test_spherical_cap_as_a_graph_matches_the_sphere():
+    rng = np.random.default_rng(8)
+    polar, azimuth = rng.uniform(0, 0.8, 500), rng.uniform(-np.pi, np.pi, 500)
+    points = rng.uniform(1.7, 2.6, 500)[:, None] * np.c_[
+        np.sin(polar) * np.cos(azimuth), np.sin(polar) * np.sin(azimuth),
+        np.cos(polar)]
+    cap = surface_from_spec({"kind": "graph", "z": "sqrt(4 - x**2 - y**2)"})
+    ball = surface_from_spec({"kind": "sphere", "center": [0, 0, 0],
+                              "radius": 2})
+    for got, expected in zip(cap.gap_along_obstacle_normal(points),
+                             ball.gap_along_obstacle_normal(points)):
+        np.testing.assert_allclose(got, expected, rtol=0, atol=1e-11)
+    inward = -points / np.linalg.norm(points, axis=1)[:, None]
+    np.testing.assert_allclose(cap.gap_along_rays(points, inward)[0],
+                               ball.gap_along_rays(points, inward)[0],
+                               rtol=0, atol=1e-12)
