@@ -74,7 +74,8 @@ def test_plane_closest_points_closed_form_and_parametric():
     e2 = np.cross(n, e1)
     spec = {"kind": "parametric", "s_range": [-20, 20], "t_range": [-20, 20]}
     for k, name in enumerate("xyz"):
-        spec[name] = f"{[0, 0, 1][k]} + ({float(e1[k])!r})*s + ({float(e2[k])!r})*t"
+        spec[name] = (f"{[0, 0, 1][k]} + ({float(e1[k])!r})*s"
+                      f" + ({float(e2[k])!r})*t")
     g2, nu2, f2 = surface_from_spec(spec).gap_along_obstacle_normal(points)
     np.testing.assert_allclose(g2, expected, rtol=0, atol=1e-12)
     np.testing.assert_allclose(nu2, nu, atol=1e-12)

@@ -96,7 +96,8 @@ def test_flat_plane_gives_the_exact_normal(weighting):
     e2 = np.cross(normal, e1)
     nodes = uv[:, :1] * e1 + uv[:, 1:] * e2
     # orient every face like e1 × e2 = normal
-    d1, d2 = uv[faces[:, 1]] - uv[faces[:, 0]], uv[faces[:, 2]] - uv[faces[:, 0]]
+    d1 = uv[faces[:, 1]] - uv[faces[:, 0]]
+    d2 = uv[faces[:, 2]] - uv[faces[:, 0]]
     flip = d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0] < 0
     faces[flip] = faces[flip][:, ::-1]
     result = surface_normals(nodes, faces, np.arange(len(uv)), weighting)

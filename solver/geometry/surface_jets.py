@@ -34,8 +34,8 @@ def two_rings(faces, n, rows):
     itself excluded), from the face adjacency."""
     i = faces.ravel()
     j = np.roll(faces, -1, axis=1).ravel()
-    adjacency = sp.coo_matrix((np.ones(2 * len(i)), (np.r_[i, j], np.r_[j, i])),
-                              shape=(n, n)).tocsr()
+    adjacency = sp.coo_matrix(
+        (np.ones(2 * len(i)), (np.r_[i, j], np.r_[j, i])), shape=(n, n)).tocsr()
     first = adjacency[rows]
     ring = (first + first @ adjacency).tocoo()
     keep = ring.col != rows[ring.row]

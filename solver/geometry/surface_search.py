@@ -114,7 +114,8 @@ def _newton_direction(surface_map, u, x, lower, upper):
     det = M[:, 0, 0] * M[:, 1, 1] - M[:, 0, 1] ** 2
     with np.errstate(all="ignore"):
         d = np.c_[M[:, 1, 1] * rhs[:, 0] - M[:, 0, 1] * rhs[:, 1],
-                  M[:, 0, 0] * rhs[:, 1] - M[:, 0, 1] * rhs[:, 0]] / det[:, None]
+                  M[:, 0, 0] * rhs[:, 1] - M[:, 0, 1] * rhs[:, 0]]
+        d /= det[:, None]
     bad = ~np.isfinite(d).all(axis=1)
     d[bad] = rhs[bad]  # singular: steepest descent
     scale = np.maximum(np.abs(x).max(axis=1), np.abs(c).max(axis=1))[:, None]
