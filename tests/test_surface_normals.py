@@ -151,3 +151,28 @@ def test_bad_input_gives_one_line_errors(change, error, fragment):
     with pytest.raises(error) as info:
         surface_normals(**_bad(**change))
     assert fragment in str(info.value) and "\n" not in str(info.value)
+
+
+def folded_sheet(n=9):
+    """The top face z = 0 (y ≥ 0, outward +z) and the side face y = 0
+    (z ≤ 0, outward −y) of a block, meeting at a right-angled edge along x:
+    the grid (x, w) ∈ [0, 1] × [−1, 1] mapped to (x, w, 0) for w ≥ 0 and
+    (x, 0, w) for w < 0, triangulated counterclockwise in (x, w)."""
+    x = np.linspace(0, 1, n)
+    w = np.linspace(-1, 1, 2 * n - 1)
+    X, W = (a.ravel() for a in np.meshgrid(x, w, indexing="ij"))
+    nodes = np.c_[X, np.maximum(W, 0), np.minimum(W, 0)]
+    k = np.arange(len(X)).reshape(n, 2 * n - 1)
+    a, b, c, d = k[:-1, :-1], k[1:, :-1], k[1:, 1:], k[:-1, 1:]
+    faces = np.r_[np.c_[a.ravel(), b.ravel(), c.ravel()],
+                  np.c_[a.ravel(), c.ravel(), d.ravel()]]
+    return nodes, faces, W
+
+
+@pytest.mark.parametrize("weighting", ["angle", "smooth"])
+def test_edge_of_the_body_keeps_one_sided_normals(weighting):
+    nodes, faces, w = folded_sheet()
+    expected = np.where((w > 0)[:, None], [0.0, 0.0, 1.0], [0.0, -1.0, 0.0])
+    expected[w == 0] = [0.0, -np.sqrt(0.5), np.sqrt(0.5)]  # the bisector
+    normals = surface_normals(nodes, faces, np.arange(len(nodes)), weighting)
+    np.testing.assert_allclose(normals, expected, rtol=0, atol=1e-14)

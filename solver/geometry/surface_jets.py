@@ -10,7 +10,8 @@ the node,
 .. math::  \zeta \approx a\xi + b\eta + c_{20}\xi^2 + c_{11}\xi\eta
            + c_{02}\eta^2 + c_{30}\xi^3 + \dots + c_{03}\eta^3,
 
-is fitted by least squares (normal equations assembled with
+is fitted by least squares over the neighbours on the node's side of any
+edge of the body (reference normals within ``CORNER_ANGLE``) (normal equations assembled with
 :func:`numpy.bincount`, solved as one batch); its normal at the node is
 :math:`(n_0 - a t_1 - b t_2)/\sqrt{1 + a^2 + b^2}`, on the side of
 :math:`n_0`.
@@ -18,6 +19,8 @@ is fitted by least squares (normal equations assembled with
 
 import numpy as np
 import scipy.sparse as sp
+
+from .normals import CORNER_ANGLE
 
 __all__ = ["two_rings", "tangent_pair", "jet_normals"]
 
@@ -71,11 +74,21 @@ def _solve(rows, basis, zeta, m, k):
     return np.linalg.solve(A, b[..., None])[..., 0], good
 
 
-def jet_normals(nodes, faces, contact_nodes, reference):
-    """Jet-fit normals at ``contact_nodes`` (module docstring); where no
-    jet fits, ``reference`` is kept."""
+def jet_normals(nodes, faces, contact_nodes, normals,
+                corner_angle=CORNER_ANGLE):
+    """Jet-fit normals at ``contact_nodes`` (module docstring).
+
+    ``normals`` (n, 3) are the reference (angle-weighted) normals of all
+    nodes: the frames of the fits, kept where no jet fits; a neighbour
+    whose reference normal turns by more than ``corner_angle`` degrees from
+    the node's is left out of its fit (the other side of an edge).
+    """
     m = len(contact_nodes)
+    reference = normals[contact_nodes]
     rows, cols = two_rings(faces, len(nodes), contact_nodes)
+    same_side = np.sum(reference[rows] * normals[cols], axis=1) \
+        >= np.cos(np.radians(corner_angle))
+    rows, cols = rows[same_side], cols[same_side]
     t1, t2 = tangent_pair(reference)
     d = nodes[cols] - nodes[contact_nodes[rows]]
     xi, eta, zeta = (np.sum(d * v[rows], axis=1) for v in (t1, t2, reference))

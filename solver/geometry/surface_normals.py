@@ -24,7 +24,18 @@ normal. Three nodal normals:
     neighbours; the normal of the fitted jet is third order in *h* (a degree-
     *n* jet gives order *n*). Where the 2-ring has fewer than 12 nodes or the
     fit is ill-conditioned, a quadratic jet (order 2; 7 nodes), else the
-    angle-weighted normal. Exact on a plane.
+    angle-weighted normal. Exact on a plane. As the 2D splines end at
+    corners (:data:`solver.geometry.normals.CORNER_ANGLE`), neighbours whose
+    angle-weighted normal turns by more than that angle from the node's are
+    left out of its fit: next to an edge of the body the fit is one-sided,
+    and a node on the edge keeps its angle-weighted normal.
+
+Accuracy measured on the unit sphere (a refined icosahedron with every
+node jittered by up to a quarter of the edge length and projected back;
+``tests/test_surface_normals.py``): largest angle error at 2562 / 10242
+nodes (edge 0.08 / 0.04) 1.7e-2 / 9.2e-3 rad angle-weighted (order 1),
+3.6e-4 / 4.9e-5 rad smooth (order 3); on a spherical cap, boundary nodes
+included, the smooth normals stay third order.
 
 Orientation: the normals follow the faces' orientation; an inward-oriented
 face set gives inward normals (a surface patch alone cannot tell inside from
@@ -145,14 +156,15 @@ def surface_normals(nodes, faces, contact_nodes, weighting="angle"):
     nodes, faces, contact_nodes = _check(nodes, faces, contact_nodes)
     _check_orientation(faces, len(nodes))
     summed = _weighted(nodes, faces, "area" if weighting == "area"
-                       else "angle")[contact_nodes]
+                       else "angle")
     length = np.linalg.norm(summed, axis=1)
-    if not (length > 0).all():
-        bad = contact_nodes[~(length > 0)]
+    if not (length[contact_nodes] > 0).all():
+        bad = contact_nodes[~(length[contact_nodes] > 0)]
         raise GeometryError(f"contact_nodes: {len(bad)} nodes lie on no "
                             f"contact face or their facet normals cancel "
                             f"(the first: node {bad[0]})")
-    normals = summed / length[:, None]
+    with np.errstate(invalid="ignore"):
+        normals = summed / length[:, None]  # NaN off the faces
     if weighting == "smooth":
-        normals = jet_normals(nodes, faces, contact_nodes, normals)
-    return normals
+        return jet_normals(nodes, faces, contact_nodes, normals)
+    return normals[contact_nodes]
