@@ -126,7 +126,10 @@ class Surface:
 
     def gap_along_rays(self, points, directions):
         r"""Gaps measured from the body (3D §2.1.2): :math:`x + \tau d` on
-        the surface, τ of smallest magnitude near the point.
+        the surface, the intersection of smallest :math:`|\tau|` as in 2D
+        (exactly for the plane and the sphere; for graph and parametric
+        surfaces the one Newton reaches from the closest point, which is
+        that one unless the surface folds back within the gap).
 
         Parameters
         ----------
