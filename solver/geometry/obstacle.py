@@ -150,10 +150,11 @@ def _power(base, exponent):
     return base ** exponent
 
 
-def _translate(node, variable, symbol, text):
-    """Translate one whitelisted AST node into a SymPy expression."""
+def _translate(node, symbols, text):
+    """Translate one whitelisted AST node into a SymPy expression
+    (``symbols``: the variables by name)."""
     if isinstance(node, ast.Expression):
-        return _translate(node.body, variable, symbol, text)
+        return _translate(node.body, symbols, text)
     if isinstance(node, ast.Constant):
         value = node.value
         if isinstance(value, bool) or not isinstance(value, (int, float)):
@@ -162,12 +163,13 @@ def _translate(node, variable, symbol, text):
         return sympy.Integer(value) if isinstance(value, int) \
             else sympy.Float(value)
     if isinstance(node, ast.Name):
-        if node.id == variable:
-            return symbol
+        if node.id in symbols:
+            return symbols[node.id]
         if node.id in ALLOWED_CONSTANTS:
             return ALLOWED_CONSTANTS[node.id]
         raise ExpressionError(
-            f"{text!r}: unknown name {node.id!r} (allowed: {variable!r}, "
+            f"{text!r}: unknown name {node.id!r} (allowed: "
+            f"{', '.join(map(repr, symbols))}, "
             f"{', '.join(sorted(ALLOWED_CONSTANTS))})")
     if isinstance(node, ast.BinOp):
         op = type(node.op)
@@ -175,8 +177,8 @@ def _translate(node, variable, symbol, text):
             raise ExpressionError(
                 f"{text!r}: operator {op.__name__} is not allowed"
                 + _HINTS.get(op, ""))
-        left = _translate(node.left, variable, symbol, text)
-        right = _translate(node.right, variable, symbol, text)
+        left = _translate(node.left, symbols, text)
+        right = _translate(node.right, symbols, text)
         if op is ast.Pow:
             return _power(left, right)
         return _BINARY[op](left, right)
@@ -185,7 +187,7 @@ def _translate(node, variable, symbol, text):
         if op not in _UNARY:
             raise ExpressionError(
                 f"{text!r}: unary operator {op.__name__} is not allowed")
-        return _UNARY[op](_translate(node.operand, variable, symbol, text))
+        return _UNARY[op](_translate(node.operand, symbols, text))
     if isinstance(node, ast.Call):
         if not isinstance(node.func, ast.Name) \
                 or node.func.id not in ALLOWED_FUNCTIONS:
@@ -199,12 +201,12 @@ def _translate(node, variable, symbol, text):
             raise ExpressionError(
                 f"{text!r}: {node.func.id}() takes exactly one positional "
                 "argument")
-        argument = _translate(node.args[0], variable, symbol, text)
+        argument = _translate(node.args[0], symbols, text)
         return ALLOWED_FUNCTIONS[node.func.id](argument)
     raise ExpressionError(
         f"{text!r}: {type(node).__name__} is not allowed in an obstacle "
-        "expression (only numbers, t, pi, e, + - * / **, and elementary "
-        "functions)")
+        f"expression (only numbers, {', '.join(symbols)}, pi, e, "
+        "+ - * / **, and elementary functions)")
 
 
 def parse_expression(text, variable="t"):
@@ -214,13 +216,17 @@ def parse_expression(text, variable="t"):
     ----------
     text : str
         The expression, in Python syntax, e.g. ``"5.05 + 0.005*t**2"``.
-    variable : str
-        The name of the curve parameter.
+    variable : str or sequence of str
+        The name of the curve parameter, or the names of several (a
+        surface's ``("s", "t")`` or ``("x", "y")``,
+        :mod:`solver.geometry.surface_expression`); each becomes the real
+        symbol ``sympy.Symbol(name, real=True)``.
 
     Returns
     -------
     sympy.Expr
-        A real expression whose only free symbol (if any) is ``variable``.
+        A real expression whose free symbols (if any) are among
+        ``variable``.
 
     Raises
     ------
@@ -250,9 +256,11 @@ def parse_expression(text, variable="t"):
     if calls > MAX_CALL_DEPTH:
         raise ExpressionError(f"{text!r}: too many nested function calls "
                               f"({calls} > {MAX_CALL_DEPTH})")
-    symbol = sympy.Symbol(variable, real=True)
+    names = (variable,) if isinstance(variable, str) else tuple(variable)
+    symbols = {name: sympy.Symbol(name, real=True) for name in names}
+    symbol = symbols[names[0]]
     try:
-        expr = _translate(tree, variable, symbol, text)
+        expr = _translate(tree, symbols, text)
     except ExpressionError as exc:
         if str(exc).startswith(repr(text)):
             raise
