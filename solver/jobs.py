@@ -68,9 +68,7 @@ def frictionless(args, problem, open_folder, emit, write_summary):
     if problem.kind == "mesh":
         write_vtk(folder.file("result.vtu"), result, problem)
     if args.plots:
-        from .output.figures import write_figures
-
-        for path in write_figures(folder.path, problem, result).values():
+        for path in _figures(folder.path, problem, result).values():
             folder.file(os.path.basename(path))
     write_summary(summary)
     emit(format_result(summary, folder.path))
@@ -79,6 +77,38 @@ def frictionless(args, problem, open_folder, emit, write_summary):
                             summary["residual_history"]), file=sys.stderr)
         return EXIT_NOT_CONVERGED
     return EXIT_OK
+
+
+def _figures(folder, problem, result):
+    """``--plots`` of a frictionless solve: the thesis's figures in 2D; in
+    3D the convergence and the pressure against the radius, with Hertz's
+    profile when the problem's meta names R, E and nu (a Hertz export)."""
+    if getattr(problem, "dim", 2) == 2:
+        from .output.figures import write_figures
+
+        return write_figures(folder, problem, result)
+    from .output.figures3d import write_figures3d
+
+    return write_figures3d(folder, problem, result,
+                           *_hertz_reference(problem, result))
+
+
+def _hertz_reference(problem, result):
+    """(a, p0) of Hertz's point contact for the total contact force of the
+    solve (×4 for a quarter model), or (None, None) without R, E, nu."""
+    import numpy as np
+
+    from .verification import hertz_point_contact
+
+    meta = problem.meta or {}
+    if not all(isinstance(meta.get(k), (int, float)) for k in ("R", "E",
+                                                                 "nu")):
+        return None, None
+    force = np.nansum(np.asarray(result.contact_force, float))
+    if force <= 0:
+        return None, None
+    return hertz_point_contact(force * (4 if meta.get("quarter") else 1),
+                               meta["R"], meta["E"], meta["nu"])
 
 
 class Progress:

@@ -20,16 +20,11 @@ import os
 
 import numpy as np
 
+from ..verification import hertz_pressure
 from .figures import _pyplot, _save
 
 __all__ = ["hertz_pressure", "contact_radius", "pressure_vs_radius",
            "plot_pressure_vs_radius", "write_figures3d"]
-
-
-def hertz_pressure(radius, a, p0):
-    r""":math:`p_0\sqrt{1 - r^2/a^2}` for :math:`r < a`, 0 beyond."""
-    r = np.asarray(radius, dtype=float)
-    return p0 * np.sqrt(np.clip(1.0 - (r / a) ** 2, 0.0, None))
 
 
 def pressure_vs_radius(target, radius, p, a=None, p0=None, title=None):
