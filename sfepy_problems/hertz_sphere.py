@@ -49,7 +49,8 @@ triangles within a_target of the origin) and a_h = a_target / h_contact.
 
 Contact surface :math:`\Gamma_c`: the spherical facets with all vertices
 below z = ``gamma_c_z`` · R (default 0.2: a cap of radius 0.6 R), minus the
-facets on the symmetry planes (``-s``); exported as outward triangles
+facets on the symmetry planes (``-s``; mind SfePy's right-to-left grouping
+of region operators, ``define()``); exported as outward triangles
 (``contact_faces``; their normals point to −z near the contact).
 
 Usage (from the repository root)::
@@ -60,7 +61,7 @@ Usage (from the repository root)::
   python sfepy_problems/hertz_sphere.py \
       -d "mesh='meshes/hertz_sphere_4.mesh', output='output/hertz_sphere_4.npz'"
 
-Both print ``exported 1840 DOFs, 200 contact nodes -> PATH``. Parameters
+Both print ``exported 1840 DOFs, 131 contact nodes -> PATH``. Parameters
 (``-d``): ``mesh``, ``output``, ``E``, ``nu``, ``R`` (must be the mesh's
 radius), ``delta``, ``gamma_c_z``, ``a_target``, ``verbose``.
 """
@@ -164,8 +165,10 @@ def define(mesh='meshes/hertz_sphere_4.mesh',
         'Y0': (f'vertices in (y < {tol})', 'facet'),
         'Surface': ('vertices of surface', 'facet'),
         'Low': (f'vertices in (z < {gamma_c_z * R + tol})', 'facet'),
-        # Spherical facets below z = gamma_c_z R (*s, -s: facet set ops):
-        'Gamma_c': ('r.Surface *s r.Low -s r.X0 -s r.Y0', 'facet'),
+        # Spherical facets below z = gamma_c_z R (*s, -s, +s: facet set
+        # ops). SfePy groups region operators from the right: without the
+        # parentheses 'A -s B -s C' would be A - (B - C).
+        'Gamma_c': ('(r.Surface *s r.Low) -s (r.X0 +s r.Y0)', 'facet'),
     }
 
     materials = {
