@@ -218,9 +218,9 @@ def stage_loads(pb, u, stiffness, load, stages):
     """Load vectors and Dirichlet values at the ends of load stages.
 
     Each stage is a dict with ``dirichlet`` = (s_x, s_y[, s_z]), the factors
-    of the x, y (and z) Dirichlet values of ``pb`` at the stage end, ``load`` = the
-    factor of the external load, ``steps`` and ``friction`` (multiplier of
-    f_c). Returns the arrays of the ``load_path*`` keys.
+    of the x, y (and z) Dirichlet values of ``pb`` at the stage end,
+    ``load`` = the factor of the external load, ``steps`` and ``friction``
+    (multiplier of f_c). Returns the arrays of the ``load_path*`` keys.
     """
     K, f, eqi, u_prescribed = reduced_system(pb, u, stiffness, None)
     f_ext = nm.zeros(len(eqi)) if load is None else nm.asarray(

@@ -70,7 +70,8 @@ SYMMETRY_RTOL = 1e-10
 #: elsewhere; "optional" = may be absent in either kind (the 2D obstacle
 #: keys are refused in 3D, see :data:`ONLY_2D`).
 KEYS = {
-    "format_version": ("all", "int", "()", "layout version: 3 (written); 1, 2 and 3 are read"),
+    "format_version": ("all", "int", "()",
+                       "layout version: 3 (written); 1, 2 and 3 are read"),
     "kind": ("all", "str", "()", '"mesh" or "discrete"'),
     "meta": ("all", "str", "()",
              "JSON object: E, nu, plane (strain|stress; 2D only), load, "
