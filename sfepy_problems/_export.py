@@ -365,8 +365,9 @@ def export_only(problem_file, **define_args):
 
     Returns
     -------
-    (ContactProblem, sfepy.discrete.Problem)
-        The problem written to the file the hook names.
+    (ContactProblem or None, sfepy.discrete.Problem)
+        What the hook returns (the 3D problem files return the problem
+        written; the 2D ones nothing) and SfePy's problem.
     """
     from sfepy.base.conf import ProblemConf, get_standard_keywords
     from sfepy.discrete import Problem
