@@ -35,11 +35,22 @@ What is exported (``docs/npz-format.md``):
   is skipped when :math:`u_D = 0`, so that f is then exactly
   :math:`f_{ext,F}`.
 * **u_prescribed**, the Dirichlet values per node and component.
-* **contact_nodes**, the vertices of the facet region Γc ordered along the
-  boundary (:func:`solver.geometry.mesh.order_along_boundary`), and their reduced DOFs.
+* **contact_nodes**, the vertices of the facet region Γc, and their reduced
+  DOFs. In 2D ordered along the boundary
+  (:func:`solver.geometry.mesh.order_along_boundary`); in 3D in increasing
+  node number, with **contact_faces**, the facets of Γc as triangles oriented
+  outward (:func:`contact_triangles`).
 * **M**, :math:`M_{ij} = \int_{\Gamma_c} \varphi_i \varphi_j` for the scalar
   P1 field, assembled over the whole mesh and restricted to the contact nodes
-  in chain order.
+  in their order.
+
+**2D and 3D.** The dimension d is the mesh's. Full field DOF numbers are
+``d * node + component``, nodal arrays have d columns, the cells are SfePy's
+``'2_3'`` triangles or ``'3_4'`` tetrahedra. In 3D a problem file exports
+*without* SfePy's own solve (:func:`export_only`, or ``sfepy-run`` with the
+no-solve Newton settings :data:`NO_SOLVE`): its direct solve of the
+elasticity problem alone takes minutes at 10⁴–10⁵ DOFs, and nothing of it is
+exported.
 """
 import contextlib
 import io
@@ -53,7 +64,14 @@ from solver.geometry.mesh import order_along_boundary
 from solver.problem import ContactProblem, save_problem
 
 __all__ = ['export_contact_problem', 'reduced_system', 'full_stiffness',
-           'stage_loads', 'set_verbosity', 'main', 'VERBOSE_ENV']
+           'stage_loads', 'contact_triangles', 'export_only', 'NO_SOLVE',
+           'set_verbosity', 'main', 'VERBOSE_ENV']
+
+#: ``nls.newton`` settings that stop before the first linear solve: the
+#: residual of the initial state is evaluated (cheap) and accepted
+#: (``eps_a`` = ∞), so ``sfepy-run`` reaches ``post_process_hook_final``
+#: without factorising K. The 3D problem files use them.
+NO_SOLVE = {'i_max': 0, 'eps_a': float('inf'), 'eps_r': 1.0}
 
 #: Environment variable that makes exports verbose (any value but '' or '0').
 VERBOSE_ENV = 'CONTACT_SSN_VERBOSE'
@@ -141,7 +159,7 @@ def full_stiffness(pb, stiffness):
     rows and columns of the Dirichlet DOFs of the equations' variables (they
     come out zero), so the variables are set up with no conditions at all
     (``ebcs=Conditions([])``). Rows/columns: full field DOFs
-    ``2 * node + component``.
+    ``d * node + component``.
     """
     from sfepy.discrete.conditions import Conditions
 
@@ -159,7 +177,7 @@ def reduced_system(pb, u, stiffness, load=None):
         The problem after its solve.
     u : sfepy.discrete.FieldVariable
         The displacement variable of the equations (its ``eq_map`` carries
-        the Dirichlet conditions), a P1 vector field in 2D.
+        the Dirichlet conditions), a P1 vector field in 2D or 3D.
     stiffness : str
         The stiffness term, e.g. ``'dw_lin_elastic.i.Omega(solid.D, v, u)'``.
     load : str or None
@@ -172,8 +190,8 @@ def reduced_system(pb, u, stiffness, load=None):
     f : (Ñ,) float array
         ``f_ext[free] - (K_full @ u_D)[free]``.
     eqi : (Ñ,) int array
-        Full field DOF (``2 * node + component``) of each reduced DOF.
-    u_prescribed : (n_nodes, 2) float array
+        Full field DOF (``d * node + component``) of each reduced DOF.
+    u_prescribed : (n_nodes, d) float array
         Dirichlet values (0 at free DOFs).
     """
     n_nodes = u.field.n_nod
@@ -188,7 +206,7 @@ def reduced_system(pb, u, stiffness, load=None):
         f = nm.asarray(f, dtype=nm.float64)
 
     eqi = nm.asarray(u.eq_map.eqi, dtype=nm.int64)
-    u_prescribed = nm.zeros((n_nodes, 2))
+    u_prescribed = nm.zeros((n_nodes, u.n_components))
     u_prescribed.ravel()[u.eq_map.eq_ebc] = u.eq_map.val_ebc
     if nm.any(u_prescribed != 0.0):
         K_full = full_stiffness(pb, stiffness)
@@ -199,10 +217,10 @@ def reduced_system(pb, u, stiffness, load=None):
 def stage_loads(pb, u, stiffness, load, stages):
     """Load vectors and Dirichlet values at the ends of load stages.
 
-    Each stage is a dict with ``dirichlet`` = (s_x, s_y), the factors of the
-    x and y Dirichlet values of ``pb`` at the stage end, ``load`` = the
-    factor of the external load, ``steps`` and ``friction`` (multiplier of
-    f_c). Returns the arrays of the ``load_path*`` keys.
+    Each stage is a dict with ``dirichlet`` = (s_x, s_y[, s_z]), the factors
+    of the x, y (and z) Dirichlet values of ``pb`` at the stage end,
+    ``load`` = the factor of the external load, ``steps`` and ``friction``
+    (multiplier of f_c). Returns the arrays of the ``load_path*`` keys.
     """
     K, f, eqi, u_prescribed = reduced_system(pb, u, stiffness, None)
     f_ext = nm.zeros(len(eqi)) if load is None else nm.asarray(
@@ -239,7 +257,7 @@ def export_contact_problem(pb, variables, filename, *, stiffness, load=None,
         The ``.npz`` to write.
     stiffness, load : str
         Terms for :func:`reduced_system`.
-    obstacle : solver.geometry.obstacle.ParametricCurve
+    obstacle : ParametricCurve (2D) or surface spec dict / Surface (3D)
     meta : dict
         Problem metadata (E, nu, plane, load, mesh, ...); the SfePy version
         is added to ``meta['versions']``.
@@ -265,16 +283,23 @@ def export_contact_problem(pb, variables, filename, *, stiffness, load=None,
                                                     mesh.coors):
         raise ValueError('P1 field nodes must coincide with mesh vertices')
 
+    dim = mesh.dim
     K, f, eqi, u_prescribed = reduced_system(pb, u, stiffness, load)
-    dof_map = nm.stack([eqi // 2, eqi % 2], axis=1).astype(nm.int64)
+    dof_map = nm.stack([eqi // dim, eqi % dim], axis=1).astype(nm.int64)
 
-    # Contact nodes: the vertices of Gamma_c, ordered along the boundary.
-    cells = mesh.get_conn('2_3').astype(nm.int64)
+    cells = mesh.get_conn(f'{dim}_{dim + 1}').astype(nm.int64)
     gamma_c = pb.domain.regions[region]
-    contact_nodes = order_along_boundary(gamma_c.vertices, cells, mesh.coors)
-    lookup = nm.full(2 * n_nodes, -1, dtype=nm.int64)
+    faces = {}
+    if dim == 2:  # the vertices of Gamma_c, ordered along the boundary
+        contact_nodes = order_along_boundary(gamma_c.vertices, cells,
+                                             mesh.coors)
+    else:  # its triangles, outward; the nodes in increasing order
+        faces['contact_faces'] = contact_triangles(pb, region, cells,
+                                                   mesh.coors)
+        contact_nodes = nm.unique(faces['contact_faces'])
+    lookup = nm.full(dim * n_nodes, -1, dtype=nm.int64)
     lookup[eqi] = nm.arange(len(eqi))
-    contact_dofs = lookup[2 * contact_nodes[:, None] + nm.arange(2)]
+    contact_dofs = lookup[dim * contact_nodes[:, None] + nm.arange(dim)]
 
     # M_ij = int_{Gamma_c} phi_i phi_j (thesis (80)), scalar P1 field, full
     # mesh numbering; keep the Gamma_c rows and columns in chain order.
@@ -289,10 +314,72 @@ def export_contact_problem(pb, variables, filename, *, stiffness, load=None,
                                                      load_path)
     problem = ContactProblem(
         K=K, f=f, M=M, contact_dofs=contact_dofs,
-        nodes=mesh.coors[:, :2].copy(), cells=cells, dof_map=dof_map,
+        nodes=mesh.coors[:, :dim].copy(), cells=cells, dof_map=dof_map,
         u_prescribed=u_prescribed, contact_nodes=contact_nodes,
-        obstacle=obstacle, meta=meta, **extra)
+        obstacle=obstacle, meta=meta, **faces, **extra)
     save_problem(filename, problem)
     print(f'exported {problem.n_dofs} DOFs, {problem.n_contact} contact '
           f'nodes -> {filename}')
     return problem
+
+
+def contact_triangles(pb, region, cells, coors):
+    """The facets of the 3D facet region ``region`` as triangles (global
+    node ids) oriented outward: the right-hand normal (x1 − x0) × (x2 − x0)
+    points away from the one tetrahedron each facet bounds.
+
+    Raises
+    ------
+    ValueError
+        If a facet of the region is not on the surface (it bounds two
+        tetrahedra).
+    """
+    cmesh = pb.domain.cmesh
+    facets = pb.domain.regions[region].facets
+    cmesh.setup_connectivity(2, 0)
+    cmesh.setup_connectivity(2, 3)
+    vertices, offsets = cmesh.get_incident(0, facets, 2, ret_offsets=True)
+    if nm.any(nm.diff(offsets) != 3):
+        raise ValueError(f'{region}: the facets are not triangles')
+    faces = nm.asarray(vertices, dtype=nm.int64).reshape(-1, 3)
+    owner, offsets = cmesh.get_incident(3, facets, 2, ret_offsets=True)
+    if nm.any(nm.diff(offsets) != 1):
+        raise ValueError(f'{region}: a facet bounds two cells (not on the '
+                         'surface)')
+    opposite = cells[owner].sum(axis=1) - faces.sum(axis=1)
+    a = coors[faces[:, 0]]
+    normal = nm.cross(coors[faces[:, 1]] - a, coors[faces[:, 2]] - a)
+    inward = nm.einsum('ij,ij->i', normal, coors[opposite] - a) > 0
+    faces[inward] = faces[inward][:, [0, 2, 1]]
+    return faces
+
+
+def export_only(problem_file, **define_args):
+    """Export a problem file without solving anything (in-process).
+
+    Builds the SfePy problem of ``problem_file`` with ``define(**define_args)``
+    and ``init_solvers=False``, applies its Dirichlet conditions and calls its
+    ``post_process_hook_final`` on the initial state: K, f and M are
+    assembled, no linear system is solved. What ``sfepy-run`` does with the
+    :data:`NO_SOLVE` settings, without the solver objects.
+
+    Returns
+    -------
+    (ContactProblem or None, sfepy.discrete.Problem)
+        What the hook returns (the 3D problem files return the problem
+        written; the 2D ones nothing) and SfePy's problem.
+    """
+    from sfepy.base.conf import ProblemConf, get_standard_keywords
+    from sfepy.discrete import Problem
+
+    required, other = get_standard_keywords()
+    conf = ProblemConf.from_file(os.fspath(problem_file), required, other,
+                                 define_args=define_args)
+    pb = Problem.from_conf(conf, init_solvers=False)
+    pb.time_update()
+    variables = pb.get_initial_state()
+    variables.apply_ebc()
+    hook = conf.options.post_process_hook_final
+    if isinstance(hook, str):
+        hook = conf.get_function(hook)
+    return hook(pb, variables), pb

@@ -3,7 +3,9 @@ checks it (see :mod:`solver.problem.format` for the layout).
 
 Modules, each importing only those before it: :mod:`.format` (version,
 keys, limits), :mod:`.checks` (generic array checks), :mod:`.meta` (the
-metadata JSON), :mod:`.geometry` (mesh keys and geometry),
+metadata JSON), :mod:`.surface_spec` (the 3D obstacle spec),
+:mod:`.geometry3d` (tetrahedra, contact triangles), :mod:`.geometry` (mesh
+keys and geometry, 2D and 3D),
 :mod:`.validate` (all keys), :mod:`.core` (:class:`ContactProblem`),
 :mod:`.archive` (safe reading of the members), :mod:`.load` (reading
 and writing files).

@@ -200,10 +200,12 @@ class Archive(Mapping):
         if key in ("M_data", "M_indices"):
             nnz = self._last("M_indptr")
             return (3 * nc + _SLACK) ** 2 if nnz is None else nnz
-        if key == "nodes":
-            return 2 * (5 * n + 1000)
-        if key == "cells":
-            return 3 * (4 * n_nodes + _SLACK)
+        if key == "nodes":  # at most 3 coordinates per node
+            return 3 * (5 * n + 1000)
+        if key == "cells":  # a tetrahedral mesh has ~6 tetrahedra per node
+            return 4 * (8 * n_nodes + _SLACK)
+        if key == "contact_faces":  # ~2 surface triangles per surface node
+            return 3 * (4 * nc + _SLACK)
         if key == "load_path":
             return (stages + 1) * (n + _SLACK)
         if key == "load_path_prescribed":

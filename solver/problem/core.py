@@ -11,6 +11,7 @@ from ..geometry.obstacle import ParametricCurve, check_interval
 from ..geometry.polyline import PolylineCurve
 from .checks import check_positive_definite
 from .format import FORMAT_VERSION
+from .surface_spec import surface_spec_text
 from .validate import validate_fields
 
 __all__ = ["ContactProblem", "validate_arrays"]
@@ -23,6 +24,12 @@ class ContactProblem:
     Array meanings and shapes are those of :data:`KEYS`; K and M are
     :class:`scipy.sparse.csr_matrix`. Construct it directly (the arrays are
     validated by :meth:`validate`) or with :func:`load_problem`.
+
+    In 2D ``obstacle`` is a curve (:class:`ParametricCurve` or
+    :class:`PolylineCurve`); in 3D the surface of
+    ``solver.geometry.surface.surface_from_spec`` (or its spec dict, see
+    :mod:`solver.problem.surface_spec`) and ``contact_faces`` holds the
+    contact triangles.
     """
 
     K: sp.csr_matrix
@@ -42,6 +49,7 @@ class ContactProblem:
     load_path_steps: np.ndarray = None
     load_path_friction: np.ndarray = None
     load_path_prescribed: np.ndarray = None
+    contact_faces: np.ndarray = None
     source: str = field(default=None, compare=False)
     _checked: object = field(default=None, init=False, repr=False,
                              compare=False)
@@ -50,6 +58,11 @@ class ContactProblem:
     def kind(self):
         """``"mesh"`` if the problem carries a mesh, else ``"discrete"``."""
         return "mesh" if self.nodes is not None else "discrete"
+
+    @property
+    def dim(self):
+        """The space dimension, 2 or 3 (the columns of ``contact_dofs``)."""
+        return int(self.contact_dofs.shape[1])
 
     @property
     def n_dofs(self):
@@ -80,7 +93,11 @@ class ContactProblem:
                           dof_map=self.dof_map,
                           u_prescribed=self.u_prescribed,
                           contact_nodes=self.contact_nodes)
-            if isinstance(self.obstacle, PolylineCurve):
+            if self.dim == 3:
+                arrays["contact_faces"] = self.contact_faces
+                arrays["obstacle_surface"] = np.array(
+                    surface_spec_text(self.obstacle))
+            elif isinstance(self.obstacle, PolylineCurve):
                 arrays["obstacle_points"] = self.obstacle.points
             elif self.obstacle is not None:
                 arrays["obstacle_x"] = np.array(self.obstacle.x_text)
@@ -89,7 +106,7 @@ class ContactProblem:
                     arrays["obstacle_t_range"] = np.array(
                         self.obstacle.t_range, dtype=float)
             search = getattr(self.obstacle, "search_interval", None)
-            if search is not None:
+            if search is not None and self.dim == 2:
                 arrays["obstacle_search_interval"] = np.array(search,
                                                               dtype=float)
         for name in ("gap", "normal", "load_path", "load_path_steps",
@@ -116,22 +133,38 @@ class ContactProblem:
         if self.kind != "mesh":
             raise ProblemError("search interval: a discrete problem has no "
                                "obstacle (its gaps are given)")
+        if self.dim == 3:
+            raise ProblemError("search interval: a 3D obstacle surface has "
+                               "no parameter interval t")
         self.obstacle.search_interval = check_interval(
             "search interval", (t0, t1))
         return self
 
     def __repr__(self):
         """One line: kind, sizes, obstacle and source; never the arrays."""
-        parts = [f"kind={self.kind!r}", "dim=2", f"dofs={self.n_dofs}",
-                 f"contact_nodes={self.n_contact}"]
+        parts = [f"kind={self.kind!r}", f"dim={self.dim}",
+                 f"dofs={self.n_dofs}", f"contact_nodes={self.n_contact}"]
         if self.kind == "mesh":
-            parts += [f"triangles={len(self.cells)}",
-                      f"nodes={len(self.nodes)}",
-                      f"obstacle={self.obstacle!r}"]
+            parts += [f"{self._cell_name}={len(self.cells)}",
+                      f"nodes={len(self.nodes)}"]
+            if self.dim == 3:
+                parts.append(f"contact_faces={len(self.contact_faces)}")
+            parts.append(f"obstacle={self._obstacle_text}")
         if self.load_path is not None:
             parts.append(f"load_stages={len(self.load_path)}")
         parts.append(f"source={self.source!r}")
         return f"ContactProblem({', '.join(parts)})"
+
+    @property
+    def _cell_name(self):
+        return "triangles" if self.dim == 2 else "tetrahedra"
+
+    @property
+    def _obstacle_text(self):
+        """The obstacle for ``repr``: a surface spec dict by its kind."""
+        if isinstance(self.obstacle, dict):
+            return f"<surface spec {self.obstacle.get('kind')!r}>"
+        return repr(self.obstacle)
 
     def check_stiffness(self):
         """Check that K is positive definite (see
@@ -200,7 +233,7 @@ class ContactProblem:
             start, prescribed_start = end, prescribed_end
 
     def full_displacement(self, u, prescribed=None):
-        """Nodal displacements (n_nodes, 2) from a reduced vector ``u``.
+        """Nodal displacements (n_nodes, dim) from a reduced vector ``u``.
 
         Free DOFs take ``u``, Dirichlet DOFs take ``prescribed`` (default
         ``u_prescribed``, the values of the full load).
@@ -220,6 +253,7 @@ class ContactProblem:
         active = (self.contact_dofs >= 0).all(axis=1)
         info = {
             "kind": self.kind,
+            "dim": self.dim,
             "dofs": int(self.n_dofs),
             "contact_nodes": int(self.n_contact),
             "contact_nodes_free": int(active.sum()),
@@ -229,7 +263,14 @@ class ContactProblem:
             "f_norm": float(np.linalg.norm(self.f)),
             "M_sum": float(self.M.sum()),
         }
-        if self.kind == "mesh":
+        if self.kind == "mesh" and self.dim == 3:
+            spec = self.obstacle.spec() if hasattr(self.obstacle, "spec") \
+                else self.obstacle
+            info.update(nodes=int(len(self.nodes)),
+                        tetrahedra=int(len(self.cells)),
+                        contact_faces=int(len(self.contact_faces)),
+                        obstacle=spec)
+        elif self.kind == "mesh":
             info.update(nodes=int(len(self.nodes)),
                         triangles=int(len(self.cells)),
                         obstacle=(

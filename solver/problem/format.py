@@ -12,46 +12,72 @@ numeric and unicode arrays; pickled objects are refused.
 Two kinds of problem share the format:
 
 ``kind = "mesh"``
-    A 2D finite element model (the thesis's §4 body): the reduced stiffness
-    matrix, the mesh, the map from reduced DOFs to nodes, the contact nodes
-    ordered along Γc and a rigid parametric obstacle. Gaps and normals are
-    computed by the solver (thesis §2.1).
+    A finite element model: the reduced stiffness matrix, the mesh, the map
+    from reduced DOFs to nodes, the contact nodes and a rigid obstacle.
+    Gaps and normals are computed by the solver (thesis §2.1). In 2D (the
+    thesis's §4 body) triangles, contact nodes ordered along Γc and an
+    obstacle curve Γo(t); in 3D (issue 18, version 3) tetrahedra, the
+    contact surface as outward triangles ``contact_faces`` and an obstacle
+    surface given by a JSON spec (``obstacle_surface``).
 ``kind = "discrete"``
     A small discrete system without a mesh (the thesis's 2-DOF bar of §6):
-    the stiffness, the load, and for each contact node its two DOFs, its
+    the stiffness, the load, and for each contact node its d DOFs, its
     gap *s* and the unit normal ν along which *s* is measured.
+
+The dimension d (2 or 3) is the number of columns of ``contact_dofs``; every
+other per-node array must agree with it.
 
 Notation (thesis §3.2): Ñ reduced DOFs (Dirichlet DOFs eliminated), Nc
 contact nodes. The thesis orders contact nodes first; this format does not
 need to: ``contact_dofs`` says where each contact node's DOFs are.
 
-Keys (format version 1)
+Versions
+--------
+Version 1 is the 2D layout. Version 3 adds 3D (d = 3) and is written for
+both dimensions; a 2D file of version 3 has exactly the keys of version 1.
+Version 2 was never written: the number is skipped so that "format v3"
+names this layout in issue 18, and a file marked 2 reads like a 2D file of
+version 1 or 3. Files of all three versions load unchanged; only version 3
+may carry d = 3.
+
+Keys (format version 3)
 -----------------------
 The table :data:`KEYS` below is the specification; ``docs/npz-format.md``
 is generated from it (:func:`format_table`).
 """
 
-__all__ = ["FORMAT_VERSION", "KEYS", "KINDS", "META_REQUIRED",
+__all__ = ["FORMAT_VERSION", "READ_VERSIONS", "DIMS", "KEYS", "KINDS",
+           "ONLY_2D", "META_REQUIRED",
            "SYMMETRY_RTOL", "MAX_TEXT", "MAX_META_DEPTH", "MAX_INT_DIGITS",
            "MAX_STAGES", "MAX_OBSTACLE_POINTS", "MAX_TOTAL_BYTES",
            "format_table"]
 
 #: Version of the ``.npz`` layout written by ``save_problem``.
-FORMAT_VERSION = 1
+FORMAT_VERSION = 3
+
+#: Versions the reader accepts (2 reads like 1; see the module doc).
+READ_VERSIONS = (1, 2, 3)
+
+#: Space dimensions: 2 from version 1 on, 3 from version 3 on.
+DIMS = {2: 1, 3: 3}
 
 #: Relative tolerance of the symmetry check of K and M.
 SYMMETRY_RTOL = 1e-10
 
 #: Key specification: name -> (which kinds need it, dtype, shape, meaning).
 #: "all" = both kinds; "mesh"/"discrete" = required for that kind only and
-#: refused for the other; "optional" = may be absent in either kind.
+#: refused for the other; "mesh3d" = required in a 3D mesh file, refused
+#: elsewhere; "optional" = may be absent in either kind (the 2D obstacle
+#: keys are refused in 3D, see :data:`ONLY_2D`).
 KEYS = {
-    "format_version": ("all", "int", "()", "layout version, = 1"),
+    "format_version": ("all", "int", "()",
+                       "layout version: 3 (written); 1, 2 and 3 are read"),
     "kind": ("all", "str", "()", '"mesh" or "discrete"'),
     "meta": ("all", "str", "()",
-             "JSON object: E, nu, plane (strain|stress), load, mesh, "
-             "description, versions (required fields: E, nu, plane, load, "
-             "mesh for kind mesh; description for kind discrete)"),
+             "JSON object: E, nu, plane (strain|stress; 2D only), load, "
+             "mesh, description, versions (required fields: E, nu, plane, "
+             "load, mesh for a 2D mesh; E, nu, load, mesh for a 3D mesh; "
+             "description for kind discrete)"),
     "K_data": ("all", "float", "(nnz,)",
                "reduced stiffness K (Ñ×Ñ, Dirichlet DOFs eliminated, "
                "symmetric positive definite) in CSR: values"),
@@ -66,37 +92,52 @@ KEYS = {
     "M_indices": ("all", "int", "(nnzM,)", "CSR column indices of M"),
     "M_indptr": ("all", "int", "(Nc+1,)", "CSR row pointers of M"),
     "M_shape": ("all", "int", "(2,)", "(Nc, Nc)"),
-    "contact_dofs": ("all", "int", "(Nc, 2)",
-                     "reduced DOF index of the x and y component of each "
-                     "contact node (in Γc order); -1 where the component is "
-                     "a Dirichlet DOF (such a node is a support, not a "
-                     "contact node, and only enters M)"),
-    "nodes": ("mesh", "float", "(n_nodes, 2)", "node coordinates"),
-    "cells": ("mesh", "int", "(n_cells, 3)", "triangles (node indices)"),
+    "contact_dofs": ("all", "int", "(Nc, d)",
+                     "reduced DOF index of the x, y (and z) component of "
+                     "each contact node (in the order of contact_nodes); -1 "
+                     "where the component is a Dirichlet DOF (in 2D such a "
+                     "node is a support, not a contact node, and only "
+                     "enters M); d = 2 or 3 is the problem's dimension"),
+    "nodes": ("mesh", "float", "(n_nodes, d)", "node coordinates"),
+    "cells": ("mesh", "int", "(n_cells, d+1)",
+              "triangles (2D) or tetrahedra (3D, all of one orientation, "
+              "none flat) as node indices"),
     "dof_map": ("mesh", "int", "(Ñ, 2)",
                 "(node, component) of each reduced DOF; component 0 = x, "
-                "1 = y"),
-    "u_prescribed": ("mesh", "float", "(n_nodes, 2)",
+                "1 = y, 2 = z"),
+    "u_prescribed": ("mesh", "float", "(n_nodes, d)",
                      "values of the Dirichlet DOFs (entries of free DOFs "
                      "are 0)"),
     "contact_nodes": ("mesh", "int", "(Nc,)",
-                      "nodes of Γc, ordered along Γc (consecutive nodes "
-                      "share a boundary edge)"),
+                      "nodes of Γc; in 2D ordered along Γc (consecutive "
+                      "nodes share a boundary edge), in 3D the vertices of "
+                      "contact_faces in any order"),
     "obstacle_x": ("optional", "str", "()",
-                   "x(t) of the obstacle Γo(t) (mesh kind: either "
+                   "x(t) of the obstacle Γo(t) (2D mesh kind: either "
                    "obstacle_x and obstacle_y, or obstacle_points)"),
     "obstacle_y": ("optional", "str", "()", "y(t) of the obstacle Γo(t)"),
     "obstacle_points": ("optional", "float", "(n, 2)",
                         "vertices of a polyline obstacle, parametrised by "
                         "arc length (instead of obstacle_x, obstacle_y)"),
     "obstacle_t_range": ("optional", "float", "(2,)",
-                         "admissible parameter interval [t0, t1] (mesh "
+                         "admissible parameter interval [t0, t1] (2D mesh "
                          "kind only; absent = unbounded)"),
     "obstacle_search_interval": ("optional", "float", "(2,)",
                                  "parameter interval [t0, t1] searched for "
-                                 "the gaps (mesh kind only; absent = found "
+                                 "the gaps (2D mesh kind only; absent = found "
                                  "from the body's extent; CLI: "
                                  "--search-interval)"),
+    "contact_faces": ("mesh3d", "int", "(n_faces, 3)",
+                      "3D mesh kind only (required there): the contact "
+                      "surface as triangles of contact_nodes (global node "
+                      "ids), each a face of one tetrahedron, oriented so "
+                      "that the right-hand rule gives the body's outward "
+                      "normal; every contact node is a vertex of one"),
+    "obstacle_surface": ("mesh3d", "str", "()",
+                         "3D mesh kind only (required there): the rigid "
+                         "obstacle as a JSON surface spec, kind plane, "
+                         "sphere, graph or parametric (docs/npz-format.md, "
+                         "solver.geometry.surface)"),
     "load_path": ("optional", "float", "(n_stages, Ñ)",
                   "load vectors at the ends of the load stages of a friction "
                   "run; the load goes linearly from the previous end (zero "
@@ -108,21 +149,26 @@ KEYS = {
                            "multiplier of f_c in each stage (>= 0; e.g. 0 "
                            "for a frictionless first stage); with "
                            "load_path"),
-    "load_path_prescribed": ("optional", "float", "(n_stages, n_nodes, 2)",
+    "load_path_prescribed": ("optional", "float", "(n_stages, n_nodes, d)",
                              "Dirichlet values at the stage ends (mesh kind "
                              "only; absent: u_prescribed scaled like the "
                              "load)"),
     "gap": ("discrete", "float", "(Nc,)",
             "initial gap s of each contact node along its normal"),
-    "normal": ("discrete", "float", "(Nc, 2)",
+    "normal": ("discrete", "float", "(Nc, d)",
                "unit normal ν of each contact node, pointing from the body "
                "towards the obstacle"),
 }
 
 KINDS = ("mesh", "discrete")
 
-#: Fields of ``meta`` each kind needs.
+#: Keys a 3D file may not carry (the 2D obstacle curve).
+ONLY_2D = ("obstacle_x", "obstacle_y", "obstacle_points", "obstacle_t_range",
+           "obstacle_search_interval")
+
+#: Fields of ``meta`` each kind needs (a 3D mesh needs no ``plane``).
 META_REQUIRED = {"mesh": ("E", "nu", "plane", "load", "mesh"),
+                 "mesh3d": ("E", "nu", "load", "mesh"),
                  "discrete": ("description",)}
 
 # Size limits of the reader (``solver.problem.load``). A bad file costs no
@@ -157,6 +203,7 @@ def format_table():
              "|---|---|---|---|---|"]
     for key, (need, dtype, shape, doc) in KEYS.items():
         need = {"all": "both kinds", "mesh": "mesh only",
-                "discrete": "discrete only", "optional": "optional"}[need]
+                "discrete": "discrete only", "mesh3d": "3D mesh only",
+                "optional": "optional"}[need]
         lines.append(f"| `{key}` | {need} | {dtype} | {shape} | {doc} |")
     return "\n".join(lines)

@@ -1,5 +1,9 @@
 """Validation of the mesh keys of a problem file and of its geometry.
 
+The keys common to 2D and 3D are checked here, the 2D contact boundary and
+obstacle curve too; the 3D contact surface, tetrahedra and obstacle surface
+in :mod:`solver.problem.geometry3d`.
+
 Besides dtypes and shapes, the geometry must be one double precision can
 resolve and the thesis's normals (§2.1.3) can be computed on: coordinates
 within :data:`COORDINATE_LIMIT`, a body at least :data:`RESOLUTION` times
@@ -19,6 +23,7 @@ from ..geometry.normals import boundary_normals
 from ..geometry.obstacle import ParametricCurve
 from ..geometry.polyline import PolylineCurve
 from .checks import check_array, check_range, fail
+from .geometry3d import validate_solid
 
 __all__ = ["COORDINATE_LIMIT", "RESOLUTION", "validate_mesh"]
 
@@ -39,9 +44,10 @@ def _check_coordinates(nodes):
     size = np.abs(nodes).max(axis=1)
     far = int(np.argmax(size))
     if size[far] > COORDINATE_LIMIT:
-        fail("nodes", f"node {far} at ({nodes[far, 0]:g}, {nodes[far, 1]:g}) "
-                      f"is out of the supported range |x|, |y| <= "
-                      f"{COORDINATE_LIMIT:g} (rescale the units)")
+        at = ", ".join(f"{c:g}" for c in nodes[far])
+        axes = "|x|, |y|" if nodes.shape[1] == 2 else "|x|, |y|, |z|"
+        fail("nodes", f"node {far} at ({at}) is out of the supported range "
+                      f"{axes} <= {COORDINATE_LIMIT:g} (rescale the units)")
     extent = float(np.ptp(nodes, axis=0).max())
     if extent < max(1 / COORDINATE_LIMIT, RESOLUTION * size[far]):
         fail("nodes", f"the body is {extent:g} across but lies "
@@ -54,28 +60,37 @@ def validate_mesh(arrays, n, contact_dofs):
     """The mesh keys, the geometry and the obstacle of a ``mesh`` file.
 
     Returns the fields nodes, cells, dof_map, u_prescribed, contact_nodes
-    and obstacle of a :class:`~solver.problem.ContactProblem`.
+    and obstacle (and in 3D contact_faces) of a
+    :class:`~solver.problem.ContactProblem`.
     """
-    nodes = check_array(arrays, "nodes", "float", 2, (None, 2))
+    d = contact_dofs.shape[1]
+    nodes = check_array(arrays, "nodes", "float", 2, (None, d))
     n_nodes = len(nodes)
     _check_coordinates(nodes)
-    cells = check_array(arrays, "cells", "int", 2, (None, 3))
+    cells = check_array(arrays, "cells", "int", 2, (None, d + 1))
     if len(cells) < 1:
-        fail("cells", "the mesh has no triangles")
+        fail("cells", "the mesh has no " + ("triangles" if d == 2
+                                              else "tetrahedra"))
     check_range("cells", cells, 0, n_nodes)
     dof_map = check_array(arrays, "dof_map", "int", 2, (n, 2))
     check_range("dof_map", dof_map[:, 0], 0, n_nodes)
-    check_range("dof_map", dof_map[:, 1], 0, 2)
-    flat = dof_map[:, 0] * 2 + dof_map[:, 1]
+    check_range("dof_map", dof_map[:, 1], 0, d)
+    flat = dof_map[:, 0] * d + dof_map[:, 1]
     if len(np.unique(flat)) != n:
         fail("dof_map", "two reduced DOFs map to the same (node, component)")
     u_prescribed = check_array(arrays, "u_prescribed", "float", 2,
-                               (n_nodes, 2))
+                               (n_nodes, d))
     contact_nodes = check_array(arrays, "contact_nodes", "int", 1,
                                 (len(contact_dofs),))
     check_range("contact_nodes", contact_nodes, 0, n_nodes)
     if len(np.unique(contact_nodes)) != len(contact_nodes):
         fail("contact_nodes", "a node appears twice")
+    fields = dict(nodes=nodes, cells=cells, dof_map=dof_map,
+                  u_prescribed=u_prescribed, contact_nodes=contact_nodes)
+    if d == 3:
+        _check_contact_dofs(flat, n_nodes, contact_nodes, contact_dofs)
+        fields.update(validate_solid(arrays, nodes, cells, contact_nodes))
+        return fields
     if len(contact_nodes) < 2:
         fail("contact_nodes", f"the contact boundary Γc is the single node "
                               f"{contact_nodes[0]}: it needs at least 2 "
@@ -83,16 +98,28 @@ def validate_mesh(arrays, n, contact_dofs):
     if not is_boundary_chain(contact_nodes, cells):
         fail("contact_nodes", "not ordered along the boundary (consecutive "
                               "contact nodes must share a boundary edge)")
-    # contact_dofs must agree with dof_map.
-    lookup = np.full(2 * n_nodes, -1, dtype=np.int64)
-    lookup[flat] = np.arange(n)
-    expected = lookup[(2 * contact_nodes[:, None] + np.arange(2)).ravel()]
-    if not np.array_equal(expected.reshape(-1, 2), contact_dofs):
-        fail("contact_dofs", "does not match dof_map and contact_nodes")
+    _check_contact_dofs(flat, n_nodes, contact_nodes, contact_dofs)
     try:  # the normals of Γc: coincident nodes, zero-area triangles
         boundary_normals(nodes, cells, contact_nodes)
     except GeometryError as exc:
         fail("contact_nodes", str(exc))
+    fields["obstacle"] = _obstacle_curve(arrays)
+    return fields
+
+
+def _check_contact_dofs(flat, n_nodes, contact_nodes, contact_dofs):
+    """contact_dofs must agree with dof_map (``flat`` = node·d + component
+    of each reduced DOF)."""
+    d = contact_dofs.shape[1]
+    lookup = np.full(d * n_nodes, -1, dtype=np.int64)
+    lookup[flat] = np.arange(len(flat))
+    expected = lookup[(d * contact_nodes[:, None] + np.arange(d)).ravel()]
+    if not np.array_equal(expected.reshape(-1, d), contact_dofs):
+        fail("contact_dofs", "does not match dof_map and contact_nodes")
+
+
+def _obstacle_curve(arrays):
+    """The 2D obstacle: expressions x(t), y(t) or a polyline."""
     search = None
     if "obstacle_search_interval" in arrays:
         search = check_array(arrays, "obstacle_search_interval", "float", 1,
@@ -123,6 +150,4 @@ def validate_mesh(arrays, n, contact_dofs):
             obstacle = ParametricCurve(x, y, t_range, search)
         except ProblemError as exc:
             fail("obstacle", str(exc))
-    return dict(nodes=nodes, cells=cells, dof_map=dof_map,
-                u_prescribed=u_prescribed, contact_nodes=contact_nodes,
-                obstacle=obstacle)
+    return obstacle

@@ -19,7 +19,7 @@ import numpy as np
 from ..errors import ProblemError
 from .format import MAX_INT_DIGITS, MAX_META_DEPTH
 
-__all__ = ["parse_meta", "check_material"]
+__all__ = ["parse_meta", "parse_json", "check_material"]
 
 # A JSON string literal (with escapes); removed before counting brackets.
 _STRING = re.compile(r'"(?:[^"\\]|\\.)*"', re.DOTALL)
@@ -98,22 +98,34 @@ def parse_meta(text):
     return meta
 
 
+def parse_json(text, key):
+    """:func:`parse_meta` for another JSON key: the same limits, the
+    message starts with ``key``."""
+    try:
+        return parse_meta(text)
+    except ProblemError as exc:
+        message = str(exc).removeprefix("meta: ")
+        raise ProblemError(f"{key}: {message}") from None
+
+
 def _number(value):
     """A finite real number: JSON true/false are not numbers."""
     return isinstance(value, (int, float)) and not isinstance(value, bool) \
         and math.isfinite(value)
 
 
-def check_material(meta):
-    """E > 0 and -1 < ν < 0.5 finite numbers, plane strain or stress (the
-    plane elasticity of thesis §3.1)."""
-    E, nu, plane = meta["E"], meta["nu"], meta["plane"]
+def check_material(meta, dim=2):
+    """E > 0 and -1 < ν < 0.5 finite numbers; in 2D plane strain or stress
+    (the plane elasticity of thesis §3.1). A 3D problem needs no ``plane``;
+    if it carries one it is not read."""
+    E, nu = meta["E"], meta["nu"]
     if not _number(E) or not E > 0:
         _fail(f"E must be a positive finite number, got {_short(E)}")
     if not _number(nu) or not -1 < nu < 0.5:
         _fail(f"nu must be a number in (-1, 0.5), got {_short(nu)}")
-    if plane not in ("strain", "stress"):
-        _fail(f"plane must be 'strain' or 'stress', got {_short(plane)}")
+    if dim == 2 and meta["plane"] not in ("strain", "stress"):
+        _fail(f"plane must be 'strain' or 'stress', got "
+              f"{_short(meta['plane'])}")
 
 
 def _short(value):

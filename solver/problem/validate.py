@@ -13,7 +13,7 @@ import numpy as np
 
 from .checks import (check_array, check_norm, check_positive_definite,
                      check_range, csr, fail)
-from .format import FORMAT_VERSION, KEYS, KINDS, META_REQUIRED
+from .format import DIMS, KEYS, KINDS, META_REQUIRED, ONLY_2D, READ_VERSIONS
 from .geometry import validate_mesh
 from .meta import check_material, parse_meta
 
@@ -69,39 +69,39 @@ def _validate(arrays):
     for key in ("format_version", "kind"):
         if key not in arrays:
             fail(key, "missing (is this a problem file of this solver?)")
-    version = check_array(arrays, "format_version", "int", 0)
-    if int(version) != FORMAT_VERSION:
-        fail("format_version", f"file has version {int(version)}, this "
-                               f"solver reads version {FORMAT_VERSION}")
+    version = int(check_array(arrays, "format_version", "int", 0))
+    if version not in READ_VERSIONS:
+        fail("format_version", f"file has version {version}, this "
+                               f"solver reads versions "
+                               f"{', '.join(map(str, READ_VERSIONS))}")
     kind = check_array(arrays, "kind", "str", 0)
     if kind not in KINDS:
         fail("kind", f"must be one of {KINDS}, got {kind!r}")
-    allowed = {k for k, (need, *_rest) in KEYS.items()
-               if need in ("all", kind, "optional")}
-    if kind == "discrete":
-        for key in ("obstacle_t_range", "obstacle_search_interval",
-                    "obstacle_x", "obstacle_y", "obstacle_points",
-                    "load_path_prescribed"):
-            allowed.discard(key)
-    for key in sorted(arrays):
-        if key not in allowed:
-            fail(key, f"unexpected key in a {kind!r} problem file")
-    for key, (need, *_rest) in KEYS.items():
-        if need in ("all", kind) and key not in arrays:
-            fail(key, f"missing (required in a {kind!r} problem file)")
+    if "contact_dofs" not in arrays:
+        fail("contact_dofs", f"missing (required in a {kind!r} problem "
+                             "file)")
+    contact_dofs = check_array(arrays, "contact_dofs", "int", 2)
+    dim = contact_dofs.shape[1]
+    if dim not in DIMS:
+        fail("contact_dofs", f"expected 2 or 3 columns (the dimension), got "
+                             f"shape {contact_dofs.shape}")
+    if version < DIMS[dim]:
+        fail("format_version", f"a {dim}D problem needs version "
+                               f"{DIMS[dim]}, the file has {version}")
+    _check_keys(arrays, kind, dim)
 
     meta = parse_meta(check_array(arrays, "meta", "str", 0))
-    for name in META_REQUIRED[kind]:
+    need = "mesh3d" if kind == "mesh" and dim == 3 else kind
+    for name in META_REQUIRED[need]:
         if name not in meta:
             fail("meta", f"field {name!r} missing")
     if kind == "mesh":
-        check_material(meta)
+        check_material(meta, dim)
 
     K = csr(arrays, "K")
     n = K.shape[0]
     f = check_array(arrays, "f", "float", 1, (n,))
     check_norm("f", f)
-    contact_dofs = check_array(arrays, "contact_dofs", "int", 2, (None, 2))
     nc = len(contact_dofs)
     if nc < 1:
         fail("contact_dofs", "no contact nodes")
@@ -120,18 +120,39 @@ def _validate(arrays):
             fail("contact_dofs", "a discrete problem has no Dirichlet DOFs "
                                  "(-1 entries are not allowed)")
         gap = check_array(arrays, "gap", "float", 1, (nc,))
-        normal = check_array(arrays, "normal", "float", 2, (nc, 2))
-        length = np.hypot(normal[:, 0], normal[:, 1])
+        normal = check_array(arrays, "normal", "float", 2, (nc, dim))
+        length = np.sqrt((normal ** 2).sum(axis=1))
         if (abs(length - 1) > 1e-9).any():
             i = int(np.argmax(abs(length - 1)))
             fail("normal", f"row {i} has length {length[i]:.12g}, expected "
                            "a unit vector")
         problem.update(gap=gap, normal=normal)
-    problem.update(_validate_load_path(arrays, f, problem.get("nodes")))
+    problem.update(_validate_load_path(arrays, f, problem.get("nodes"), dim))
     return problem
 
 
-def _validate_load_path(arrays, f, nodes):
+def _check_keys(arrays, kind, dim):
+    """Missing and unexpected keys for the kind and the dimension."""
+    needs = {"all", kind, "optional"}
+    if kind == "mesh" and dim == 3:
+        needs.add("mesh3d")
+    allowed = {k for k, (need, *_rest) in KEYS.items() if need in needs}
+    if kind == "discrete":
+        allowed -= set(ONLY_2D) | {"load_path_prescribed"}
+    if dim == 3:
+        allowed -= set(ONLY_2D)
+    for key in sorted(arrays):
+        if key not in allowed:
+            where = f"{dim}D {kind!r}" if kind == "mesh" else repr(kind)
+            fail(key, f"unexpected key in a {where} problem file")
+    for key, (need, *_rest) in KEYS.items():
+        if need in ("all", kind) and key not in arrays \
+                or need == "mesh3d" and key in allowed and key not in arrays:
+            where = f"3D {kind!r}" if need == "mesh3d" else repr(kind)
+            fail(key, f"missing (required in a {where} problem file)")
+
+
+def _validate_load_path(arrays, f, nodes, dim):
     """The optional load path: all of load_path, _steps, _friction or none."""
     keys = ("load_path", "load_path_steps", "load_path_friction")
     present = [k for k in keys if k in arrays]
@@ -162,5 +183,5 @@ def _validate_load_path(arrays, f, nodes):
     if "load_path_prescribed" in arrays:
         out["load_path_prescribed"] = check_array(
             arrays, "load_path_prescribed", "float", 3,
-            (stages, len(nodes), 2))
+            (stages, len(nodes), dim))
     return out

@@ -1,0 +1,70 @@
+"""The ``obstacle_surface`` key: a JSON surface spec (3D, format version 3).
+
+The spec names a rigid obstacle surface (``{"kind": "plane", "point": ...,
+"normal": ...}``, ``sphere``, ``graph``, ``parametric``; the fields are in
+``docs/npz-format.md``). It is parsed with the bounded JSON reader of
+:mod:`.meta` and turned into a surface object by
+:func:`solver.geometry.surface.surface_from_spec`.
+
+Transition shim (issue 18): until ``solver.geometry.surface`` is merged the
+spec stays a checked ``dict``; the integrator deletes :func:`_builder` and
+imports ``surface_from_spec`` directly.
+"""
+
+import json
+
+from ..errors import ProblemError
+from .checks import fail
+from .meta import parse_json
+
+__all__ = ["SURFACE_KINDS", "obstacle_surface", "surface_spec_text"]
+
+#: The kinds of obstacle surface a spec may name.
+SURFACE_KINDS = ("plane", "sphere", "graph", "parametric")
+
+KEY = "obstacle_surface"
+
+
+def _builder():
+    """``surface_from_spec`` if the geometry package has it, else None."""
+    try:
+        from ..geometry.surface import surface_from_spec
+    except ImportError:
+        return None
+    return surface_from_spec
+
+
+def obstacle_surface(text):
+    """The obstacle of a 3D problem from the text of its spec.
+
+    Returns
+    -------
+    Surface or dict
+        ``surface_from_spec(spec)``, or the checked spec while the surface
+        module is absent.
+
+    Raises
+    ------
+    ProblemError
+        ``"obstacle_surface: ..."``, one line: not a JSON object, no or an
+        unknown ``kind``, or a field the surface module refuses.
+    """
+    spec = parse_json(text, KEY)
+    kind = spec.get("kind")
+    if kind not in SURFACE_KINDS:
+        fail(KEY, f"'kind' must be one of {', '.join(SURFACE_KINDS)}, got "
+                  f"{str(kind)[:40]!r}")
+    build = _builder()
+    if build is None:
+        return spec
+    try:
+        return build(spec)
+    except ProblemError as exc:
+        fail(KEY, " ".join(str(exc).split()))
+
+
+def surface_spec_text(obstacle):
+    """The JSON text stored for ``obstacle`` (a surface object with a
+    ``spec()`` method, or a spec dict)."""
+    spec = obstacle.spec() if hasattr(obstacle, "spec") else obstacle
+    return json.dumps(spec, sort_keys=True)
