@@ -44,7 +44,8 @@ than Hertz's approach a²/R = 0.01 of a half-space, whose far field reaches
 further than the top of the half ball: measured with a condensed contact
 solve, P = 291.6 and a = 0.0998 from Hertz's formula at a/h = 16, for
 Hertz's P = 293.0 at a = 0.1). ``meta`` carries R, E, nu,
-E_star, delta, a_target (0.1 R), h_contact (the mean edge of the contact
+E_star, delta, a_target (0.1 R), contact_center (the first touching
+point, on the axis), h_contact (the mean edge of the contact
 triangles within a_target of the origin) and a_h = a_target / h_contact.
 
 Contact surface :math:`\Gamma_c`: the spherical facets with all vertices
@@ -120,6 +121,7 @@ def export_contact_problem(pb, variables):
               'E_star': conf.E / (1.0 - conf.nu ** 2),
               'a_target': conf.a_target, 'h_contact': h,
               'a_h': conf.a_target / h, 'quarter': True,
+              'contact_center': [0.0, 0.0, 0.0],
               'load': {'prescribed_displacement_z': -conf.delta,
                        'on': 'top z = R'},
               'mesh': op.basename(pb.conf.filename_mesh),

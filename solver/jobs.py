@@ -89,8 +89,9 @@ def _figures(folder, problem, result):
         return write_figures(folder, problem, result)
     from .output.figures3d import write_figures3d
 
+    center = (problem.meta or {}).get("contact_center")
     return write_figures3d(folder, problem, result,
-                           *_hertz_reference(problem, result))
+                           *_hertz_reference(problem, result), center=center)
 
 
 def _hertz_reference(problem, result):

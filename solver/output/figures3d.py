@@ -126,17 +126,18 @@ def plot_pressure_vs_radius(problem, result, path=None, a=None, p0=None,
                               "against the distance from the contact axis")
 
 
-def write_figures3d(folder, problem, result, a=None, p0=None):
+def write_figures3d(folder, problem, result, a=None, p0=None, center=None):
     """The figures of a 3D frictionless solve for ``--plots``: the
     Newton convergence (as in 2D) and the pressure against the radius;
-    returns their paths by name."""
+    returns their paths by name (``center``: a point of the contact's
+    axis, see :func:`contact_radius`)."""
     from .figures import plot_convergence
 
     plt = _pyplot()
     paths = {}
     jobs = [("convergence", lambda p: plot_convergence(result, p)),
             ("pressure_radius", lambda p: plot_pressure_vs_radius(
-                problem, result, p, a=a, p0=p0))]
+                problem, result, p, a=a, p0=p0, center=center))]
     for name, job in jobs:
         path = os.path.join(folder, f"{name}.png")
         plt.close(job(path))

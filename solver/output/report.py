@@ -21,7 +21,14 @@ def format_summary(info):
              f"max |K_ij| = {info['K_norm_max']:.6g}",
              f"‖f‖               {info['f_norm']:.6g}",
              f"sum of M          {info['M_sum']:.12g}"]
-    if info["kind"] == "mesh":
+    if info["kind"] == "mesh" and info.get("dim", 2) == 3:
+        lines += [f"mesh              {meta.get('mesh')}: "
+                  f"{info['tetrahedra']} tetrahedra, {info['nodes']} nodes, "
+                  f"{info['contact_faces']} contact triangles",
+                  f"material          E = {meta['E']:g}, nu = {meta['nu']:g}",
+                  "obstacle          " + json.dumps(info["obstacle"],
+                                                    sort_keys=True)]
+    elif info["kind"] == "mesh":
         x, y = info["obstacle"]
         rng = info["obstacle_t_range"]
         lines += [f"mesh              {meta.get('mesh')}: "

@@ -5,15 +5,12 @@ The spec names a rigid obstacle surface (``{"kind": "plane", "point": ...,
 ``docs/npz-format.md``). It is parsed with the bounded JSON reader of
 :mod:`.meta` and turned into a surface object by
 :func:`solver.geometry.surface.surface_from_spec`.
-
-Transition shim (issue 18): until ``solver.geometry.surface`` is merged the
-spec stays a checked ``dict``; the integrator deletes :func:`_builder` and
-imports ``surface_from_spec`` directly.
 """
 
 import json
 
 from ..errors import ProblemError
+from ..geometry.surface import surface_from_spec
 from .checks import fail
 from .meta import parse_json
 
@@ -25,23 +22,13 @@ SURFACE_KINDS = ("plane", "sphere", "graph", "parametric")
 KEY = "obstacle_surface"
 
 
-def _builder():
-    """``surface_from_spec`` if the geometry package has it, else None."""
-    try:
-        from ..geometry.surface import surface_from_spec
-    except ImportError:
-        return None
-    return surface_from_spec
-
-
 def obstacle_surface(text):
     """The obstacle of a 3D problem from the text of its spec.
 
     Returns
     -------
-    Surface or dict
-        ``surface_from_spec(spec)``, or the checked spec while the surface
-        module is absent.
+    Surface
+        ``surface_from_spec(spec)``.
 
     Raises
     ------
@@ -54,11 +41,8 @@ def obstacle_surface(text):
     if kind not in SURFACE_KINDS:
         fail(KEY, f"'kind' must be one of {', '.join(SURFACE_KINDS)}, got "
                   f"{str(kind)[:40]!r}")
-    build = _builder()
-    if build is None:
-        return spec
     try:
-        return build(spec)
+        return surface_from_spec(spec)
     except ProblemError as exc:
         fail(KEY, " ".join(str(exc).split()))
 
