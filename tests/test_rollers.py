@@ -283,6 +283,7 @@ def test_roller_frames_and_dofs():
     np.testing.assert_allclose(Q @ Q.transpose(0, 2, 1),
                                np.broadcast_to(np.eye(3), Q.shape),
                                atol=1e-15)
+    np.testing.assert_allclose(np.linalg.det(Q), 1.0, rtol=1e-15)  # right-handed
     assert (geometry.normal[fixed] == 0).all()
     k = fixed.sum(axis=1)
     for i in np.flatnonzero(k):  # the first k tangents are the e_c

@@ -32,7 +32,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..errors import SolverError
-from ..geometry.frames import frames, tangent_basis
+from ..geometry.frames import frames, roller_frames, tangent_basis
 
 __all__ = ["GAP_MODES", "ROLLER_TOLERANCE", "ContactGeometry",
            "contact_geometry", "problem_dim", "rotation",
@@ -212,26 +212,14 @@ def _frames(index, node_dofs, gap, normal, foot, mode):
     foot = None if foot is None else foot[keep]
     fixed, normal = fixed[keep], normal[keep].copy()
     roll = fixed.any(axis=1)
-    normal[fixed] = 0.0  # exactly in the free subspace
-    normal[roll] /= np.linalg.norm(normal[roll], axis=1)[:, None]
-    tangents, dofs = tangent_basis(normal), node_dofs.copy()
-    d = normal.shape[1]
-    axes = np.eye(d)
-    for pattern in np.unique(fixed[roll], axis=0):
+    tangents = tangent_basis(normal)
+    normal[roll], tangents[roll] = roller_frames(normal[roll], fixed[roll])
+    dofs = node_dofs.copy()
+    for pattern in np.unique(fixed[roll], axis=0):  # ≤ 2^d − 2 patterns
         rows = np.flatnonzero((fixed == pattern).all(axis=1))
-        c, f = np.flatnonzero(pattern), np.flatnonzero(~pattern)
-        k, nu = len(c), normal[rows]
-        if d == 3:  # 2D: γ = (−ν_y, ν_x) is already ±e_c
-            t = np.empty((len(rows), 2, 3))
-            t[:, :k] = axes[c]
-            if k == 1:  # (e_c, ν × e_c, ν) right-handed
-                t[:, 1] = np.cross(nu, axes[c[0]])
-            else:  # ν = ±e_f: orient e_c2 so that e_c1 × t_2 = ν
-                t[:, 1] *= np.sign(nu @ np.cross(axes[c[0]], axes[c[1]]))[
-                    :, None]
-            tangents[rows] = t
+        k = int(pattern.sum())
         dofs[rows] = np.column_stack([np.full((len(rows), k), -1),
-                                      node_dofs[rows][:, f]])
+                                      node_dofs[rows][:, ~pattern]])
     return ContactGeometry(index, dofs, gap, normal, foot, mode, tangents,
                            node_dofs)
 
