@@ -119,7 +119,9 @@ class NormalCondensation:
     ----------
     problem : ContactProblem
     geometry : ContactGeometry
-        Every free contact node (any d).
+        Every contact node that takes part (any d; a roller's normal row
+        ``dofs[i, -1]`` is one of its free DOFs, its e_c rows are not in
+        R, :func:`~solver.contact.geometry.rotation`).
     backend : str
         :mod:`solver.linalg` backend name (resolved).
 

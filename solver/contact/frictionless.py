@@ -21,9 +21,15 @@ g_n = M⁻¹Y(RKu − Rf) = −M⁻¹λ; we report the contact pressure p = M⁻
 here works from the :class:`ContactGeometry` (DOFs, gaps, frames) and is
 the same in 2D and 3D.
 
-Only contact nodes whose DOFs are all free take part (a node with a
-Dirichlet DOF is a support); their λ is 0 in the nodal arrays, which cover
-every node of Γc in ``problem.contact_nodes`` order.
+The contact nodes whose DOFs are all free take part, and by default
+(``rollers=True``) also the *rollers*: nodes on a symmetry plane of a half
+or quarter model, whose Dirichlet components have no share in ν (their
+frame puts the constrained directions among the tangents, see
+:mod:`solver.contact.geometry`); the λ of such a node is that of the half
+(quarter) of the whole model's node it stands for. Any other node with a
+Dirichlet DOF is a support: its λ is 0 in the nodal arrays, which cover
+every node of Γc in ``problem.contact_nodes`` order. Friction runs
+(:func:`solve_friction`) keep every node with a Dirichlet DOF a support.
 
 Optionally the gap rows are scaled, B = c(s − YRu) with c > 0 (same solution,
 other Newton path); c = 1 is the thesis.
@@ -77,13 +83,13 @@ def condense_onto_contact(problem, geometry, backend="auto"):
     """Factorise K once per K with the free contact DOFs last
     (:meth:`solver.linalg.Condensation.of`, which also checks that K is
     positive definite) and renumber ``geometry`` to the condensed DOFs
-    (the d DOFs of contact node i → d·i, …, d·i + d − 1), with the linear
-    solver ``backend``. Returns (condensation, geometry).
+    (the d DOFs of contact node i → d·i, …, d·i + d − 1; a roller's free
+    DOFs only, :meth:`ContactGeometry.compact`), with the linear solver
+    ``backend``. Returns (condensation, geometry).
     """
-    condensation = Condensation.of(problem, geometry.dofs.ravel(), backend)
+    condensation = Condensation.of(problem, geometry.free_dofs(), backend)
     problem._checked = problem.K  # the factorisation checked K's pivots
-    m, d = geometry.dofs.shape
-    return condensation, geometry.renumbered(np.arange(d * m).reshape(m, d))
+    return condensation, geometry.compact()
 
 
 class FrictionlessSystem:
@@ -201,7 +207,8 @@ def _use_candidates(candidates, condense, dim):
 def solve_frictionless(problem, method="min", gap="obstacle", tol=1e-10,
                        max_iter=100, x0=None, gap_scale=None, options=None,
                        geometry=None, condense=None, start=None,
-                       backend="auto", candidates=None, margin=None):
+                       backend="auto", candidates=None, margin=None,
+                       rollers=True):
     r"""Solve the frictionless contact problem (67) by semismooth Newton.
 
     Parameters
@@ -269,6 +276,11 @@ def solve_frictionless(problem, method="min", gap="obstacle", tol=1e-10,
         initial gap s_i ≤ δ₀ (default
         :func:`~solver.contact.candidates.initial_candidates`). Too small
         a margin costs refactorisations, never accuracy.
+    rollers : bool
+        Whether contact nodes with Dirichlet components orthogonal to ν
+        (symmetry planes) take part in contact (default) or are supports
+        (:func:`contact_geometry`; the thesis's blocks have none). Ignored
+        when ``geometry`` is given: that geometry decides.
 
     Returns
     -------
@@ -320,7 +332,7 @@ def solve_frictionless(problem, method="min", gap="obstacle", tol=1e-10,
     """
     clock = time.perf_counter()
     if geometry is None:
-        geometry = contact_geometry(problem, gap)
+        geometry = contact_geometry(problem, gap, rollers=rollers)
     geometry_time = time.perf_counter() - clock
     load_norm = stable_norm(problem.f)
     stiffness = contact_stiffness(problem.K, geometry)
@@ -379,9 +391,9 @@ def solve_frictionless(problem, method="min", gap="obstacle", tol=1e-10,
         u = condensation.displacement(result.x, w) if condense else result.x
     result.stopping["test"] = STOPPING_TEST
     result.x = u
-    verification = verify_contact(problem.K, problem.f, u, geometry.dofs,
-                                  geometry.normal, geometry.gap, lam_free,
-                                  stiffness, verification_tolerance(tol))
+    verification = verify_contact(
+        problem.K, problem.f, u, geometry.node_dofs, geometry.normal,
+        geometry.gap, lam_free, stiffness, verification_tolerance(tol))
     if result.success and not verification["passed"]:
         result.update(success=False, status=6, message=(
             f"{MESSAGES[6]}: {describe_failure(verification)}"))

@@ -8,31 +8,57 @@ the thesis's γ = (−ν_y, ν_x)). :func:`rotation` builds the sparse **R** of
 its rows are the tangents, then the normal, so that (Ru) holds the
 tangential components first and the normal one last; R is the identity
 elsewhere. The contact systems never ask the dimension anything else.
+
+Rollers (symmetry planes). A contact node on a symmetry plane of a half
+or quarter model has a Dirichlet DOF, u_c = 0, along the plane's normal
+e_c. It touches the obstacle like any other node when its contact normal
+ν lies in the plane, |ν_c| ≤ :data:`ROLLER_TOLERANCE` for every
+constrained component c: the constraint then acts only along a tangent,
+where a frictionless contact exerts no force, and the node's normal
+contact force is half (quarter) that of the whole model there. Such a
+node is a *roller*; with ``contact_geometry(..., rollers=True)`` it takes
+part in contact, otherwise (and always when a constrained direction has
+a normal component, or every DOF is fixed) it is a support with λ = 0.
+Its frame: the constrained directions e_c first among the tangents, then
+the tangents orthonormal in the free subspace, then ν with ν_c set to 0
+exactly (renormalised); its row DOFs ``dofs`` hold −1 for the e_c rows
+(they act on no unknown: u_c is prescribed), the free DOFs (in component
+order) for the others, the normal last. ``node_dofs`` keeps the node's
+own (x, y[, z]) DOFs (−1 = Dirichlet), the columns of R. For a node
+whose DOFs are all free the two are the same and nothing changes.
 """
 
 import numpy as np
 import scipy.sparse as sp
 
 from ..errors import SolverError
-from ..geometry.frames import frames, tangent_basis
+from ..geometry.frames import frames, roller_frames, tangent_basis
 
-__all__ = ["GAP_MODES", "ContactGeometry", "contact_geometry",
-           "problem_dim", "rotation", "contact_stiffness"]
+__all__ = ["GAP_MODES", "ROLLER_TOLERANCE", "ContactGeometry",
+           "contact_geometry", "problem_dim", "rotation",
+           "contact_stiffness"]
 
 #: How gaps and normals are found (thesis §2.1.1 / §2.1.2).
 GAP_MODES = ("obstacle", "body")
 
+#: A node with Dirichlet components c is a roller when |ν_c| ≤ this.
+ROLLER_TOLERANCE = 1e-8
+
 
 class ContactGeometry:
-    """Gaps and frames at the free contact nodes (evaluated once, §2.1).
+    """Gaps and frames at the contact nodes that take part (§2.1): those
+    whose DOFs are all free, and the rollers (module docstring).
 
     Attributes
     ----------
     index : (Nca,) int
-        Rows of ``problem.contact_dofs`` (positions along Γc) of the free
-        contact nodes.
+        Rows of ``problem.contact_dofs`` (positions along Γc) of the nodes.
     dofs : (Nca, d) int
-        Their reduced DOFs (x, y[, z]).
+        The reduced DOF of each row of the node's frame (tangents, then
+        the normal): −1 for a roller's constrained tangents e_c. Equal to
+        ``node_dofs`` for a node whose DOFs are all free.
+    node_dofs : (Nca, d) int
+        The node's own reduced DOFs (x, y[, z]), −1 where Dirichlet.
     gap : (Nca,) float
         Initial signed gap s along ``normal`` (negative = penetration).
     normal : (Nca, d) float
@@ -46,34 +72,64 @@ class ContactGeometry:
         d, the number of columns of ``normal``.
     tangents : (Nca, d − 1, d) float
         Orthonormal tangents (default :func:`tangent_basis` of ``normal``).
+    rollers : (Nca,) bool
+        Nodes with a Dirichlet component (``node_dofs`` has a −1).
     """
 
     def __init__(self, index, dofs, gap, normal, foot=None, mode="given",
-                 tangents=None):
+                 tangents=None, node_dofs=None):
         self.index, self.dofs = index, dofs
+        self.node_dofs = dofs if node_dofs is None else node_dofs
         self.gap, self.normal, self.foot, self.mode = gap, normal, foot, mode
         self.dim = int(np.shape(normal)[1])
         self.tangents = tangent_basis(normal) if tangents is None \
             else np.asarray(tangents, float)
+        self.rollers = (np.asarray(self.node_dofs) < 0).any(axis=1)
+
+    @property
+    def has_rollers(self):
+        """Whether any node is a roller (friction does not take them yet)."""
+        return bool(self.rollers.any())
+
+    def free_dofs(self):
+        """The nodes' free reduced DOFs, node by node in component order
+        (the Schur set of a condensation onto Γc)."""
+        return self.node_dofs[self.node_dofs >= 0]
+
+    def compact(self):
+        """The same nodes renumbered to the condensed DOFs: free DOF k of
+        :meth:`free_dofs` → k (all free: node i's DOFs → d·i, …,
+        d·i + d − 1), −1 kept."""
+        flat = self.free_dofs()
+        if not self.has_rollers:
+            m, d = self.dofs.shape
+            return self.renumbered(np.arange(d * m).reshape(m, d))
+        lookup = np.full(int(flat.max(initial=-1)) + 2, -1)
+        lookup[flat] = np.arange(len(flat))  # lookup[-1] stays −1
+        return self.renumbered(lookup[self.dofs], lookup[self.node_dofs])
 
     def rotation(self):
         """The per-node frames Q (Nca, d, d): rows the d − 1 tangents, then
         the normal (Q v = tangential components, then the normal one)."""
         return frames(self.normal, self.tangents)
 
-    def renumbered(self, dofs):
-        """The same nodes with other DOFs (a condensed numbering)."""
+    def renumbered(self, dofs, node_dofs=None):
+        """The same nodes with other DOFs (a condensed numbering);
+        ``node_dofs`` defaults to ``dofs`` (no rollers)."""
         return ContactGeometry(self.index, dofs, self.gap, self.normal,
-                               self.foot, self.mode, self.tangents)
+                               self.foot, self.mode, self.tangents,
+                               node_dofs)
 
     def subset(self, nodes, dofs=None):
-        """The nodes ``nodes`` (positions in this geometry), with ``dofs``
-        (default: their own)."""
+        """The nodes ``nodes`` (positions in this geometry), with their own
+        DOFs, or with ``dofs`` (a renumbering of nodes without rollers;
+        :meth:`compact` renumbers any)."""
         foot = None if self.foot is None else self.foot[nodes]
+        node_dofs = self.node_dofs[nodes] if dofs is None else None
         return ContactGeometry(
             self.index[nodes], self.dofs[nodes] if dofs is None else dofs,
             self.gap[nodes], self.normal[nodes], foot, self.mode,
-            self.tangents[nodes])
+            self.tangents[nodes], node_dofs)
 
 
 def problem_dim(problem):
@@ -81,7 +137,7 @@ def problem_dim(problem):
     return int(getattr(problem, "dim", problem.contact_dofs.shape[1]))
 
 
-def contact_geometry(problem, gap="obstacle"):
+def contact_geometry(problem, gap="obstacle", rollers=False):
     """Gaps and normals of ``problem`` (thesis §2.1).
 
     ``gap="obstacle"``: nearest obstacle point, ν = obstacle normal there
@@ -90,22 +146,32 @@ def contact_geometry(problem, gap="obstacle"):
     contact triangles, :func:`solver.geometry.surface_normals`), gap along
     that line (§2.1.2). Discrete problems carry their gaps and normals;
     ``gap`` is ignored.
+
+    ``rollers``: False (default, the thesis and every friction run): only
+    the nodes whose DOFs are all free take part, a node with a Dirichlet
+    DOF is a support. True: also the rollers, nodes with some Dirichlet
+    components whose normal has no component along them (module
+    docstring); :func:`solve_frictionless` asks for them.
     """
-    free = np.flatnonzero((problem.contact_dofs >= 0).all(axis=1))
-    dofs = problem.contact_dofs[free]
+    constrained = problem.contact_dofs < 0
+    eligible = ~constrained.all(axis=1) if rollers \
+        else ~constrained.any(axis=1)
+    nodes = np.flatnonzero(eligible)
+    node_dofs = problem.contact_dofs[nodes]
     if problem.kind == "discrete":
-        return ContactGeometry(free, dofs, problem.gap[free],
-                               problem.normal[free])
+        return _frames(nodes, node_dofs, problem.gap[nodes],
+                       problem.normal[nodes], None, "given")
     if gap not in GAP_MODES:
         raise SolverError(f"gap mode must be one of {GAP_MODES}, got {gap!r}")
     if problem_dim(problem) == 3:
-        return _geometry_3d(problem, gap, free, dofs)
+        s, normal, foot = _geometry_3d(problem, gap, nodes)
+        return _frames(nodes, node_dofs, s, normal, foot, gap)
     from ..geometry.gap import gap_along_normals, gap_from_obstacle
     from ..geometry.normals import boundary_normals
 
     body = boundary_normals(problem.nodes, problem.cells,
-                            problem.contact_nodes)[free]
-    ids = problem.contact_nodes[free]
+                            problem.contact_nodes)[nodes]
+    ids = problem.contact_nodes[nodes]
     points = problem.nodes[ids]
     if gap == "obstacle":
         s, normal, t = gap_from_obstacle(points, problem.obstacle, body,
@@ -113,44 +179,75 @@ def contact_geometry(problem, gap="obstacle"):
     else:
         s, normal, t = gap_along_normals(points, body, problem.obstacle,
                                          node_ids=ids)
-    return ContactGeometry(free, dofs, s, normal, t, gap)
+    return _frames(nodes, node_dofs, s, normal, t, gap)
 
 
-def _geometry_3d(problem, gap, free, dofs):
+def _geometry_3d(problem, gap, nodes):
     """3D: the obstacle surface's closest point ("obstacle": ν = −its
     outward normal there) or the ray along the body's outward normal
     ("body": ν = that normal); the 3D contract of issue 18."""
-    points = problem.nodes[problem.contact_nodes[free]]
+    points = problem.nodes[problem.contact_nodes[nodes]]
     if gap == "obstacle":
         s, normal, foot = problem.obstacle.gap_along_obstacle_normal(points)
     else:
         from ..geometry.surface_normals import surface_normals
 
         normal = surface_normals(problem.nodes, problem.contact_faces,
-                                 problem.contact_nodes)[free]
+                                 problem.contact_nodes)[nodes]
         s, foot = problem.obstacle.gap_along_rays(points, normal)
-    return ContactGeometry(free, dofs, np.asarray(s, float),
-                           np.asarray(normal, float), foot, gap)
+    return np.asarray(s, float), np.asarray(normal, float), foot
+
+
+def _frames(index, node_dofs, gap, normal, foot, mode):
+    """The ContactGeometry of the nodes ``index``: those with a Dirichlet
+    component along which ν has a component (> :data:`ROLLER_TOLERANCE`)
+    dropped as supports, the rollers' frames built (module docstring);
+    vectorised per pattern of constrained components (at most 2^d − 2)."""
+    gap, normal = np.asarray(gap, float), np.asarray(normal, float)
+    fixed = node_dofs < 0
+    if not fixed.any():  # every node free: exactly as without rollers
+        return ContactGeometry(index, node_dofs, gap, normal, foot, mode)
+    keep = ~(fixed & (np.abs(normal) > ROLLER_TOLERANCE)).any(axis=1)
+    index, node_dofs, gap = index[keep], node_dofs[keep], gap[keep]
+    foot = None if foot is None else foot[keep]
+    fixed, normal = fixed[keep], normal[keep].copy()
+    roll = fixed.any(axis=1)
+    tangents = tangent_basis(normal)
+    normal[roll], tangents[roll] = roller_frames(normal[roll], fixed[roll])
+    dofs = node_dofs.copy()
+    for pattern in np.unique(fixed[roll], axis=0):  # ≤ 2^d − 2 patterns
+        rows = np.flatnonzero((fixed == pattern).all(axis=1))
+        k = int(pattern.sum())
+        dofs[rows] = np.column_stack([np.full((len(rows), k), -1),
+                                      node_dofs[rows][:, ~pattern]])
+    return ContactGeometry(index, dofs, gap, normal, foot, mode, tangents,
+                           node_dofs)
 
 
 def rotation(n, geometry):
     """R of (58)-(60), sparse (n, n), for any d: at contact node i the rows
     of its DOFs are its tangents, then its normal (in 2D row a_i = γ_i =
-    (−ν_y, ν_x), row b_i = ν_i); identity elsewhere.
+    (−ν_y, ν_x), row b_i = ν_i); identity elsewhere. A roller's rows e_c
+    (``dofs`` −1) and its Dirichlet columns are left out: on its free DOFs
+    R is still orthogonal (its other frame rows vanish on e_c).
 
     Returns (R, other DOFs, tangential rows, normal rows): the tangential
     rows are ``dofs[:, :-1]`` node by node ((Nca,) in 2D, (Nca·(d − 1),)
-    in general), the normal rows ``dofs[:, -1]``.
+    in general; −1 at a roller's e_c), the normal rows ``dofs[:, -1]``.
     """
     dofs = geometry.dofs
     d = dofs.shape[1]
-    other = np.setdiff1d(np.arange(n), dofs.ravel())
-    Q = geometry.rotation()  # (m, d, d): Q[i, r, c] at (dofs[i, r], dofs[i, c])
+    other = np.setdiff1d(np.arange(n), geometry.free_dofs())
+    Q = geometry.rotation()  # (m, d, d): Q[i, r, c] at (dofs[i, r],
+    # node_dofs[i, c])
     rows = np.concatenate([other] + [np.repeat(dofs[:, r], d)
                                      for r in range(d)])
-    cols = np.concatenate([other] + [dofs.ravel()] * d)
+    cols = np.concatenate([other] + [geometry.node_dofs.ravel()] * d)
     vals = np.concatenate([np.ones(len(other))] + [Q[:, r, :].ravel()
                                                    for r in range(d)])
+    if geometry.has_rollers:
+        used = (rows >= 0) & (cols >= 0)
+        rows, cols, vals = rows[used], cols[used], vals[used]
     R = sp.csr_matrix((vals, (rows, cols)), shape=(n, n))
     return R, other, dofs[:, :-1].ravel(), dofs[:, -1]
 
@@ -160,4 +257,4 @@ def contact_stiffness(K, geometry):
     force per unit gap of the stopping measures."""
     if not len(geometry.dofs):
         return 1.0
-    return float(K.diagonal()[geometry.dofs].mean())
+    return float(K.diagonal()[geometry.free_dofs()].mean())

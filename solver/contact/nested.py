@@ -74,7 +74,8 @@ class ContactLevel:
         The level's nodes, as positions in the finest level's node list.
     S : (dm, dm) float
         Schur complement of K on the level's DOFs (the d DOFs of node i →
-        d·i, …, d·i + d − 1; d = 2 in use).
+        d·i, …, d·i + d − 1; d = 2 in use; node by node, fewer at a
+        roller).
     w : (dm,) float
         The unconstrained displacement K⁻¹f at those DOFs.
     geometry : ContactGeometry
@@ -93,7 +94,7 @@ class ContactLevel:
     def prolong(self, u_coarse):
         """This level's u from the next coarser level's u: the kept DOFs
         take it, the others follow from equilibrium without contact force."""
-        kept = np.repeat(self.keep, self.geometry.dim)
+        kept = self.keep[_owner(self.geometry)]
         u = np.empty(len(self.w))
         u[kept] = u_coarse
         u[~kept] = self.w[~kept] - self.X @ (u_coarse - self.w[kept])
@@ -101,9 +102,15 @@ class ContactLevel:
 
 
 def _subset(geometry, nodes):
-    """``geometry`` (of the finest level, local DOFs) at ``nodes``."""
-    d = geometry.dim
-    return geometry.subset(nodes, np.arange(d * len(nodes)).reshape(-1, d))
+    """``geometry`` (of the finest level, local DOFs) at ``nodes``,
+    renumbered to the level's DOFs."""
+    return geometry.subset(nodes).compact()
+
+
+def _owner(geometry):
+    """The node of each condensed DOF (d per node; fewer at a roller)."""
+    counts = (geometry.node_dofs >= 0).sum(axis=1)
+    return np.repeat(np.arange(len(counts)), counts)
 
 
 def contact_levels(S, w, geometry, coarsest=COARSEST):
@@ -127,8 +134,8 @@ def contact_levels(S, w, geometry, coarsest=COARSEST):
         level = levels[-1]
         keep = np.zeros(len(level.nodes), dtype=bool)
         keep[::2] = keep[-1] = True
-        k = np.flatnonzero(np.repeat(keep, geometry.dim))
-        r = np.flatnonzero(~np.repeat(keep, geometry.dim))
+        kept = keep[_owner(level.geometry)]
+        k, r = np.flatnonzero(kept), np.flatnonzero(~kept)
         S_rk = level.S[np.ix_(r, k)]
         level.keep = keep
         level.X = sla.cho_solve(sla.cho_factor(level.S[np.ix_(r, r)]), S_rk)

@@ -122,7 +122,10 @@ def verify_contact(K, f, u, dofs, normal, gap, lam, stiffness, tol_v,
     u : (Ñ,) array
         The reduced displacement.
     dofs : (Nca, d) int
-        Reduced DOFs of the free contact nodes.
+        Reduced DOFs (x, y[, z]) of the contact nodes
+        (``ContactGeometry.node_dofs``); −1 at a roller's Dirichlet
+        component, along which ν is 0: the reaction there is the
+        support's, left out of f_c.
     normal, gap : (Nca, d), (Nca,)
         ν and s at those nodes.
     lam : (Nca,)
@@ -157,7 +160,10 @@ def verify_contact(K, f, u, dofs, normal, gap, lam, stiffness, tol_v,
     finite = all(bool(np.all(np.isfinite(a))) for a in arrays)
     F = force_scale(_norm(f), lam) if finite else np.inf
     L = F / stiffness
-    un = (normal * u[dofs]).sum(axis=1) if len(dofs) else np.zeros(0)
+    dofs = np.asarray(dofs)
+    # −1 (a roller's Dirichlet component, where ν is 0) reads the appended 0
+    padded = np.append(u, 0.0)
+    un = (normal * padded[dofs]).sum(axis=1) if len(dofs) else np.zeros(0)
     remaining = gap - un
     checks = {}
     with np.errstate(all="ignore"):
@@ -166,13 +172,14 @@ def verify_contact(K, f, u, dofs, normal, gap, lam, stiffness, tol_v,
         checks["min_multiplier"] = -_relative(-np.min(lam, initial=0.0), F)
         checks["complementarity"] = _relative(np.max(np.abs(np.minimum(
             lam, stiffness * remaining)), initial=0.0), F)
-        contact = np.zeros_like(u)
+        contact = np.zeros(len(u) + 1)  # the last entry takes the −1s
         if len(dofs):  # −λν + Σ_k t_k τ_k; distinct nodes
             contact[dofs] = -lam[:, None] * normal
         if friction_force is not None and len(dofs):
             tau = tangent_basis(normal) if tangents is None else tangents
             t = np.asarray(friction_force, float).reshape(len(dofs), -1)
             contact[dofs] += (t[:, :, None] * tau).sum(axis=1)
+        contact = contact[:-1]  # a support's reaction is not a contact force
         residual = _norm(K @ u - f - contact)
         checks["equilibrium"] = _relative(residual,
                                           _norm(f) + _norm(contact))

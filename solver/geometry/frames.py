@@ -15,6 +15,12 @@ every unit ν (no division by a small number: |σ + ν_z| ≥ 1). (τ_1, τ_2, �
 is right-handed. Vectorised over nodes; any frame in the tangent plane
 gives the same frictionless answer, and friction sees only the plane.
 
+Rollers (:func:`roller_frames`): at a node with Dirichlet components c
+whose normal lies in the plane of the free ones, the tangents are the
+e_c first, then (3D, one c) ν × e_c, so that (e_c, ν × e_c, ν) is
+right-handed; with two c in 3D, (e_c1, ±e_c2, ν) right-handed; in 2D
+γ = (−ν_y, ν_x), which is then ±e_c.
+
 References
 ----------
 T. Duff, J. Burgess, P. Christensen, C. Hery, A. Kensler, M. Liani,
@@ -27,7 +33,7 @@ import numpy as np
 
 from ..errors import SolverError
 
-__all__ = ["tangent_basis", "frames"]
+__all__ = ["tangent_basis", "frames", "roller_frames"]
 
 
 def tangent_basis(normal):
@@ -65,3 +71,42 @@ def frames(normal, tangents=None):
     nu = np.asarray(normal, dtype=float)
     tangents = tangent_basis(nu) if tangents is None else tangents
     return np.concatenate([tangents, nu[:, None, :]], axis=1)
+
+
+def roller_frames(normal, fixed):
+    """Frames of roller nodes: ν with its constrained components set to 0
+    and renormalised, and tangents with the constrained directions first
+    (module docstring).
+
+    Parameters
+    ----------
+    normal : (m, d) array
+        Unit normals, |ν_c| small at the constrained components.
+    fixed : (m, d) bool
+        The constrained components (at least one, at most d − 1 per row).
+
+    Returns
+    -------
+    (normal (m, d), tangents (m, d − 1, d))
+        Vectorised per pattern of ``fixed`` (at most 2^d − 2 patterns).
+    """
+    nu = np.array(normal, dtype=float)
+    nu[fixed] = 0.0
+    nu /= np.linalg.norm(nu, axis=1)[:, None]
+    tangents = tangent_basis(nu)
+    d = nu.shape[1]
+    if d == 2 or not len(nu):
+        return nu, tangents
+    axes = np.eye(d)
+    for pattern in np.unique(fixed, axis=0):
+        rows = np.flatnonzero((fixed == pattern).all(axis=1))
+        c = np.flatnonzero(pattern)
+        t = np.empty((len(rows), 2, 3))
+        t[:, :len(c)] = axes[c]
+        if len(c) == 1:  # (e_c, ν × e_c, ν) right-handed
+            t[:, 1] = np.cross(nu[rows], axes[c[0]])
+        else:  # ν = ±e_f: orient e_c2 so that e_c1 × t_2 = ν
+            t[:, 1] *= np.sign(nu[rows] @ np.cross(axes[c[0]], axes[c[1]]))[
+                :, None]
+        tangents[rows] = t
+    return nu, tangents
