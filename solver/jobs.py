@@ -39,7 +39,10 @@ def _geometry(args, problem):
     resolve(args.linear_solver)  # not installed: SolverError, exit 2
     if _condense(args) is False:  # else checked by the solve's factorisation
         problem.check_stiffness()
-    return contact_geometry(problem, args.gap)
+    # contact nodes on symmetry planes (rollers) take part in frictionless
+    # contact; friction runs treat them as supports (not built yet)
+    return contact_geometry(problem, args.gap,
+                            rollers=args.friction is None)
 
 
 def _failure_line(message, nit, history, tail=""):
