@@ -1,0 +1,210 @@
+r"""The Newton system of a condensed friction step, solved on the free
+components only (projection formulation; :mod:`solver.contact.friction`).
+
+On the system condensed onto Γc (K → S, dense 2m×2m) the Jacobian of the
+projection formulation, in the rotated displacement v = RΔu (R of (58)-(60),
+orthogonal) and the scaled traction ĝ = g_t/c_t, has the rows
+
+.. math::
+    T_{t,:}\,dv − D c_t\,dĝ = −E_2, \qquad
+    \text{stick: } c_t\,dv_{t,i} = −E_{3,i}, \quad
+    \text{slip: } c_t\,dĝ_i ∓ f_c a_i/D_i\,T_{n_i,:}dv = −E_{3,i}, \\
+    −w_{a,i} T_{n_i,:}dv − w_{b,i}\,c\,dv_{n,i} = −Φ_i,
+
+with T = R S Rᵀ, (w_a, w_b) the weights of the NCP function's row
+(:func:`solver.ncp.functions.derivative_weights`) and a_i = [λ_i > 0] (only
+with the implicit bound; lagged: no T_n term in the slip rows). A sticking
+node fixes its dv_t, a node whose normal row is a pure gap row (w_a = 0:
+φ_min's "in contact", the thesis's B row) fixes its dv_n, and ĝ follows from
+one row per node (slip: its own row; stick: the tangential row). What is
+left is the exact block elimination
+
+.. math:: M_{FF}\, dv_F = h_F − M_{FK}\, dv_K
+
+on the free components F = {dv_t of sliding nodes} ∪ {dv_n of nodes whose
+normal row has w_a ≠ 0}, where M's rows are T_{t_i,:} ± f_c a_i T_{n_i,:}
+(slip) and T_{n_i,:} + (w_b/w_a) c e_{n_i} (normal rows divided by −w_a). For
+the lagged bound M_FF is a principal submatrix of T plus a non-negative
+diagonal (w_a, w_b ≤ 0 for φ_FB, (30)): symmetric positive definite, so it
+is factorised by Cholesky; otherwise by LU. Nothing larger than S is
+formed, the factorisation is of size |F| ≤ 2m instead of 3m, and an
+unchanged M_FF (same sets and weights: most iterations of φ_min with the
+lagged bound) reuses the previous factorisation. The direction is the one
+of the full Newton system J d = −Φ up to round-off; J is singular exactly
+when M_FF is (the eliminated pivots c_t, 1, w_b c and D c_t are non-zero).
+
+This is the primal-dual active set structure of Hüeber, Stadler & Wohlmuth
+(2008), applied to the condensed system.
+"""
+
+import warnings
+
+import numpy as np
+import scipy.linalg as sla
+
+__all__ = ["ReducedJacobian"]
+
+
+class ReducedJacobian:
+    """The structured Jacobian that :func:`solver.ncp.solve_ncp` accepts
+    from ``jac``: ``JA``, ``JB`` (for φ_FB's rule (31)) and
+    :meth:`combine` (the Newton system with the NCP function's weights).
+
+    Built by :meth:`FrictionSystem.jacobian
+    <solver.contact.friction_system.FrictionSystem.jacobian>` with the
+    step's quantities at the iterate: ``stick`` and ``upper`` masks of the
+    projection, ``active`` (a_i, None if lagged)."""
+
+    def __init__(self, system, stick, upper, active):
+        self.system, self.stick, self.upper = system, stick, upper
+        self.active = active
+        self.JA, self.JB = system._JA, system._JB
+
+    def combine(self, wa, wb):
+        """The Newton system for the row weights (w_a, w_b)."""
+        return _Combined(self, np.asarray(wa, float), np.asarray(wb, float))
+
+
+class _Combined:
+    """J = [JE; diag(w_a)JA + diag(w_b)JB] of a :class:`ReducedJacobian`:
+    :meth:`direction` solves J d = −Φ, :meth:`rmatvec` gives JᵀΦ."""
+
+    def __init__(self, jac, wa, wb):
+        self.jac, self.wa, self.wb = jac, wa, wb
+
+    def _coefficients(self):
+        """Per node: the slip rows' T_n factor (∓f_c a_i, 0 if lagged)."""
+        jac, s = self.jac, self.jac.system
+        if jac.active is None:
+            return None
+        sign = np.where(jac.upper, -1.0, 1.0) * (~jac.stick)
+        return sign * (-s.friction) * jac.active  # row: sign·db, db/D·D
+
+    def rmatvec(self, F):
+        """JᵀF in the unknowns x = [Δu; ĝ] (∇ψ of φ_FB, (28))."""
+        jac, s = self.jac, self.jac.system
+        m, c_t, T = s.m, s.c_t, s.T
+        F2, F3, Fc = F[:m], F[m:2 * m], F[2 * m:]
+        stick = jac.stick
+        gv = F2 @ T[s.t_rows] - (self.wa * Fc) @ T[s.n_rows]
+        gv[s.t_rows] += c_t * np.where(stick, F3, 0.0)
+        gv[s.n_rows] -= s.gap_scale * self.wb * Fc
+        k = self._coefficients()
+        if k is not None:  # slip rows' db term: k_i/D_i · T_{n_i,:}
+            gv += (k / s.lumped * F3) @ T[s.n_rows]
+        gg = -s.lumped * c_t * F2 + c_t * np.where(stick, 0.0, F3)
+        return np.concatenate([s.R.T @ gv, gg])
+
+    def direction(self, F):
+        """d with J d = −F, or None if J is (numerically) singular."""
+        jac, s = self.jac, self.jac.system
+        m, c_t, c, T, D = s.m, s.c_t, s.gap_scale, s.T, s.lumped
+        t, nr = s.t_rows, s.n_rows
+        F2, F3, Fc = F[:m], F[m:2 * m], F[2 * m:]
+        stick, wa, wb = jac.stick, self.wa, self.wb
+        slip, free_n = ~stick, wa != 0.0
+        k = self._coefficients()
+        v = np.zeros(2 * m)  # dv: the fixed components first
+        v[t[stick]] = -F3[stick] / c_t
+        v[nr[~free_n]] = -Fc[~free_n] / (-wb[~free_n] * c)
+        rows_t, rows_n = t[slip], nr[free_n]
+        free = np.concatenate([rows_t, rows_n])
+        if free.size:
+            ht = -F2[slip] - D[slip] * F3[slip]
+            ratio = wb[free_n] / wa[free_n]
+            hn = Fc[free_n] / wa[free_n]
+            fixed = np.ones(2 * m, bool)
+            fixed[free] = False
+            if not ratio.any() and 2 * np.count_nonzero(fixed) < free.size:
+                solved = self._dual(v, free, fixed, ht, hn, k, slip, free_n)
+            else:
+                solved = self._primal(v, free, ht, hn, ratio, k, slip)
+            if solved is None:
+                return None
+            v[free] = solved
+        dg = np.empty(m)
+        Tv = T @ v if (k is not None and slip.any()) or stick.any() \
+            else None
+        dg[slip] = -F3[slip] / c_t
+        if k is not None and slip.any():
+            dg[slip] -= k[slip] / D[slip] * Tv[nr[slip]] / c_t
+        dg[stick] = (Tv[t[stick]] + F2[stick]) / (D[stick] * c_t) \
+            if stick.any() else 0.0
+        d = np.concatenate([s.R.T @ v, dg])
+        return d if np.all(np.isfinite(d)) else None
+
+    def _primal(self, v, free, ht, hn, ratio, k, slip):
+        """dv_F from M_FF dv_F = h_F − M_FK dv_K (module docstring)."""
+        s = self.jac.system
+        T, nr, c = s.T, s.n_rows, s.gap_scale
+        Mt = T[free[:len(ht)]]
+        if k is not None:
+            Mt = Mt + k[slip][:, None] * T[nr[slip]]
+        M = np.vstack([Mt, T[free[len(ht):]]])
+        h = np.concatenate([ht, hn]) - M @ v
+        A = M[:, free]
+        diagonal = len(ht) + np.arange(len(hn))
+        A[diagonal, diagonal] += c * ratio
+        return s._reduced_solve(A, h, k is None, "primal")
+
+    def _dual(self, v, free, fixed, ht, hn, k, slip, free_n):
+        r"""dv_F through the forces q = T dv, when no normal row carries
+        a diagonal term (φ_min; w_b = 0 on the free normal rows): the free
+        rows give q_F = h_F − L q_K (L: the implicit bound's k_i q_{n_i}
+        in the slip rows of nodes whose dv_n is fixed), and dv = C q with
+        the flexibility C = T⁻¹ (the Neumann-to-Dirichlet map, once per
+        run) leaves
+
+        .. math:: (C_{KK} − C_{KF} L)\, q_K = dv_K − C_{KF}\, h_F
+
+        on the fixed components K: the contact constraints, usually far
+        fewer than the free components. Returns dv_F."""
+        s = self.jac.system
+        m, nr = s.m, s.n_rows
+        known = np.flatnonzero(fixed)
+        qF = np.concatenate([ht, hn])
+        coupled = np.zeros(0, int)
+        if k is not None:  # q_t,i + k_i q_n,i = ht_i at sliding nodes
+            ks = k[slip]
+            node_free = free_n[slip]
+            hn_full = np.zeros(m)
+            hn_full[free_n] = hn
+            qF[:len(ht)] -= np.where(node_free, ks * hn_full[slip], 0.0)
+            coupled = np.flatnonzero(~node_free & (ks != 0.0))
+        C = s.flexibility()
+        CKF = C[np.ix_(known, free)]
+        A = C[np.ix_(known, known)]
+        where = np.full(2 * m, -1)
+        where[known] = np.arange(len(known))
+        if coupled.size:
+            columns = where[nr[np.flatnonzero(slip)[coupled]]]
+            kc = k[slip][coupled]
+            A[:, columns] -= CKF[:, coupled] * kc
+        qK = s._reduced_solve(A, v[known] - CKF @ qF, not coupled.size,
+                              "dual")
+        if qK is None:
+            return None
+        q = np.zeros(2 * m)
+        q[known] = qK
+        q[free] = qF
+        if coupled.size:
+            q[free[coupled]] -= kc * qK[columns]
+        return (C[free] @ q)
+
+
+def factorize(A, symmetric):
+    """Cholesky of A if ``symmetric`` and it is positive definite, else LU;
+    None if A is (numerically) singular. Returns a solve callable."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", sla.LinAlgWarning)
+        if symmetric:
+            try:
+                factor = sla.cho_factor(A, check_finite=False)
+                return lambda b: sla.cho_solve(factor, b,
+                                               check_finite=False)
+            except np.linalg.LinAlgError:
+                pass
+        lu, piv = sla.lu_factor(A, check_finite=False)
+        if not np.all(np.diagonal(lu)):
+            return None
+        return lambda b: sla.lu_solve((lu, piv), b, check_finite=False)
