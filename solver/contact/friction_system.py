@@ -94,6 +94,7 @@ class FrictionSystem:
         if self.reduced:
             RS = R @ np.asarray(K, float)
             self.T = np.ascontiguousarray((R @ RS.T).T)  # R S Rᵀ
+            self.RK = RS  # dense: residuals by BLAS, not CSR of a dense S
             self._factor = None  # (kind, matrix, solve) of the last one
             self._flexibility = None  # T⁻¹, made when first needed
         self.set_step(np.zeros(n), 1.0, np.zeros(m))
