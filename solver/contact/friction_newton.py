@@ -51,12 +51,12 @@ class ReducedJacobian:
     :meth:`combine` (the Newton system with the NCP function's weights).
 
     Built by :meth:`FrictionSystem.jacobian
-    <solver.contact.friction_system.FrictionSystem.jacobian>` with the
-    step's quantities at the iterate: ``stick`` and ``upper`` masks of the
+    <solver.contact.friction_system.FrictionSystem.jacobian>` at the iterate
+    ``x`` with the step's quantities there: ``stick`` and ``upper`` masks of the
     projection, ``active`` (a_i, None if lagged)."""
 
-    def __init__(self, system, stick, upper, active):
-        self.system, self.stick, self.upper = system, stick, upper
+    def __init__(self, system, x, stick, upper, active):
+        self.system, self.x, self.stick, self.upper = system, x, stick, upper
         self.active = active
         self.JA, self.JB = system._JA, system._JB
 
@@ -172,24 +172,22 @@ class _Combined:
             qF[:len(ht)] -= np.where(node_free, ks * hn_full[slip], 0.0)
             coupled = np.flatnonzero(~node_free & (ks != 0.0))
         C = s.flexibility()
-        CKF = C[np.ix_(known, free)]
-        A = C[np.ix_(known, known)]
-        where = np.full(2 * m, -1)
-        where[known] = np.arange(len(known))
+        CK = C[known]  # rows K, all columns (contiguous rows)
+        q = np.zeros(2 * m)
+        q[free] = qF
+        A = CK[:, known]
         if coupled.size:
-            columns = where[nr[np.flatnonzero(slip)[coupled]]]
+            columns = np.searchsorted(known, nr[np.flatnonzero(slip)[coupled]])
             kc = k[slip][coupled]
-            A[:, columns] -= CKF[:, coupled] * kc
-        qK = s._reduced_solve(A, v[known] - CKF @ qF, not coupled.size,
+            A[:, columns] -= CK[:, free[coupled]] * kc
+        qK = s._reduced_solve(A, v[known] - CK @ q, not coupled.size,
                               "dual")
         if qK is None:
             return None
-        q = np.zeros(2 * m)
         q[known] = qK
-        q[free] = qF
         if coupled.size:
             q[free[coupled]] -= kc * qK[columns]
-        return (C[free] @ q)
+        return (C @ q)[free]
 
 
 def factorize(A, symmetric):

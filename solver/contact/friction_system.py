@@ -197,7 +197,8 @@ class FrictionSystem:
             stick = np.abs(w) < b
             active = None if self.coulomb == "lagged" else \
                 (-r[self.n_rows] > 0.0).astype(float)
-            return ReducedJacobian(self, stick, ~stick & (w >= 0), active)
+            return ReducedJacobian(self, x, stick, ~stick & (w >= 0),
+                                   active)
         scale = np.ones(self.n_unknowns)
         scale[self.n:self.n + self.m] = self.c_t
         S = sp.diags(scale)
