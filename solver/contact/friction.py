@@ -278,7 +278,7 @@ def solve_friction(problem, friction, steps=None, formulation="thesis",
     p_previous = np.zeros(system.m)
     g = np.zeros(system.m)
     delivered = StepStream(problem, condensation if condense else None,
-                           on_step, keep_steps)
+                           on_step, keep_steps, steps)
     records, failed = [], None
     checks, stoppings, last = [], [], None
     totals = dict(njev=0, nfev=0, nit=0)
