@@ -33,14 +33,18 @@ def _full_jacobian(system, x):
         del system._force
 
 
+@pytest.mark.parametrize("dual", [True, False])
 @pytest.mark.parametrize("coulomb, method", CASES)
 def test_reduced_direction_is_the_full_newton_direction(
-        exported, monkeypatch, coulomb, method):
+        exported, monkeypatch, coulomb, method, dual):
     """At every iterate of a run (454 block, f_c = 0.3): the reduced
-    direction solves the full J d = −Φ, and JᵀΦ agrees, to 1e-12."""
+    direction (through the flexibility where smaller, or always the
+    primal M_FF) solves the full J d = −Φ with a backward error at
+    round-off level, and JᵀΦ agrees."""
     problem = load_problem(exported(454)[0])
+    monkeypatch.setattr(friction_newton, "DUAL", dual)
     seen = {"primal": 0, "dual": 0}
-    worst = []
+    forward, backward = [], []
     direction = friction_newton._Combined.direction
     rmatvec = friction_newton._Combined.rmatvec
 
@@ -51,10 +55,11 @@ def test_reduced_direction_is_the_full_newton_direction(
         J = sp.vstack([JE, sp.diags(self.wa) @ JA + sp.diags(self.wb) @ JB])
         J = J.toarray()
         reference = np.linalg.solve(J, -F)
-        scale = np.abs(reference).max()
-        worst.append(np.abs(d - reference).max() / scale)
+        norm = np.linalg.norm
+        forward.append(norm(d - reference) / norm(reference))
+        backward.append(norm(J @ d + F) / (norm(J, 2) * norm(d) + norm(F)))
         g = J.T @ F
-        worst.append(np.abs(rmatvec(self, F) - g).max() / np.abs(g).max())
+        forward.append(norm(rmatvec(self, F) - g) / norm(g))
         return d
 
     def counted(self, A, h, symmetric, kind):
@@ -67,9 +72,15 @@ def test_reduced_direction_is_the_full_newton_direction(
     result = solve_friction(problem, 0.3, steps=30, formulation="projection",
                             coulomb=coulomb, method=method)
     assert result.success and result.condensed
-    assert max(worst) <= 1e-12
-    # φ_min takes the dual form (few contact constraints), φ_FB the primal
-    assert seen["dual" if method == "min" else "primal"] > 0
+    # backward error near round-off, forward error within cond(J) ≈ 300
+    # of it: ≤ 2e-15 and 1e-14 measured, except the dual form (through the
+    # explicit C = T⁻¹, error ~cond(T)·eps) with φ_FB and the implicit
+    # bound (unsymmetric LU): 1.9e-12 and 4.3e-11
+    assert max(backward) <= 1e-11
+    assert max(forward) <= 1e-9
+    # few contact constraints: the dual form whenever allowed
+    assert seen["dual"] > 0 if dual else seen["dual"] == 0
+    assert seen["primal"] > 0 or dual
 
 
 @pytest.mark.parametrize("method", ["min", "fb"])

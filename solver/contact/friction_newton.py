@@ -42,7 +42,11 @@ import warnings
 import numpy as np
 import scipy.linalg as sla
 
-__all__ = ["ReducedJacobian"]
+__all__ = ["ReducedJacobian", "DUAL"]
+
+#: Solve through the flexibility (:meth:`_Combined._dual`) when its system
+#: is the smaller one; False: always the primal M_FF (tests).
+DUAL = True
 
 
 class ReducedJacobian:
@@ -115,8 +119,10 @@ class _Combined:
             hn = Fc[free_n] / wa[free_n]
             fixed = np.ones(2 * m, bool)
             fixed[free] = False
-            if not ratio.any() and 2 * np.count_nonzero(fixed) < free.size:
-                solved = self._dual(v, free, fixed, ht, hn, k, slip, free_n)
+            if DUAL and np.count_nonzero(fixed) + np.count_nonzero(ratio) \
+                    < free.size:
+                solved = self._dual(v, free, fixed, ht, hn, c * ratio, k,
+                                    slip, free_n)
             else:
                 solved = self._primal(v, free, ht, hn, ratio, k, slip)
             if solved is None:
@@ -147,46 +153,79 @@ class _Combined:
         A[diagonal, diagonal] += c * ratio
         return s._reduced_solve(A, h, k is None, "primal")
 
-    def _dual(self, v, free, fixed, ht, hn, k, slip, free_n):
-        r"""dv_F through the forces q = T dv, when no normal row carries
-        a diagonal term (φ_min; w_b = 0 on the free normal rows): the free
-        rows give q_F = h_F − L q_K (L: the implicit bound's k_i q_{n_i}
-        in the slip rows of nodes whose dv_n is fixed), and dv = C q with
-        the flexibility C = T⁻¹ (the Neumann-to-Dirichlet map, once per
-        run) leaves
+    def _dual(self, v, free, fixed, ht, hn, rho, k, slip, free_n):
+        r"""dv_F through the forces q = T dv and the flexibility C = T⁻¹
+        (the Neumann-to-Dirichlet map, made once per run), dv = C q.
 
-        .. math:: (C_{KK} − C_{KF} L)\, q_K = dv_K − C_{KF}\, h_F
+        A free row gives q_j = h_j (a slip row: q_{t_i} + k_i q_{n_i} =
+        h_{t_i} with the implicit bound) or, a normal row with a diagonal
+        term ρ_j = c w_b/w_a > 0 (φ_FB), q_j + ρ_j dv_j = h_j. The unknowns
+        are then the forces q_U on U = K ∪ {j : ρ_j > 0}, K the fixed
+        components, from the symmetric positive definite system
 
-        on the fixed components K: the contact constraints, usually far
-        fewer than the free components. Returns dv_F."""
+        .. math:: (C_{UU} + \mathrm{diag}(0_K, 1/ρ))\, q_U
+                  = [dv_K; h/ρ] − C_{UQ}\, h_Q
+
+        (Q: the other free rows), with −C_{U t_i} k_i added to the column
+        of q_{n_i} for the slip rows that the implicit bound couples to an
+        unknown q_{n_i} (then unsymmetric). Its size |U| is the number of
+        contact constraints (plus φ_FB's mixed rows) instead of |F|.
+        Returns dv_F."""
         s = self.jac.system
         m, nr = s.m, s.n_rows
-        known = np.flatnonzero(fixed)
-        qF = np.concatenate([ht, hn])
-        coupled = np.zeros(0, int)
-        if k is not None:  # q_t,i + k_i q_n,i = ht_i at sliding nodes
-            ks = k[slip]
-            node_free = free_n[slip]
-            hn_full = np.zeros(m)
-            hn_full[free_n] = hn
-            qF[:len(ht)] -= np.where(node_free, ks * hn_full[slip], 0.0)
-            coupled = np.flatnonzero(~node_free & (ks != 0.0))
-        C = s.flexibility()
-        CK = C[known]  # rows K, all columns (contiguous rows)
+        n_t = len(ht)
+        mixed = np.zeros(free.size, bool)
+        mixed[n_t:] = rho != 0.0
+        U = np.concatenate([np.flatnonzero(fixed), free[mixed]])
+        h = np.concatenate([ht, hn])
         q = np.zeros(2 * m)
-        q[free] = qF
-        A = CK[:, known]
-        if coupled.size:
-            columns = np.searchsorted(known, nr[np.flatnonzero(slip)[coupled]])
-            kc = k[slip][coupled]
-            A[:, columns] -= CK[:, free[coupled]] * kc
-        qK = s._reduced_solve(A, v[known] - CK @ q, not coupled.size,
-                              "dual")
-        if qK is None:
+        q[free[~mixed]] = h[~mixed]  # q_Q; q_U follows
+        kc = coupled = None
+        if k is not None:  # q_t,i + k_i q_n,i = ht_i at sliding nodes
+            known_n = np.zeros(m, bool)
+            known_n[free_n] = ~mixed[n_t:]
+            slip_nodes = np.flatnonzero(slip)
+            q_n = np.zeros(m)
+            q_n[free_n] = hn
+            ks = k[slip]
+            q[free[:n_t]] -= np.where(known_n[slip], ks * q_n[slip], 0.0)
+            coupled = np.flatnonzero(~known_n[slip] & (ks != 0.0))
+            if coupled.size:
+                columns = np.searchsorted(np.sort(U),
+                                          nr[slip_nodes[coupled]])
+                kc = ks[coupled]
+        order = np.argsort(U)
+        U = U[order]  # sorted: coupled columns found by searchsorted
+        C = s.flexibility()
+        CU = C[U]
+        A = CU[:, U]
+        rhs = -(CU @ q)
+        on_fixed = fixed[U]
+        rhs[on_fixed] += v[U[on_fixed]]
+        # mixed rows ρ_j C_j q + q_j = h_j, scaled symmetrically by
+        # √ρ_j (unknowns q_j/√ρ_j): unit diagonal terms, no 1/ρ
+        root = np.ones(len(U))
+        rho_full = np.zeros(2 * m)
+        rho_full[free[mixed]] = rho[mixed[n_t:]]
+        h_full = np.zeros(2 * m)
+        h_full[free] = h
+        rows = ~on_fixed
+        root[rows] = np.sqrt(rho_full[U[rows]])
+        if kc is not None:
+            A[:, columns] -= CU[:, free[coupled]] * kc
+        A *= root[:, None]
+        A *= root
+        rhs *= root
+        rhs[rows] += h_full[U[rows]] / root[rows]
+        diagonal = np.flatnonzero(rows)
+        A[diagonal, diagonal] += 1.0
+        qU = s._reduced_solve(A, rhs, kc is None, "dual")
+        if qU is None:
             return None
-        q[known] = qK
-        if coupled.size:
-            q[free[coupled]] -= kc * qK[columns]
+        qU = qU * root
+        q[U] = qU
+        if kc is not None:
+            q[free[coupled]] -= kc * qU[columns]
         return (C @ q)[free]
 
 
