@@ -180,7 +180,10 @@ def solve_friction(problem, friction, steps=None, formulation="thesis",
     geometry : ContactGeometry, optional
     condense : bool or None
         True: factorise K once and solve every step's system condensed
-        exactly onto Γc (as in :func:`solve_frictionless`); False: the
+        exactly onto Γc (as in :func:`solve_frictionless`; the projection
+        form's Newton systems are then solved reduced to the free
+        components or to the contact constraints,
+        :mod:`~solver.contact.friction_newton`); False: the
         system in all unknowns, one sparse LU per iteration (faithful mode;
         the iteration counts of Table 2). None (default): True for the
         projection formulation, False for the thesis's: its split is
@@ -278,7 +281,7 @@ def solve_friction(problem, friction, steps=None, formulation="thesis",
     p_previous = np.zeros(system.m)
     g = np.zeros(system.m)
     delivered = StepStream(problem, condensation if condense else None,
-                           on_step, keep_steps)
+                           on_step, keep_steps, steps)
     records, failed = [], None
     checks, stoppings, last = [], [], None
     totals = dict(njev=0, nfev=0, nit=0)

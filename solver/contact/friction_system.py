@@ -6,10 +6,12 @@ builds one :class:`FrictionSystem` per run and moves it from step to step.
 """
 
 import numpy as np
+import scipy.linalg as sla_dense
 import scipy.sparse as sp
 
 from ..errors import SolverError
 from ..ncp import stable_norm
+from .friction_newton import ReducedJacobian, factorize
 from .frictionless import contact_stiffness, rotation
 from .verify import force_scale
 
@@ -85,7 +87,22 @@ class FrictionSystem:
             self._JA = sp.hstack([-RK[b], Z0], format="csr")
             self._JB = sp.hstack([-self.gap_scale * R[b], Z0], format="csr")
         self.load_norm = stable_norm(self.f)
+        # Condensed (dense S, no other rows) projection form: Newton
+        # systems on the free components only (:mod:`.friction_newton`).
+        self.reduced = (self.reduced_newton and formulation == "projection"
+                        and isinstance(K, np.ndarray) and not len(other))
+        if self.reduced:
+            RS = R @ np.asarray(K, float)
+            self.T = np.ascontiguousarray((R @ RS.T).T)  # R S Rᵀ
+            self.RK = RS  # dense: residuals by BLAS, not CSR of a dense S
+            self._factor = None  # (kind, matrix, solve) of the last one
+            self._flexibility = None  # T⁻¹, made when first needed
         self.set_step(np.zeros(n), 1.0, np.zeros(m))
+
+    #: Solve the condensed projection form's Newton systems reduced to the
+    #: free components (:mod:`.friction_newton`); False: the full J (the
+    #: reference of the tests).
+    reduced_newton = True
 
     @property
     def n_unknowns(self):
@@ -137,10 +154,13 @@ class FrictionSystem:
         """Lumped contact pressure of the current iterate, ≥ 0."""
         return np.maximum(-r[self.n_rows], 0.0) / self.lumped
 
-    def bound(self, r):
-        """f_c p and its derivative rows (None if lagged)."""
+    def bound(self, r, derivative=True):
+        """f_c p and its derivative rows (None if lagged or not
+        ``derivative``)."""
         if self.coulomb == "lagged":
             return self.friction * self.p_previous, None
+        if not derivative:
+            return self.friction * self.pressure(r), None
         active = (-r[self.n_rows] > 0.0) / self.lumped
         d = -self.friction * (sp.diags(active) @ self.RK[self.n_rows])
         return self.friction * self.pressure(r), d
@@ -151,7 +171,7 @@ class FrictionSystem:
         u = self.u_previous + du
         lam = -r[self.n_rows]
         gap = self.gap_scale * (self.geometry.gap - (self.R @ u)[self.n_rows])
-        b, _ = self.bound(r)
+        b, _ = self.bound(r, derivative=False)
         tangential = r[self.t_rows] - self.lumped * g
         if self.formulation == "thesis":
             split = (self.R @ du)[self.t_rows] - dp + dm
@@ -166,7 +186,19 @@ class FrictionSystem:
         return E, A, B
 
     def jacobian(self, x):
-        """(JE, JA, JB) with respect to x (ĝ columns scaled by c_t)."""
+        """(JE, JA, JB) with respect to x (ĝ columns scaled by c_t), or,
+        on the condensed projection form, the same Jacobian as a
+        :class:`~.friction_newton.ReducedJacobian`."""
+        if self.reduced:
+            du, g = x[:self.n], self.traction(x)
+            r = self._force(du)
+            b, _ = self.bound(r, derivative=False)
+            w = g - self.c_t * (self.R @ du)[self.t_rows]
+            stick = np.abs(w) < b
+            active = None if self.coulomb == "lagged" else \
+                (-r[self.n_rows] > 0.0).astype(float)
+            return ReducedJacobian(self, x, stick, ~stick & (w >= 0),
+                                   active)
         scale = np.ones(self.n_unknowns)
         scale[self.n:self.n + self.m] = self.c_t
         S = sp.diags(scale)
@@ -205,6 +237,25 @@ class FrictionSystem:
         J3 = sp.hstack([rows_du, slip_g], format="csr")
         return sp.vstack([self._JE_fixed, J3], format="csr"), self._JA, \
             self._JB
+
+    def _reduced_solve(self, A, h, symmetric, kind):
+        """A⁻¹h for the reduced Newton matrix A of ``kind`` ("primal" or
+        "dual", :mod:`.friction_newton`; None if singular); the
+        factorisation is reused while A is unchanged."""
+        cached = self._factor
+        if cached is None or cached[0] != kind \
+                or cached[1].shape != A.shape \
+                or not np.array_equal(cached[1], A):
+            cached = self._factor = (kind, A, factorize(A, symmetric))
+        return None if cached[2] is None else cached[2](h)
+
+    def flexibility(self):
+        """C = T⁻¹ = R S⁻¹ Rᵀ (dense 2m×2m, computed once)."""
+        if self._flexibility is None:
+            factor = sla_dense.cho_factor(self.T, check_finite=False)
+            self._flexibility = sla_dense.cho_solve(
+                factor, np.eye(len(self.T)), check_finite=False)
+        return self._flexibility
 
     def error(self, E, A, B):
         """Stopping measure in force units (cf. FrictionlessSystem.error)."""

@@ -26,16 +26,22 @@ MAX_LOAD_STEPS = 100_000
 #: Condensed steps whose displacements are recovered in one solve.
 BATCH = 32
 
+#: Steps for which the kept arrays are allocated at first (then doubled):
+#: for up to this many steps they are filled in place, never copied.
+CAPACITY = 1024
+
 
 class StepStream:
     """Collects completed steps, recovers their displacements and delivers
     them, in order, to ``on_step`` (and to :meth:`arrays` if ``keep``)."""
 
-    def __init__(self, problem, condensation, on_step=None, keep=True):
+    def __init__(self, problem, condensation, on_step=None, keep=True,
+                 total=None):
         self.problem, self.condensation = problem, condensation
         self.on_step, self.keep = on_step, keep
         self.pending, self.count = [], 0
-        self.kept = {key: [] for key in STEP_FIELDS}
+        self.total = total  # number of steps of the run, if known
+        self.kept = {}  # key -> (capacity, ...) array, rows < count filled
 
     def add(self, fields, u, w, prescribed):
         """A converged step: its Γc fields, u (reduced, or on Γc with ``w`` =
@@ -62,15 +68,32 @@ class StepStream:
             fields["displacement"] = (
                 problem.full_displacement(u, prescribed)
                 if problem.kind == "mesh" else u[problem.contact_dofs])
-            self.count += 1
             if self.keep:
-                for key in STEP_FIELDS:
-                    self.kept[key].append(fields[key])
+                self._keep(fields)
+            self.count += 1
             if self.on_step is not None:
                 self.on_step(fields)
+
+    def _keep(self, fields):
+        """Store step ``count``'s fields in the preallocated arrays."""
+        k = self.count
+        for key in STEP_FIELDS:
+            value = np.asarray(fields[key])
+            array = self.kept.get(key)
+            if array is None or k >= len(array):
+                size = CAPACITY if array is None else 2 * len(array)
+                if self.total is not None:
+                    size = max(min(size, self.total), k + 1)
+                grown = np.empty((size,) + value.shape, value.dtype)
+                if array is not None:
+                    grown[:k] = array[:k]
+                array = self.kept[key] = grown
+            array[k] = value
 
     def arrays(self):
         """The kept steps as arrays (first axis = step); {} if not kept."""
         if not self.keep:
             return {}
-        return {key: np.array(values) for key, values in self.kept.items()}
+        if not self.kept:  # no step completed
+            return {key: np.array([]) for key in STEP_FIELDS}
+        return {key: array[:self.count] for key, array in self.kept.items()}

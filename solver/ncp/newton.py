@@ -29,6 +29,11 @@ function φ (:mod:`solver.ncp.functions`) it is the square nonsmooth system
 Both take callables ``fun(x) -> (E, A, B)`` and ``jac(x) -> (JE, JA, JB)``
 (sparse matrices with n columns), know nothing of finite elements, and use
 sparse LU (SuperLU) for J d = −Φ: no dense n×n matrix is ever formed.
+``jac`` may instead return a structured Jacobian that solves its own Newton
+systems: an object with ``JA``, ``JB`` (for rule (31)) and ``combine(w_a,
+w_b)``, which returns the Jacobian [JE; diag(w_a)JA + diag(w_b)JB] as an
+object with ``direction(F)`` (d with J d = −F, or None if J is singular)
+and ``rmatvec(F)`` (JᵀF); see :mod:`solver.contact.friction_newton`.
 
 References
 ----------
@@ -112,7 +117,9 @@ class _Counted:
         the element of ∂_B φ_min at an exact tie, where round-off may have
         put A_i a hair above B_i (see :data:`TIE_RTOL`)."""
         self.njev += 1
-        JE, JA, JB = self.jac(x)
+        jac = self.jac(x)
+        structured = hasattr(jac, "combine")
+        JE, JA, JB = (None, jac.JA, jac.JB) if structured else jac
         E, A, B = parts
         za = zb = None
         if self.kind == "fb":
@@ -125,6 +132,8 @@ class _Counted:
         if ties > 0 and self.kind == "min":
             near = np.abs(A - B) <= ties
             wa, wb = np.where(near, 1.0, wa), np.where(near, 0.0, wb)
+        if structured:
+            return jac.combine(wa, wb), int(np.count_nonzero(A > B))
         rows = sp.diags(wa) @ sp.csr_matrix(JA) + sp.diags(wb) @ \
             sp.csr_matrix(JB)
         J = sp.vstack([sp.csr_matrix(JE), rows], format="csc")
@@ -162,8 +171,11 @@ TIE_RTOL = 1e-12
 
 
 def _newton_direction(J, F):
-    """Solve J d = −F (SuperLU, or LAPACK for a dense J); None if J is
-    (numerically) singular."""
+    """Solve J d = −F (SuperLU, or LAPACK for a dense J, or the
+    structured Jacobian's own ``direction``); None if J is (numerically)
+    singular."""
+    if hasattr(J, "direction"):
+        return J.direction(F)
     n = J.shape[0]
     if n >= DENSE_MIN_SIZE and J.nnz > DENSE_FRACTION * n * n:
         with warnings.catch_warnings():
@@ -408,7 +420,7 @@ def _min_step(counted, x, F, parts, J, opts):
 
 def _fb_step(counted, x, F, parts, J, opts):
     """One iteration of the DFK method (thesis §2.2.2, steps 2-4)."""
-    grad = J.T @ F  # ∇ψ = JᵀΦ (28)
+    grad = J.rmatvec(F) if hasattr(J, "rmatvec") else J.T @ F  # ∇ψ (28)
     d = _newton_direction(J, F)
     step = "newton"
     force, length = map(np.float64, opts["typical"] or (1.0, 1.0))
