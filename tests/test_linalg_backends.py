@@ -209,3 +209,23 @@ def test_cholmod_schur_both_ways(exported, monkeypatch, read_in_place):
     assert (cholmod_struct.trailing_block(ours._F, order, len(c))
             is not None)
     close(ours.S, reference.S)
+
+
+@pytest.mark.parametrize("name", BACKENDS)
+def test_schur_on_every_dof_is_the_matrix(name):
+    """An empty interior (every DOF condensed, as in the 2-DOF bar): S is A
+    itself in c's order, g̃ = b_c and the back-substitution puts u_c back
+    (no interior left). PARDISO is not asked for its Schur mode there."""
+    require(name)
+    A = sp.csr_matrix(np.array([[4.0, 1, 0], [1, 3, 1], [0, 1, 2]]))
+    c, b, u_c = np.array([2, 0, 1]), np.array([1.0, 2, 3]), \
+        np.array([1.0, 2, 3])
+    factor = import_module(f"solver.linalg.{name}").factorize(
+        A, np.arange(3), c, "K", True)
+    np.testing.assert_allclose(factor.S, A.toarray()[np.ix_(c, c)],
+                               rtol=0, atol=1e-15)
+    np.testing.assert_allclose(factor.condensed_rhs(b), b[c], atol=1e-15)
+    u = factor.back_substitute(b, u_c)
+    np.testing.assert_allclose(u[c], u_c, atol=1e-15)
+    np.testing.assert_allclose(factor.solve(b), sla.spsolve(A.tocsc(), b),
+                               rtol=1e-12)

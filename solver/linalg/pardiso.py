@@ -109,11 +109,15 @@ class PardisoFactor(Factor):
         iparm = np.zeros(64, np.int32)
         iparm[[0, 1, 34, 55]] = 1, 2, 1, 1  # ours, METIS, 0-based, getdiag
         perm, m = np.zeros(n, np.int32), 1
+        self._whole = whole = False  # every DOF in c: S = A, no interior
         if schur is not None:
             self.schur_dofs = c = np.asarray(schur, np.int64).ravel()
             m = len(c)
-            perm[c] = 1
-            iparm[35] = 2 if m else 0  # S, and the factors of all of A
+            self._whole = whole = m == n
+            perm[c] = 0 if whole else 1
+            # S, and the factors of all of A; PARDISO's Schur mode is not
+            # asked for an empty interior (a crash was seen there)
+            iparm[35] = 2 if m and not whole else 0
         S = np.zeros((m, m))
         self._arrays = (np.zeros(64, np.int64), np.ascontiguousarray(U.data),
                         U.indptr.astype(np.int32),
@@ -136,7 +140,9 @@ class PardisoFactor(Factor):
                                 _ptr(diagonal),
                                 _int(1), ctypes.byref(error))
             check_pivots(pivots, name)
-        if schur is not None:
+        if whole:
+            self.S = sp.csr_matrix(A, dtype=np.float64)[c][:, c].toarray()
+        elif schur is not None:
             rank = np.argsort(np.argsort(c))  # S's rows: c sorted
             S = S[np.ix_(rank, rank)]
             self.S = 0.5 * (S + S.T)
@@ -158,11 +164,17 @@ class PardisoFactor(Factor):
 
     def condensed_rhs(self, b):
         """g̃ from the forward substitution alone (phase 331)."""
+        if self._whole:
+            return np.asarray(b, float)[self.schur_dofs]
         return self._sweep(331, b)[self.schur_dofs]
 
     def back_substitute(self, b, u_c):
         """Forward (331) on b, u_c into the c rows, backward (333)."""
         u_c = np.asarray(u_c, float)
+        if self._whole:
+            u = np.zeros((self.n,) + u_c.shape[1:])
+            u[self.schur_dofs] = u_c
+            return u
         y = np.zeros((self.n,) + u_c.shape[1:], order="F") if b is None \
             else self._sweep(331, b)
         y[self.schur_dofs] = u_c
