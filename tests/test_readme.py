@@ -104,7 +104,7 @@ def test_first_run_numbers_are_what_the_run_prints(scratch):
     assert f"`J {counts[1]}, F {counts[2]}`" in section
     table = README.split("### Table 1 of the thesis", 1)[1]
     assert f"| φ_FB  | 454  | 22 / 117 | {counts[1]} / {counts[2]} |" in table
-    assert "4 in contact, of 19 candidates" in stdout
+    assert "4 in contact, of 19 contact nodes that can touch" in stdout
 
 
 def test_python_examples(scratch, monkeypatch):

@@ -74,6 +74,8 @@ def summary_of(result, problem, tol=None, **extra):
         "max_contact_force": _json_safe(np.max(result.contact_force)),
         "n_dof": int(problem.n_dofs),
         "n_contact_candidates": int(np.isfinite(result.gap).sum()),
+        # 3D: the nodes condensed onto (normal unknowns), per round
+        "normal_candidates": _candidates_of(result.get("candidates")),
         "line_search_failures": int(sum(history["line_search_failed"])),
         "gradient_steps": int(sum(s == "gradient" for s in history["step"])),
         "gap_scale": float(result.gap_scale),
@@ -88,6 +90,19 @@ def summary_of(result, problem, tol=None, **extra):
     }
     summary.update(extra, tol=tol)
     return summary
+
+
+def _candidates_of(candidates):
+    """The candidate rounds of a 3D condensed solve, JSON-safe (or None)."""
+    if not candidates:
+        return None
+    return {"n_candidates": int(candidates["n_candidates"]),
+            "margin": _json_safe(candidates["margin"]),
+            "rounds": [{key: (_json_safe(value) if isinstance(value, float)
+                              else value) for key, value in r.items()}
+                       for r in candidates["rounds"]],
+            "enlarged": int(candidates["enlarged"]),
+            "exhausted": bool(candidates["exhausted"])}
 
 
 def write_summary(path, summary):

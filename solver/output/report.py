@@ -75,6 +75,13 @@ def format_friction_result(summary, outdir):
 def _system_text(summary):
     if summary["system"] == "full":
         return "full (the thesis's, in all unknowns)"
+    candidates = summary.get("normal_candidates")
+    if candidates:
+        rounds = candidates["rounds"]
+        return (f"condensed onto the normal unknowns of "
+                f"{candidates['n_candidates']} candidate nodes "
+                f"({len(rounds)} round{'s' if len(rounds) > 1 else ''}; "
+                "--system full: all unknowns)")
     text = "condensed onto the contact boundary (--system full: the thesis's)"
     levels = summary.get("levels") or []
     if len(levels) > 1:
@@ -127,8 +134,8 @@ def format_result(summary, outdir):
         f"complementarity   max|min(lambda, s - u_n)| = "
         f"{_e(summary['complementarity'])}",
         f"contact nodes     {summary['n_contact_nodes']} in contact, of "
-        f"{summary['n_contact_candidates']} candidates (contact nodes not "
-        "on a support)",
+        f"{summary['n_contact_candidates']} contact nodes that can touch "
+        "(not on a support)",
         f"max pressure      {summary['max_contact_pressure']:.6g} "
         "(lumped, lambda_i / D_ii)",
         f"reduced DOFs      {summary['n_dof']}",
