@@ -62,7 +62,8 @@ from ..linalg import resolve
 from ..ncp import MESSAGES, solve_ncp, stable_norm
 from .result import FrictionResult
 from .steps import MAX_LOAD_STEPS, StepStream
-from .friction_system import COULOMB, FORMULATIONS, FrictionSystem
+from .friction_system import (COULOMB, FORMULATIONS, FrictionSystem,
+                              check_geometry)
 from .frictionless import (condense_onto_contact, contact_geometry,
                            contact_stiffness)
 from .verify import (describe_failure, force_scale, unit_free_options,
@@ -98,8 +99,15 @@ def _check_step(system, x, load, friction, p_previous, tol_v):
     geometry = system.geometry
     return verify_contact(system.K, load, system.u_previous + du,
                           geometry.dofs, geometry.normal, geometry.gap, lam,
-                          system.stiffness, tol_v, system.lumped * g,
-                          system.lumped * bound)
+                          system.stiffness, tol_v, _nodal(system.lumped, g),
+                          system.lumped * bound, geometry.tangents)
+
+
+def _nodal(lumped, g):
+    """Nodal friction forces D_ii g_t,i: (m,) in 2D, (m, d − 1) else."""
+    if len(g) == len(lumped):
+        return lumped * g
+    return lumped[:, None] * np.reshape(g, (len(lumped), -1))
 
 
 def _final_check(problem, geometry, stiffness, tol_v, condensation, last,
@@ -113,7 +121,8 @@ def _final_check(problem, geometry, stiffness, tol_v, condensation, last,
         u = condensation.displacement(u_c, w)
         checks = checks + [verify_contact(
             problem.K, f_step, u, geometry.dofs, geometry.normal,
-            geometry.gap, lam, stiffness, tol_v, t, bound)]
+            geometry.gap, lam, stiffness, tol_v, t, bound,
+            geometry.tangents)]
     return worst_verification(checks, tol_v)
 
 
@@ -245,6 +254,8 @@ def solve_friction(problem, friction, steps=None, formulation="thesis",
     start = time.perf_counter()
     if geometry is None:
         geometry = contact_geometry(problem, gap)
+    if formulation in FORMULATIONS:  # an unknown one: FrictionSystem says
+        check_geometry(geometry, formulation)
     if steps > MAX_LOAD_STEPS:
         raise SolverError(f"{steps} load steps: at most {MAX_LOAD_STEPS} are "
                           "supported")
@@ -279,7 +290,8 @@ def solve_friction(problem, friction, steps=None, formulation="thesis",
     u = np.zeros(system.n)  # u, or u on Γc if condensed
     w_previous = np.zeros(problem.n_dofs)  # K⁻¹f of the previous step
     p_previous = np.zeros(system.m)
-    g = np.zeros(system.m)
+    g = np.zeros(system.mt)
+    k = geometry.dim - 1
     delivered = StepStream(problem, condensation if condense else None,
                            on_step, keep_steps, steps)
     records, failed = [], None
@@ -343,12 +355,15 @@ def solve_friction(problem, friction, steps=None, formulation="thesis",
             contact = lam > threshold
             # Slip: the traction is at the Coulomb bound (a node in contact with
             # a zero bound slides freely); stick: strictly inside it.
-            at_bound = np.abs(g) >= bound * (1 - 1e-6) - 1e-12 * scale
+            size = np.abs(g) if k == 1 else \
+                np.linalg.norm(g.reshape(-1, k), axis=1)
+            at_bound = size >= bound * (1 - 1e-6) - 1e-12 * scale
             slip_nodes = contact & at_bound
             stick_nodes = contact & ~slip_nodes
             ut = (system.R @ u)[system.t_rows]
             last = (kappa, u.copy(), w if condense else None, f_step, lam,
-                    lumped * g, lumped * bound, result.history["residual"])
+                    _nodal(lumped, g), lumped * bound,
+                    result.history["residual"])
             if condense:
                 w_previous = w
             record.update(stage=int(stage), n_contact=int(contact.sum()),
@@ -358,7 +373,10 @@ def solve_friction(problem, friction, steps=None, formulation="thesis",
             records.append(record)
 
             def full(values, fill=0.0, dtype=float):
-                out = np.full(nc, fill, dtype=dtype)
+                values = np.asarray(values)
+                if k > 1 and values.size == k * len(idx):  # (Nca, d − 1)
+                    values = values.reshape(len(idx), k)
+                out = np.full((nc,) + values.shape[1:], fill, dtype=dtype)
                 out[idx] = values
                 return out
 
