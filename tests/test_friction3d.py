@@ -159,3 +159,42 @@ def test_rollers_refused():
     with pytest.raises(SolverError, match="roller"):
         solve_friction(problem, 0.3, formulation="projection",
                        geometry=rollers)
+
+
+def test_cli_3d_friction_run(tmp_path):
+    """python -m solver X.npz --friction 0.3 --formulation projection
+    --steps 3 on a 3D file writes its result and VTU steps (read back);
+    the thesis's formulation is refused with exit code 2 and one line."""
+    import subprocess
+
+    meshio = pytest.importorskip("meshio")
+    from solver.geometry.surface import surface_from_spec
+
+    problem, _, _, _ = dragged_block(np.radians(30.0), 0.05)
+    final = dataclasses.replace(
+        problem, load_path=None, load_path_steps=None,
+        load_path_friction=None, load_path_prescribed=None,
+        contact_faces=bottom_faces(np.arange(75).reshape(5, 5, 3)),
+        meta=dict(E=100.0, nu=0.0, load="top dragged", mesh="box 4x4x2"),
+        obstacle=surface_from_spec({"kind": "plane", "point": [0, 0, 0],
+                                    "normal": [0, 0, 1]}))
+    np.savez(tmp_path / "X.npz", **final.to_arrays())
+    run = subprocess.run([sys.executable, "-m", "solver", "X.npz",
+                          "--friction", "0.3", "--formulation",
+                          "projection", "--steps", "3"], cwd=tmp_path,
+                         capture_output=True, text=True, timeout=300)
+    assert run.returncode == 0, run.stderr
+    out = tmp_path / "X-fc0.3-3steps-projection-lagged-fb"
+    with np.load(out / "result.npz") as result:
+        assert result["friction_traction"].shape == (3, 25, 2)
+        assert result["slip"][-1].sum() == 25
+    mesh = meshio.read(out / "steps" / "step_0003.vtu")
+    assert mesh.cells[0].type == "tetra"
+    assert mesh.point_data["friction_traction"].shape == (75, 2)
+    refused = subprocess.run([sys.executable, "-m", "solver", "X.npz",
+                              "--friction", "0.3", "--steps", "3"],
+                             cwd=tmp_path, capture_output=True, text=True,
+                             timeout=300)
+    assert refused.returncode == 2
+    assert "2D-only" in refused.stderr
+    assert len(refused.stderr.strip().splitlines()) == 1
