@@ -39,6 +39,15 @@ primal-dual active set form of Hüeber, Stadler & Wohlmuth 2008)
 which is non-degenerate: p = 0 gives g_t = 0 and Δu_t is left to the
 tangential equilibrium row. c_t > 0 only changes the Newton path.
 
+In 3D (any d) g_t ∈ R^{d−1} per node, in the tangent basis
+``geometry.tangents``, and the clip becomes the projection onto the disc
+|g_t| ≤ f_c p (Alart & Curnier 1991; Hüeber, Stadler & Wohlmuth 2008):
+``friction_traction`` is then (Nc, d − 1). The thesis's split is 2D-only
+(it splits a scalar slip) and is refused there; so are roller nodes. The
+reduced Newton of :mod:`.friction_newton` is 2D-only: in 3D each Newton
+step solves the full sparse Jacobian of the condensed system (every DOF of
+the free contact nodes, no candidate screening) or of the full one.
+
 ``coulomb="lagged"`` uses p = p_{κ−1} of the previous step (thesis: Coulomb
 as a sequence of Tresca problems); ``coulomb="implicit"`` uses the current
 step's p(u) (no one-step lag), with its derivative in the Jacobian.
