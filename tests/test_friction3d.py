@@ -163,7 +163,8 @@ def test_rollers_refused():
 
 def test_cli_3d_friction_run(tmp_path):
     """python -m solver X.npz --friction 0.3 --formulation projection
-    --steps 3 on a 3D file writes its result and VTU steps (read back);
+    --steps 3 --plots on a 3D file writes its result, VTU steps (read back)
+    and the history figure;
     the thesis's formulation is refused with exit code 2 and one line."""
     import subprocess
 
@@ -181,13 +182,15 @@ def test_cli_3d_friction_run(tmp_path):
     np.savez(tmp_path / "X.npz", **final.to_arrays())
     run = subprocess.run([sys.executable, "-m", "solver", "X.npz",
                           "--friction", "0.3", "--formulation",
-                          "projection", "--steps", "3"], cwd=tmp_path,
+                          "projection", "--steps", "3", "--plots"],
+                         cwd=tmp_path,
                          capture_output=True, text=True, timeout=300)
     assert run.returncode == 0, run.stderr
     out = tmp_path / "X-fc0.3-3steps-projection-lagged-fb"
     with np.load(out / "result.npz") as result:
         assert result["friction_traction"].shape == (3, 25, 2)
         assert result["slip"][-1].sum() == 25
+    assert (out / "history.png").is_file()  # 3D: the history figure only
     mesh = meshio.read(out / "steps" / "step_0003.vtu")
     assert mesh.cells[0].type == "tetra"
     assert mesh.point_data["friction_traction"].shape == (75, 2)
@@ -198,3 +201,43 @@ def test_cli_3d_friction_run(tmp_path):
     assert refused.returncode == 2
     assert "2D-only" in refused.stderr
     assert len(refused.stderr.strip().splitlines()) == 1
+
+
+@pytest.mark.parametrize("coulomb", ["lagged", "implicit"])
+def test_disc_jacobian_matches_finite_differences(coulomb):
+    """The generalised Jacobian of the disc projection (stick: I; slip:
+    b/|w|(I − ŵŵᵀ), ŵ ∂b) against central differences of the residual, at
+    an iterate with stick and slip nodes (away from the kinks)."""
+    from solver.contact.friction_system import FrictionSystem
+
+    problem, geometry, _, _ = dragged_block(np.radians(30.0), 0.05)
+    lumped = np.asarray(problem.M.sum(axis=1)).ravel()[geometry.index]
+    system = FrictionSystem(problem.K, problem.f, geometry, lumped, 0.3,
+                            "projection", coulomb)
+    m = system.m
+    rng = np.random.default_rng(3)
+    system.set_step(np.zeros(system.n), 1.0, rng.uniform(0.5, 1.5, m))
+    x = rng.normal(scale=1e-3, size=system.n_unknowns)
+    du = x[:system.n]
+    b = system.bound(system._force(du), False)[0]
+    factor = np.where(np.arange(m) % 2, 0.5, 2.0) * np.maximum(b, 0.1)
+    w = rng.normal(size=(m, 2))
+    w *= (factor / np.linalg.norm(w, axis=1))[:, None]
+    g = w.ravel() + system.c_t * (system.R @ du)[system.t_rows]
+    x[system.n:] = g / system.c_t
+    JE, JA, JB = system.jacobian(x)
+    J = np.vstack([JE.toarray(), JA.toarray(), JB.toarray()])
+    h = 1e-7 * np.abs(x).max()
+    numeric = np.empty_like(J)
+    for j in range(len(x)):
+        e = np.zeros_like(x)
+        e[j] = h
+        plus = np.concatenate(system.residual(x + e))
+        minus = np.concatenate(system.residual(x - e))
+        numeric[:, j] = (plus - minus) / (2 * h)
+    E = system.residual(x)[0]
+    size = np.linalg.norm(w, axis=1)
+    assert (size < b).any() and (size > b).any()  # stick and slip nodes
+    assert np.all(np.abs(size - b) > 1e-3 * b)  # no kink within h
+    assert len(E) == system.n - m + 2 * m
+    np.testing.assert_allclose(J, numeric, atol=1e-6 * np.abs(J).max())
