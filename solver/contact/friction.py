@@ -157,7 +157,8 @@ def solve_friction(problem, friction, steps=None, formulation="thesis",
         A problem with a ``load_path`` follows its stages instead (their
         steps, loads and friction multipliers); ``steps`` must then be None.
     formulation : {"thesis", "projection"}
-        The thesis's split (110)/(111) or the projection form (see module).
+        The thesis's split (110)/(111) (2D only: SolverError in 3D) or the
+        projection form (see module; in 3D onto the Coulomb disc).
     coulomb : {"lagged", "implicit"}
         Friction bound from the previous step's pressure (thesis) or from
         the current one.
@@ -222,7 +223,9 @@ def solve_friction(problem, friction, steps=None, formulation="thesis",
         (arrays, first axis = completed steps): ``load_factor``,
         ``displacement`` (nodal), ``u`` (reduced), ``contact_force`` λ,
         ``contact_pressure`` (lumped λ/D, ≥ 0), ``contact_pressure_consistent``
-        (M⁻¹λ, thesis (87)), ``friction_traction`` g_t,
+        (M⁻¹λ, thesis (87)), ``friction_traction`` g_t ((Nc,) per step in
+        2D, (Nc, d − 1) in the tangent basis ``geometry.tangents`` in 3D;
+        so is ``tangential_displacement``),
         ``friction_bound`` f_c p used in the step (p_{κ−1} if lagged),
         ``tangential_displacement``, ``in_contact``, ``stick``, ``slip``
         (over all nodes of Γc; supports are never in contact), and
