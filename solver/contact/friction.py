@@ -39,6 +39,15 @@ primal-dual active set form of Hüeber, Stadler & Wohlmuth 2008)
 which is non-degenerate: p = 0 gives g_t = 0 and Δu_t is left to the
 tangential equilibrium row. c_t > 0 only changes the Newton path.
 
+In 3D (any d) g_t ∈ R^{d−1} per node, in the tangent basis
+``geometry.tangents``, and the clip becomes the projection onto the disc
+|g_t| ≤ f_c p (Alart & Curnier 1991; Hüeber, Stadler & Wohlmuth 2008):
+``friction_traction`` is then (Nc, d − 1). The thesis's split is 2D-only
+(it splits a scalar slip) and is refused there; so are roller nodes. The
+reduced Newton of :mod:`.friction_newton` is 2D-only: in 3D each Newton
+step solves the full sparse Jacobian of the condensed system (every DOF of
+the free contact nodes, no candidate screening) or of the full one.
+
 ``coulomb="lagged"`` uses p = p_{κ−1} of the previous step (thesis: Coulomb
 as a sequence of Tresca problems); ``coulomb="implicit"`` uses the current
 step's p(u) (no one-step lag), with its derivative in the Jacobian.
@@ -62,7 +71,8 @@ from ..linalg import resolve
 from ..ncp import MESSAGES, solve_ncp, stable_norm
 from .result import FrictionResult
 from .steps import MAX_LOAD_STEPS, StepStream
-from .friction_system import COULOMB, FORMULATIONS, FrictionSystem
+from .friction_system import (COULOMB, FORMULATIONS, FrictionSystem,
+                              check_geometry)
 from .frictionless import (condense_onto_contact, contact_geometry,
                            contact_stiffness)
 from .verify import (describe_failure, force_scale, unit_free_options,
@@ -98,8 +108,15 @@ def _check_step(system, x, load, friction, p_previous, tol_v):
     geometry = system.geometry
     return verify_contact(system.K, load, system.u_previous + du,
                           geometry.dofs, geometry.normal, geometry.gap, lam,
-                          system.stiffness, tol_v, system.lumped * g,
-                          system.lumped * bound)
+                          system.stiffness, tol_v, _nodal(system.lumped, g),
+                          system.lumped * bound, geometry.tangents)
+
+
+def _nodal(lumped, g):
+    """Nodal friction forces D_ii g_t,i: (m,) in 2D, (m, d − 1) else."""
+    if len(g) == len(lumped):
+        return lumped * g
+    return lumped[:, None] * np.reshape(g, (len(lumped), -1))
 
 
 def _final_check(problem, geometry, stiffness, tol_v, condensation, last,
@@ -113,7 +130,8 @@ def _final_check(problem, geometry, stiffness, tol_v, condensation, last,
         u = condensation.displacement(u_c, w)
         checks = checks + [verify_contact(
             problem.K, f_step, u, geometry.dofs, geometry.normal,
-            geometry.gap, lam, stiffness, tol_v, t, bound)]
+            geometry.gap, lam, stiffness, tol_v, t, bound,
+            geometry.tangents)]
     return worst_verification(checks, tol_v)
 
 
@@ -139,7 +157,8 @@ def solve_friction(problem, friction, steps=None, formulation="thesis",
         A problem with a ``load_path`` follows its stages instead (their
         steps, loads and friction multipliers); ``steps`` must then be None.
     formulation : {"thesis", "projection"}
-        The thesis's split (110)/(111) or the projection form (see module).
+        The thesis's split (110)/(111) (2D only: SolverError in 3D) or the
+        projection form (see module; in 3D onto the Coulomb disc).
     coulomb : {"lagged", "implicit"}
         Friction bound from the previous step's pressure (thesis) or from
         the current one.
@@ -204,7 +223,9 @@ def solve_friction(problem, friction, steps=None, formulation="thesis",
         (arrays, first axis = completed steps): ``load_factor``,
         ``displacement`` (nodal), ``u`` (reduced), ``contact_force`` λ,
         ``contact_pressure`` (lumped λ/D, ≥ 0), ``contact_pressure_consistent``
-        (M⁻¹λ, thesis (87)), ``friction_traction`` g_t,
+        (M⁻¹λ, thesis (87)), ``friction_traction`` g_t ((Nc,) per step in
+        2D, (Nc, d − 1) in the tangent basis ``geometry.tangents`` in 3D;
+        so is ``tangential_displacement``),
         ``friction_bound`` f_c p used in the step (p_{κ−1} if lagged),
         ``tangential_displacement``, ``in_contact``, ``stick``, ``slip``
         (over all nodes of Γc; supports are never in contact), and
@@ -245,6 +266,8 @@ def solve_friction(problem, friction, steps=None, formulation="thesis",
     start = time.perf_counter()
     if geometry is None:
         geometry = contact_geometry(problem, gap)
+    if formulation in FORMULATIONS:  # an unknown one: FrictionSystem says
+        check_geometry(geometry, formulation)
     if steps > MAX_LOAD_STEPS:
         raise SolverError(f"{steps} load steps: at most {MAX_LOAD_STEPS} are "
                           "supported")
@@ -279,7 +302,8 @@ def solve_friction(problem, friction, steps=None, formulation="thesis",
     u = np.zeros(system.n)  # u, or u on Γc if condensed
     w_previous = np.zeros(problem.n_dofs)  # K⁻¹f of the previous step
     p_previous = np.zeros(system.m)
-    g = np.zeros(system.m)
+    g = np.zeros(system.mt)
+    k = geometry.dim - 1
     delivered = StepStream(problem, condensation if condense else None,
                            on_step, keep_steps, steps)
     records, failed = [], None
@@ -343,12 +367,15 @@ def solve_friction(problem, friction, steps=None, formulation="thesis",
             contact = lam > threshold
             # Slip: the traction is at the Coulomb bound (a node in contact with
             # a zero bound slides freely); stick: strictly inside it.
-            at_bound = np.abs(g) >= bound * (1 - 1e-6) - 1e-12 * scale
+            size = np.abs(g) if k == 1 else \
+                np.linalg.norm(g.reshape(-1, k), axis=1)
+            at_bound = size >= bound * (1 - 1e-6) - 1e-12 * scale
             slip_nodes = contact & at_bound
             stick_nodes = contact & ~slip_nodes
             ut = (system.R @ u)[system.t_rows]
             last = (kappa, u.copy(), w if condense else None, f_step, lam,
-                    lumped * g, lumped * bound, result.history["residual"])
+                    _nodal(lumped, g), lumped * bound,
+                    result.history["residual"])
             if condense:
                 w_previous = w
             record.update(stage=int(stage), n_contact=int(contact.sum()),
@@ -358,7 +385,10 @@ def solve_friction(problem, friction, steps=None, formulation="thesis",
             records.append(record)
 
             def full(values, fill=0.0, dtype=float):
-                out = np.full(nc, fill, dtype=dtype)
+                values = np.asarray(values)
+                if k > 1 and values.size == k * len(idx):  # (Nca, d − 1)
+                    values = values.reshape(len(idx), k)
+                out = np.full((nc,) + values.shape[1:], fill, dtype=dtype)
                 out[idx] = values
                 return out
 

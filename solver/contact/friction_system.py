@@ -15,10 +15,27 @@ from .friction_newton import ReducedJacobian, factorize
 from .frictionless import contact_stiffness, rotation
 from .verify import force_scale
 
-__all__ = ["FORMULATIONS", "COULOMB", "FrictionSystem"]
+__all__ = ["FORMULATIONS", "COULOMB", "FrictionSystem", "check_geometry",
+           "project_disc"]
 
 FORMULATIONS = ("thesis", "projection")
 COULOMB = ("lagged", "implicit")
+
+
+def check_geometry(geometry, formulation):
+    """SolverError (one line) for what friction does not take: roller nodes
+    (a Dirichlet component; friction runs keep them as supports), and the
+    thesis's split formulation (110)/(111) outside 2D: its Δu_t = Δu_t⁺ −
+    Δu_t⁻ splits a scalar tangential slip, which a tangent plane does not
+    have (the projection onto the Coulomb disc replaces it)."""
+    if geometry.has_rollers:
+        raise SolverError("friction does not take roller nodes (contact "
+                          "nodes with a Dirichlet component); give a "
+                          "geometry without rollers")
+    if formulation == "thesis" and geometry.dim != 2:
+        raise SolverError("the thesis's split formulation (Δu_t⁺, Δu_t⁻) is "
+                          "2D-only; use --formulation projection "
+                          "(formulation=\"projection\") in 3D")
 
 
 class FrictionSystem:
@@ -51,6 +68,8 @@ class FrictionSystem:
         if coulomb not in COULOMB:
             raise SolverError(f"coulomb must be one of {COULOMB}, got "
                               f"{coulomb!r}")
+        check_geometry(geometry, formulation)
+        self.dim = int(geometry.dim)
         n = K.shape[0]
         self.n, self.m = n, len(geometry.dofs)
         self.K, self.f = sp.csr_matrix(K), np.asarray(f, float)
@@ -59,6 +78,9 @@ class FrictionSystem:
         self.coulomb, self.gap_scale = coulomb, float(gap_scale)
         self.R, other, a, b = rotation(n, geometry)
         self.x_rows, self.t_rows, self.n_rows = other, a, b  # X, Z, Y
+        #: tangential unknowns: m(d − 1), node by node (the tangent basis)
+        self.mt = len(a)
+        self.lumped_t = np.repeat(self.lumped, self.dim - 1)
         self.RK = (self.R @ self.K).tocsr()
         self.Rf = self.R @ self.f
         self.stiffness = contact_stiffness(self.K, geometry) \
@@ -66,7 +88,7 @@ class FrictionSystem:
         # c_t of the projection: stiffness per unit contact length.
         self.c_t = self.stiffness / float(self.lumped.mean()) \
             if self.m else 1.0
-        m = self.m
+        m, mt = self.m, self.mt
         I, Z0 = sp.identity(m, format="csr"), sp.csr_matrix((m, m))
         self._I, self._Z0 = I, Z0
         RK, R = self.RK, self.R
@@ -81,15 +103,18 @@ class FrictionSystem:
             self._JB_normal = sp.hstack([-self.gap_scale * R[b], Z0, Z0,
                                          Z0], format="csr")
         else:
+            Zt = sp.csr_matrix((m, mt))
             self._JE_fixed = sp.bmat([
-                [RK[other], sp.csr_matrix((len(other), m))],
-                [RK[a], -sp.diags(self.lumped)]], format="csr")
-            self._JA = sp.hstack([-RK[b], Z0], format="csr")
-            self._JB = sp.hstack([-self.gap_scale * R[b], Z0], format="csr")
+                [RK[other], sp.csr_matrix((len(other), mt))],
+                [RK[a], -sp.diags(self.lumped_t)]], format="csr")
+            self._JA = sp.hstack([-RK[b], Zt], format="csr")
+            self._JB = sp.hstack([-self.gap_scale * R[b], Zt], format="csr")
         self.load_norm = stable_norm(self.f)
         # Condensed (dense S, no other rows) projection form: Newton
-        # systems on the free components only (:mod:`.friction_newton`).
+        # systems on the free components only (:mod:`.friction_newton`;
+        # 2D only: in 3D the generic path with the full Jacobian).
         self.reduced = (self.reduced_newton and formulation == "projection"
+                        and self.dim == 2
                         and isinstance(K, np.ndarray) and not len(other))
         if self.reduced:
             RS = R @ np.asarray(K, float)
@@ -106,7 +131,8 @@ class FrictionSystem:
 
     @property
     def n_unknowns(self):
-        return self.n + (3 if self.formulation == "thesis" else 1) * self.m
+        return self.n + (3 * self.m if self.formulation == "thesis"
+                         else self.mt)
 
     def set_step(self, u_previous, load, p_previous, friction=None,
                  load_norm=None):
@@ -138,13 +164,14 @@ class FrictionSystem:
         (~1e-3) with tractions (~1e2); unscaled, it rejects good Newton
         directions and the method stalls on gradient steps.
         """
-        n, m = self.n, self.m
+        n, m = self.n, self.mt
         return (x[:n], self.c_t * x[n:n + m], x[n + m:n + 2 * m],
                 x[n + 2 * m:])
 
     def traction(self, x):
-        """g_t from the unknown vector x."""
-        return self.c_t * x[self.n:self.n + self.m]
+        """g_t from the unknown vector x ((m,), or m(d − 1) node by node
+        in the tangent basis)."""
+        return self.c_t * x[self.n:self.n + self.mt]
 
     def _force(self, du):
         """r = R(Ku − f_κ) with u = u_{κ−1} + Δu."""
@@ -172,16 +199,21 @@ class FrictionSystem:
         lam = -r[self.n_rows]
         gap = self.gap_scale * (self.geometry.gap - (self.R @ u)[self.n_rows])
         b, _ = self.bound(r, derivative=False)
-        tangential = r[self.t_rows] - self.lumped * g
+        tangential = r[self.t_rows] - self.lumped_t * g
         if self.formulation == "thesis":
             split = (self.R @ du)[self.t_rows] - dp + dm
             E = np.concatenate([r[self.x_rows], tangential, split])
             A = np.concatenate([lam, dm, dp])
             B = np.concatenate([gap, b - g, b + g])
-        else:
+        elif self.dim == 2:
             w = g - self.c_t * (self.R @ du)[self.t_rows]
             E = np.concatenate([r[self.x_rows], tangential,
                                 g - np.clip(w, -b, b)])
+            A, B = lam, gap
+        else:
+            w = g - self.c_t * (self.R @ du)[self.t_rows]
+            E = np.concatenate([r[self.x_rows], tangential,
+                                g - project_disc(w, b, self.dim - 1)])
             A, B = lam, gap
         return E, A, B
 
@@ -200,7 +232,7 @@ class FrictionSystem:
             return ReducedJacobian(self, x, stick, ~stick & (w >= 0),
                                    active)
         scale = np.ones(self.n_unknowns)
-        scale[self.n:self.n + self.m] = self.c_t
+        scale[self.n:self.n + self.mt] = self.c_t
         S = sp.diags(scale)
         return tuple((J @ S).tocsr() for J in self._jacobian(x))
 
@@ -223,6 +255,8 @@ class FrictionSystem:
                                 sp.hstack([db, self._I, self._Z0,
                                            self._Z0])], format="csr")
             return self._JE, self._JA, JB
+        if self.dim != 2:
+            return self._disc_jacobian(du, g, b, db)
         # projection row: g − clip(w, −b, b), w = g − c_t ZRΔu
         w = g - self.c_t * (self.R @ du)[self.t_rows]
         stick = np.abs(w) < b
@@ -235,6 +269,34 @@ class FrictionSystem:
             sign = np.where(upper, -1.0, 1.0) * (~stick)
             rows_du = rows_du + sp.diags(sign) @ db
         J3 = sp.hstack([rows_du, slip_g], format="csr")
+        return sp.vstack([self._JE_fixed, J3], format="csr"), self._JA, \
+            self._JB
+
+    def _disc_jacobian(self, du, g, b, db):
+        r"""(JE, JA, JB) of the projection onto the disc (any d): the row
+        g − P(w), w = g − c_t ZRΔu, P(w) = w·min(1, b/|w|); stick (|w| < b):
+        ∂P/∂w = I; slip: ∂P/∂w = b/|w| (I − ŵŵᵀ), ∂P/∂b = ŵ (Alart &
+        Curnier 1991; Hüeber, Stadler & Wohlmuth 2008). In 2D this is the
+        clip's Jacobian (I − ŵŵᵀ = 0, ŵ = ±1)."""
+        k, m = self.dim - 1, self.m
+        w = (g - self.c_t * (self.R @ du)[self.t_rows]).reshape(m, k)
+        size = np.linalg.norm(w, axis=1)
+        stick = size < b
+        ratio = np.where(stick, 1.0, np.divide(
+            b, size, out=np.zeros(m), where=size > 0))
+        hat = np.divide(w, size[:, None], out=np.zeros_like(w),
+                        where=size[:, None] > 0)
+        # ∂P/∂w per node: ratio·(I − ŵŵᵀ), ŵŵᵀ dropped at stick nodes
+        P = ratio[:, None, None] * (np.eye(k) - np.where(
+            stick[:, None, None], 0.0, hat[:, :, None] * hat[:, None, :]))
+        blocks = _block_diagonal(P)
+        rows_du = blocks @ (self.c_t * self.R[self.t_rows])
+        if db is not None:  # −∂P/∂b db = −ŵ db at slip nodes
+            slip_hat = np.where(stick[:, None], 0.0, hat).ravel()
+            rows_du = rows_du - sp.diags(slip_hat) @ sp.csr_matrix(
+                db[np.repeat(np.arange(m), k)])
+        J3 = sp.hstack([rows_du, sp.identity(m * k) - blocks],
+                       format="csr")
         return sp.vstack([self._JE_fixed, J3], format="csr"), self._JA, \
             self._JB
 
@@ -268,7 +330,8 @@ class FrictionSystem:
                 np.minimum(k * A[m:2 * m], self.lumped * B[m:2 * m]),
                 np.minimum(k * A[2 * m:], self.lumped * B[2 * m:])])
         else:
-            E = np.concatenate([E[:nx + m], self.lumped * E[nx + m:]])
+            mt = self.mt
+            E = np.concatenate([E[:nx + mt], self.lumped_t * E[nx + mt:]])
             pairs = np.minimum(A, k / c * B)
         return float(np.hypot(stable_norm(E), stable_norm(pairs)))
 
@@ -282,7 +345,7 @@ class FrictionSystem:
         Δu = 0 (or ``du``; the thesis's split then starts consistent,
         Δu_t± = max(±ZRΔu, 0))."""
         x = np.zeros(self.n_unknowns)
-        x[self.n:self.n + self.m] = np.asarray(g_previous) / self.c_t
+        x[self.n:self.n + self.mt] = np.ravel(g_previous) / self.c_t
         if du is not None:
             x[:self.n] = du
             if self.formulation == "thesis":
@@ -290,3 +353,21 @@ class FrictionSystem:
                 x[self.n + self.m:self.n + 2 * self.m] = np.maximum(dut, 0)
                 x[self.n + 2 * self.m:] = np.maximum(-dut, 0)
         return x
+
+
+def project_disc(w, b, k):
+    """P(w) onto the disc (ball) |·| ≤ b of R^k, per node: w flat (m·k,)
+    node by node, b (m,); w·min(1, b/|w|)."""
+    w = np.reshape(w, (len(b), k))
+    size = np.linalg.norm(w, axis=1)
+    ratio = np.minimum(1.0, np.divide(b, size, out=np.ones_like(size),
+                                      where=size > b))
+    return (w * ratio[:, None]).ravel()
+
+
+def _block_diagonal(P):
+    """Sparse block diagonal of the (m, k, k) blocks P."""
+    m, k, _ = P.shape
+    rows = np.repeat(np.arange(m * k).reshape(m, k), k, axis=1).ravel()
+    cols = np.tile(np.arange(m * k).reshape(m, k), (1, k)).ravel()
+    return sp.csr_matrix((P.ravel(), (rows, cols)), shape=(m * k, m * k))

@@ -435,8 +435,9 @@ def plot_friction_along_boundary(problem, result, step=-1, path=None):
 
 
 def write_friction_figures(folder, problem, result):
-    """Per-step history; for a mesh also the deformed body and tractions
-    along Γc at the last completed step. Returns the paths."""
+    """Per-step history; for a 2D mesh also the deformed body and
+    tractions along Γc at the last completed step (3D: the history only;
+    the tractions are in the VTU steps). Returns the paths."""
     import os
     from types import SimpleNamespace
 
@@ -444,7 +445,7 @@ def write_friction_figures(folder, problem, result):
     paths = {}
     jobs = [("history", lambda p: plot_step_history(problem, result,
                                                      path=p))]
-    if problem.kind == "mesh":
+    if problem.kind == "mesh" and getattr(problem, "dim", 2) == 2:
         last = SimpleNamespace(displacement=result.displacement[-1],
                                in_contact=result.in_contact[-1])
         title = (f"deformed body after step {result.steps_completed} of "
