@@ -43,13 +43,25 @@ from solver import load_problem, solve_friction, solve_frictionless  # noqa
 from solver.linalg import dof_ordering, get_backend  # noqa: E402
 
 
+class Clock:
+    """Wall and CPU time (all threads) of a ``with`` block, as a dict."""
+
+    def __enter__(self):
+        self.wall, self.cpu = time.perf_counter(), time.process_time()
+        return self
+
+    def __exit__(self, *exc):
+        self.times = {"time": time.perf_counter() - self.wall,
+                      "cpu": time.process_time() - self.cpu}
+
+
 def floor(problem, backend):
     module = get_backend(backend)
-    start = time.perf_counter()
-    order = dof_ordering(problem) if backend == "superlu" else None
-    factor = module.factorize(problem.K, order, None, "K", False)
-    factor.solve(problem.f)
-    return {"time": time.perf_counter() - start, "nnz": factor.nnz}
+    with Clock() as clock:
+        order = dof_ordering(problem) if backend == "superlu" else None
+        factor = module.factorize(problem.K, order, None, "K", False)
+        factor.solve(problem.f)
+    return {**clock.times, "nnz": factor.nnz}
 
 
 def schur(problem, backend):
@@ -57,19 +69,17 @@ def schur(problem, backend):
                                              contact_geometry)
     geometry = contact_geometry(problem, "obstacle")
     get_backend(backend)
-    start = time.perf_counter()
-    condensation, _ = condense_onto_contact(problem, geometry, backend)
-    return {"time": time.perf_counter() - start,
-            "m": int(condensation.S.shape[0])}
+    with Clock() as clock:
+        condensation, _ = condense_onto_contact(problem, geometry, backend)
+    return {**clock.times, "m": int(condensation.S.shape[0])}
 
 
 def frictionless(problem, method, backend, path):
     get_backend(backend)
-    start = time.perf_counter()
-    r = solve_frictionless(problem, method=method, backend=backend)
-    elapsed = time.perf_counter() - start
+    with Clock() as clock:
+        r = solve_frictionless(problem, method=method, backend=backend)
     np.save(f"{path}.{method}.{backend}.npy", r.u)
-    return {"time": elapsed, "J": r.njev, "F": r.nfev,
+    return {**clock.times, "J": r.njev, "F": r.nfev,
             "converged": bool(r.success), "contact": r.n_contact,
             "levels": len(r.levels),
             "J_finest": r.levels[-1]["njev"] if r.levels else r.njev,
@@ -78,10 +88,11 @@ def frictionless(problem, method, backend, path):
 
 def friction(problem, backend, steps):
     get_backend(backend)
-    start = time.perf_counter()
-    r = solve_friction(problem, 0.3, steps=steps, formulation="projection",
-                       method="min", backend=backend)
-    return {"time": time.perf_counter() - start, "J": r.njev, "F": r.nfev,
+    with Clock() as clock:
+        r = solve_friction(problem, 0.3, steps=steps,
+                           formulation="projection", method="min",
+                           backend=backend)
+    return {**clock.times, "J": r.njev, "F": r.nfev,
             "converged": bool(r.success)}
 
 
@@ -90,14 +101,15 @@ def peer(problem, name, reference):
     from solver.contact import contact_geometry
 
     geometry = contact_geometry(problem, "obstacle")
-    start = time.perf_counter()
-    if name == "clarabel":
-        u, status = peers.clarabel_qp(problem, geometry)
-        out = {"converged": status == "Solved"}
-    else:
-        u, J, converged = peers.sfepy_semismooth_newton(problem, geometry)
-        out = {"J": J, "converged": bool(converged)}
-    out["time"] = time.perf_counter() - start
+    with Clock() as clock:
+        if name == "clarabel":
+            u, status = peers.clarabel_qp(problem, geometry)
+            out = {"converged": status == "Solved"}
+        else:
+            u, J, converged = peers.sfepy_semismooth_newton(problem,
+                                                            geometry)
+            out = {"J": J, "converged": bool(converged)}
+    out.update(clock.times)
     ours = np.load(reference)
     out["agreement"] = float(np.abs(u - ours).max() / np.abs(ours).max())
     return out

@@ -13,7 +13,13 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
 
-__all__ = ["StageError", "run_process", "measure", "output_stage", "export"]
+__all__ = ["StageError", "run_process", "measure", "output_stage", "export",
+           "THREADS", "LOG"]
+
+#: Environment variables set in every measured process (``--threads``).
+THREADS = {}
+#: Every measurement's JSON line is appended here if set (``--log``).
+LOG = []
 
 
 class StageError(RuntimeError):
@@ -23,7 +29,7 @@ class StageError(RuntimeError):
 def run_process(command, cwd=ROOT):
     """Run ``command``; (stdout, wall time [s], peak RSS [MB] of the
     child). StageError with the tail of its stderr if it fails."""
-    env = dict(os.environ, PYTHONWARNINGS="ignore")
+    env = dict(os.environ, PYTHONWARNINGS="ignore", **THREADS)
     with tempfile.TemporaryFile() as errors:
         start = time.perf_counter()
         process = subprocess.Popen([str(c) for c in command], cwd=cwd,
@@ -48,7 +54,13 @@ def measure(npz, stage, backend="auto", steps=100):
     stdout, _, _ = run_process([sys.executable,
                                 ROOT / "benchmarks" / "measure.py", npz,
                                 stage, backend, steps])
-    return json.loads(stdout.strip().splitlines()[-1])
+    line = stdout.strip().splitlines()[-1]
+    if LOG:
+        with open(LOG[0], "a") as log:
+            log.write(json.dumps({"problem": Path(npz).name, "stage": stage,
+                                  "backend": backend, **json.loads(line)})
+                      + "\n")
+    return json.loads(line)
 
 
 def output_stage(npz, backend, folder):

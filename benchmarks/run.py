@@ -2,8 +2,9 @@
 
 Usage::
 
-    python benchmarks/run.py [--max-dofs N] [--gmsh-size H ...]
+    python benchmarks/run.py [--max-dofs N] [--min-dofs N] [--gmsh-size H]
                              [--backends a,b] [--repeat N] [--workdir DIR]
+                             [--threads N] [--log FILE]
                              [--max-friction-dofs N] [--max-peer-dofs N]
                              [--max-sfepy-dofs N] [--steps N] [--no-peers]
 
@@ -47,7 +48,9 @@ One table row per size (markdown, printed as each size finishes):
 ``--repeat N`` runs each floor and frictionless solve N times (rounds over
 the backends, fresh processes) and keeps the shortest time and the largest
 RSS. ``--workdir`` keeps the exported problems there and reuses them (the
-export columns then repeat the recorded first export). Ratios are measured
+export columns then repeat the recorded first export); ``--log`` keeps
+every measurement's JSON (wall and CPU time, RSS, counts); ``--threads``
+fixes the BLAS/MKL/OpenMP threads. Ratios are measured
 in the same run; absolute times are indicative only (shared, noisy
 machines).
 """
@@ -60,6 +63,7 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 sys.path.insert(1, str(Path(__file__).resolve().parent.parent))
 
+import processes  # noqa: E402
 from processes import StageError, export  # noqa: E402
 from rows import columns, measure_size  # noqa: E402
 from solver.linalg import BACKENDS, available_backends  # noqa: E402
@@ -70,16 +74,20 @@ THESIS = ((118, 138), (454, 492))
 GMSH_1M = 0.0225
 
 
-def sizes(max_dofs, gmsh_sizes=()):
-    """(mesh: generate.py arguments or a committed file, name) per size."""
+def sizes(max_dofs, gmsh_sizes=(), min_dofs=0):
+    """(mesh: generate.py arguments or a committed file, name) per size,
+    those of about ``min_dofs`` to ``max_dofs`` DOFs (the gmsh ones
+    always)."""
     root = Path(__file__).resolve().parent.parent
     for triangles, dofs in THESIS:
-        if dofs <= max_dofs * 1.2:
+        if min_dofs <= dofs * 1.2 and dofs <= max_dofs * 1.2:
             yield root / "meshes" / f"block_{triangles}.mesh", \
                 f"block_{triangles}"
     level = 0
     while 1956 * 4 ** level <= max_dofs * 1.2:
-        yield ["--refine", str(level), "--base", "1878"], f"block_r{level}"
+        if min_dofs <= 1956 * 4 ** level * 1.2:
+            yield ["--refine", str(level), "--base", "1878"], \
+                f"block_r{level}"
         level += 1
     extra = list(gmsh_sizes)
     if max_dofs >= 9e5 and 1956 * 4 ** level > 1.3e6 and GMSH_1M not in extra:
@@ -112,12 +120,18 @@ def installed(names, no_peers):
 def parse(argv):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--max-dofs", type=float, default=1.3e5)
+    parser.add_argument("--min-dofs", type=float, default=0)
     parser.add_argument("--gmsh-size", type=float, action="append",
                         default=[], help="add a gmsh mesh of this size")
     parser.add_argument("--backends", help="comma-separated (default: all "
                         "installed)")
     parser.add_argument("--repeat", type=int, default=1)
     parser.add_argument("--workdir", help="keep and reuse exports here")
+    parser.add_argument("--threads", type=int, help="set MKL_NUM_THREADS, "
+                        "OPENBLAS_NUM_THREADS and OMP_NUM_THREADS in every "
+                        "measured process (default: untouched)")
+    parser.add_argument("--log", help="append every measurement's JSON "
+                        "(time, cpu, RSS, counts) to this file")
     parser.add_argument("--max-friction-dofs", type=float, default=1.3e5)
     parser.add_argument("--max-peer-dofs", type=float, default=1.1e6)
     parser.add_argument("--max-sfepy-dofs", type=float,
@@ -128,6 +142,11 @@ def parse(argv):
     if args.max_sfepy_dofs is None:
         args.max_sfepy_dofs = args.max_peer_dofs
     args.backends, args.peers = installed(args.backends, args.no_peers)
+    if args.threads:
+        processes.THREADS.update({name: str(args.threads) for name in (
+            "MKL_NUM_THREADS", "OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS")})
+    if args.log:
+        processes.LOG[:] = [args.log]
     if not args.backends:
         parser.error("no backend to measure")
     return args
@@ -141,7 +160,8 @@ def main(argv=None):
     with tempfile.TemporaryDirectory() as scratch:
         folder = Path(args.workdir or scratch)
         folder.mkdir(parents=True, exist_ok=True)
-        for mesh, name in sizes(args.max_dofs, args.gmsh_size):
+        for mesh, name in sizes(args.max_dofs, args.gmsh_size,
+                                args.min_dofs):
             try:
                 npz, seconds, rss = export(mesh, name, folder)
                 cells = measure_size(npz, args, scratch)
