@@ -19,8 +19,8 @@ and measured stage by stage, **every measurement in a fresh process**
 One table row per size (markdown, printed as each size finishes):
 
 * **floor** ``<backend>``: factorise K and solve K u = f once with each
-  installed backend (superlu with our nested dissection, the ordering
-  timed; pardiso and cholmod with their own orderings); **fastest** names
+  installed backend (superlu and cholmod with our nested dissection, the
+  ordering timed; pardiso with its own METIS); **fastest** names
   the fastest of them *in this run*, the denominator of every ratio;
 * ``min``/``fb`` ``<backend>``: ``solve_frictionless`` (φ_min, φ_FB; every
   argument but ``backend`` at its default: gap from the obstacle,
