@@ -78,3 +78,24 @@ def test_memory_per_stage(row):
 def test_peers_reach_our_solution(row):
     for key in ("Clarabel [s] (/min)", "SfePy SSN [s] (/min)"):
         assert row[key] != "–" and "differs" not in row[key], key
+
+
+def test_cpu_ratios_take_the_shortest_repeat_and_the_fastest_floor():
+    import json
+
+    from cpu_ratios import table
+
+    def line(stage, backend, cpu):
+        return json.dumps({"problem": "p.npz", "stage": stage, "dofs": 10,
+                           "backend": backend, "cpu": cpu})
+
+    rows = table([line("floor", "a", 2.0), line("floor", "b", 1.0),
+                  line("floor", "b", 4.0), line("min", "a", 3.0),
+                  line("min", "a", 1.5), line("min", "b", 2.5),
+                  line("fb", "b", 2.0), line("schur", "b", 1.2)])
+    head = [c.strip() for c in rows[0].strip("|").split("|")]
+    cells = dict(zip(head, (c.strip() for c in rows[2].strip("|").split("|"))))
+    assert cells["fastest"] == "b" and cells["floor b CPU [s]"] == "1"
+    assert cells["min a CPU [s] (/floor)"] == "1.5 (1.50)"  # shortest repeat
+    assert cells["fb a CPU [s] (/floor)"] == "–"
+    assert cells["Schur CPU [s] (/floor)"] == "1.2 (1.20)"
