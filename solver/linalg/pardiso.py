@@ -123,6 +123,7 @@ class PardisoFactor(Factor):
         self.n = n = A.shape[0]
         iparm = np.zeros(64, np.int32)
         iparm[[0, 1, 34, 55]] = 1, 2, 1, 1  # ours, METIS, 0-based, getdiag
+        iparm[17] = -1  # report the factor's nonzeros there
         perm, m = np.zeros(n, np.int32), 1
         if schur is not None:
             self.schur_dofs = c = np.asarray(schur, np.int64).ravel()
