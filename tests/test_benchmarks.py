@@ -1,30 +1,101 @@
-"""Smoke test of benchmarks/run.py at the smallest size (no timing
-assertions: timings live in the benchmark's own output)."""
+"""benchmarks/run.py on the smallest thesis mesh (118 triangles): the table
+is complete and its cells agree with each other (no timing targets: those
+live in the benchmark's own output, benchmarks/README.md)."""
 
 import subprocess
 import sys
 
+import pytest
+
 from conftest import ROOT
 
+sys.path.insert(0, str(ROOT / "benchmarks"))
 
-def test_benchmark_prints_a_table_row():
+from run import sizes  # noqa: E402
+from solver.linalg import available_backends  # noqa: E402
+
+
+def _seconds(cell):
+    """(time, ratio) of a "time (ratio)" cell."""
+    time, ratio = cell.split(" (")
+    return float(time), float(ratio.rstrip(")"))
+
+
+@pytest.fixture(scope="module")
+def row():
     result = subprocess.run(
         [sys.executable, str(ROOT / "benchmarks" / "run.py"), "--max-dofs",
-         "3000", "--steps", "5"],
+         "150", "--steps", "3"],
         capture_output=True, text=True, timeout=600, cwd=ROOT)
     assert result.returncode == 0, result.stderr[-2000:]
     lines = [l for l in result.stdout.splitlines() if l.startswith("|")]
     header, rows = lines[0], lines[2:]
-    columns = [c.strip() for c in header.strip("|").split("|")]
     assert len(rows) == 1
-    cells = dict(zip(columns, (c.strip() for c in
-                               rows[0].strip("|").split("|"))))
-    assert cells["DOFs"] == "1956"            # the 1878-element thesis mesh
-    assert "not converged" not in rows[0]
-    for key in ("min J/F", "fb J/F", "friction J/F"):
-        J, F = map(int, cells[key].split("/"))
-        assert 0 < J <= F                      # every Jacobian needs Φ
-    # the peers (test extras) ran and reached our solution within 1e-6
-    for key in ("Clarabel [s]", "SfePy SSN [s]"):
-        assert cells[key] != "–" and "differs" not in cells[key], key
-    assert float(cells["RSS/floor"]) > 0
+    columns = [c.strip() for c in header.strip("|").split("|")]
+    return dict(zip(columns, (c.strip() for c in
+                              rows[0].strip("|").split("|"))))
+
+
+def test_sizes_start_with_the_thesis_meshes():
+    names = [name for _, name in sizes(1e6)]
+    assert names[:3] == ["block_118", "block_454", "block_r0"]
+    assert names[-1] == "block_h0.0225"  # the ~9.2e5-DOF gmsh mesh
+    assert [name for _, name in sizes(1.3e5, [0.05])][-1] == "block_h0.05"
+
+
+def test_every_installed_backend_has_a_floor_and_solves(row):
+    assert row["DOFs"] == "138"                # the 118-element thesis mesh
+    floors = {b: float(row[f"floor {b} [s]"]) for b in available_backends()}
+    assert row["fastest"] == min(floors, key=floors.get)
+    fastest = floors[row["fastest"]]
+    for method in ("min", "fb"):
+        for backend in floors:
+            cell = row[f"{method} {backend} [s] (/floor)"]
+            assert "not converged" not in cell
+            time, ratio = _seconds(cell)
+            # the ratio is to the fastest floor (3 significant digits shown)
+            assert ratio == pytest.approx(time / fastest, rel=2e-2)
+
+
+def test_newton_counts_agree_across_backends(row):
+    for key in ("min J/F (finest)", "fb J/F (finest)"):
+        assert ";" not in row[key], row[key]   # a differing backend is named
+        counts, finest = row[key].split(" (")
+        J, F = map(int, counts.split("/"))
+        assert 0 < int(finest.rstrip(")")) <= J <= F  # each J needs a Φ
+    J, F = map(int, row["friction J/F"].split("/"))
+    assert 3 <= J <= F                          # one Jacobian per step at least
+
+
+def test_memory_per_stage(row):
+    stages = [float(row[f"RSS {s} [MB]"])
+              for s in ("floor", "Schur", "Newton", "output")]
+    assert all(50 < s < 2000 for s in stages)
+    assert float(row["Newton/floor RSS"]) == pytest.approx(
+        stages[2] / stages[0], abs=0.01)
+
+
+def test_peers_reach_our_solution(row):
+    for key in ("Clarabel [s] (/min)", "SfePy SSN [s] (/min)"):
+        assert row[key] != "–" and "differs" not in row[key], key
+
+
+def test_cpu_ratios_take_the_shortest_repeat_and_the_fastest_floor():
+    import json
+
+    from cpu_ratios import table
+
+    def line(stage, backend, cpu):
+        return json.dumps({"problem": "p.npz", "stage": stage, "dofs": 10,
+                           "backend": backend, "cpu": cpu})
+
+    rows = table([line("floor", "a", 2.0), line("floor", "b", 1.0),
+                  line("floor", "b", 4.0), line("min", "a", 3.0),
+                  line("min", "a", 1.5), line("min", "b", 2.5),
+                  line("fb", "b", 2.0), line("schur", "b", 1.2)])
+    head = [c.strip() for c in rows[0].strip("|").split("|")]
+    cells = dict(zip(head, (c.strip() for c in rows[2].strip("|").split("|"))))
+    assert cells["fastest"] == "b" and cells["floor b CPU [s]"] == "1"
+    assert cells["min a CPU [s] (/floor)"] == "1.5 (1.50)"  # shortest repeat
+    assert cells["fb a CPU [s] (/floor)"] == "–"
+    assert cells["Schur CPU [s] (/floor)"] == "1.2 (1.20)"

@@ -48,6 +48,19 @@ def test_nested_dissection_is_a_permutation_with_separators_last():
     assert len(np.unique(last[:, 0])) == 1 or len(np.unique(last[:, 1])) == 1
 
 
+def test_nested_dissection_ignores_repeated_edges_and_loops():
+    """Mesh cells list each interior edge twice (once per triangle), in
+    either direction: the order depends on the graph only."""
+    points, edges = grid(30)
+    n = len(points)
+    noisy = np.concatenate([edges, edges[:, ::-1], edges,
+                            np.column_stack([np.arange(n), np.arange(n)])])
+    np.random.default_rng(1).shuffle(noisy)
+    for leaf in (1, 4, 16):
+        assert np.array_equal(nested_dissection(points, noisy, leaf),
+                              nested_dissection(points, edges, leaf))
+
+
 def test_nested_dissection_fill_beats_natural_and_rcm():
     """Fill of the 5-point Laplacian on a 60×60 grid: nested dissection
     needs fewer factor nonzeros than the natural (banded) order and than

@@ -10,7 +10,7 @@ same since CHOLMOD 1.x. Supernode k holds columns super[k]..super[k+1]−1,
 its row indices are s[pi[k]:pi[k+1]] and its values the column-major
 dense block x[px[k]:px[k+1]] (CHOLMOD User Guide, "cholmod_factor";
 Chen, Davis, Hager, Rajamanickam, ACM TOMS 35, 2008). Every field read is
-checked against what we asked for, and the caller checks S by one solve;
+checked against what we asked for, and the caller checks the diagonal;
 on any mismatch it returns None and the caller computes S another way.
 """
 

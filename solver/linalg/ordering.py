@@ -31,7 +31,10 @@ def nested_dissection(points, edges, leaf=LEAF_SIZE):
     the nodes of the upper half that share an edge with the lower half form
     the separator, which is ordered after both halves (recursively). All
     subdomains of one level are split at once (vectorised; no loop over
-    nodes or subdomains).
+    nodes or subdomains): per level one integer sort of the active nodes
+    (by subdomain and by a coordinate rank computed once) and one pass
+    over the edges still inside a subdomain (duplicates removed first).
+    About 1 s for 2.4·10⁵ nodes (the 4.8·10⁵-DOF block).
 
     Parameters
     ----------
@@ -49,7 +52,12 @@ def nested_dissection(points, edges, leaf=LEAF_SIZE):
     """
     points = np.asarray(points, float)
     n = len(points)
-    i, j = np.asarray(edges, np.int64).T
+    i, j = _unique_edges(edges, n)
+    # each node's rank along each axis (ties by index), once: sorting a
+    # subdomain by (coordinate, index) is then sorting integers
+    coordinate_rank = np.empty((points.shape[1], n), np.int64)
+    for axis, x in enumerate(points.T):
+        coordinate_rank[axis, np.lexsort((np.arange(n), x))] = np.arange(n)
     domain = np.zeros(n, np.int64)         # subdomain id within its level
     path = np.zeros(n, np.int64)           # subdomain id when it was ordered
     depth = np.zeros(n, np.int64)          # level at which it was ordered
@@ -57,8 +65,11 @@ def nested_dissection(points, edges, leaf=LEAF_SIZE):
     level = 0
     while active.any():
         idx = np.flatnonzero(active)
-        ids, inv, size = np.unique(domain[idx], return_inverse=True,
-                                   return_counts=True)
+        # the subdomains present (ids < 2^level): np.unique without a sort
+        present = np.bincount(domain[idx], minlength=1)
+        ids = np.flatnonzero(present)
+        size = present[ids]
+        inv = (np.cumsum(present > 0) - 1)[domain[idx]]
         done = (size <= leaf)[inv]
         path[idx[done]], depth[idx[done]] = domain[idx[done]], level
         active[idx[done]] = False
@@ -72,24 +83,39 @@ def nested_dissection(points, edges, leaf=LEAF_SIZE):
             - (np.bincount(inv, x, len(ids)) / counts) ** 2
             for x in points[idx].T])
         axis = np.argmax(spread, axis=1)[inv]
-        order = np.lexsort((idx, points[idx, axis], inv))
+        order = np.argsort(inv * n + coordinate_rank[axis, idx])
         starts = np.concatenate([[0], np.cumsum(counts)[:-1]])
         rank = np.empty(len(idx), np.int64)
         rank[order] = np.arange(len(idx)) - starts[inv[order]]
-        upper = np.full(n, -1, np.int64)
-        upper[idx] = rank >= counts[inv] // 2
-        cut = (active[i] & active[j] & (domain[i] == domain[j])
-               & (upper[i] != upper[j]))
-        separator = np.unique(np.where(upper[i[cut]] == 1, i[cut], j[cut]))
+        upper = rank >= counts[inv] // 2
+        # key = 2·domain + upper (the child subdomain), −1 if not split now:
+        # an edge is cut iff both ends are split, in one domain, not one half
+        key = np.full(n, -1, np.int64)
+        key[idx] = 2 * domain[idx] + upper
+        ki, kj = key[i], key[j]
+        cut = (ki != kj) & (ki >> 1 == kj >> 1) & (ki >= 0) & (kj >= 0)
+        separator = np.unique(np.where(ki[cut] & 1, i[cut], j[cut]))
         path[separator], depth[separator] = domain[separator], level
         active[separator] = False
-        domain[idx] = 2 * domain[idx] + upper[idx]
+        domain[idx] = key[idx]
+        # only edges inside one child subdomain can be cut later
+        inside = (ki == kj) & (ki >= 0)
+        i, j = i[inside], j[inside]
         level += 1
     # Post-order of the bisection tree: a subdomain (or separator) ordered
     # at depth d with id q comes after every subdomain below it.
     shift = level + 1 - depth
     key = (path << shift) + (np.int64(1) << shift) - 1
     return np.lexsort((np.arange(n), -depth, key))
+
+
+def _unique_edges(edges, n):
+    """(i, j) of the distinct edges i < j of ``edges`` (loops dropped)."""
+    edges = np.sort(np.asarray(edges, np.int64).reshape(-1, 2), axis=1)
+    edges = edges[edges[:, 0] != edges[:, 1]]
+    code = np.sort(edges[:, 0] * n + edges[:, 1])
+    code = code[np.concatenate([[True], code[1:] != code[:-1]])]
+    return code // n, code % n
 
 
 def dof_ordering(problem, last=None):

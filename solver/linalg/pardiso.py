@@ -93,6 +93,25 @@ def _pardiso(lib, arrays, phase, n, b, x, nrhs=1):
     return error.value
 
 
+def _upper(A):
+    """The upper triangle of A in CSR, sorted, no duplicates, 32-bit
+    indices: (data, indptr, indices). One pass over A's CSR arrays (no COO
+    copy of A as ``scipy.sparse.triu`` makes)."""
+    A = sp.csr_matrix(A, dtype=np.float64)
+    if not A.has_canonical_format:
+        A = A.copy()
+        A.sum_duplicates()  # also sorts the indices
+    n = A.shape[0]
+    rows = np.repeat(np.arange(n, dtype=np.int32), np.diff(A.indptr))
+    keep = A.indices >= rows
+    if np.count_nonzero(keep) >= 2 ** 31:
+        raise SolverError("pardiso backend: more than 2³¹ nonzeros")
+    indptr = np.zeros(n + 1, np.int32)
+    np.cumsum(np.bincount(rows[keep], minlength=n), out=indptr[1:])
+    return (np.ascontiguousarray(A.data[keep]), indptr,
+            A.indices[keep].astype(np.int32))
+
+
 class PardisoFactor(Factor):
     """LLᵀ of an SPD matrix by MKL PARDISO (see the module docstring)."""
 
@@ -100,14 +119,11 @@ class PardisoFactor(Factor):
 
     def __init__(self, A, schur=None, name="K", check=True):
         lib = self._lib = _library()
-        U = sp.triu(sp.csr_matrix(A, dtype=np.float64), format="csr")
-        U.sum_duplicates()
-        U.sort_indices()
-        if U.nnz >= 2 ** 31:
-            raise SolverError("pardiso backend: more than 2³¹ nonzeros")
-        self.n = n = U.shape[0]
+        data, indptr, indices = _upper(A)
+        self.n = n = A.shape[0]
         iparm = np.zeros(64, np.int32)
         iparm[[0, 1, 34, 55]] = 1, 2, 1, 1  # ours, METIS, 0-based, getdiag
+        iparm[17] = -1  # report the factor's nonzeros there
         perm, m = np.zeros(n, np.int32), 1
         self._whole = whole = False  # every DOF in c: S = A, no interior
         if schur is not None:
@@ -119,10 +135,8 @@ class PardisoFactor(Factor):
             # asked for an empty interior (a crash was seen there)
             iparm[35] = 2 if m and not whole else 0
         S = np.zeros((m, m))
-        self._arrays = (np.zeros(64, np.int64), np.ascontiguousarray(U.data),
-                        U.indptr.astype(np.int32),
-                        U.indices.astype(np.int32), perm, iparm)
-        del U
+        self._arrays = (np.zeros(64, np.int64), data, indptr, indices, perm,
+                        iparm)
         weakref.finalize(self, _pardiso, lib, self._arrays, -1, n,
                          np.zeros(1), np.zeros(1))  # phase −1: free memory
         for phase in (11, 22):

@@ -1,0 +1,144 @@
+"""One measurement of the benchmark, run in a fresh process by ``run.py``.
+
+Usage::
+
+    python benchmarks/measure.py PROBLEM.npz STAGE [BACKEND] [STEPS]
+
+Loads the problem (not timed), loads the backend's library (not timed:
+``get_backend`` opens MKL or kvxopt before the clock starts in every stage
+alike), runs the stage, and prints one JSON line: ``time`` (the stage
+alone, wall clock), what the stage reports, and ``peak_rss_mb``, this
+process's peak resident memory (``ru_maxrss``; it includes the loaded
+problem, which every stage holds). Stages:
+
+* ``floor``: factorise K and solve K u = f once, nothing else: SuperLU
+  and CHOLMOD with our nested dissection order (the ordering timed; the
+  order their contact solves use, less the contact DOFs last; CHOLMOD's
+  own choice, ``nmethods = 0``, took 4.8 s against 1 + 2.9 s at 4.8·10⁵
+  DOFs), PARDISO with its own METIS order; no pivot check;
+* ``schur``: gap geometry (not timed), then the condensation of K onto Γc
+  alone (:func:`solver.contact.frictionless.condense_onto_contact`: the
+  factorisation with the contact DOFs last and the dense S);
+* ``min``, ``fb``: ``solve_frictionless(problem, method, backend=...)``
+  with every other argument at its default (geometry, condensation,
+  nested start, Newton, back-substitution, verification all timed); the
+  solution is saved next to the problem for the peers to compare with;
+* ``friction``: ``solve_friction`` with f_c = 0.3, STEPS load steps,
+  projection formulation, φ_min, lagged bound;
+* ``clarabel``, ``sfepy``: the peers of ``peers.py`` on the same K, f and
+  gaps; ``agreement`` is their max-norm distance to our φ_min solution
+  (relative).
+"""
+
+import json
+import resource
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+sys.path.insert(1, str(Path(__file__).resolve().parent.parent))
+
+from solver import load_problem, solve_friction, solve_frictionless  # noqa
+from solver.linalg import dof_ordering, get_backend  # noqa: E402
+
+
+class Clock:
+    """Wall and CPU time (all threads) of a ``with`` block, as a dict."""
+
+    def __enter__(self):
+        self.wall, self.cpu = time.perf_counter(), time.process_time()
+        return self
+
+    def __exit__(self, *exc):
+        self.times = {"time": time.perf_counter() - self.wall,
+                      "cpu": time.process_time() - self.cpu}
+
+
+def floor(problem, backend):
+    module = get_backend(backend)
+    with Clock() as clock:
+        order = dof_ordering(problem) if module.USES_ORDER else None
+        factor = module.factorize(problem.K, order, None, "K", False)
+        factor.solve(problem.f)
+    return {**clock.times, "nnz": factor.nnz}
+
+
+def schur(problem, backend):
+    from solver.contact.frictionless import (condense_onto_contact,
+                                             contact_geometry)
+    geometry = contact_geometry(problem, "obstacle")
+    get_backend(backend)
+    with Clock() as clock:
+        condensation, _ = condense_onto_contact(problem, geometry, backend)
+    return {**clock.times, "m": int(condensation.S.shape[0])}
+
+
+def frictionless(problem, method, backend, path):
+    get_backend(backend)
+    with Clock() as clock:
+        r = solve_frictionless(problem, method=method, backend=backend)
+    np.save(f"{path}.{method}.{backend}.npy", r.u)
+    return {**clock.times, "J": r.njev, "F": r.nfev,
+            "converged": bool(r.success), "contact": r.n_contact,
+            "levels": len(r.levels),
+            "J_finest": r.levels[-1]["njev"] if r.levels else r.njev,
+            "backend": r.linear_solver}
+
+
+def friction(problem, backend, steps):
+    get_backend(backend)
+    with Clock() as clock:
+        r = solve_friction(problem, 0.3, steps=steps,
+                           formulation="projection", method="min",
+                           backend=backend)
+    return {**clock.times, "J": r.njev, "F": r.nfev,
+            "converged": bool(r.success)}
+
+
+def peer(problem, name, reference):
+    import peers
+    from solver.contact import contact_geometry
+
+    geometry = contact_geometry(problem, "obstacle")
+    with Clock() as clock:
+        if name == "clarabel":
+            u, status = peers.clarabel_qp(problem, geometry)
+            out = {"converged": status == "Solved"}
+        else:
+            u, J, converged = peers.sfepy_semismooth_newton(problem,
+                                                            geometry)
+            out = {"J": J, "converged": bool(converged)}
+    out.update(clock.times)
+    ours = np.load(reference)
+    out["agreement"] = float(np.abs(u - ours).max() / np.abs(ours).max())
+    return out
+
+
+def main(argv):
+    path, stage = argv[0], argv[1]
+    backend = argv[2] if len(argv) > 2 else "auto"
+    problem = load_problem(path)
+    out = {"dofs": problem.n_dofs, "nc": problem.n_contact}
+    if stage == "floor":
+        out.update(floor(problem, backend))
+    elif stage == "schur":
+        out.update(schur(problem, backend))
+    elif stage in ("min", "fb"):
+        out.update(frictionless(problem, stage, backend, path))
+    elif stage == "friction":
+        out.update(friction(problem, backend, int(argv[3])))
+    elif stage in ("clarabel", "sfepy"):
+        out.update(peer(problem, stage, f"{path}.min.{backend}.npy"))
+    else:
+        raise SystemExit(f"unknown stage {stage!r}")
+    out["peak_rss_mb"] = \
+        resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+    print(json.dumps(out))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))
