@@ -95,9 +95,10 @@ KEYS = {
     "contact_dofs": ("all", "int", "(Nc, d)",
                      "reduced DOF index of the x, y (and z) component of "
                      "each contact node (in the order of contact_nodes); -1 "
-                     "where the component is a Dirichlet DOF (in 2D such a "
-                     "node is a support, not a contact node, and only "
-                     "enters M); d = 2 or 3 is the problem's dimension"),
+                     "where the component is a Dirichlet DOF (such a node "
+                     "is a support, not a contact node, and only enters M "
+                     "— unless it is a roller: see below); d = 2 or 3 is "
+                     "the problem's dimension"),
     "nodes": ("mesh", "float", "(n_nodes, d)", "node coordinates"),
     "cells": ("mesh", "int", "(n_cells, d+1)",
               "triangles (2D) or tetrahedra (3D, all of one orientation, "
