@@ -20,6 +20,7 @@ sys.path.insert(0, str(Path(__file__).parent))
 
 from tet_elasticity import (box, extrude, mesh_problem, rectangle,  # noqa: E402
                             stiffness)
+from test_linalg_backends import require  # noqa: E402
 from solver.contact import ContactGeometry, solve_frictionless  # noqa: E402
 from solver.contact.candidates import (enlarge_candidates,  # noqa: E402
                                        initial_candidates)
@@ -175,10 +176,7 @@ def test_candidates_on_every_backend(dome, backend):
     """The Schur complement on the candidates' normal rows of K̂ = RKRᵀ,
     from each backend (SuperLU/CHOLMOD with dof_ordering, PARDISO's Schur
     mode): the answer of the full system to 1e-10."""
-    from solver.linalg import available_backends
-
-    if backend not in available_backends():
-        pytest.skip(f"{backend} not installed")
+    require(backend)
     problem, geometry, reference = dome
     result = solve_frictionless(problem, geometry=geometry, tol=1e-13,
                                 backend=backend)
@@ -432,10 +430,7 @@ def test_contact_geometry_3d_modes(monkeypatch):
 def test_candidates_empty_sets(backend):
     """No free contact node, and a margin below every gap (round 0 without
     candidates): a plain factorisation, then the rounds as usual."""
-    from solver.linalg import available_backends
-
-    if backend not in available_backends():
-        pytest.skip(f"{backend} not installed")
+    require(backend)
     problem, geometry = dome_block((4, 4, 2))
     none = solve_frictionless(problem, geometry=geometry.subset(
         np.arange(0)), backend=backend)
