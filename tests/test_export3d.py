@@ -8,7 +8,6 @@ the area of the contact triangles (Σ M), and the 2D block of the thesis
 for the plane-strain slab.
 """
 
-import importlib.util
 import subprocess
 import sys
 
@@ -17,22 +16,12 @@ import pytest
 import scipy.sparse.linalg as sla
 
 from conftest import MESHES, ROOT
+from test_export import export_module
 from solver.linalg import factorize
 from solver.problem import load_problem
 
 SPHERE = ROOT / "sfepy_problems" / "hertz_sphere.py"
 BLOCK3D = ROOT / "sfepy_problems" / "block3d_obstacle.py"
-
-
-def export_module():
-    name = "_contact_ssn_sfepy_export"
-    if name not in sys.modules:
-        spec = importlib.util.spec_from_file_location(
-            name, ROOT / "sfepy_problems" / "_export.py")
-        module = importlib.util.module_from_spec(spec)
-        sys.modules[name] = module
-        spec.loader.exec_module(module)
-    return sys.modules[name]
 
 
 @pytest.fixture(scope="module")
