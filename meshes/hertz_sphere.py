@@ -16,6 +16,10 @@ algorithm 6), the volume by Delaunay (3D algorithm 1; HXT, 10, gave
 different meshes from run to run), single thread, fixed random seed: reruns
 with the same gmsh version give identical files.
 
+``--half``: the half y ≥ 0 instead (symmetry plane y = 0 only; the
+Cattaneo–Mindlin sphere, ``sfepy_problems/cattaneo_mindlin_sphere.py``,
+sheared along x).
+
 Nodes on the planes are snapped onto them (|x|, |y| < 1e-12 R → 0, z within
 1e-12 R of R → R) so that regions can be selected by coordinates. Written
 as Medit ``.mesh`` (3D coordinates, tetrahedra only, reference ids 0).
@@ -24,6 +28,8 @@ Usage::
 
     python meshes/hertz_sphere.py --a-over-h 4 -o meshes/hertz_sphere_4.mesh
     python meshes/hertz_sphere.py --a-over-h 16 -o /tmp/hertz_sphere_16.mesh
+    python meshes/hertz_sphere.py --a-over-h 6 --half \
+        -o meshes/hertz_sphere_half_6.mesh
 
 Sizes and times: ``meshes/README.md``. gmsh is imported only when called.
 """
@@ -136,8 +142,9 @@ def write_mesh(path, points, tets) -> None:
 
 
 def hertz_sphere_mesh(a_over_h: float, radius: float = RADIUS,
-                      a: float = A_TARGET * RADIUS):
-    """Mesh the quarter sphere; returns (points (N, 3), tets (M, 4))."""
+                      a: float = A_TARGET * RADIUS, half: bool = False):
+    """Mesh the quarter sphere (``half``: the half y ≥ 0); returns
+    (points (N, 3), tets (M, 4))."""
     gmsh = _load_generate()._import_gmsh()
     own = not gmsh.isInitialized()
     if own:
@@ -147,7 +154,8 @@ def hertz_sphere_mesh(a_over_h: float, radius: float = RADIUS,
         set_options(gmsh)
         occ = gmsh.model.occ
         ball = occ.addSphere(0, 0, radius, radius)
-        box = occ.addBox(0, 0, 0, radius, radius, radius)
+        box = occ.addBox(-radius if half else 0, 0, 0,
+                         (2 if half else 1) * radius, radius, radius)
         occ.intersect([(3, ball)], [(3, box)])
         occ.synchronize()
         tip = gmsh.model.getEntitiesInBoundingBox(
@@ -171,7 +179,7 @@ def hertz_sphere_mesh(a_over_h: float, radius: float = RADIUS,
             gmsh.finalize()
         else:
             gmsh.model.remove()
-    points = snap(points, ((0, 0.0), (1, 0.0), (2, radius)))
+    points = snap(points, ((0, 0.0), (1, 0.0), (2, radius))[half:])
     return points, orient(points, tets)
 
 
@@ -182,10 +190,13 @@ def main(argv=None) -> int:
     parser.add_argument("--radius", type=float, default=RADIUS)
     parser.add_argument("--a", type=float, default=None,
                         help=f"contact radius (default {A_TARGET} R)")
+    parser.add_argument("--half", action="store_true",
+                        help="the half y >= 0 (default: the quarter)")
     parser.add_argument("-o", "--output", required=True)
     args = parser.parse_args(argv)
     a = A_TARGET * args.radius if args.a is None else args.a
-    points, tets = hertz_sphere_mesh(args.a_over_h, args.radius, a)
+    points, tets = hertz_sphere_mesh(args.a_over_h, args.radius, a,
+                                     args.half)
     write_mesh(args.output, points, tets)
     print(f"wrote {args.output}: {len(points)} nodes, {len(tets)} "
           "tetrahedra")
