@@ -43,10 +43,14 @@ as ``hertz_sphere.py``); the load vector of each stage is the lifting
 in x removes the rigid sliding (K positive definite without contact).
 
 Defaults: R = 1, E = 2e5, ν = 0.3, δ = 0.0095 (a ≈ 0.1 R, as in
-``hertz_sphere.py``), δ_x = ``delta_x`` = 1.6e-3, which gives Q/(f_c P) ≈
-0.5 for f_c = 0.5 (measured on ``meshes/hertz_sphere_half_6.mesh``,
-``tests/test_cattaneo_mindlin_sphere.py``); Γc the spherical facets below
-z = ``gamma_c_z`` · R = 0.02 R (a cap of radius ≈ 2a) minus those on y = 0.
+``hertz_sphere.py``), δ_x = ``delta_x`` = 2.7e-3, which gives Q/(f_c P) =
+0.494 for f_c = 0.5 on ``meshes/hertz_sphere_half_6.mesh`` (a/h = 6.1;
+P = 300.7, a = 0.1009); Γc the spherical facets below z = ``gamma_c_z`` · R
+= 0.015 R (a cap of radius ≈ 1.7 a) minus those on y = 0. Measured there
+(φ_min, lagged Coulomb; ``tests/test_cattaneo_mindlin_sphere.py``, which
+says how c is estimated): with 5 + 10 steps c −1.2 % from CM's (the
+indicator) and −1.8 % (the stick area), the stick circle's centre shifted
+by 3.9 % of a along x, 28 s; with 1 + 5 steps −3.8 % and −2.4 %, 22 s.
 
 Usage (from the repository root)::
 
@@ -57,7 +61,7 @@ Usage (from the repository root)::
   python -m solver output/cm_sphere.npz --friction 0.5 \
       --formulation projection --method min
 
-The export prints one line, ``exported 6075 DOFs, 193 contact nodes ->
+The export prints one line, ``exported 5540 DOFs, 203 contact nodes ->
 PATH``. Parameters (``-d``): ``mesh``, ``output``, ``E``, ``nu``, ``R``
 (must be the mesh's radius), ``delta``, ``delta_x``, ``gamma_c_z``,
 ``a_target``, ``steps_normal`` (5), ``steps_shear`` (10), ``verbose``.

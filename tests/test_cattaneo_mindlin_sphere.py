@@ -38,6 +38,9 @@ clamp's reactions from SfePy's own full stiffness (equilibrium of the
 body, independent of the contact solver's residual).
 """
 
+import subprocess
+import sys
+
 import numpy as np
 import pytest
 
@@ -160,3 +163,14 @@ def test_stick_radius(sphere):
     assert abs(c_area / c - 1) < 0.10
     # and the contact radius itself (slip annulus outside c): Hertz's a
     assert abs(np.hypot(*xy[result.in_contact[-1]].T).max() / a - 1) < 0.1
+
+
+def test_committed_half_mesh_is_reproducible(tmp_path):
+    """``meshes/hertz_sphere.py --a-over-h 6 --half`` rebuilds the committed
+    mesh byte for byte (as tests/test_export3d.py checks the quarters)."""
+    pytest.importorskip("gmsh")
+    out = tmp_path / MESH.name
+    subprocess.run([sys.executable, str(ROOT / "meshes" / "hertz_sphere.py"),
+                    "--a-over-h", "6", "--half", "-o", str(out)], check=True,
+                   capture_output=True, timeout=300)
+    assert out.read_bytes() == MESH.read_bytes()
