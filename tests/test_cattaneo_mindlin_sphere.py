@@ -108,7 +108,8 @@ def test_equilibrium_with_the_clamp(sphere):
     """P and Q (the whole sphere's: twice the half's) from the contact
     forces equal the clamp's reactions, (K_full u)_top from SfePy's full
     stiffness (Σ_rows K = 0: the clamp's force and the contact force
-    cancel in x and z; the plane's reactions are along y), to 1e-6 of P; Q/(f_c P) = 0.5 as the problem file's δ_x was set for."""
+    cancel in x and z; the plane's reactions are along y), to 1e-6 of P;
+    Q/(f_c P) = 0.5 as the problem file's δ_x was set for."""
     problem, result, K_full = sphere
     F = resultants(problem, result)
     u = result.displacement[-1].ravel()

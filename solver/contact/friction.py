@@ -117,8 +117,9 @@ def _check_step(system, x, load, friction, p_previous, tol_v):
                         else pressure)
     geometry = system.geometry
     return verify_contact(system.K, load, system.u_previous + du,
-                          geometry.node_dofs, geometry.normal, geometry.gap, lam,
-                          system.stiffness, tol_v, _nodal(system.lumped, g),
+                          geometry.node_dofs, geometry.normal, geometry.gap,
+                          lam, system.stiffness, tol_v,
+                          _nodal(system.lumped, g),
                           system.lumped * bound, geometry.tangents)
 
 
