@@ -567,3 +567,54 @@ def test_half_friction_matches_the_whole_2d():
                        "take roller") as info:
         solve_friction(part, FC, steps=4, rollers=True)
     assert "\n" not in str(info.value)
+
+
+@pytest.mark.parametrize("coulomb", ["lagged", "implicit"])
+@pytest.mark.parametrize("part", ["half", "quarter"])
+def test_roller_friction_jacobian_matches_finite_differences(part, coulomb):
+    """The projection system with rollers (one or two constrained
+    tangents): its Jacobian against central differences of its residual at
+    an iterate with stick and slip nodes, rollers among both (away from
+    the kinks); the shapes: one tangential equilibrium row per free
+    tangent, a projection row per tangent (g_c ≡ 0 at e_c)."""
+    from solver.contact.friction_system import FrictionSystem
+
+    problem = block_3d(part, n=2, nz=1)
+    geometry = contact_geometry(problem, "obstacle", rollers=True)
+    assert geometry.has_rollers
+    lumped = np.asarray(problem.M.sum(axis=1)).ravel()[geometry.index]
+    system = FrictionSystem(problem.K, problem.f, geometry, lumped, FC,
+                            "projection", coulomb)
+    m, mt, free = system.m, system.mt, system.t_free
+    rng = np.random.default_rng(5)
+    system.set_step(np.zeros(system.n), 1.0, rng.uniform(0.5, 1.5, m))
+    x = rng.normal(scale=1e-3, size=system.n_unknowns)
+    du = x[:system.n]
+    r = system._force(du)
+    if coulomb == "implicit":  # every node pressed: p > 0 and smooth
+        assert (r[system.n_rows] < 0).all()
+    b = system.bound(r, False)[0]
+    factor = np.where(np.arange(m) % 2, 0.5, 2.0) * np.maximum(b, 0.1)
+    w = rng.normal(size=(m, 2)) * free.reshape(m, 2)  # 0 along e_c
+    norm = np.linalg.norm(w, axis=1)  # 0 on the quarter's axis
+    w *= np.divide(factor, norm, out=np.zeros(m), where=norm > 0)[:, None]
+    g = w.ravel() + system.c_t * system.tangential(system.R @ du)
+    x[system.n:] = g / system.c_t
+    JE, JA, JB = system.jacobian(x)
+    J = np.vstack([JE.toarray(), JA.toarray(), JB.toarray()])
+    h = 1e-7 * np.abs(x).max()
+    numeric = np.empty_like(J)
+    for j in range(len(x)):
+        e = np.zeros_like(x)
+        e[j] = h
+        numeric[:, j] = (np.concatenate(system.residual(x + e))
+                         - np.concatenate(system.residual(x - e))) / (2 * h)
+    size = np.linalg.norm(w, axis=1)
+    rolling = ~free.reshape(m, 2).all(axis=1)
+    assert (size[rolling] < b[rolling]).any() and \
+        (size[rolling] > b[rolling]).any()
+    assert np.all(np.abs(size - b) > 1e-3 * b)
+    E = system.residual(x)[0]
+    assert len(E) == len(system.x_rows) + free.sum() + mt
+    assert J.shape == (system.n_unknowns + m, system.n_unknowns)  # E, A, B
+    np.testing.assert_allclose(J, numeric, atol=1e-6 * np.abs(J).max())
