@@ -47,7 +47,11 @@ class FrictionSystem:
     ----------
     K, f : reduced stiffness and full load.
     geometry : ContactGeometry
-        Gaps and normals at the free contact nodes.
+        Gaps and normals at the free contact nodes and the rollers (the
+        projection form only: a roller's g_t is 0 along its constrained
+        tangents e_c and that tangential equilibrium row is left out, so
+        that its Coulomb set is the disc cut to the free tangents,
+        :mod:`solver.contact.friction`).
     lumped : (Nca,) array
         D_ii = Σ_j M_ij at the free contact nodes.
     friction : float
