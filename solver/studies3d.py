@@ -15,10 +15,10 @@ traction over node i's hat function; exact for a uniform pressure, the
 patch test). The consistent M⁻¹λ, the L² projection of the traction onto
 the surface hat functions, is the better approximation only where the
 traction is smooth: Hertz's profile has an infinite slope at r = a, and
-the projection's Gibbs overshoot there spreads inwards (measured at a/h 16:
-RMS 6.1 % of p0, largest nodal pressure +6.4 %, against 2.2 % and +0.7 %
-lumped; its fitted p0 is closer, −0.02 % against +0.47 %, but its fitted a
-+0.6 % against −0.4 %: the fit trades one for the other).
+the projection's Gibbs overshoot there spreads inwards (measured at a/h 16,
+``notebooks/three_d.ipynb``: RMS 6.2 % of p0, largest nodal pressure
++6.3 %, against 2.2 % and +0.8 % lumped; its fitted a and p0 are a little
+closer, +0.13 % and +0.36 % against −0.42 % and +0.51 %).
 The lumped pressure stays the default; ``pressure=`` selects the other.
 
 What the rows can reach: Hertz's theory (a paraboloid on a half-space) is
