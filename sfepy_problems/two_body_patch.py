@@ -22,16 +22,19 @@ Find :math:`\ul{u}` such that:
 ν0; E1, ν1), with
 
 * :math:`u_y = 0` on the lower block's bottom y = 0,
-* :math:`u_x = 0` on both left edges x = 0 (rollers),
+* :math:`u_x = 0` at one point of each block, its outer left corner (0, 0)
+  and (0, 1),
 * :math:`u_y = -\delta` on the upper block's top y = 1 (u_x free).
 
 **No floating body.** A pressure on the top would leave the upper block
 held only by the contact, with a singular K that the solver cannot
 factorise, so its top is moved down by δ instead (the contract of issue
-19). The rollers leave both blocks free to expand sideways: the exact
+19). The supports leave both blocks free to expand sideways: the exact
 solution is a uniform uniaxial stress :math:`\sigma_{yy} = -p` in both
 blocks, piecewise linear, so a P1 mortar discretisation reproduces it
-exactly and the interface pressure is uniform. The applied pressure p is
+exactly and the interface pressure is uniform. No interface node carries
+a Dirichlet condition (the x pins are off the interface), so every slave
+node is a contact node. The applied pressure p is
 the reaction on the top edge per its width (1), known after the solve;
 for the default data it is
 
@@ -59,7 +62,7 @@ Usage::
   python -m solver output/patch.npz
 
 (``python sfepy_problems/two_body_patch.py -d "..."`` is the same, quiet:
-``_export.py``.) The export prints ``exported 108 DOFs, 9 contact nodes ->
+``_export.py``.) The export prints ``exported 110 DOFs, 9 contact nodes ->
 /.../output/patch.npz``.
 
 Parameters (``-d``): ``mesh``, ``output``, ``E0`` (2e5), ``nu0`` (0.3),
@@ -123,8 +126,8 @@ def export_contact_problem(pb, variables):
               'problem_file': 'sfepy_problems/two_body_patch.py',
               'description': 'contact patch test: two stacked blocks, '
                              'non-matching interface meshes',
-              'supports': 'lower bottom u_y = 0; left edges x = 0 u_x = 0; '
-                          'upper top u_y = -delta',
+              'supports': 'lower bottom u_y = 0; u_x = 0 at (0, 0) and '
+                          '(0, 1); upper top u_y = -delta',
               'contact_boundary': f'slave: the {conf.slave} block\'s side '
                                   'of y = 0.5'})
 
@@ -164,7 +167,8 @@ def define(mesh='meshes/two_body_patch.mesh', output='output/patch.npz',
         lower_side: ('r.Interface *v r.Lower', 'facet'),
         'Bottom': (f'vertices in (y < {TOL})', 'facet'),
         'Top': (f'vertices in (y > {2 * HEIGHT - TOL})', 'facet'),
-        'Left': (f'vertices in (x < {TOL})', 'facet'),
+        'Pins': (f'vertices in (x < {TOL}) & ((y < {TOL}) | '
+                 f'(y > {2 * HEIGHT - TOL}))', 'vertex'),
     }
 
     materials = {
@@ -188,7 +192,7 @@ def define(mesh='meshes/two_body_patch.mesh', output='output/patch.npz',
 
     ebcs = {
         'bottom': ('Bottom', {'u.1': 0.0}),
-        'left': ('Left', {'u.0': 0.0}),
+        'pins': ('Pins', {'u.0': 0.0}),
         'pressed': ('Top', {'u.1': -delta}),
     }
 

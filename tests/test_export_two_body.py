@@ -72,6 +72,7 @@ def test_patch_bodies_and_interface(patch):
     master = on[patch.body[on] != slave_body]
     assert len(slave) == (9 if slave_body == 1 else 6)  # 8 and 5 segments
     assert sorted(patch.contact_nodes) == sorted(slave)
+    assert (patch.contact_dofs >= 0).all()  # the x pins are off Γc
     assert sorted(np.unique(patch.mortar_master)) == sorted(master)
     # the body on the left: upper bottom left to right, lower top reverse
     sign = -1 if slave_body == 1 else 1
@@ -290,7 +291,7 @@ def test_sfepy_run_command_of_the_docstring(tmp_path):
          "slave='lower'"], cwd=ROOT, capture_output=True, text=True,
         timeout=300)
     assert proc.returncode == 0, proc.stderr
-    assert f"exported 104 DOFs, 6 contact nodes -> {out}" in proc.stdout
+    assert f"exported 110 DOFs, 6 contact nodes -> {out}" in proc.stdout
     assert load_problem(out).meta["slave_body"] == 0
     doc = (PROBLEMS / "two_body_patch.py").read_text()
     assert "sfepy-run sfepy_problems/two_body_patch.py" in doc
