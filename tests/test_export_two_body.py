@@ -134,6 +134,25 @@ def test_patch_exact_solution_balances_at_the_interface(patch):
         assert (sign * residual[mine] > 0).all()
 
 
+def test_patch_slide_load_path(tmp_path):
+    """load='slide': the lower bottom clamped, the upper top clamped and
+    moved to (0, -δ) frictionless, then to (shift, -δ) with friction."""
+    problem = export(tmp_path, "two_body_patch.py", "slide", load="slide",
+                     mesh=str(MESHES / "two_body_patch.mesh"))
+    np.testing.assert_array_equal(problem.load_path_friction, [0, 1])
+    np.testing.assert_array_equal(problem.load_path_steps, [5, 10])
+    y = problem.nodes[:, 1]
+    delta, shift = problem.meta["delta"], problem.meta["load"]["shift"]
+    top = problem.load_path_prescribed[:, y == 1.0]
+    np.testing.assert_allclose(top[0], [[0, -delta]] * (y == 1.0).sum())
+    np.testing.assert_allclose(top[1], [[shift, -delta]] * (y == 1.0).sum())
+    fixed = np.ones(problem.nodes.shape, bool)
+    fixed[problem.dof_map[:, 0], problem.dof_map[:, 1]] = False
+    np.testing.assert_array_equal(fixed.all(axis=1), (y == 0) | (y == 1))
+    assert "p_exact" not in problem.meta
+    assert (problem.contact_dofs >= 0).all()
+
+
 # -- two cylinders ------------------------------------------------------
 
 @pytest.fixture(scope="module")
