@@ -43,7 +43,7 @@ Usage::
 
     python meshes/hertz_sphere.py --a-over-h 4 -o meshes/hertz_sphere_4.mesh
     python meshes/hertz_sphere.py --a-over-h 16 -o /tmp/hertz_sphere_16.mesh
-    python meshes/hertz_sphere.py --a-over-h 6 --half \
+    python meshes/hertz_sphere.py --a-over-h 6 --a 0.1 --half \
         -o meshes/hertz_sphere_half_6.mesh
 
 Sizes and times: ``meshes/README.md``. gmsh is imported only when called.
