@@ -1,0 +1,148 @@
+"""Two elastic bodies by dual mortar (solver.contact.two_body) on problems
+assembled here without SfePy (tests/tri_elasticity.py).
+
+References: the patch test's pressure is the closed form of two
+plane-strain layers in series (σ_xx = 0) and the top reaction of the full
+K; the QP cross-check solves the same K, f, D, M with Clarabel, in u, with
+no change of variables; full slip is Coulomb's law on the totals."""
+
+import clarabel
+import numpy as np
+import pytest
+import scipy.sparse as sp
+
+from solver.contact.two_body import (equivalent_problem, interface_coupling,
+                                     solve_two_body)
+from tri_elasticity import stacked_blocks, top_reaction, uniform_pressure
+
+MATERIALS = ((1.0, 0.3), (3.0, 0.2))
+
+
+def patch(slave):
+    """Upper block 4 × 2 cells, lower 9 × 3: non-matching interface."""
+    return stacked_blocks(n_upper=(4, 2), n_lower=(9, 3),
+                          materials=MATERIALS, slave=slave)
+
+
+@pytest.mark.parametrize("slave", ["upper", "lower"])  # coarse / fine slave
+@pytest.mark.parametrize("method", ["min", "fb"])
+@pytest.mark.parametrize("condense", [True, False])
+def test_patch_test_non_matching(slave, method, condense):
+    """Uniform pressure = applied (top reaction / width = closed form) at
+    every slave node to 1e-10 relative, fine slave on coarse master and
+    the reverse."""
+    problem, K, prescribed = patch(slave)
+    result = solve_two_body(problem, method=method, condense=condense,
+                            tol=1e-12)
+    assert result.success
+    exact = uniform_pressure((1.0, 1.0), MATERIALS, 1e-3)
+    applied = -top_reaction(K, problem, result.u, prescribed) / 1.0
+    assert abs(applied - exact) <= 1e-10 * exact
+    p = result.contact_pressure
+    assert len(p) == (5 if slave == "upper" else 10)
+    assert np.abs(p - applied).max() <= 1e-10 * applied
+    # the traction on the slave, −λ n: up on the upper block, down on the
+    # lower one
+    up = 1.0 if slave == "upper" else -1.0
+    assert np.allclose(result.traction, [[0, up * applied]] * len(p),
+                       rtol=1e-10, atol=0)
+
+
+@pytest.mark.parametrize("slave", ["upper", "lower"])
+def test_node_to_segment_fails_the_patch_test(slave):
+    """The same problems with node-to-segment: the pressure is not uniform
+    (Taylor & Papadopoulos 1991): ≥ 2 % off somewhere."""
+    problem, K, prescribed = patch(slave)
+    result = solve_two_body(problem, variant="node-to-segment", tol=1e-12)
+    assert result.success
+    exact = uniform_pressure((1.0, 1.0), MATERIALS, 1e-3)
+    deviation = np.abs(result.contact_pressure / exact - 1).max()
+    assert deviation > 0.02, deviation
+
+
+def clarabel_two_body(problem, coupling):
+    """min ½uᵀKu − fᵀu s.t. g̃⁰_j − n_j·(D_jj u_j − Σ_k M_jk u_k) ≥ 0 at
+    the covered slave nodes (free DOFs only here), by Clarabel."""
+    n = problem.n_dofs
+    reduced = np.full(problem.nodes.shape, -1)
+    reduced[problem.dof_map[:, 0], problem.dof_map[:, 1]] = np.arange(n)
+    covered = np.flatnonzero(np.abs(coupling.coverage - 1) < 1e-8)
+    rows, cols, vals = [], [], []
+    M = coupling.M.tocoo()
+    for c in range(2):
+        j = np.arange(len(coupling.D))
+        rows += [j, M.row]
+        cols += [reduced[coupling.slave_nodes, c], reduced[M.col, c]]
+        vals += [coupling.D * coupling.normal[:, c],
+                 -M.data * coupling.normal[M.row, c]]
+    rows, cols, vals = map(np.concatenate, (rows, cols, vals))
+    assert (cols >= 0).all()
+    A = sp.csr_matrix((vals, (rows, cols)), shape=(len(coupling.D), n))
+    A = A[covered].tocsc()
+    # units: u = L x with L = max|f| / k̄, objective / (k̄ L²) (the same
+    # minimiser; unscaled Clarabel stops at "AlmostSolved")
+    k = problem.K.diagonal().mean()
+    L = np.abs(problem.f).max() / k
+    settings = clarabel.DefaultSettings()
+    settings.verbose = False
+    settings.tol_gap_abs = settings.tol_gap_rel = 1e-13
+    settings.tol_feas = 1e-13
+    settings.max_iter = 400
+    solver = clarabel.DefaultSolver(
+        sp.triu(problem.K / k).tocsc(), -problem.f / (k * L), A,
+        coupling.gap[covered] / L, [clarabel.NonnegativeConeT(len(covered))],
+        settings)
+    solution = solver.solve()
+    assert str(solution.status) == "Solved", solution.status
+    return L * np.asarray(solution.x)
+
+
+@pytest.mark.parametrize("method", ["min", "fb"])
+def test_qp_cross_check(method):
+    """A curved upper block pressed on a flat one (partial contact): the
+    same u as Clarabel's QP in u to 1e-8."""
+    problem, K, _ = stacked_blocks(n_upper=(16, 3), n_lower=(11, 3),
+                                   materials=MATERIALS, curvature=0.05,
+                                   squeeze=2e-3)
+    result = solve_two_body(problem, method=method, tol=1e-12)
+    assert result.success
+    assert 2 <= result.n_contact < problem.n_contact - 2
+    reference = clarabel_two_body(problem, interface_coupling(problem))
+    err = np.abs(result.u - reference).max() / np.abs(reference).max()
+    assert err <= 1e-8, err
+
+
+def test_equivalent_problem_is_the_same_energy():
+    """K̃ = T⁻ᵀKT⁻¹, f̃ = T⁻ᵀf: the energies of v and u = T⁻¹v agree."""
+    problem, _, _ = patch("lower")
+    equivalent, T_inv, _ = equivalent_problem(problem,
+                                              interface_coupling(problem))
+    v = np.random.default_rng(0).normal(size=problem.n_dofs)
+    u = T_inv @ v
+    assert np.isclose(v @ equivalent.K @ v, u @ problem.K @ u, rtol=1e-12)
+    assert np.isclose(equivalent.f @ v, problem.f @ u, rtol=1e-12)
+
+
+@pytest.mark.parametrize("formulation", ["projection", "thesis"])
+@pytest.mark.parametrize("coulomb", ["lagged", "implicit"])
+def test_full_slip_friction_force(formulation, coulomb):
+    """A block squeezed on a block, then its top shifted far: every node
+    slips and the total friction force Σ D_jj g_t,j = f_c Σ D_jj λ_j
+    (to 1e-8 relative)."""
+    problem, _, _ = stacked_blocks(n_upper=(5, 2), n_lower=(7, 2),
+                                   materials=MATERIALS, squeeze=1e-3,
+                                   shift=5e-3)
+    fc = 0.3
+    result = solve_two_body(problem, friction=fc, formulation=formulation,
+                            coulomb=coulomb, method="fb", tol=1e-12)
+    assert result.success, result.message
+    D = result.mortar_D
+    # the bound used: f_c × this step's λ (implicit), the previous one's
+    # (lagged)
+    normal_force = D @ result.contact_pressure[-1 if coulomb == "implicit"
+                                                 else -2]
+    friction_force = D @ result.friction_traction[-1]
+    assert normal_force > 0
+    assert result.slip[-1].sum() == result.in_contact[-1].sum() > 0
+    assert abs(abs(friction_force) - fc * normal_force) <= \
+        1e-8 * fc * normal_force
