@@ -112,3 +112,112 @@ def top_reaction(K, problem, u_reduced, prescribed):
     r = (K @ full).reshape(-1, 2)
     top = np.isclose(problem.nodes[:, 1], problem.nodes[:, 1].max())
     return r[top, 1].sum()
+
+
+def _size(d, h0, core, ratio):
+    """Mesh size at distance d from the pole: h0 within ``core``, then
+    growing linearly (ratio)."""
+    return h0 + ratio * np.maximum(d - core, 0.0)
+
+
+def graded_half_disk(R, h0, core, ratio=0.15, upper=False):
+    """Delaunay triangles of the lower (or ``upper``) half of the disk of
+    radius R centred at the origin, graded from its pole (0, ∓R): size h0
+    within ``core`` of the pole, growing by ``ratio`` × distance beyond.
+    Points: rings around the pole inside the disk, the arc and the flat
+    edge at their local size (the domain is convex, so Delaunay meshes it).
+    Returns (nodes, triangles ccw, arc node ids, flat edge node ids)."""
+    from scipy.spatial import Delaunay
+
+    sign = 1.0 if upper else -1.0
+    pole = np.array([0.0, sign * R])
+    rings, r = [], h0
+    while r < 2.2 * R:
+        h = _size(r, h0, core, ratio)
+        n = int(np.ceil(2 * np.pi * r / h))
+        t = 2 * np.pi * (np.arange(n) + 0.5 * (len(rings) % 2)) / n
+        p = pole + r * np.c_[np.cos(t), np.sin(t)]
+        inside = (np.hypot(*p.T) < R - 0.5 * h) & (sign * p[:, 1] > 0.5 * h)
+        rings.append(p[inside])
+        r += h
+    arc, s = [0.0], 0.0                       # arc length from the pole
+    while s < R * np.pi / 2:
+        s += _size(s, h0, core, ratio)
+        arc.append(min(s, R * np.pi / 2))
+    phi = np.array(arc) / R
+    phi = np.r_[-phi[::-1], phi[1:]]          # angle from the pole
+    arc_points = np.c_[R * np.sin(phi), sign * R * np.cos(phi)]
+    x, flat = [0.0], 0.0
+    while flat < R:
+        flat += _size(np.hypot(flat, R), h0, core, ratio)
+        x.append(min(flat, R))
+    x = np.array(x)
+    x = np.r_[-x[::-1], x[1:]][1:-1]          # corners are on the arc
+    flat_points = np.c_[x, 0 * x]
+    nodes = np.concatenate([arc_points, flat_points] + rings)
+    tri = Delaunay(nodes).simplices
+    X = nodes[tri]
+    area = _cross2(X[:, 1] - X[:, 0], X[:, 2] - X[:, 0])
+    tri[area < 0] = tri[area < 0][:, [0, 2, 1]]
+    tri = tri[np.abs(area) > 1e-14 * R * R]
+    arc_ids = np.arange(len(arc_points))
+    flat_ids = np.r_[0, len(arc_points) - 1,
+                     len(arc_points) + np.arange(len(flat_points))]
+    return nodes, tri, arc_ids, flat_ids
+
+
+def _cross2(a, b):
+    return a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]
+
+
+def two_cylinders(R=(1.0, 1.5), materials=((1.0, 0.3), (2.0, 0.25)),
+                  h0=0.002, core=0.08, squeeze=0.01, window=(0.12, 0.2),
+                  shift=None, ratio=0.15):
+    """Hertz's two cylinders as two half-disks touching at the origin:
+    body 0 (slave) the lower half of the disk of radius R₀ centred at
+    (0, R₀), body 1 (master) the upper half of the disk of radius R₁
+    centred at (0, −R₁). Flat edges: body 1's clamped, body 0's u_y =
+    −squeeze, u_x = 0 (or, with ``shift``, a load path: squeeze, then
+    u_x = shift). Interface: arc segments with |x| ≤ window (slave,
+    master). Returns (problem, full K, prescribed)."""
+    parts, offset = [], 0
+    for b, (radius, upper) in enumerate(zip(R, (False, True))):
+        nodes, tri, arc, flat = graded_half_disk(radius, h0, core, ratio,
+                                                 upper)
+        nodes = nodes + [0.0, radius if b == 0 else -radius]
+        parts.append((nodes, tri, arc + offset, flat + offset, offset))
+        offset += len(nodes)
+    nodes = np.concatenate([p[0] for p in parts])
+    cells = np.concatenate([p[1] + p[4] for p in parts])
+    body = np.repeat([0, 1], [len(parts[0][0]), len(parts[1][0])])
+    K = sp.block_diag([stiffness(p[0], p[1], *materials[b])
+                       for b, p in enumerate(parts)]).tocsr()
+    prescribed = np.full(nodes.shape, np.nan)
+    prescribed[parts[0][3]] = [0.0 if shift is None else shift, -squeeze]
+    prescribed[parts[1][3]] = 0.0
+    segments = []
+    for b, half in ((0, window[0]), (1, window[1])):
+        ids = parts[b][2]
+        ids = ids[np.abs(nodes[ids, 0]) <= half]
+        ids = ids[np.argsort(nodes[ids, 0] * (1 if b == 0 else -1))]
+        segments.append(np.c_[ids[:-1], ids[1:]])
+    contact_nodes = np.r_[segments[0][:, 0], segments[0][-1, 1]]
+    problem = mesh_problem(nodes, cells, K, prescribed, contact_nodes,
+                           segments[0])
+    attach_interface(problem, body, segments[0], segments[1],
+                     [{"name": "upper", "E": materials[0][0],
+                       "nu": materials[0][1]},
+                      {"name": "lower", "E": materials[1][0],
+                       "nu": materials[1][1]}], 0)
+    if shift is not None:
+        _squeeze_then_shift(problem, K, prescribed)
+    return problem, K, prescribed
+
+
+def hertz_cylinders(P, R, materials):
+    """Hertz (plane strain, per unit length): a = 2√(P R*/(π E*)),
+    p₀ = 2P/(πa), 1/R* = Σ 1/R_b, 1/E* = Σ (1 − ν_b²)/E_b."""
+    Rs = 1 / sum(1 / r for r in R)
+    Es = 1 / sum((1 - nu ** 2) / E for E, nu in materials)
+    a = 2 * np.sqrt(P * Rs / (np.pi * Es))
+    return a, 2 * P / (np.pi * a)
