@@ -221,3 +221,79 @@ def hertz_cylinders(P, R, materials):
     Es = 1 / sum((1 - nu ** 2) / E for E, nu in materials)
     a = 2 * np.sqrt(P * Rs / (np.pi * Es))
     return a, 2 * P / (np.pi * a)
+
+
+#: The thesis's block (§4): E, ν, the force at the top-left corner, the
+#: parabola x = 5.05 + 0.005 t², y = t.
+BLOCK = dict(E=2e5, nu=0.3, F=(4000.0, 0.0))
+
+
+def thesis_block(mesh="block_454.mesh"):
+    """The thesis's block as a rigid-obstacle problem (bottom clamped, F at
+    (−5, 10), Γc the edge x = 5 upwards), assembled here. Returns
+    (problem, full K)."""
+    import meshio
+
+    from conftest import MESHES
+    from solver.geometry.obstacle import ParametricCurve
+
+    m = meshio.read(MESHES / mesh)
+    nodes = np.asarray(m.points[:, :2], float)
+    cells = np.asarray(m.cells_dict["triangle"], np.int64)
+    X = nodes[cells]
+    flip = _cross2(X[:, 1] - X[:, 0], X[:, 2] - X[:, 0]) < 0
+    cells[flip] = cells[flip][:, [0, 2, 1]]
+    K = stiffness(nodes, cells, BLOCK["E"], BLOCK["nu"])
+    prescribed = np.full(nodes.shape, np.nan)
+    prescribed[np.isclose(nodes[:, 1], -10)] = 0.0
+    edge = np.flatnonzero(np.isclose(nodes[:, 0], 5))
+    edge = edge[np.argsort(nodes[edge, 1])]
+    problem = mesh_problem(nodes, cells, K, prescribed, edge,
+                           np.c_[edge[:-1], edge[1:]])
+    corner = np.flatnonzero(np.isclose(nodes, [-5, 10]).all(axis=1))[0]
+    free = np.isnan(prescribed).ravel()
+    full = np.zeros(nodes.size)
+    full[2 * corner:2 * corner + 2] = BLOCK["F"]
+    problem.f = problem.f + full[free]
+    problem.obstacle = ParametricCurve("5.05 + 0.005*t**2", "t")
+    return problem, K
+
+
+def block_on_parabola_body(stiffness_ratio, n_y=220, n_x=12, extent=11.0,
+                           right=8.0, mesh="block_454.mesh", rigid=False):
+    """The thesis block (slave) against an elastic body filling
+    x ∈ [5.05 + 0.005 y², ``right``], |y| ≤ ``extent`` (master; E =
+    ``stiffness_ratio`` × the block's, same ν; its edge x = right
+    clamped; ``rigid``: every node of it), meshed by a mapped n_x × n_y
+    grid. Returns the problem."""
+    block, _ = thesis_block(mesh)
+    grid, tri = rectangle((n_x, n_y), (1.0, 2 * extent))
+    y = grid[:, 1] - extent
+    xp = 5.05 + 0.005 * y ** 2
+    obstacle = np.c_[xp + (right - xp) * grid[:, 0], y]
+    n0 = len(block.nodes)
+    nodes = np.concatenate([block.nodes, obstacle])
+    cells = np.concatenate([block.cells, tri + n0])
+    K = sp.block_diag([
+        stiffness(block.nodes, block.cells, BLOCK["E"], BLOCK["nu"]),
+        stiffness(obstacle, tri, stiffness_ratio * BLOCK["E"],
+                  BLOCK["nu"])]).tocsr()
+    prescribed = np.full(nodes.shape, np.nan)
+    prescribed[:n0][np.isclose(block.nodes[:, 1], -10)] = 0.0
+    prescribed[n0 + np.flatnonzero(np.isclose(grid[:, 0], 1.0) | rigid)] = 0
+    left = n0 + np.flatnonzero(np.isclose(grid[:, 0], 0.0))
+    left = left[np.argsort(-nodes[left, 1])]          # downwards: body right
+    slave = np.c_[block.contact_nodes[:-1], block.contact_nodes[1:]]
+    problem = mesh_problem(nodes, cells, K, prescribed, block.contact_nodes,
+                           slave)
+    corner = np.flatnonzero(np.isclose(nodes, [-5, 10]).all(axis=1))[0]
+    free = np.isnan(prescribed).ravel()
+    full = np.zeros(nodes.size)
+    full[2 * corner:2 * corner + 2] = BLOCK["F"]
+    problem.f = problem.f + full[free]
+    body = np.r_[np.zeros(n0, np.int64), np.ones(len(obstacle), np.int64)]
+    return attach_interface(
+        problem, body, slave, np.c_[left[:-1], left[1:]],
+        [{"name": "block", **{k: BLOCK[k] for k in ("E", "nu")}},
+         {"name": "parabola", "E": stiffness_ratio * BLOCK["E"],
+          "nu": BLOCK["nu"]}], 0)
