@@ -94,7 +94,11 @@ def attach_interface(problem, body, slave, master, bodies, slave_body):
     problem.mortar_slave_pair = np.zeros(len(slave), np.int64)
     problem.mortar_master_pair = np.zeros(len(master), np.int64)
     problem.meta = dict(problem.meta, bodies=bodies, slave_body=slave_body,
-                        master_body=1 - slave_body)
+                        master_body=1 - slave_body,
+                        E=bodies[slave_body]["E"],
+                        nu=bodies[slave_body]["nu"], plane="strain",
+                        load="prescribed displacement",
+                        mesh="tests/tri_elasticity.py")
     return problem
 
 
