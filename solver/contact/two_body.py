@@ -127,7 +127,17 @@ def equivalent_problem(problem, coupling, friction=False):
         load_path=load_path, load_path_steps=problem.load_path_steps,
         load_path_friction=problem.load_path_friction,
         source=problem.source)
+    equivalent.node_graph = lambda: _node_graph(problem, K)
     return equivalent, T_inv, covered
+
+
+def _node_graph(problem, K):
+    """The nodes of ``problem`` with an edge wherever K̃ couples two nodes
+    (the mesh's edges and the slave–master couplings), for the fill-reducing
+    order of :func:`solver.linalg.dof_ordering`."""
+    rows, cols = K.nonzero()
+    node = problem.dof_map[:, 0]
+    return problem.nodes, np.c_[node[rows], node[cols]], problem.dof_map
 
 
 def solve_two_body(problem, friction=None, variant="mortar", **options):
