@@ -405,3 +405,17 @@ def test_one_body_files_of_every_version_load_unchanged(block_arrays,
     np.testing.assert_array_equal(problem.contact_nodes,
                                   reference.contact_nodes)
     assert problem.obstacle.x_text == "5.05 + 0.005*t**2"
+
+
+def test_info_of_a_two_body_file(arrays, tmp_path, capsys):
+    """``python -m solver FILE --info`` shows the bodies and the interface
+    (it has no obstacle to show)."""
+    from conftest import run_cli
+
+    path = save_problem(tmp_path / "two.npz", validate_arrays(arrays))
+    code, out, err = run_cli([path, "--info"], capsys)
+    assert code == 0 and err == ""
+    assert "27 nodes, 2 bodies" in out
+    assert "body 1            upper: E = 70000, nu = 0.25" in out
+    assert ("interface         1 pair(s), 3 slave segments (body 1), 4 "
+            "master segments (body 0)") in out
