@@ -146,3 +146,25 @@ def test_full_slip_friction_force(formulation, coulomb):
     assert result.slip[-1].sum() == result.in_contact[-1].sum() > 0
     assert abs(abs(friction_force) - fc * normal_force) <= \
         1e-8 * fc * normal_force
+
+
+def test_prescribed_master_displacement_shifts_the_gaps():
+    """A rigid master (every DOF prescribed) moved by u_D = (−0.02, 0)
+    gives the same u as the master's nodes moved there with u_D = 0:
+    s_j gains n_j·Σ_k P_jk u_D,k (module docstring of two_body)."""
+    from tri_elasticity import block_on_parabola_body
+
+    moved = block_on_parabola_body(1, mesh="block_118.mesh", rigid=True)
+    n0 = int((moved.body == 0).sum())
+    moved.u_prescribed[n0:] = [-0.02, 0.0]
+    placed = block_on_parabola_body(1, mesh="block_118.mesh", rigid=True)
+    placed.nodes[n0:] += [-0.02, 0.0]
+    a = solve_two_body(moved, tol=1e-12)
+    b = solve_two_body(placed, tol=1e-12)
+    assert a.success and b.success and a.n_contact > b.n_contact - 1 > 0
+    assert np.abs(a.u - b.u).max() <= 1e-12 * np.abs(b.u).max()
+    # and the friction runs refuse it (their steps would scale it)
+    from solver.errors import SolverError
+
+    with pytest.raises(SolverError, match="prescribed displacements"):
+        solve_two_body(moved, friction=0.3, steps=2)
