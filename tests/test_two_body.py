@@ -168,3 +168,62 @@ def test_prescribed_master_displacement_shifts_the_gaps():
 
     with pytest.raises(SolverError, match="prescribed displacements"):
         solve_two_body(moved, friction=0.3, steps=2)
+
+
+def test_three_blocks_two_pairs():
+    """Three stacked blocks, two contact pairs (top on middle, middle on
+    bottom), non-matching meshes: the pressure is uniform and equal to the
+    closed form of three layers in series on both interfaces."""
+    from tet_elasticity import mesh_problem, rectangle, stiffness
+    from tri_elasticity import attach_interface
+
+    layers = [((3, 2), (1.0, 0.3)), ((5, 2), (2.0, 0.25)),
+              ((4, 2), (1.5, 0.2))]                       # top to bottom
+    blocks, offset = [], 0
+    for i, (cells_xy, _) in enumerate(layers):
+        nodes, tri = rectangle(cells_xy, (1.0, 1.0))
+        blocks.append((nodes + [0.0, 2.0 - i], tri, offset))
+        offset += len(nodes)
+    nodes = np.concatenate([b[0] for b in blocks])
+    cells = np.concatenate([b[1] + b[2] for b in blocks])
+    body = np.concatenate([np.full(len(b[0]), i) for i, b in enumerate(blocks)])
+    K = sp.block_diag([stiffness(b[0], b[1], *layers[i][1])
+                       for i, b in enumerate(blocks)]).tocsr()
+    prescribed = np.full(nodes.shape, np.nan)
+    top, bottom = np.isclose(nodes[:, 1], 3.0), np.isclose(nodes[:, 1], 0.0)
+    prescribed[top, 1], prescribed[bottom, 1] = -1e-3, 0.0
+    left = np.isclose(nodes[:, 0], 0)
+    prescribed[top & left, 0] = prescribed[bottom & left, 0] = 0.0
+    # the middle block would float (its K singular): hold its mid-height
+    # left node at the exact solution's values (σ_yy uniform, σ_xx = 0,
+    # u_x = ε_xx x)
+    exact = uniform_pressure([1.0] * 3, [m for _, m in layers], 1e-3)
+    strain = [exact * (1 - nu ** 2) / E for _, (E, nu) in layers]
+    middle = (body == 1) & left & np.isclose(nodes[:, 1], 1.5)
+    prescribed[middle] = [0.0, -(strain[2] + strain[1] / 2)]
+    # and u_x = 0 at its top-left node (no rotation; a master node of the
+    # top pair, so a Dirichlet master DOF in the gaps)
+    prescribed[(body == 1) & left & np.isclose(nodes[:, 1], 2.0), 0] = 0.0
+
+    def edge(b, y, forward):
+        ids = np.flatnonzero((body == b) & np.isclose(nodes[:, 1], y))
+        ids = ids[np.argsort(nodes[ids, 0] * (1 if forward else -1))]
+        return np.c_[ids[:-1], ids[1:]]
+
+    slave = [edge(0, 2.0, True), edge(1, 1.0, True)]     # bottoms: +x
+    master = [edge(1, 2.0, False), edge(2, 1.0, False)]  # tops: −x
+    contact = np.concatenate([np.r_[s[:, 0], s[-1, 1]] for s in slave])
+    problem = mesh_problem(nodes, cells, K, prescribed, contact,
+                           np.concatenate(slave))
+    attach_interface(problem, body, np.concatenate(slave),
+                     np.concatenate(master),
+                     [{"name": f"layer {i}", "E": m[0], "nu": m[1]}
+                      for i, (_, m) in enumerate(layers)], 0)
+    problem.mortar_slave_pair = np.repeat([0, 1], [len(s) for s in slave])
+    problem.mortar_master_pair = np.repeat([0, 1], [len(m) for m in master])
+    problem.meta.update(slave_body=[0, 1], master_body=[1, 2])
+    problem.validate()  # the format-v4 loader's checks
+    result = solve_two_body(problem, tol=1e-12)
+    assert result.success
+    assert len(result.contact_pressure) == 4 + 6
+    assert np.abs(result.contact_pressure / exact - 1).max() <= 1e-10

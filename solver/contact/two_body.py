@@ -49,8 +49,9 @@ COVERAGE_TOLERANCE = 1e-8
 
 
 def interface_coupling(problem, variant="mortar"):
-    """The coupling of every contact pair of ``problem`` (rows in
-    ``problem.contact_nodes`` order)."""
+    """The coupling of every contact pair of ``problem`` (``variant`` of
+    :data:`VARIANTS`), stacked with rows in ``problem.contact_nodes``
+    order (a slave node belongs to one pair: the loader checks it)."""
     if variant not in VARIANTS:
         raise SolverError(f"variant must be one of {tuple(VARIANTS)}, got "
                           f"{variant!r}")
@@ -66,7 +67,10 @@ def interface_coupling(problem, variant="mortar"):
         parts.append(VARIANTS[variant](problem.nodes, slave, master, ids))
     if len(parts) == 1:
         return parts[0]
-    order = np.argsort(np.concatenate([p.slave_nodes for p in parts]))
+    position = np.full(len(problem.nodes), -1)
+    position[problem.contact_nodes] = np.arange(problem.n_contact)
+    order = np.argsort(position[np.concatenate([p.slave_nodes
+                                                for p in parts])])
     join = (lambda name: np.concatenate([getattr(p, name) for p in parts])
             [order])
     first = parts[0]
