@@ -12,7 +12,7 @@ pressure λ_j and traction along the slave surface, and the deformed bodies.
 
 import numpy as np
 
-from .figures import _pyplot, _save, magnification
+from .figures import _pyplot, _save
 from .folder import atomic_path
 
 __all__ = ["RESULT_KEYS", "write_two_body_result", "write_two_body_vtk",
@@ -93,21 +93,43 @@ def plot_interface(problem, result, path=None, reference=None):
 
 
 def plot_bodies(problem, result, path=None):
-    """Both bodies deformed (displacements magnified, stated), coloured by
-    body, the undeformed meshes faint."""
+    """Both bodies deformed at true scale (a magnified drawing would show
+    the bodies overlapping), coloured by body, the undeformed meshes faint;
+    right: the interface zoomed, the deformed slave and master segments and
+    the slave nodes in contact (stretched axes)."""
     plt = _pyplot()
     displacement = _last(result, "displacement")
-    scale = magnification(problem, displacement)
-    moved = problem.nodes + scale * displacement
-    fig, ax = plt.subplots(figsize=(6, 6), layout="constrained")
+    moved = problem.nodes + displacement
+    fig, (ax, zoom) = plt.subplots(1, 2, figsize=(11, 5),
+                                   layout="constrained")
     body = np.asarray(result.body)[problem.cells[:, 0]]
+    colours = ("tab:blue", "tab:orange", "tab:green", "tab:red")
     ax.triplot(*problem.nodes.T, problem.cells, color="0.85", lw=0.3)
-    for b, colour in zip(np.unique(body), ("tab:blue", "tab:orange",
-                                           "tab:green", "tab:red")):
-        ax.triplot(*moved.T, problem.cells[body == b], color=colour,
-                   lw=0.4)
+    for b, colour in zip(np.unique(body), colours):
+        ax.triplot(*moved.T, problem.cells[body == b], color=colour, lw=0.4)
     ax.set_aspect("equal")
-    ax.set_title(f"deformed bodies (displacements ×{scale:g})")
+    ax.set_title("deformed bodies (true scale)")
+    for segments, colour, label in (
+            (problem.mortar_slave, "tab:blue", "slave surface"),
+            (problem.mortar_master, "tab:red", "master surface")):
+        for a, b in segments:
+            zoom.plot(*moved[[a, b]].T, color=colour, lw=1)
+        zoom.plot([], [], color=colour, label=label)
+    contact = np.asarray(_last(result, "in_contact"), bool)
+    touching = moved[problem.contact_nodes[contact]]
+    zoom.plot(*touching.T, "k.", ms=4, label="slave nodes in contact")
+    if len(touching):
+        low, high = touching.min(axis=0), touching.max(axis=0)
+        span = (high - low).max() + 1e-12
+        across = max((high - low).min(), 0.02 * span)
+        axis = int(np.argmax(high - low))             # along the interface
+        limits = [(low[k] - 0.5 * span, high[k] + 0.5 * span) if k == axis
+                  else (low[k] - 4 * across, high[k] + 4 * across)
+                  for k in (0, 1)]
+        zoom.set_xlim(*limits[0])
+        zoom.set_ylim(*limits[1])
+    zoom.set_title("interface, deformed (stretched axes)")
+    zoom.legend(fontsize=8)
     return _save(fig, path)
 
 
