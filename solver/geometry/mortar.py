@@ -132,8 +132,8 @@ def _gauss(n):
     return 0.5 * (p + 1), 0.5 * w
 
 
-def _assemble(slave_nodes, n_nodes, slave, D_parts, rows, cols, vals,
-              nodes, normal, variant):
+def _assemble(slave_nodes, n_nodes, D_parts, rows, cols, vals, nodes,
+              normal, variant):
     """MortarCoupling from the triplets of M and the diagonal D."""
     ns = len(slave_nodes)
     D = np.zeros(ns)
@@ -147,13 +147,20 @@ def _assemble(slave_nodes, n_nodes, slave, D_parts, rows, cols, vals,
     return MortarCoupling(slave_nodes, D, M, normal, gap, coverage, variant)
 
 
+#: Segment pairs screened at once (bounds the memory of the screening:
+#: a few arrays of this many floats).
+PAIR_CHUNK = 200_000
+
+
 def mortar_coupling(nodes, slave, master, slave_nodes=None,
                     n_gauss=N_GAUSS, search=np.inf):
     """The dual mortar D, M, n_j, g̃_j of slave segments ``slave`` against
     master segments ``master`` (module docstring), vectorised over the
-    segment pairs whose normals face each other; ``slave_nodes`` fixes the
-    row order (default :func:`chain_order`). Pairs farther apart than
-    ``search`` along the slave normal at every Gauss point are left out.
+    segment pairs whose normals face each other (screened in chunks of
+    :data:`PAIR_CHUNK` pairs; only overlapping pairs get Gauss points);
+    ``slave_nodes`` fixes the row order (default :func:`chain_order`).
+    Pairs farther apart than ``search`` along the slave normal at every
+    Gauss point are left out.
     """
     nodes = np.asarray(nodes, float)
     slave, master = np.asarray(slave, np.int64), np.asarray(master, np.int64)
@@ -164,34 +171,52 @@ def mortar_coupling(nodes, slave, master, slave_nodes=None,
     n_s, ls = segment_normals(nodes, slave)
     n_m, _ = segment_normals(nodes, master)
     normal = nodal_normals(nodes, slave, slave_nodes)
-    I, J = np.nonzero(n_s @ n_m.T < 0)               # facing pairs
+    step = max(1, PAIR_CHUNK // max(len(master), 1))
+    parts = [_overlaps(nodes, slave[i:i + step], master, n_s[i:i + step],
+                       n_m, ls[i:i + step], normal, pos, n_gauss, search)
+             for i in range(0, len(slave), step)]
+    rows, cols, vals = (np.concatenate([p[k] for p in parts])
+                        for k in range(3))
+    return _assemble(slave_nodes, len(nodes),
+                     [(pos[slave[:, 0]], ls / 2), (pos[slave[:, 1]], ls / 2)],
+                     rows, cols, vals, nodes, normal, "mortar")
+
+
+def _overlaps(nodes, slave, master, n_s, n_m, ls, normal, pos, n_gauss,
+              search):
+    """Triplets of M from the slave segments ``slave`` (a chunk) against
+    every facing master segment: the overlap cut in ξ, Gauss on it."""
+    I, J = np.nonzero(n_s @ n_m.T < -1e-8)            # facing pairs
     a, b = slave[I, 0], slave[I, 1]
-    c, d = master[J, 0], master[J, 1]
     xa, xb, na, nb = nodes[a], nodes[b], normal[pos[a]], normal[pos[b]]
-    xi_c = _project_onto_slave(xa, xb, na, nb, nodes[c])
-    xi_d = _project_onto_slave(xa, xb, na, nb, nodes[d])
+    with np.errstate(divide="ignore", invalid="ignore"):
+        xi_c = _project_onto_slave(xa, xb, na, nb, nodes[master[J, 0]])
+        xi_d = _project_onto_slave(xa, xb, na, nb, nodes[master[J, 1]])
     lo = np.clip(np.minimum(xi_c, xi_d), 0, 1)
     hi = np.clip(np.maximum(xi_c, xi_d), 0, 1)
+    first = hi - lo > 1e-12                           # overlapping pairs
+    I, J, a, b, xa, xb, na, nb, lo, hi = (
+        v[first] for v in (I, J, a, b, xa, xb, na, nb, lo, hi))
+    c, d = master[J, 0], master[J, 1]
     p, w = _gauss(n_gauss)
     xi = lo[:, None] + (hi - lo)[:, None] * p          # (pairs, g)
     x = xa[:, None] * (1 - xi)[..., None] + xb[:, None] * xi[..., None]
     n = na[:, None] * (1 - xi)[..., None] + nb[:, None] * xi[..., None]
     e = (nodes[d] - nodes[c])[:, None]
     rel, det = x - nodes[c][:, None], _cross(e, n)
-    eta = np.clip(_cross(rel, n) / det, 0, 1)
-    alpha = _cross(rel, e) / det
-    keep = (hi - lo > 1e-12) & (np.abs(alpha).min(axis=1) <= search)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        eta, alpha = _cross(rel, n) / det, _cross(rel, e) / det
+    keep = np.isfinite(eta).all(axis=1) & \
+        (np.abs(alpha).min(axis=1) <= search)
     W = (w * (hi - lo)[:, None] * ls[I][:, None])[keep]
-    xi, eta = xi[keep], eta[keep]
+    xi, eta = xi[keep], np.clip(eta[keep], 0, 1)
     psi = (2 - 3 * xi, 3 * xi - 1)
     N = (1 - eta, eta)
     rows = np.concatenate([pos[s[keep]] for s in (a, b) for _ in (c, d)])
     cols = np.concatenate([m[keep] for _ in (a, b) for m in (c, d)])
     vals = np.concatenate([(W * ps * Nm).sum(axis=1) for ps in psi
                            for Nm in N])
-    return _assemble(slave_nodes, len(nodes), slave,
-                     [(pos[slave[:, 0]], ls / 2), (pos[slave[:, 1]], ls / 2)],
-                     rows, cols, vals, nodes, normal, "mortar")
+    return rows, cols, vals
 
 
 def node_to_segment(nodes, slave, master, slave_nodes=None):
@@ -226,8 +251,6 @@ def node_to_segment(nodes, slave, master, slave_nodes=None):
     rows = np.concatenate([j, j])
     cols = np.concatenate([master[k, 0], master[k, 1]])
     vals = np.concatenate([D * (1 - eta), D * eta]) * np.tile(inside, 2)
-    coupling = _assemble(slave_nodes, len(nodes), slave,
-                         [(pos[slave[:, 0]], ls / 2),
-                          (pos[slave[:, 1]], ls / 2)],
-                         rows, cols, vals, nodes, normal, "node-to-segment")
-    return coupling
+    return _assemble(slave_nodes, len(nodes),
+                     [(pos[slave[:, 0]], ls / 2), (pos[slave[:, 1]], ls / 2)],
+                     rows, cols, vals, nodes, normal, "node-to-segment")
