@@ -57,7 +57,7 @@ def frictionless(args, problem, open_folder, emit, write_summary):
     """Solve (67), write summary.json, result.npz, result.vtu, figures."""
     if getattr(problem, "is_mortar", False):
         return two_body(args, problem, open_folder, emit, write_summary)
-    args.gap = args.gap or "obstacle"
+    args.gap = getattr(args, "gap", None) or "obstacle"
     from .contact import solve_frictionless
     from .output import summary_of, write_result, write_vtk
     from .output.report import format_result
@@ -166,12 +166,12 @@ def friction(args, problem, open_folder, emit, write_summary):
 
     if getattr(problem, "is_mortar", False):
         return two_body(args, problem, open_folder, emit, write_summary)
-    args.gap = args.gap or "obstacle"
     args.method = args.method or "fb"
     total = problem.n_load_steps(args.steps)
     if total > MAX_LOAD_STEPS:
         raise SolverError(f"the load path has {total} load steps; at most "
                           f"{MAX_LOAD_STEPS} are supported")
+    args.gap = getattr(args, "gap", None) or "obstacle"
     geometry = _geometry(args, problem)
     folder = open_folder(args.outdir or default_outdir(args, problem))
     writer = StepWriter(folder, problem, total)
@@ -263,7 +263,7 @@ def two_body(args, problem, open_folder, emit, write_summary):
     from .output.two_body import (write_two_body_figures,
                                   write_two_body_result, write_two_body_vtk)
 
-    if args.gap is not None:
+    if getattr(args, "gap", None) is not None:
         raise SolverError("--gap applies to a rigid obstacle; two bodies "
                           "use the mortar's weighted gaps")
     friction = args.friction is not None
