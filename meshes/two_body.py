@@ -308,8 +308,9 @@ def main(argv=None) -> int:
         return 1
     points, triangles, group = mesh
     counts = np.bincount(group)[1:]
-    print(f"{output}: {len(triangles)} triangles ({', '.join(map(str, counts))}"
-          f" per body), {len(points)} nodes")
+    per_body = ", ".join(map(str, counts))
+    print(f"{output}: {len(triangles)} triangles ({per_body} per body), "
+          f"{len(points)} nodes")
     return 0
 
 

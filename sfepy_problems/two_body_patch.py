@@ -52,6 +52,15 @@ coarse slave on fine master. The slave segments run with the body on
 their left: left to right for the upper block's bottom, right to left for
 the lower block's top.
 
+**Sliding** (``load='slide'``): a frictional block sliding on a block
+(issue 19: the total friction force is f_c times the normal force at full
+slip). The lower bottom is clamped and the upper top clamped and moved in
+two load stages (``load_path_*`` keys): (1) to (0, −δ), frictionless,
+``steps_normal`` steps; (2) to (``shift``, −δ) with friction f_c (given to
+the solver), ``steps_shear`` steps. The default shift 0.01 = 10 δ is far
+beyond the elastic shear of the blocks at f_c ≤ 1 (≈ f_c p h/G ≈ 2e-3),
+so the interface slips fully.
+
 Usage::
 
   python meshes/two_body.py patch     # meshes/two_body_patch.mesh, if absent
@@ -59,7 +68,10 @@ Usage::
       -d "mesh='meshes/two_body_patch.mesh', output='output/patch.npz'"
   sfepy-run sfepy_problems/two_body_patch.py \
       -d "mesh='meshes/two_body_patch.mesh', output='output/patch_coarse_slave.npz', slave='lower'"
+  sfepy-run sfepy_problems/two_body_patch.py \
+      -d "mesh='meshes/two_body_patch.mesh', output='output/patch_slide.npz', load='slide'"
   python -m solver output/patch.npz
+  python -m solver output/patch_slide.npz --friction 0.3
 
 (``python sfepy_problems/two_body_patch.py -d "..."`` is the same, quiet:
 ``_export.py``.) The export prints ``exported 110 DOFs, 9 contact nodes ->
@@ -67,7 +79,8 @@ Usage::
 
 Parameters (``-d``): ``mesh``, ``output``, ``E0`` (2e5), ``nu0`` (0.3),
 ``E1`` (1e5), ``nu1`` (0.2), ``plane`` ('strain'), ``delta`` (1e-3),
-``slave`` ('upper' or 'lower'), ``verbose``.
+``slave`` ('upper' or 'lower'), ``load`` ('press' or 'slide'), ``shift``
+(0.01), ``steps_normal`` (5), ``steps_shear`` (10), ``verbose``.
 """
 import importlib.util
 import os.path as op
@@ -105,10 +118,23 @@ def export_contact_problem(pb, variables):
     p_exact = conf.delta / sum(HEIGHT / _modulus(E, nu, conf.plane)
                                for E, nu in conf.bodies)
     E, nu = conf.bodies[slave_body]
+    stages, load = None, {'prescribed_displacement_y': -conf.delta,
+                          'on': 'upper top y = 1'}
+    supports = ('lower bottom u_y = 0; u_x = 0 at (0, 0) and (0, 1); upper '
+                'top u_y = -delta')
+    if conf.load == 'slide':
+        stages = [dict(dirichlet=(0.0, 1.0), load=0.0,
+                       steps=conf.steps_normal, friction=0.0),
+                  dict(dirichlet=(1.0, 1.0), load=0.0,
+                       steps=conf.steps_shear, friction=1.0)]
+        load = {'stages': ['press: upper top to (0, -delta), frictionless',
+                           'slide: upper top to (shift, -delta), friction'],
+                'shift': conf.shift, 'on': 'upper top y = 1 (clamped)'}
+        supports = 'lower bottom clamped; upper top u = (shift, -delta)'
     _load_export().export_contact_problem(
         pb, variables, conf.export,
         stiffness='dw_lin_elastic.i.Omega(solid.D, v, u)', load=None,
-        obstacle=None,
+        obstacle=None, load_path=stages,
         mortar=dict(slave=conf.regions_slave_master[0],
                     master=conf.regions_slave_master[1],
                     bodies=['Lower', 'Upper']),
@@ -118,26 +144,28 @@ def export_contact_problem(pb, variables):
                          {'name': 'upper block', 'E': conf.bodies[1][0],
                           'nu': conf.bodies[1][1]}],
               'slave_body': slave_body, 'master_body': 1 - slave_body,
-              'delta': conf.delta, 'p_exact': p_exact,
+              'delta': conf.delta,
+              **({'p_exact': p_exact} if conf.load == 'press' else {}),
               'width': WIDTH, 'heights': [HEIGHT, HEIGHT],
-              'load': {'prescribed_displacement_y': -conf.delta,
-                       'on': 'upper top y = 1'},
+              'load': load,
               'mesh': op.basename(pb.conf.filename_mesh),
               'problem_file': 'sfepy_problems/two_body_patch.py',
               'description': 'contact patch test: two stacked blocks, '
                              'non-matching interface meshes',
-              'supports': 'lower bottom u_y = 0; u_x = 0 at (0, 0) and '
-                          '(0, 1); upper top u_y = -delta',
+              'supports': supports,
               'contact_boundary': f'slave: the {conf.slave} block\'s side '
                                   'of y = 0.5'})
 
 
 def define(mesh='meshes/two_body_patch.mesh', output='output/patch.npz',
            E0=2e5, nu0=0.3, E1=1e5, nu1=0.2, plane='strain', delta=1e-3,
-           slave='upper', verbose=None):
+           slave='upper', load='press', shift=0.01, steps_normal=5,
+           steps_shear=10, verbose=None):
     _load_export().set_verbosity(verbose)  # before SfePy's 'left over:'
     if slave not in ('upper', 'lower'):
         raise ValueError(f"slave must be 'upper' or 'lower', got {slave!r}")
+    if load not in ('press', 'slide'):
+        raise ValueError(f"load must be 'press' or 'slide', got {load!r}")
     filename_mesh = op.abspath(mesh)
     output_dir = op.dirname(op.abspath(output))
     interface = (f'vertices in (y > {HEIGHT - TOL}) & (y < {HEIGHT + TOL})')
@@ -152,7 +180,8 @@ def define(mesh='meshes/two_body_patch.mesh', output='output/patch.npz',
         # Read by the hook:
         'export': op.abspath(output),
         'bodies': [(E0, nu0), (E1, nu1)], 'plane': plane, 'delta': delta,
-        'slave': slave,
+        'slave': slave, 'load': load, 'shift': float(shift),
+        'steps_normal': int(steps_normal), 'steps_shear': int(steps_shear),
         'regions_slave_master': ((upper_side, lower_side) if slave == 'upper'
                                  else (lower_side, upper_side)),
     }
@@ -190,11 +219,17 @@ def define(mesh='meshes/two_body_patch.mesh', output='output/patch.npz',
         'q': ('test field', 'scalar', 'p'),
     }
 
-    ebcs = {
-        'bottom': ('Bottom', {'u.1': 0.0}),
-        'pins': ('Pins', {'u.0': 0.0}),
-        'pressed': ('Top', {'u.1': -delta}),
-    }
+    if load == 'press':
+        ebcs = {
+            'bottom': ('Bottom', {'u.1': 0.0}),
+            'pins': ('Pins', {'u.0': 0.0}),
+            'pressed': ('Top', {'u.1': -delta}),
+        }
+    else:  # the upper block dragged over the clamped lower one
+        ebcs = {
+            'bottom': ('Bottom', {'u.all': 0.0}),
+            'moved': ('Top', {'u.0': shift, 'u.1': -delta}),
+        }
 
     integrals = {'i': 2}
 

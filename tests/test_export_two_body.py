@@ -5,8 +5,10 @@ Independent references: the closed-form P1 plane-strain element matrices
 exact uniform-stress solution of the patch test (σ_yy = −p in both blocks,
 p = δ / Σ h_b/E'_b), the analytic P1 edge mass matrix (M), the circles'
 gap formula (R1 − √(R1² − x²)) + (R2 − √(R2² − x²)) for the cylinders,
-and the rigid-obstacle export of the same block (block_obstacle.py). The
-physics of the contact solutions is MORTAR19's (tests of solver.contact).
+the rigid-obstacle export of the same block (block_obstacle.py), and a
+node-to-segment frictionless solve by scipy's NNLS for the cylinders'
+contact width. The mortar solutions' physics (patch test to 1e-10, Hertz,
+Cattaneo–Mindlin, rigid limit) is tested with solver.contact.
 """
 
 import subprocess
@@ -132,6 +134,25 @@ def test_patch_exact_solution_balances_at_the_interface(patch):
         assert (sign * residual[mine] > 0).all()
 
 
+def test_patch_slide_load_path(tmp_path):
+    """load='slide': the lower bottom clamped, the upper top clamped and
+    moved to (0, -δ) frictionless, then to (shift, -δ) with friction."""
+    problem = export(tmp_path, "two_body_patch.py", "slide", load="slide",
+                     mesh=str(MESHES / "two_body_patch.mesh"))
+    np.testing.assert_array_equal(problem.load_path_friction, [0, 1])
+    np.testing.assert_array_equal(problem.load_path_steps, [5, 10])
+    y = problem.nodes[:, 1]
+    delta, shift = problem.meta["delta"], problem.meta["load"]["shift"]
+    top = problem.load_path_prescribed[:, y == 1.0]
+    np.testing.assert_allclose(top[0], [[0, -delta]] * (y == 1.0).sum())
+    np.testing.assert_allclose(top[1], [[shift, -delta]] * (y == 1.0).sum())
+    fixed = np.ones(problem.nodes.shape, bool)
+    fixed[problem.dof_map[:, 0], problem.dof_map[:, 1]] = False
+    np.testing.assert_array_equal(fixed.all(axis=1), (y == 0) | (y == 1))
+    assert "p_exact" not in problem.meta
+    assert (problem.contact_dofs >= 0).all()
+
+
 # -- two cylinders ------------------------------------------------------
 
 @pytest.fixture(scope="module")
@@ -188,6 +209,45 @@ def test_cylinders_interface_geometry(cylinders, cylinders_cm):
         # |x| < a_target (issue 19)
         assert (abs(x) < m["a_target"]).sum() >= 40
         assert_block_diagonal_spd(problem)
+
+
+def test_cylinders_default_delta_puts_40_slave_nodes_in_contact(cylinders):
+    """An independent frictionless solve of the exported cylinders: the
+    vertical gaps of the slave nodes to the master polygon (node to
+    segment, small deformation), condensed on them (A = B K⁻¹ Bᵀ) and
+    solved as min ½λᵀAλ + qᵀλ, λ >= 0 by scipy's NNLS. The default δ
+    (from a_target = 0.1) gives P within 10 % of the estimate, Hertz's a
+    of that P within 5 % of a_target, and >= 40 slave nodes in contact."""
+    import scipy.sparse as sp
+    from scipy.optimize import nnls
+    from scipy.sparse.linalg import splu
+
+    p, m = cylinders, cylinders.meta
+    dof = -np.ones(p.nodes.shape, int)
+    dof[p.dof_map[:, 0], p.dof_map[:, 1]] = np.arange(p.n_dofs)
+    S = p.contact_nodes[abs(p.nodes[p.contact_nodes, 0]) < 0.3]
+    a, b = (p.nodes[p.mortar_master[:, k]] for k in (0, 1))
+    lo, hi = np.minimum(a[:, 0], b[:, 0]), np.maximum(a[:, 0], b[:, 0])
+    x = p.nodes[S, 0]
+    k = np.argmax((lo[None] <= x[:, None]) & (x[:, None] <= hi[None]),
+                  axis=1)
+    w = (x - a[k, 0]) / (b[k, 0] - a[k, 0])
+    g0 = p.nodes[S, 1] - (a[k, 1] + w * (b[k, 1] - a[k, 1]))
+    cols = np.stack([dof[S, 1], dof[p.mortar_master[k, 0], 1],
+                     dof[p.mortar_master[k, 1], 1]], axis=1)
+    vals = np.stack([np.ones(len(S)), w - 1, -w], axis=1)
+    B = sp.csr_matrix((vals.ravel(), (np.repeat(np.arange(len(S)), 3),
+                                      cols.ravel())), (len(S), p.n_dofs))
+    lu = splu(p.K.tocsc())
+    A = B @ lu.solve(B.T.toarray())
+    L = np.linalg.cholesky(0.5 * (A + A.T))
+    q = g0 + B @ lu.solve(p.f)
+    lam = nnls(L.T, -np.linalg.solve(L, q), maxiter=10000)[0]
+    P = lam.sum()
+    a_hertz = 2 * np.sqrt(P * m["R_star"] / (np.pi * m["E_star"]))
+    assert P == pytest.approx(m["P_estimate"], rel=0.1)
+    assert a_hertz == pytest.approx(m["a_target"], rel=0.05)
+    assert (lam > 1e-12 * lam.max()).sum() >= 40
 
 
 def test_cylinders_parameters(cylinders, cylinders_cm):

@@ -17,8 +17,8 @@ import pytest
 import scipy.sparse as sp
 
 from solver.errors import ProblemError
-from solver.problem import (FORMAT_VERSION, KEYS, ContactProblem,
-                            load_problem, save_problem, validate_arrays)
+from solver.problem import (FORMAT_VERSION, KEYS, load_problem,
+                            save_problem, validate_arrays)
 from solver.problem.format import TWO_BODY
 
 E0, NU0, E1, NU1 = 2e5, 0.3, 7e4, 0.25
