@@ -69,3 +69,22 @@ def test_rigid_limit_export(tmp_path, exported):
     scale = np.abs(reference.displacement).max()
     assert np.abs(u[1e4] - reference.displacement).max() / scale < 5e-3
     assert np.abs(u[1e4] - u[1e6]).max() / scale < 1e-5
+
+
+@pytest.mark.parametrize("coulomb", ["lagged", "implicit"])
+def test_sliding_block_export(tmp_path, coulomb):
+    """The patch file's load='slide' (squeeze, then drag the upper block
+    10 δ sideways): every slave node slips and the total friction force is
+    f_c × the normal force (lagged: the previous step's) to 1e-8
+    (measured 1e-13 and 0)."""
+    problem = export(tmp_path, "two_body_patch.py", "slide",
+                     mesh="meshes/two_body_patch.mesh", load="slide")
+    fc = 0.3
+    result = solve_two_body(problem, friction=fc, formulation="projection",
+                            coulomb=coulomb, method="fb", tol=1e-12)
+    assert result.success, result.message
+    D = result.mortar_D
+    normal = D @ result.contact_pressure[-1 if coulomb == "implicit" else -2]
+    friction = D @ result.friction_traction[-1]
+    assert result.slip[-1].sum() == problem.n_contact
+    assert abs(abs(friction) - fc * normal) <= 1e-8 * fc * normal
