@@ -38,8 +38,9 @@ class _Parser(argparse.ArgumentParser):
 def build_parser():
     parser = _Parser(
         prog="python -m solver",
-        description="Contact of an elastic body with a rigid obstacle "
-                    "(semismooth Newton). Reads a problem file written by "
+        description="Contact of an elastic body with a rigid obstacle, "
+                    "or of two elastic bodies (dual mortar), by "
+                    "semismooth Newton. Reads a problem file written by "
                     "sfepy_problems/*.py (format version "
                     f"{FORMAT_VERSION}).",
         epilog=EXIT_CODES_TEXT,
@@ -53,10 +54,10 @@ def build_parser():
                              "without friction, fb with friction (as the "
                              "thesis)")
     parser.add_argument("--gap", choices=("obstacle", "body"),
-                        default="obstacle",
+                        default=None,
                         help="gaps and normals from the obstacle's normals "
                              "(§2.1.1) or from the body's spline normals "
-                             "(§2.1.2-2.1.3); default obstacle")
+                             "(§2.1.2-2.1.3); default obstacle; not for two bodies (mortar weighted gaps)")
     parser.add_argument("--search-interval", nargs=2, type=_real,
                         metavar=("T0", "T1"),
                         help="obstacle parameter interval searched for the "

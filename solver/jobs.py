@@ -9,13 +9,15 @@ import time
 
 from .runner import EXIT_NOT_CONVERGED, EXIT_OK
 
-__all__ = ["frictionless", "friction", "default_outdir"]
+__all__ = ["frictionless", "friction", "two_body", "default_outdir"]
 
 
 def default_outdir(args, problem):
     """PROBLEM-METHOD-GAP (or the friction options) beside the problem."""
     stem = os.path.splitext(args.problem)[0]
     gap = args.gap if problem.kind == "mesh" else "given"
+    if getattr(problem, "is_mortar", False):
+        gap = "mortar"
     if args.friction is not None:
         steps = "path" if problem.load_path is not None else \
             f"{args.steps or 100}steps"
@@ -55,6 +57,9 @@ def _failure_line(message, nit, history, tail=""):
 
 def frictionless(args, problem, open_folder, emit, write_summary):
     """Solve (67), write summary.json, result.npz, result.vtu, figures."""
+    if getattr(problem, "is_mortar", False):
+        return two_body(args, problem, open_folder, emit, write_summary)
+    args.gap = getattr(args, "gap", None) or "obstacle"
     from .contact import solve_frictionless
     from .output import summary_of, write_result, write_vtk
     from .output.report import format_result
@@ -161,11 +166,14 @@ def friction(args, problem, open_folder, emit, write_summary):
     from .output import StepWriter, friction_summary_of
     from .output.report import format_friction_result
 
+    if getattr(problem, "is_mortar", False):
+        return two_body(args, problem, open_folder, emit, write_summary)
     args.method = args.method or "fb"
     total = problem.n_load_steps(args.steps)
     if total > MAX_LOAD_STEPS:
         raise SolverError(f"the load path has {total} load steps; at most "
                           f"{MAX_LOAD_STEPS} are supported")
+    args.gap = getattr(args, "gap", None) or "obstacle"
     geometry = _geometry(args, problem)
     folder = open_folder(args.outdir or default_outdir(args, problem))
     writer = StepWriter(folder, problem, total)
@@ -242,3 +250,81 @@ def _load_steps(folder, result):
         "steps", "friction", "formulation", "coulomb", "method",
         "steps_completed", "records")})
     return steps
+
+
+def two_body(args, problem, open_folder, emit, write_summary):
+    """Two elastic bodies (dual mortar, :mod:`solver.contact.two_body`),
+    frictionless or with ``--friction``: summary.json, result.npz,
+    result.vtu (cell data ``body``), ``--plots`` interface.png and
+    bodies.png. Options of a rigid obstacle (``--gap``) are refused."""
+    from .contact.two_body import solve_two_body
+    from .errors import SolverError
+    from .linalg import resolve
+    from .output import friction_summary_of, summary_of
+    from .output.report import format_friction_result, format_result
+    from .output.two_body import (write_two_body_figures,
+                                  write_two_body_result, write_two_body_vtk)
+
+    if getattr(args, "gap", None) is not None:
+        raise SolverError("--gap applies to a rigid obstacle; two bodies "
+                          "use the mortar's weighted gaps")
+    friction = args.friction is not None
+    args.method = args.method or ("fb" if friction else "min")
+    resolve(args.linear_solver)  # not installed: SolverError, exit 2
+    options = dict(method=args.method, tol=args.tol, max_iter=args.max_iter,
+                   gap_scale=args.gap_scale, condense=_condense(args),
+                   backend=args.linear_solver)
+    if friction:
+        options.update(steps=args.steps, formulation=args.formulation,
+                       coulomb=args.coulomb)
+    else:
+        options.update(start=args.start)
+    folder = open_folder(args.outdir or default_outdir(args, problem))
+    if friction:
+        progress = Progress(problem.n_load_steps(args.steps))
+        try:
+            result = solve_two_body(problem, friction=args.friction,
+                                    progress=progress, **options)
+        finally:
+            progress.close()
+        summary = friction_summary_of(result, problem, tol=args.tol,
+                                      max_iter=args.max_iter)
+    else:
+        result = solve_two_body(problem, **options)
+        summary = summary_of(result, problem, tol=args.tol,
+                             max_iter=args.max_iter)
+    summary.update(_interface_summary(problem, result))
+    write_two_body_result(folder.file("result.npz"), result, problem)
+    if friction and not result.steps_completed:
+        pass  # nothing to draw
+    else:
+        write_two_body_vtk(folder.file("result.vtu"), result, problem)
+        if args.plots:
+            for path in write_two_body_figures(folder.path, problem,
+                                               result).values():
+                folder.file(os.path.basename(path))
+    write_summary(summary)
+    emit((format_friction_result if friction else format_result)(
+        summary, folder.path))
+    if not result.success:
+        print(f"error: {result.message}", file=sys.stderr)
+        return EXIT_NOT_CONVERGED
+    return EXIT_OK
+
+
+def _interface_summary(problem, result):
+    """The interface's figures for summary.json (last step of friction)."""
+    import numpy as np
+
+    pressure = np.asarray(result.contact_pressure)
+    pressure = pressure[-1] if pressure.ndim == 2 else pressure
+    D = np.asarray(result.mortar_D)
+    meta = problem.meta or {}
+    return {"coupling": result.variant,
+            "bodies": meta.get("bodies"),
+            "slave_body": meta.get("slave_body"),
+            "master_body": meta.get("master_body"),
+            "slave_nodes": int(len(D)),
+            "slave_nodes_covered": int(np.sum(result.covered)),
+            "interface_normal_force": float(D @ pressure),
+            "max_interface_pressure": float(pressure.max(initial=0.0))}

@@ -122,7 +122,10 @@ def dof_ordering(problem, last=None):
     """A fill-reducing permutation of the reduced DOFs, ``last`` at the end.
 
     Mesh problems: nested dissection of the mesh nodes (both DOFs of a node
-    stay together). Discrete problems (no mesh): reverse Cuthill-McKee of K.
+    stay together). A problem with a ``node_graph()`` (points, node edges,
+    dof_map; the two-body problem in v, :mod:`solver.contact.two_body`):
+    nested dissection of that graph. Other discrete problems (no mesh):
+    reverse Cuthill-McKee of K.
     ``last`` (DOF indices, in the order wanted) are taken out of the graph
     and appended.
     """
@@ -131,19 +134,24 @@ def dof_ordering(problem, last=None):
         np.asarray(last, np.int64).ravel()
     is_last = np.zeros(n, bool)
     is_last[last] = True
-    if problem.kind == "mesh":
-        cells = np.asarray(problem.cells, np.int64)
-        k = cells.shape[1]
-        edges = np.concatenate([cells[:, [a, b]] for a in range(k)
-                                for b in range(a + 1, k)])
-        node = problem.dof_map[:, 0]
-        excluded = np.zeros(len(problem.nodes), bool)
+    graph = getattr(problem, "node_graph", None)  # (points, edges, dof_map)
+    if problem.kind == "mesh" or graph is not None:
+        if graph is None:
+            cells = np.asarray(problem.cells, np.int64)
+            k = cells.shape[1]
+            edges = np.concatenate([cells[:, [a, b]] for a in range(k)
+                                    for b in range(a + 1, k)])
+            points, dof_map = problem.nodes, problem.dof_map
+        else:
+            points, edges, dof_map = graph()
+        node = dof_map[:, 0]
+        excluded = np.zeros(len(points), bool)
         excluded[node[last]] = True
         edges = edges[~excluded[edges].any(axis=1)]
-        nodes = nested_dissection(problem.nodes, edges)
-        rank = np.empty(len(problem.nodes), np.int64)
+        nodes = nested_dissection(points, edges)
+        rank = np.empty(len(points), np.int64)
         rank[nodes] = np.arange(len(nodes))
-        order = np.lexsort((problem.dof_map[:, 1], rank[node]))
+        order = np.lexsort((dof_map[:, 1], rank[node]))
     else:
         order = csgraph.reverse_cuthill_mckee(sp.csr_matrix(problem.K),
                                               symmetric_mode=True)

@@ -1,0 +1,198 @@
+r"""Two elastic bodies in contact (issue 19): dual mortar → nodewise NCP.
+
+With the dual mortar coupling of :mod:`solver.geometry.mortar` (D
+diagonal, M sparse, nodal slave normals n_j, weighted gaps g̃⁰_j) the
+weighted gap of slave node j under displacements u is
+
+.. math::
+    g̃_j = g̃^0_j − n_j·(D_{jj} u_j − Σ_k M_{jk} u_k)
+        = D_{jj}\,(s_j − n_j·v_j), \qquad v_j = u_j − Σ_k P_{jk} u_k,
+
+P = D⁻¹M, s_j = g̃⁰_j / D_jj (Hüeber & Wohlmuth, CMAME 194 (2005) 3147;
+Popp, Gee & Wall, IJNME 79 (2009) 1354). The change of variables
+u = T⁻¹v, T⁻¹ = I + E with E the block P ⊗ I₂ from the free master DOFs
+to the free slave DOFs (v = u elsewhere; E² = 0, so T = I − E), turns the
+energy ½uᵀKu − fᵀu into ½vᵀK̃v − f̃ᵀv with K̃ = T⁻ᵀKT⁻¹ (sparse SPD) and
+f̃ = T⁻ᵀf, and every contact constraint into n_j·v_j ≤ s_j: a *discrete*
+problem (:class:`~solver.problem.ContactProblem` with its own gaps and
+normals at the slave nodes, ``M = diag(D)``) that the whole existing core
+solves unchanged — both NCP functions, condensed or full, nested start,
+friction (projection or thesis, lagged or implicit) on the weighted slip
+t_j·Δv_j. Its nodal contact force z_j on v_j is D_jj λ_j with λ_j the
+dual multiplier (the pressure): the core's lumped pressure z_j / M_jj is
+λ_j. In u the forces are z_j n_j on slave node j and −Σ_j M_jk λ_j n_j on
+master node k (Tᵀ applied to z), the mortar forces.
+
+Dirichlet master DOFs coupled to a slave node enter s_j through their
+prescribed values at the full load, n_j·Σ_k P_jk u_k (so a friction run,
+whose steps scale them, refuses them). A slave node whose support the
+master does not cover entirely (coverage Σ_k M_jk / D_jj ≠ 1, an end of the
+slave chain beyond the master) takes no part: its contact DOFs are −1
+(λ = 0, reported ``covered`` False).
+"""
+
+import numpy as np
+import scipy.sparse as sp
+
+from ..errors import SolverError
+from ..geometry.mortar import mortar_coupling, node_to_segment
+from ..problem import ContactProblem
+
+__all__ = ["VARIANTS", "interface_coupling", "equivalent_problem",
+           "solve_two_body"]
+
+#: Couplings: the dual mortar, and node-to-segment (patch-test foil).
+VARIANTS = {"mortar": mortar_coupling, "node-to-segment": node_to_segment}
+
+#: |coverage − 1| above which a slave node takes no part.
+COVERAGE_TOLERANCE = 1e-8
+
+
+def interface_coupling(problem, variant="mortar"):
+    """The coupling of every contact pair of ``problem`` (``variant`` of
+    :data:`VARIANTS`), stacked with rows in ``problem.contact_nodes``
+    order (a slave node belongs to one pair: the loader checks it)."""
+    if variant not in VARIANTS:
+        raise SolverError(f"variant must be one of {tuple(VARIANTS)}, got "
+                          f"{variant!r}")
+    slave_pair = _pairs(problem.mortar_slave_pair, problem.mortar_slave)
+    master_pair = _pairs(problem.mortar_master_pair, problem.mortar_master)
+    parts = []
+    for pair in np.unique(slave_pair):
+        slave = problem.mortar_slave[slave_pair == pair]
+        master = problem.mortar_master[master_pair == pair]
+        if not len(master):
+            raise SolverError(f"contact pair {pair} has no master segment")
+        ids = problem.contact_nodes[np.isin(problem.contact_nodes, slave)]
+        parts.append(VARIANTS[variant](problem.nodes, slave, master, ids))
+    if len(parts) == 1:
+        return parts[0]
+    position = np.full(len(problem.nodes), -1)
+    position[problem.contact_nodes] = np.arange(problem.n_contact)
+    order = np.argsort(position[np.concatenate([p.slave_nodes
+                                                for p in parts])])
+    join = (lambda name: np.concatenate([getattr(p, name) for p in parts])
+            [order])
+    first = parts[0]
+    return type(first)(join("slave_nodes"), join("D"),
+                       sp.vstack([p.M for p in parts]).tocsr()[order],
+                       join("normal"), join("gap"), join("coverage"),
+                       first.variant)
+
+
+def _pairs(pairs, segments):
+    return np.zeros(len(segments), np.int64) if pairs is None \
+        else np.asarray(pairs)
+
+
+def equivalent_problem(problem, coupling, friction=False):
+    """(discrete problem in v, T⁻¹ sparse): module docstring."""
+    n, nc = problem.n_dofs, problem.n_contact
+    if not np.array_equal(coupling.slave_nodes, problem.contact_nodes):
+        raise SolverError("the mortar slave nodes are not the problem's "
+                          "contact nodes")
+    reduced = np.full(problem.nodes.shape, -1, np.int64)
+    reduced[problem.dof_map[:, 0], problem.dof_map[:, 1]] = np.arange(n)
+    covered = np.abs(coupling.coverage - 1) <= COVERAGE_TOLERANCE
+    P = coupling.P.tocoo()
+    keep = covered[P.row]
+    j, k, p = P.row[keep], P.col[keep], P.data[keep]
+    prescribed = problem.u_prescribed
+    shift = np.zeros(nc)
+    rows, cols, vals = [], [], []
+    for c in range(2):
+        r, q = reduced[problem.contact_nodes[j], c], reduced[k, c]
+        free = (r >= 0) & (q >= 0)
+        rows.append(r[free]), cols.append(q[free]), vals.append(p[free])
+        fixed = (r >= 0) & (q < 0)
+        np.add.at(shift, j[fixed], coupling.normal[j[fixed], c] * p[fixed]
+                  * prescribed[k[fixed], c])
+        own = reduced[problem.contact_nodes, c] < 0
+        shift[own] -= coupling.normal[own, c] * prescribed[
+            problem.contact_nodes[own], c]
+    if friction and np.any(shift != 0):
+        raise SolverError("friction steps scale the Dirichlet values; "
+                          "prescribed displacements at the interface are "
+                          "not supported with friction")
+    E = sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows),
+                                              np.concatenate(cols))),
+                      shape=(n, n))
+    T_inv = (sp.identity(n, format="csr") + E).tocsr()
+    K = (T_inv.T @ problem.K @ T_inv).tocsr()
+    K = 0.5 * (K + K.T)  # exact symmetry (round-off of the triple product)
+    contact_dofs = reduced[problem.contact_nodes].copy()
+    contact_dofs[~covered] = -1
+    load_path = None if problem.load_path is None \
+        else np.asarray((T_inv.T @ problem.load_path.T).T)
+    equivalent = ContactProblem(
+        K=K.tocsr(), f=T_inv.T @ problem.f, M=sp.diags(coupling.D).tocsr(),
+        contact_dofs=contact_dofs, meta=dict(problem.meta or {}),
+        gap=coupling.gap / coupling.D + shift, normal=coupling.normal,
+        load_path=load_path, load_path_steps=problem.load_path_steps,
+        load_path_friction=problem.load_path_friction,
+        source=problem.source)
+    equivalent.node_graph = lambda: _node_graph(problem, K)
+    return equivalent, T_inv, covered
+
+
+def _node_graph(problem, K):
+    """The nodes of ``problem`` with an edge wherever K̃ couples two nodes
+    (the mesh's edges and the slave–master couplings), for the fill-reducing
+    order of :func:`solver.linalg.dof_ordering`."""
+    rows, cols = K.nonzero()
+    node = problem.dof_map[:, 0]
+    return problem.nodes, np.c_[node[rows], node[cols]], problem.dof_map
+
+
+def solve_two_body(problem, friction=None, variant="mortar", **options):
+    """Solve a mortar problem (``problem.is_mortar``) frictionless
+    (:func:`~solver.contact.solve_frictionless`) or, given ``friction``
+    f_c, in load steps (:func:`~solver.contact.solve_friction`), with
+    ``options`` passed on (method, tol, condense, start, formulation,
+    coulomb, steps, backend …; no ``gap``: the gaps are the mortar's).
+
+    Returns the solver's result mapped back to u (module docstring):
+    ``u`` (reduced, over both bodies), ``displacement`` (nodal), ``v``
+    (the solved variables), per slave node ``contact_pressure`` λ_j ≥ 0
+    (the dual multiplier, z_j / D_jj), ``traction`` (Nc, 2) on the slave
+    surface, −λ_j n_j + g_t,j τ_j, ``covered``, ``mortar_D``,
+    ``body`` and ``variant``; friction runs per step (first axis).
+    """
+    from .friction import solve_friction
+    from .frictionless import solve_frictionless
+
+    if "gap" in options:
+        raise SolverError("two bodies: the gaps are the mortar's weighted "
+                          "gaps; the gap option applies to a rigid obstacle")
+    coupling = interface_coupling(problem, variant)
+    equivalent, T_inv, covered = equivalent_problem(
+        problem, coupling, friction=friction is not None)
+    if friction is None:
+        result = solve_frictionless(equivalent, **options)
+        u = T_inv @ result.u
+        displacement = problem.full_displacement(u)
+    else:
+        result = solve_friction(equivalent, friction, **options)
+        u = np.asarray(T_inv @ np.atleast_2d(result.u).T).T
+        prescribed = [p for _, _, p, _ in
+                      problem.load_steps(options.get("steps"))]
+        displacement = np.array([problem.full_displacement(x, p)
+                                 for x, p in zip(u, prescribed)])
+    n = coupling.normal
+    tangent = np.column_stack([-n[:, 1], n[:, 0]])
+    pressure = np.asarray(result.contact_pressure)
+    traction = -pressure[..., None] * n
+    if friction is not None:
+        traction = traction + np.asarray(result.friction_traction)[
+            ..., None] * tangent
+    result.update(v=result.u, u=u, displacement=displacement,
+                  traction=traction, covered=covered, mortar_D=coupling.D,
+                  body=_body(problem), variant=coupling.variant,
+                  gap_mode="mortar" if variant == "mortar" else variant,
+                  weighted_gap=coupling.gap)
+    return result
+
+
+def _body(problem):
+    body = getattr(problem, "body", None)
+    return np.zeros(len(problem.nodes), np.int64) if body is None else body

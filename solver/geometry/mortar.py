@@ -1,0 +1,256 @@
+r"""Dual mortar coupling of two 2D bodies on a line interface (issue 19).
+
+Reference configuration, small deformation and small sliding: everything
+here is computed once, on the undeformed interface.
+
+Slave side: the P1 basis N_j of the slave segments and, on each segment
+(a, b), the *dual* basis ψ_a = 2N_a − N_b, ψ_b = 2N_b − N_a, biorthogonal
+to it (∫ψ_a N_b = 0, ∫ψ_a N_a = ∫N_a; Wohlmuth 2000, (2.1)). Then
+
+.. math::
+    D_{jj} = \int_{Γ_s} ψ_j N_j = \int_{Γ_s} N_j, \qquad
+    M_{jk} = \int_{Γ_s} ψ_j\, N^m_k(η(ξ)),
+
+D diagonal (the slave node's tributary length), M sparse (slave node ×
+global node id), integrated segment to segment (Popp, Gee & Wall, IJNME 79
+(2009) 1354, §3.2-3.3): master end points projected onto the slave segment
+along the interpolated slave normal n(ξ) = N_a n_a + N_b n_b (a quadratic
+in ξ, solved in closed form), the overlap cut in ξ, and on it Gauss
+points whose master coordinate η is where the line x(ξ) + α n(ξ) meets the
+master segment. n_j is the nodal slave normal, the average of the unit
+outward normals of the slave segments at j (the outward normal of segment
+(a, b) is (t_y, −t_x)/|t|, t = x_b − x_a: the body lies left of a → b).
+Only master segments whose normal faces the slave's (n_s·n_m < 0) are
+projected onto.
+
+The weighted gap of slave node j (Hüeber & Wohlmuth, CMAME 194 (2005)
+3147, (3.4)) is g̃_j = n_j·(Σ_k M_jk x_k − D_jj x_j) ≥ 0 in the reference
+configuration (:attr:`MortarCoupling.gap`); with displacements it is
+g̃_j − n_j·(D_jj u_j − Σ_k M_jk u_k).
+
+``coverage`` = Σ_k M_jk / D_jj is 1 (to round-off, Σ_k N^m_k = 1 and
+∫ψ_j = ∫N_j) where the master covers node j's whole support: the partition
+of unity. Where it does not (an end of the slave chain beyond the master)
+the node cannot take part (:mod:`solver.contact.two_body`).
+
+:func:`node_to_segment` builds the classical node-to-segment coupling in
+the same form: D_jj the tributary length, M_jk = D_jj N^m_k(η_j) at the
+closest point η_j of x_j on the master. It fails the contact patch test on
+non-matching meshes (Taylor & Papadopoulos, IJNME 31 (1991) 1087).
+"""
+
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.sparse as sp
+
+__all__ = ["MortarCoupling", "segment_normals", "nodal_normals", "chain_order",
+           "mortar_coupling", "node_to_segment"]
+
+#: Gauss-Legendre points on [0, 1] used on every overlap cell (3: exact
+#: for the quadratic ψ_j N_k of a flat interface, near-exact when curved).
+N_GAUSS = 3
+
+
+@dataclass
+class MortarCoupling:
+    """D, M, normals and gaps of the slave nodes (module docstring).
+
+    Attributes: ``slave_nodes`` (ns,) global ids in chain order; ``D``
+    (ns,) the diagonal; ``M`` (ns, n_nodes) CSR; ``normal`` (ns, 2) unit
+    n_j; ``gap`` (ns,) weighted gap g̃_j; ``coverage`` (ns,) Σ_k M_jk/D_jj;
+    ``variant`` "mortar" or "node-to-segment"."""
+
+    slave_nodes: np.ndarray
+    D: np.ndarray
+    M: sp.csr_matrix
+    normal: np.ndarray
+    gap: np.ndarray
+    coverage: np.ndarray
+    variant: str = "mortar"
+
+    @property
+    def P(self):
+        """P = D⁻¹M (sparse): v_j = u_j − Σ_k P_jk u_k."""
+        return sp.diags(1.0 / self.D) @ self.M
+
+
+def _cross(a, b):
+    return a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]
+
+
+def segment_normals(nodes, segments):
+    """Unit outward normals (t_y, −t_x)/|t| and lengths of ``segments``."""
+    t = nodes[segments[:, 1]] - nodes[segments[:, 0]]
+    length = np.hypot(t[:, 0], t[:, 1])
+    return np.column_stack([t[:, 1], -t[:, 0]]) / length[:, None], length
+
+
+def nodal_normals(nodes, segments, node_ids):
+    """Averaged unit segment normals at ``node_ids`` (renormalised)."""
+    normal, _ = segment_normals(nodes, segments)
+    total = np.zeros((len(nodes), 2))
+    np.add.at(total, segments[:, 0], normal)
+    np.add.at(total, segments[:, 1], normal)
+    total = total[node_ids]
+    return total / np.hypot(total[:, 0], total[:, 1])[:, None]
+
+
+def _project_onto_slave(xa, xb, na, nb, xm):
+    """ξ with (x(ξ) − x_m) × n(ξ) = 0 (pairs vectorised): the root of the
+    quadratic c0 + c1 ξ + c2 ξ² nearest the linear one."""
+    A, B, C = xa - xm, xb - xa, nb - na
+    c0, c1, c2 = _cross(A, na), _cross(A, C) + _cross(B, na), _cross(B, C)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        linear = -c0 / c1
+        root = np.sqrt(np.maximum(c1 * c1 - 4 * c2 * c0, 0.0))
+        q = -0.5 * (c1 + np.copysign(root, c1))   # stable roots q/c2, c0/q
+        r1, r2 = q / c2, c0 / q
+    best = np.where(np.abs(r1 - linear) < np.abs(r2 - linear), r1, r2)
+    flat = np.abs(c2) <= 1e-12 * (np.abs(c1) + np.abs(c0))
+    return np.where(flat | ~np.isfinite(best), linear, best)
+
+
+def chain_order(segments):
+    """The nodes of oriented segment chains in walking order (a → b),
+    chain after chain (each from its node that ends no segment)."""
+    segments = np.asarray(segments, np.int64)
+    after = dict(zip(segments[:, 0].tolist(), segments[:, 1].tolist()))
+    starts = sorted(set(after) - set(segments[:, 1].tolist()),
+                    key=lambda a: np.flatnonzero(segments[:, 0] == a)[0])
+    order, seen = [], set()
+    for node in starts or segments[:1, 0].tolist():  # a closed loop: any
+        while node is not None and node not in seen:
+            order.append(node)
+            seen.add(node)
+            node = after.get(node)
+    return np.array(order, np.int64)
+
+
+def _gauss(n):
+    p, w = np.polynomial.legendre.leggauss(n)
+    return 0.5 * (p + 1), 0.5 * w
+
+
+def _assemble(slave_nodes, n_nodes, D_parts, rows, cols, vals, nodes,
+              normal, variant):
+    """MortarCoupling from the triplets of M and the diagonal D."""
+    ns = len(slave_nodes)
+    D = np.zeros(ns)
+    for where, value in D_parts:
+        np.add.at(D, where, value)
+    M = sp.csr_matrix((vals, (rows, cols)), shape=(ns, n_nodes))
+    M.sum_duplicates()
+    gap = np.einsum("ij,ij->i", normal, M @ nodes - D[:, None]
+                    * nodes[slave_nodes])
+    coverage = np.asarray(M.sum(axis=1)).ravel() / D
+    return MortarCoupling(slave_nodes, D, M, normal, gap, coverage, variant)
+
+
+#: Segment pairs screened at once (bounds the memory of the screening:
+#: a few arrays of this many floats).
+PAIR_CHUNK = 200_000
+
+
+def mortar_coupling(nodes, slave, master, slave_nodes=None,
+                    n_gauss=N_GAUSS, search=np.inf):
+    """The dual mortar D, M, n_j, g̃_j of slave segments ``slave`` against
+    master segments ``master`` (module docstring), vectorised over the
+    segment pairs whose normals face each other (screened in chunks of
+    :data:`PAIR_CHUNK` pairs; only overlapping pairs get Gauss points);
+    ``slave_nodes`` fixes the row order (default :func:`chain_order`).
+    Pairs farther apart than ``search`` along the slave normal at every
+    Gauss point are left out.
+    """
+    nodes = np.asarray(nodes, float)
+    slave, master = np.asarray(slave, np.int64), np.asarray(master, np.int64)
+    slave_nodes = chain_order(slave) if slave_nodes is None \
+        else np.asarray(slave_nodes, np.int64)
+    pos = np.full(len(nodes), -1)
+    pos[slave_nodes] = np.arange(len(slave_nodes))
+    n_s, ls = segment_normals(nodes, slave)
+    n_m, _ = segment_normals(nodes, master)
+    normal = nodal_normals(nodes, slave, slave_nodes)
+    step = max(1, PAIR_CHUNK // max(len(master), 1))
+    parts = [_overlaps(nodes, slave[i:i + step], master, n_s[i:i + step],
+                       n_m, ls[i:i + step], normal, pos, n_gauss, search)
+             for i in range(0, len(slave), step)]
+    rows, cols, vals = (np.concatenate([p[k] for p in parts])
+                        for k in range(3))
+    return _assemble(slave_nodes, len(nodes),
+                     [(pos[slave[:, 0]], ls / 2), (pos[slave[:, 1]], ls / 2)],
+                     rows, cols, vals, nodes, normal, "mortar")
+
+
+def _overlaps(nodes, slave, master, n_s, n_m, ls, normal, pos, n_gauss,
+              search):
+    """Triplets of M from the slave segments ``slave`` (a chunk) against
+    every facing master segment: the overlap cut in ξ, Gauss on it."""
+    I, J = np.nonzero(n_s @ n_m.T < -1e-8)            # facing pairs
+    a, b = slave[I, 0], slave[I, 1]
+    xa, xb, na, nb = nodes[a], nodes[b], normal[pos[a]], normal[pos[b]]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        xi_c = _project_onto_slave(xa, xb, na, nb, nodes[master[J, 0]])
+        xi_d = _project_onto_slave(xa, xb, na, nb, nodes[master[J, 1]])
+    lo = np.clip(np.minimum(xi_c, xi_d), 0, 1)
+    hi = np.clip(np.maximum(xi_c, xi_d), 0, 1)
+    first = hi - lo > 1e-12                           # overlapping pairs
+    I, J, a, b, xa, xb, na, nb, lo, hi = (
+        v[first] for v in (I, J, a, b, xa, xb, na, nb, lo, hi))
+    c, d = master[J, 0], master[J, 1]
+    p, w = _gauss(n_gauss)
+    xi = lo[:, None] + (hi - lo)[:, None] * p          # (pairs, g)
+    x = xa[:, None] * (1 - xi)[..., None] + xb[:, None] * xi[..., None]
+    n = na[:, None] * (1 - xi)[..., None] + nb[:, None] * xi[..., None]
+    e = (nodes[d] - nodes[c])[:, None]
+    rel, det = x - nodes[c][:, None], _cross(e, n)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        eta, alpha = _cross(rel, n) / det, _cross(rel, e) / det
+    keep = np.isfinite(eta).all(axis=1) & \
+        (np.abs(alpha).min(axis=1) <= search)
+    W = (w * (hi - lo)[:, None] * ls[I][:, None])[keep]
+    xi, eta = xi[keep], np.clip(eta[keep], 0, 1)
+    psi = (2 - 3 * xi, 3 * xi - 1)
+    N = (1 - eta, eta)
+    rows = np.concatenate([pos[s[keep]] for s in (a, b) for _ in (c, d)])
+    cols = np.concatenate([m[keep] for _ in (a, b) for m in (c, d)])
+    vals = np.concatenate([(W * ps * Nm).sum(axis=1) for ps in psi
+                           for Nm in N])
+    return rows, cols, vals
+
+
+def node_to_segment(nodes, slave, master, slave_nodes=None):
+    """The node-to-segment coupling in the same form: D_jj the tributary
+    length of slave node j, M_jk = D_jj N^m_k(η_j) on the facing master
+    segment nearest x_j (closest point η_j); coverage 0 where that point is
+    an end of the master chain outside it. Dense over node × segment (a
+    comparison tool for the patch test, not for large interfaces)."""
+    nodes = np.asarray(nodes, float)
+    slave, master = np.asarray(slave, np.int64), np.asarray(master, np.int64)
+    slave_nodes = chain_order(slave) if slave_nodes is None \
+        else np.asarray(slave_nodes, np.int64)
+    pos = np.full(len(nodes), -1)
+    pos[slave_nodes] = np.arange(len(slave_nodes))
+    _, ls = segment_normals(nodes, slave)
+    n_m, _ = segment_normals(nodes, master)
+    normal = nodal_normals(nodes, slave, slave_nodes)
+    x = nodes[slave_nodes][:, None]                    # (ns, 1, 2)
+    xc, e = nodes[master[:, 0]], nodes[master[:, 1]] - nodes[master[:, 0]]
+    t = np.einsum("ijk,jk->ij", x - xc, e) / (e * e).sum(axis=1)
+    foot = xc + np.clip(t, 0, 1)[..., None] * e
+    dist = np.linalg.norm(x - foot, axis=2)
+    dist[normal @ n_m.T >= 0] = np.inf                 # facing only
+    k = np.argmin(dist, axis=1)
+    j = np.arange(len(slave_nodes))
+    eta = t[j, k]
+    D = np.zeros(len(slave_nodes))
+    np.add.at(D, pos[slave[:, 0]], ls / 2)
+    np.add.at(D, pos[slave[:, 1]], ls / 2)
+    inside = (eta > -1e-9) & (eta < 1 + 1e-9) & np.isfinite(dist[j, k])
+    eta = np.clip(eta, 0, 1)
+    rows = np.concatenate([j, j])
+    cols = np.concatenate([master[k, 0], master[k, 1]])
+    vals = np.concatenate([D * (1 - eta), D * eta]) * np.tile(inside, 2)
+    return _assemble(slave_nodes, len(nodes),
+                     [(pos[slave[:, 0]], ls / 2), (pos[slave[:, 1]], ls / 2)],
+                     rows, cols, vals, nodes, normal, "node-to-segment")

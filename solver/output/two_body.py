@@ -1,0 +1,146 @@
+"""Outputs of a two-body (mortar) solve, :mod:`solver.contact.two_body`.
+
+``result.npz``: the frictionless or friction arrays as for a rigid
+obstacle (friction: per step, first axis) plus ``traction`` (on the slave
+surface, per slave node), ``mortar_D``, ``covered``, ``weighted_gap``,
+``body`` (per node) and ``v`` (the solved variables). ``result.vtu``: both
+bodies in one file, with cell data ``body`` (ParaView: *Threshold* on it
+shows one body) and point data ``body`` and ``traction`` besides the usual
+fields (friction runs: the last completed step). Figures: the interface
+pressure λ_j and traction along the slave surface, and the deformed bodies.
+"""
+
+import numpy as np
+
+from .figures import _pyplot, _save
+from .folder import atomic_path
+
+__all__ = ["RESULT_KEYS", "write_two_body_result", "write_two_body_vtk",
+           "plot_interface", "plot_bodies", "write_two_body_figures"]
+
+#: The arrays of result.npz (those present in the result).
+RESULT_KEYS = ("u", "v", "displacement", "contact_force", "contact_pressure",
+               "contact_pressure_consistent", "friction_traction",
+               "friction_bound", "traction", "normal", "gap",
+               "weighted_gap", "mortar_D", "covered", "in_contact", "stick",
+               "slip", "load_factor", "body", "normal_displacement",
+               "tangential_displacement")
+
+
+def _last(result, key):
+    """The last step's values of a friction run, else the array."""
+    value = np.asarray(result[key])
+    return value[-1] if result.get("records") is not None else value
+
+
+def write_two_body_result(path, result, problem):
+    """``result.npz`` (atomically)."""
+    arrays = {key: np.asarray(result[key]) for key in RESULT_KEYS
+              if result.get(key) is not None}
+    arrays.update(contact_nodes=problem.contact_nodes,
+                  converged=np.array(bool(result.success)))
+    with atomic_path(path) as tmp:
+        with open(tmp, "wb") as stream:
+            np.savez_compressed(stream, **arrays)
+
+
+def write_two_body_vtk(path, result, problem):
+    """``result.vtu``: both bodies, cell data ``body``."""
+    import meshio
+
+    from .vtk import _cells, _on_nodes, _points, _vectors
+
+    n = len(problem.nodes)
+    body = np.asarray(result.body)
+    data = {"u": _vectors(_last(result, "displacement"), n), "body": body,
+            "traction": _vectors(_on_nodes(problem, _last(result,
+                                                          "traction")), n),
+            "contact_pressure": _on_nodes(problem, _last(result,
+                                                         "contact_pressure")),
+            "in_contact": _on_nodes(problem, _last(result, "in_contact"), 0,
+                                    np.int32)}
+    mesh = meshio.Mesh(_points(problem), _cells(problem), point_data=data,
+                       cell_data={"body": [body[problem.cells[:, 0]]]})
+    with atomic_path(path) as tmp:
+        meshio.write(tmp, mesh, file_format="vtu")
+
+
+def plot_interface(problem, result, path=None, reference=None):
+    """λ_j and the traction components (normal −λ, tangential g_t) along
+    the slave surface (arc length from its first node); ``reference``:
+    optional (s, p) curve drawn dashed (e.g. Hertz's)."""
+    plt = _pyplot()
+    xy = problem.nodes[problem.contact_nodes]
+    arc = np.r_[0, np.cumsum(np.hypot(*np.diff(xy, axis=0).T))]
+    fig, ax = plt.subplots(figsize=(7, 3.6), layout="constrained")
+    pressure = _last(result, "contact_pressure")
+    covered = np.asarray(result.covered)
+    ax.plot(arc[covered], pressure[covered], "o-", ms=3,
+            label="pressure λ_j (dual multiplier)")
+    if result.get("friction_traction") is not None:
+        ax.plot(arc[covered], _last(result, "friction_traction")[covered],
+                "s-", ms=3, label="tangential traction g_t")
+    if reference is not None:
+        ax.plot(*reference, "k--", lw=1, label="reference")
+    ax.set_xlabel("arc length along the slave surface")
+    ax.set_ylabel("traction on the slave body")
+    ax.set_title(f"interface ({result.variant}): "
+                 f"{int(np.sum(_last(result, 'in_contact')))} of "
+                 f"{int(covered.sum())} slave nodes in contact")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    return _save(fig, path)
+
+
+def plot_bodies(problem, result, path=None):
+    """Both bodies deformed at true scale (a magnified drawing would show
+    the bodies overlapping), coloured by body, the undeformed meshes faint;
+    right: the interface zoomed, the deformed slave and master segments and
+    the slave nodes in contact (stretched axes)."""
+    plt = _pyplot()
+    displacement = _last(result, "displacement")
+    moved = problem.nodes + displacement
+    fig, (ax, zoom) = plt.subplots(1, 2, figsize=(11, 5),
+                                   layout="constrained")
+    body = np.asarray(result.body)[problem.cells[:, 0]]
+    colours = ("tab:blue", "tab:orange", "tab:green", "tab:red")
+    ax.triplot(*problem.nodes.T, problem.cells, color="0.85", lw=0.3)
+    for b, colour in zip(np.unique(body), colours):
+        ax.triplot(*moved.T, problem.cells[body == b], color=colour, lw=0.4)
+    ax.set_aspect("equal")
+    ax.set_title("deformed bodies (true scale)")
+    for segments, colour, label in (
+            (problem.mortar_slave, "tab:blue", "slave surface"),
+            (problem.mortar_master, "tab:red", "master surface")):
+        for a, b in segments:
+            zoom.plot(*moved[[a, b]].T, color=colour, lw=1)
+        zoom.plot([], [], color=colour, label=label)
+    contact = np.asarray(_last(result, "in_contact"), bool)
+    touching = moved[problem.contact_nodes[contact]]
+    zoom.plot(*touching.T, "k.", ms=4, label="slave nodes in contact")
+    if len(touching):
+        low, high = touching.min(axis=0), touching.max(axis=0)
+        span = (high - low).max() + 1e-12
+        across = max((high - low).min(), 0.02 * span)
+        axis = int(np.argmax(high - low))             # along the interface
+        limits = [(low[k] - 0.5 * span, high[k] + 0.5 * span) if k == axis
+                  else (low[k] - 4 * across, high[k] + 4 * across)
+                  for k in (0, 1)]
+        zoom.set_xlim(*limits[0])
+        zoom.set_ylim(*limits[1])
+    zoom.set_title("interface, deformed (stretched axes)")
+    zoom.legend(fontsize=8)
+    return _save(fig, path)
+
+
+def write_two_body_figures(folder, problem, result):
+    """interface.png and bodies.png in ``folder``; returns their paths."""
+    import os
+
+    paths = {name: os.path.join(folder, f"{name}.png")
+             for name in ("interface", "bodies")}
+    plt = _pyplot()
+    for name, plot in (("interface", plot_interface),
+                       ("bodies", plot_bodies)):
+        plt.close(plot(problem, result, paths[name]))
+    return paths
