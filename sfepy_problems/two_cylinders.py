@@ -54,7 +54,7 @@ Usage::
   sfepy-run sfepy_problems/two_cylinders.py \
       -d "mesh='meshes/two_body_cylinders_identical.mesh', output='output/two_cylinders_cm.npz', identical=True, load='cattaneo'"
   python -m solver output/two_cylinders.npz
-  python -m solver output/two_cylinders_cm.npz --friction 0.5
+  python -m solver output/two_cylinders_cm.npz --friction 0.5 --formulation projection
 
 (``python sfepy_problems/two_cylinders.py -d "..."`` is the same, quiet:
 ``_export.py``.)
