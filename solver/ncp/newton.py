@@ -28,7 +28,11 @@ function φ (:mod:`solver.ncp.functions`) it is the square nonsmooth system
 
 Both take callables ``fun(x) -> (E, A, B)`` and ``jac(x) -> (JE, JA, JB)``
 (sparse matrices with n columns), know nothing of finite elements, and use
-sparse LU (SuperLU) for J d = −Φ: no dense n×n matrix is ever formed.
+sparse LU (SuperLU) for J d = −Φ: no dense n×n matrix is ever formed
+unless ``jac`` returns dense blocks (a system condensed onto Γc, at most
+the size of its Schur complement), which are combined and factorised by
+LAPACK directly. The iterations run with one OpenBLAS thread
+(:mod:`solver.linalg.threads`).
 ``jac`` may instead return a structured Jacobian that solves its own Newton
 systems: an object with ``JA``, ``JB`` (for rule (31)) and ``combine(w_a,
 w_b)``, which returns the Jacobian [JE; diag(w_a)JA + diag(w_b)JB] as an
