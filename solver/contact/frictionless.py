@@ -68,6 +68,7 @@ import scipy.sparse.linalg as sla
 from ..errors import SolverError
 from ..linalg import Condensation, resolve
 from ..ncp import MESSAGES, solve_ncp, stable_norm
+from .frictionless_newton import CondensedJacobian
 from .geometry import (GAP_MODES, ContactGeometry, contact_geometry,
                        contact_stiffness, rotation)
 from .result import ContactResult
@@ -115,17 +116,28 @@ class FrictionlessSystem:
     def __init__(self, K, f, geometry, gap_scale=1.0, stiffness=None,
                  load_norm=None):
         n = K.shape[0]
-        self.K, self.f, self.geometry = sp.csr_matrix(K), f, geometry
+        # A dense K (a Schur complement S) stays dense: its Jacobian blocks
+        # are dense arrays, which :func:`solver.ncp.solve_ncp` combines and
+        # factorises with LAPACK, no sparse assembly (the same values).
+        dense = isinstance(K, np.ndarray)
+        self.K = K if dense else sp.csr_matrix(K)
+        self.f, self.geometry = f, geometry
         self.gap_scale = float(gap_scale)
         self.R, _, _, b = rotation(n, geometry)
         keep = np.ones(n, dtype=bool)
         keep[b] = False
         self.x_rows, self.y_rows = np.flatnonzero(keep), b  # X and Y (66)
-        RK = (self.R @ self.K).tocsr()
+        RK = self.R @ self.K if dense else (self.R @ self.K).tocsr()
         self.Rf = self.R @ f
         self._JE = RK[self.x_rows]
         self._JA = -RK[self.y_rows]
-        self._JB = -self.gap_scale * self.R[self.y_rows]
+        RY = self.R[self.y_rows]
+        self._JB = -self.gap_scale * (RY.toarray() if dense else RY)
+        self._reduced = None
+        if dense and _orthogonal(self.R):  # Newton on the free components
+            self._reduced = CondensedJacobian(
+                self.K, self.R, self.x_rows, self.y_rows, self._JA,
+                self._JB, self.gap_scale)
         self.stiffness = contact_stiffness(self.K, geometry) \
             if stiffness is None else float(stiffness)
         self.load_norm = stable_norm(f) if load_norm is None \
@@ -138,7 +150,12 @@ class FrictionlessSystem:
                 self.gap_scale * (self.geometry.gap - (self.R @ u)[self.y_rows]))
 
     def jacobian(self, u):
-        """(JE, JA, JB) = (XRK, −YRK, −cYR): constant, the system is linear."""
+        """(JE, JA, JB) = (XRK, −YRK, −cYR): constant, the system is linear.
+        On a dense (condensed) K the same Jacobian as a
+        :class:`~.frictionless_newton.CondensedJacobian`, whose Newton
+        systems are solved on the free components only."""
+        if self._reduced is not None:
+            return self._reduced
         return self._JE, self._JA, self._JB
 
     def error(self, E, A, B):
@@ -160,6 +177,18 @@ class FrictionlessSystem:
     def normal_displacement(self, u):
         """u_n = YRu at the free contact nodes."""
         return (self.R @ u)[self.y_rows]
+
+
+def _orthogonal(R):
+    """Whether the sparse square R has RᵀR = I (to round-off), tested on
+    two fixed random vectors x: ‖RᵀRx − x‖ ≤ 1e-12‖x‖ (RᵀR − I ≠ 0 maps
+    such x to a non-zero vector with probability 1)."""
+    n = R.shape[0]
+    if R.shape[1] != n:
+        return False
+    x = np.random.default_rng(17).standard_normal((n, 2))
+    return bool(np.abs(R.T @ (R @ x) - x).max(initial=0.0) <= 1e-12 *
+                np.abs(x).max(initial=1.0))
 
 
 #: The stopping test of :func:`solve_frictionless`, as reported.

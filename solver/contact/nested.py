@@ -56,6 +56,7 @@ import time
 import numpy as np
 import scipy.linalg as sla
 
+from ..linalg.threads import single_blas_thread
 from ..ncp import solve_ncp
 from .frictionless import FrictionlessSystem
 
@@ -130,20 +131,25 @@ def contact_levels(S, w, geometry, coarsest=COARSEST):
     """
     m = len(geometry.gap)
     levels = [ContactLevel(np.arange(m), S, np.asarray(w, float), geometry)]
-    while len(levels[-1].nodes) > coarsest:
-        level = levels[-1]
-        keep = np.zeros(len(level.nodes), dtype=bool)
-        keep[::2] = keep[-1] = True
-        kept = keep[_owner(level.geometry)]
-        k, r = np.flatnonzero(kept), np.flatnonzero(~kept)
-        S_rk = level.S[np.ix_(r, k)]
-        level.keep = keep
-        level.X = sla.cho_solve(sla.cho_factor(level.S[np.ix_(r, r)]), S_rk)
-        S_k = level.S[np.ix_(k, k)] - S_rk.T @ level.X
-        nodes = level.nodes[keep]
-        levels.append(ContactLevel(nodes, 0.5 * (S_k + S_k.T), level.w[k],
-                                   _subset(geometry, nodes)))
+    with single_blas_thread():  # dense, at most the size of S
+        while len(levels[-1].nodes) > coarsest:
+            levels.append(_coarsen(levels[-1], geometry))
     return levels
+
+
+def _coarsen(level, geometry):
+    """The next coarser level of ``level`` (sets its ``keep`` and X)."""
+    keep = np.zeros(len(level.nodes), dtype=bool)
+    keep[::2] = keep[-1] = True
+    kept = keep[_owner(level.geometry)]
+    k, r = np.flatnonzero(kept), np.flatnonzero(~kept)
+    S_rk = level.S[np.ix_(r, k)]
+    level.keep = keep
+    level.X = sla.cho_solve(sla.cho_factor(level.S[np.ix_(r, r)]), S_rk)
+    S_k = level.S[np.ix_(k, k)] - S_rk.T @ level.X
+    nodes = level.nodes[keep]
+    return ContactLevel(nodes, 0.5 * (S_k + S_k.T), level.w[k],
+                        _subset(geometry, nodes))
 
 
 def solve_nested(levels, method="min", tol=1e-10, max_iter=100,

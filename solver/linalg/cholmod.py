@@ -30,7 +30,7 @@ import scipy.linalg as dense
 import scipy.sparse as sp
 
 from .base import Factor, check_pivots
-from .cholmod_struct import trailing_block
+from .cholmod_struct import solve_columns, trailing_block
 from .superlu import order_with_last, refuse
 
 __all__ = ["NAME", "EXTRA", "REQUIRES", "LICENCE", "USES_ORDER",
@@ -100,6 +100,7 @@ class CholmodFactor(Factor):
         L22 = trailing_block(self._F, self._order, m)
         if L22 is not None and np.array_equal(np.diagonal(L22),
                                               self._diagonal[self.n - m:]):
+            self._L22 = L22
             S = L22 @ L22.T
             return 0.5 * (S + S.T)
         n = self.n
@@ -115,6 +116,31 @@ class CholmodFactor(Factor):
         L22 = dense.solve_triangular(inverse, np.eye(m), lower=True)
         S = L22 @ L22.T
         return 0.5 * (S + S.T)
+
+    _L22 = None  # L₂₂ when read in place (the Schur mode)
+
+    def back_substitute(self, b, u_c):
+        r"""u with u_c on c and A_ii u_i = −A_ic u_c (b = 0; else
+        :meth:`Factor.back_substitute`), by the backward sweep alone: the
+        right-hand side Pᵀ S u_c, S = L₂₂L₂₂ᵀ, lives on c, the last rows of
+        the order, so the forward sweep L y = P Pᵀ S u_c gives y = [0;
+        L₂₂ᵀ u_c] without touching L₁₁, and u = Pᵀ L⁻ᵀ y (``sys = 5``):
+        half a solve, all columns in one call to CHOLMOD
+        (:func:`~.cholmod_struct.solve_columns`)."""
+        if self._L22 is None or (b is not None and np.any(b)):
+            return super().back_substitute(b, u_c)
+        u_c = np.asarray(u_c, float)
+        n, m = self.n, len(self._L22)
+        y = np.zeros((n,) + u_c.shape[1:])
+        y[n - m:] = self._L22.T @ u_c
+        x = solve_columns(self._F, 5, y.reshape(n, -1))  # all columns
+        if x is None:  # kvxopt's solve, column by column
+            X = self._matrix(y.reshape(n, -1))
+            self._cholmod.solve(self._F, X, sys=5)
+            x = np.array(X)
+        u = np.empty_like(y)
+        u[self._order] = x.reshape(y.shape)
+        return u
 
     def solve(self, b):
         """A⁻¹b (``cholmod_solve``, sys = 0) for b of shape (n,) or (n, k)."""

@@ -23,6 +23,7 @@ import weakref
 import numpy as np
 
 from .base import get_backend, resolve
+from .threads import single_blas_thread
 from .ordering import dof_ordering
 
 __all__ = ["Condensation"]
@@ -63,6 +64,7 @@ class Condensation:
                                               "K", True)
         self.S = self.factorization.S
         self._solved = []  # up to two recent (f, K⁻¹f)
+        self._gram = None  # their loads' Gram matrix
         self.n_solves = 0
 
     @classmethod
@@ -95,6 +97,7 @@ class Condensation:
             w = self.factorization.solve(f)
             self.n_solves += 1
             self._solved = (self._solved + [(f.copy(), w)])[-2:]
+            self._gram = None
         return self.S @ w[self.dofs], w
 
     def _combination(self, f):
@@ -104,16 +107,19 @@ class Condensation:
         loads = [g for g, _ in self._solved]
         if not loads:
             return None
-        G = np.array([[a @ b for b in loads] for a in loads])
-        rhs = [a @ f for a in loads]
-        try:
-            coef = np.linalg.solve(G, rhs)
-        except np.linalg.LinAlgError:  # two parallel loads
-            coef = np.linalg.lstsq(G, rhs, rcond=None)[0]
-        residual = f - sum(c * g for c, g in zip(coef, loads))
-        if np.linalg.norm(residual) > 1e-13 * np.linalg.norm(f):
-            return None
-        return sum(c * v for c, (_, v) in zip(coef, self._solved))
+        with single_blas_thread():  # vector ops: threads only wait here
+            if self._gram is None:  # the loads' Gram matrix, once per pair
+                self._gram = np.array([[a @ b for b in loads]
+                                       for a in loads])
+            rhs = [a @ f for a in loads]
+            try:
+                coef = np.linalg.solve(self._gram, rhs)
+            except np.linalg.LinAlgError:  # two parallel loads
+                coef = np.linalg.lstsq(self._gram, rhs, rcond=None)[0]
+            residual = f - sum(c * g for c, g in zip(coef, loads))
+            if np.linalg.norm(residual) > 1e-13 * np.linalg.norm(f):
+                return None
+            return sum(c * v for c, (_, v) in zip(coef, self._solved))
 
     def displacement(self, u_c, w):
         """The full u with contact DOFs u_c, given w = K⁻¹f from

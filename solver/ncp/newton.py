@@ -28,7 +28,11 @@ function φ (:mod:`solver.ncp.functions`) it is the square nonsmooth system
 
 Both take callables ``fun(x) -> (E, A, B)`` and ``jac(x) -> (JE, JA, JB)``
 (sparse matrices with n columns), know nothing of finite elements, and use
-sparse LU (SuperLU) for J d = −Φ: no dense n×n matrix is ever formed.
+sparse LU (SuperLU) for J d = −Φ: no dense n×n matrix is ever formed
+unless ``jac`` returns dense blocks (a system condensed onto Γc, at most
+the size of its Schur complement), which are combined and factorised by
+LAPACK directly. The iterations run with one OpenBLAS thread
+(:mod:`solver.linalg.threads`).
 ``jac`` may instead return a structured Jacobian that solves its own Newton
 systems: an object with ``JA``, ``JB`` (for rule (31)) and ``combine(w_a,
 w_b)``, which returns the Jacobian [JE; diag(w_a)JA + diag(w_b)JB] as an
@@ -54,6 +58,7 @@ import scipy.linalg as sla_dense
 import scipy.sparse.linalg as sla
 from scipy.optimize import OptimizeResult
 
+from ..linalg.threads import single_blas_thread
 from .functions import NCP_FUNCTIONS, derivative_weights, phi
 
 __all__ = ["solve_ncp", "MESSAGES", "DEFAULT_OPTIONS", "stable_norm"]
@@ -134,6 +139,9 @@ class _Counted:
             wa, wb = np.where(near, 1.0, wa), np.where(near, 0.0, wb)
         if structured:
             return jac.combine(wa, wb), int(np.count_nonzero(A > B))
+        if all(isinstance(block, np.ndarray) for block in (JE, JA, JB)):
+            rows = wa[:, None] * JA + wb[:, None] * JB  # dense blocks
+            return np.vstack([JE, rows]), int(np.count_nonzero(A > B))
         rows = sp.diags(wa) @ sp.csr_matrix(JA) + sp.diags(wb) @ \
             sp.csr_matrix(JB)
         J = sp.vstack([sp.csr_matrix(JE), rows], format="csc")
@@ -177,16 +185,20 @@ def _newton_direction(J, F):
     if hasattr(J, "direction"):
         return J.direction(F)
     n = J.shape[0]
-    if n >= DENSE_MIN_SIZE and J.nnz > DENSE_FRACTION * n * n:
+    dense = isinstance(J, np.ndarray)
+    nnz = np.count_nonzero(J) if dense else J.nnz
+    if n >= DENSE_MIN_SIZE and nnz > DENSE_FRACTION * n * n:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", sla_dense.LinAlgWarning)
-            lu, piv = sla_dense.lu_factor(J.toarray(), check_finite=False)
+            lu, piv = sla_dense.lu_factor(J if dense else J.toarray(),
+                                          overwrite_a=dense,
+                                          check_finite=False)
             if not np.all(np.diagonal(lu)):
                 return None
             d = sla_dense.lu_solve((lu, piv), -F, check_finite=False)
     else:
         try:
-            d = sla.splu(J).solve(-F)
+            d = sla.splu(sp.csc_matrix(J) if dense else J).solve(-F)
         except RuntimeError:  # "Factor is exactly singular"
             return None
     return d if np.all(np.isfinite(d)) else None
@@ -293,6 +305,14 @@ def solve_ncp(fun, jac, x0, method="min", tol=1e-10, max_iter=100,
         raise ValueError(f"unknown options for method {method!r}: "
                          f"{sorted(unknown)}")
     opts.update(options or {})
+    with single_blas_thread():  # dense algebra of Γc's size
+        return _iterate(fun, jac, x0, method, tol, max_iter, opts,
+                        callback, error, scale)
+
+
+def _iterate(fun, jac, x0, method, tol, max_iter, opts, callback, error,
+             scale):
+    """The iterations of :func:`solve_ncp` (arguments checked)."""
     start = time.perf_counter()
     counted = _Counted(fun, jac, method)
     history = {k: [] for k in ("residual", "error", "merit", "alpha", "step",

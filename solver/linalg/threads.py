@@ -1,0 +1,75 @@
+"""One BLAS thread for the dense algebra of the size of Γc.
+
+The Newton iterations on the condensed systems factorise dense matrices of
+at most the size of S (2Nc ≤ 2·10³): there, OpenBLAS's threads cost more
+than they save, and on a loaded machine much more. Measured on the 2-core
+benchmark machine under load (``benchmarks/README.md``, "after PERF17"):
+a Cholesky factorisation of order 600 took 8 ms of CPU with one thread and
+430 ms with two (spinning threads waiting for a core), an LU 7 ms and
+44 ms; at order 1780, 62 ms and 400 ms. :func:`single_blas_thread` sets
+the bundled OpenBLAS of NumPy and SciPy (the ``*.libs`` directories of
+their wheels) to one thread inside a ``with`` block and restores the
+previous count after it; the sparse factorisations of K (PARDISO's MKL,
+CHOLMOD's own OpenBLAS) keep their threads. Where no such library is
+found (another BLAS, another platform) it does nothing. Entering and
+leaving cost a few microseconds (ctypes calls; threadpoolctl's discovery
+took 0.12 s per process).
+"""
+
+import contextlib
+import ctypes
+import glob
+import os
+
+__all__ = ["single_blas_thread"]
+
+_LIBRARIES = None  # [(get, set)] of the loaded OpenBLAS libraries
+
+
+def _libraries():
+    """(get_num_threads, set_num_threads) of NumPy's and SciPy's bundled
+    OpenBLAS, found once."""
+    global _LIBRARIES
+    if _LIBRARIES is not None:
+        return _LIBRARIES
+    found = []
+    for package in ("numpy", "scipy"):
+        try:
+            module = __import__(package)
+            root = os.path.dirname(os.path.dirname(module.__file__))
+            paths = glob.glob(os.path.join(root, f"{package}.libs",
+                                           "lib*openblas*.so*"))
+        except Exception:  # noqa: BLE001 - no wheel layout: nothing to set
+            paths = []
+        for path in paths:
+            try:
+                lib = ctypes.CDLL(path)
+            except OSError:
+                continue
+            for suffix in ("64_", ""):
+                get = getattr(lib, f"scipy_openblas_get_num_threads{suffix}",
+                              None)
+                set_ = getattr(lib, f"scipy_openblas_set_num_threads{suffix}",
+                               None)
+                if get is not None and set_ is not None:
+                    get.restype, set_.argtypes = ctypes.c_int, [ctypes.c_int]
+                    found.append((get, set_))
+                    break
+    _LIBRARIES = found
+    return found
+
+
+@contextlib.contextmanager
+def single_blas_thread():
+    """Run the block with one OpenBLAS thread (NumPy's and SciPy's)."""
+    libraries = _libraries()
+    before = [get() for get, _ in libraries]
+    try:
+        for (_, set_), count in zip(libraries, before):
+            if count != 1:
+                set_(1)
+        yield
+    finally:
+        for (_, set_), count in zip(libraries, before):
+            if count != 1:
+                set_(count)
