@@ -37,12 +37,17 @@ def _geometry(args, problem):
     from .linalg import resolve
 
     resolve(args.linear_solver)  # not installed: SolverError, exit 2
-    if _condense(args) is False:  # else checked by the solve's factorisation
-        problem.check_stiffness()
+    if _condense(args) is False and _engine(args) == "serial":
+        problem.check_stiffness()  # else checked by the solve's factorisation
     # contact nodes on symmetry planes (rollers) take part in frictionless
     # contact; friction runs treat them as supports (not built yet)
     return contact_geometry(problem, args.gap,
                             rollers=args.friction is None)
+
+
+def _engine(args):
+    """"serial" or "petsc" (``--engine``; solver.mpi)."""
+    return getattr(args, "engine", "serial")
 
 
 def _failure_line(message, nit, history, tail=""):
@@ -55,6 +60,10 @@ def frictionless(args, problem, open_folder, emit, write_summary):
     """Solve (67), write summary.json, result.npz, result.vtu, figures."""
     from .contact import solve_frictionless
     from .output import summary_of, write_result, write_vtk
+
+    if _engine(args) == "petsc":
+        from .mpi.jobs import solvers
+        solve_frictionless = solvers(args)[0]
     from .output.report import format_result
 
     args.method = args.method or "min"
@@ -67,6 +76,8 @@ def frictionless(args, problem, open_folder, emit, write_summary):
                                 backend=args.linear_solver)
     summary = summary_of(result, problem, tol=args.tol,
                          max_iter=args.max_iter)
+    if "engine" in result:
+        summary["engine"] = result["engine"]
     write_result(folder.file("result.npz"), result, problem)
     if problem.kind == "mesh":
         write_vtk(folder.file("result.vtu"), result, problem)
@@ -155,6 +166,10 @@ def friction(args, problem, open_folder, emit, write_summary):
     the run stops early."""
     from .contact import solve_friction
     from .contact.steps import MAX_LOAD_STEPS
+
+    if _engine(args) == "petsc":
+        from .mpi.jobs import solvers
+        solve_friction = solvers(args)[1]
     from .errors import SolverError
     from .output import StepWriter, friction_summary_of
     from .output.report import format_friction_result
@@ -183,6 +198,8 @@ def friction(args, problem, open_folder, emit, write_summary):
         _finish_steps(writer, problem, geometry, result)
     summary = friction_summary_of(result, problem, tol=args.tol,
                                   max_iter=args.max_iter)
+    if "engine" in result:
+        summary["engine"] = result["engine"]
     if args.plots and result.steps_completed:
         from .output.figures import write_friction_figures
 
