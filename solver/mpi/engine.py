@@ -14,7 +14,7 @@ def service():
     if not _SERVICE:
         import petsc4py
 
-        petsc4py.init(sys.argv[:1])
+        petsc4py.init(sys.argv[:1])  # PETSc reads $PETSC_OPTIONS
         from petsc4py import PETSc
 
         from . import factor, full, snesvi  # noqa: F401 - register commands
@@ -71,3 +71,4 @@ def main(args):
     finally:
         svc.stop(code)
     return code
+
