@@ -30,6 +30,16 @@ __all__ = ["solve_full", "rigid_modes", "CG_RTOL"]
 #: Relative residual of a CG + GAMG Newton solve.
 CG_RTOL = 1e-12
 
+#: GAMG's Chebyshev smoothers: eigenvalue bounds estimated by CG with a
+#: 1.5 safety factor on the largest. PETSc's defaults (GMRES estimate, 1.1)
+#: and a factor of 1.2 made the preconditioner indefinite on some φ_FB
+#: Newton systems of the refined block, whose rows with w_a → 0 carry large
+#: diagonal shifts (KSP_DIVERGED_INDEFINITE_PC, measured). A Newton system
+#: on which CG still fails is solved by MUMPS (counted in the summary's
+#: ``ksp_fallbacks``; its iteration count is recorded as 0).
+GAMG_OPTIONS = {"mg_levels_ksp_chebyshev_esteig": "0,0.2,0,1.5",
+                "mg_levels_esteig_ksp_type": "cg"}
+
 
 def rigid_modes(problem, layout, R):
     """Orthonormal rigid-body modes (2D: 3, 3D: 6) in the padded numbering,
@@ -118,7 +128,8 @@ def solve_full(service, layout, problem, geometry, method, tol, max_iter,
     u = result.x
     return (result, u, system.contact_force(u),
             system.normal_displacement(u),
-            dict(ksp_iterations=its, newton_solves=len(its)))
+            dict(ksp_iterations=its, newton_solves=len(its),
+                 ksp_fallbacks=its.count(0) if ksp == "gamg" else 0))
 
 
 @command("newton_setup")
@@ -142,6 +153,10 @@ def _setup(service, payload, local):
                                                     comm=A.getComm()))
         ksp.setType("cg")
         pc.setType("gamg")
+        options = PETSc.Options()
+        for name, value in GAMG_OPTIONS.items():
+            if not options.hasName(f"newton_{name}"):  # $PETSC_OPTIONS wins
+                options.setValue(f"newton_{name}", value)
         ksp.setTolerances(rtol=CG_RTOL, atol=0.0, max_it=5000)
     else:
         ksp.setType("preonly")
@@ -180,11 +195,28 @@ def _newton_solve(service, payload, local):
     ksp.setOperators(M)
     x.set(0.0)
     ksp.solve(b, x)
+    its = ksp.getIterationNumber()
+    if ksp.getConvergedReason() < 0 and ksp.getType() == "cg":
+        ksp, its = _direct(obj, M), 0  # GAMG-CG failed: MUMPS, counted
+        ksp.solve(b, x)
     if ksp.getConvergedReason() < 0:
         raise EngineError(f"KSP failed on a Newton system (reason "
                           f"{ksp.getConvergedReason()})")
-    obj["its"].append(ksp.getIterationNumber())
+    obj["its"].append(its)
     return gather_vector(service, x)
+
+
+def _direct(obj, M):
+    """The MUMPS KSP of a Newton system on which CG + GAMG failed."""
+    from petsc4py import PETSc
+
+    if "direct" not in obj:
+        ksp = obj["direct"] = PETSc.KSP().create(comm=M.getComm())
+        ksp.setType("preonly")
+        ksp.getPC().setType("cholesky")
+        ksp.getPC().setFactorSolverType("mumps")
+    obj["direct"].setOperators(M)
+    return obj["direct"]
 
 
 @command("ksp_iterations")

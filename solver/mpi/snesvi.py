@@ -13,7 +13,11 @@ independent solver of the same problem (tests: same u as the project's
 Newton); measured with PETSc 3.18 it converges in 7-12 iterations from
 2·10³ to 4.8·10⁵ DOFs but refactorises every iteration, so it is not the
 engine's method. ``vinewtonssls`` rescales the Jacobian in place: it gets
-its own copy of K̂ here.
+its own copy of K̂ here. Stopping: ‖F‖ ≤ rtol·‖f̂‖ (absolute, so that the
+round-off floor, ≈ 2·10⁻¹³‖f̂‖ on the refined block, is not asked for);
+full Newton steps (``basic`` line search: the VI is linear; backtracking
+failed at that floor on the refined block and took more iterations on the
+thesis blocks, measured 8/10 against 4/6).
 """
 
 import numpy as np
@@ -23,10 +27,13 @@ from .engine import service
 from .layout import Layout, gather_vector, scatter_matrix, scatter_vector
 from .service import EngineError, command
 
-__all__ = ["solve_snesvi"]
+__all__ = ["solve_snesvi", "LINE_SEARCH"]
+
+#: SNES line search of the VI solve (module docstring).
+LINE_SEARCH = "basic"
 
 
-def solve_snesvi(problem, gap="obstacle", geometry=None, rtol=1e-13,
+def solve_snesvi(problem, gap="obstacle", geometry=None, rtol=1e-12,
                  kind="vinewtonrsls"):
     """(u, iterations) of SNESVI (call on rank 0 inside
     :func:`~solver.mpi.engine.spmd`); u is the reduced displacement."""
@@ -78,7 +85,7 @@ def _snesvi(service, payload, local):
     snes.setVariableBounds(xl, xu)
     snes.setTolerances(rtol=payload["rtol"], atol=payload["rtol"] *
                        f.norm(), stol=0.0, max_it=100)
-    PETSc.Options().setValue("vi_snes_linesearch_type", "basic")  # linear
+    PETSc.Options().setValue("vi_snes_linesearch_type", LINE_SEARCH)
     ksp = snes.getKSP()
     ksp.setType("preonly")
     ksp.getPC().setType("lu")
