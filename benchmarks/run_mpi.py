@@ -6,7 +6,8 @@ processes and ``--repeat`` times each (rounds over the configurations):
 
 - **serial**: ``solve_frictionless(problem, method="min",
   candidates=True, start="free")`` with the fastest installed backend (the
-  iteration the engine runs) and the serial default (nested start);
+  iteration the engine runs); with ``--serial-default`` also the serial
+  default (nested start);
 - **petsc N**: ``mpiexec -n N`` of the engine's condensed φ_min solve
   (MUMPS factorisation, Schur by KSPMatSolve in blocks of 64, NCP on
   rank 0), N = 1, 2; with ``--columns`` also the column-by-column Schur;
@@ -40,8 +41,10 @@ def _serial(path, mode):
     clock = time.perf_counter()
     options = dict(candidates=True, start="free") if mode == "free" else {}
     result = solve_frictionless(problem, method="min", **options)
+    usage = resource.getrusage(resource.RUSAGE_SELF)
     return dict(time=time.perf_counter() - clock, njev=int(result.njev),
                 nit=int(result.nit), backend=result.linear_solver,
+                cpu_s=[usage.ru_utime + usage.ru_stime],
                 n_dofs=problem.n_dofs, peak_rss_mb=[resource.getrusage(
                     resource.RUSAGE_SELF).ru_maxrss / 1024.0])
 
@@ -68,6 +71,7 @@ def _petsc(path, mode):
                     n_dofs=problem.n_dofs,
                     n_candidates=result.candidates["n_candidates"],
                     peak_rss_mb=[r["peak_rss_mb"] for r in per_rank],
+                    cpu_s=[r.get("cpu_s") for r in per_rank],
                     seconds=[r["seconds"] for r in per_rank],
                     rows=[r["rows"] for r in per_rank])
 
@@ -140,15 +144,18 @@ def main():
     parser.add_argument("--repeat", type=int, default=3)
     parser.add_argument("--columns", action="store_true")
     parser.add_argument("--no-serial", action="store_true")
+    parser.add_argument("--serial-default", action="store_true")
+    parser.add_argument("--ranks", default="1,2")
     parser.add_argument("--log")
     args = parser.parse_args()
     configs = []
     for path in filter(None, args.problems.split(",")):
         if not args.no_serial:
-            configs += [("serial", path, "free", 1),
-                        ("serial", path, "default", 1)]
-        configs += [("petsc", path, "blocked", 1),
-                    ("petsc", path, "blocked", 2)]
+            configs += [("serial", path, "free", 1)]
+        if args.serial_default:
+            configs += [("serial", path, "default", 1)]
+        configs += [("petsc", path, "blocked", int(n))
+                    for n in args.ranks.split(",")]
         if args.columns:
             configs += [("petsc", path, "columns", 1)]
     for path in filter(None, args.gamg.split(",")):

@@ -96,8 +96,9 @@ class Service:
         """Per-rank counts and timings, gathered (rank 0: list by rank)."""
         import resource
 
-        stats = dict(rank=self.rank, peak_rss_mb=resource.getrusage(
-            resource.RUSAGE_SELF).ru_maxrss / 1024.0,
+        usage = resource.getrusage(resource.RUSAGE_SELF)
+        stats = dict(rank=self.rank, peak_rss_mb=usage.ru_maxrss / 1024.0,
+                     cpu_s=round(usage.ru_utime + usage.ru_stime, 3),
             seconds={k: round(v[1], 4) for k, v in self.timings.items()},
             calls={k: v[0] for k, v in self.timings.items()})
         stats.update(self.objects.get("counts", {}))
