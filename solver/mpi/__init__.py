@@ -24,8 +24,8 @@ Design (docs/mpi.md):
 * **Methods** (:mod:`~solver.mpi.frictionless`, :mod:`~solver.mpi.full`,
   :mod:`~solver.mpi.friction`): one distributed MUMPS factorisation of the
   rotated K̂ = RKRᵀ, the Schur complement on the candidates' normal rows by
-  blocked many-right-hand-side solves (``KSPMatSolve``), the small NCP on
-  rank 0, a distributed back-substitution; or the semismooth Newton on the
+  many-right-hand-side solves (``MatMatSolve`` with sparse right-hand
+  sides), the small NCP on rank 0, a distributed back-substitution; or the semismooth Newton on the
   full system with each Newton system solved by KSP (MUMPS or CG + GAMG);
   friction through :func:`solver.contact.solve_friction` on the PETSc
   condensation. :mod:`~solver.mpi.snesvi` is PETSc's own SNESVI, a
