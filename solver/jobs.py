@@ -37,8 +37,8 @@ def _geometry(args, problem):
     from .linalg import resolve
 
     resolve(args.linear_solver)  # not installed: SolverError, exit 2
-    if _condense(args) is False and _engine(args) == "serial":
-        problem.check_stiffness()  # else checked by the solve's factorisation
+    if _condense(args) is False:  # else checked by the solve's factorisation
+        problem.check_stiffness()
     # contact nodes on symmetry planes (rollers) take part in frictionless
     # contact; friction runs treat them as supports (not built yet)
     return contact_geometry(problem, args.gap,
