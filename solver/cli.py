@@ -32,7 +32,18 @@ from .runner import (EXIT_CODES_TEXT, EXIT_INPUT, MAX_ITER, MAX_STEPS,
 
 class _Parser(argparse.ArgumentParser):
     def error(self, message):  # one line, exit 2 (argparse's own code)
-        self.exit(EXIT_INPUT, f"{self.prog}: error: {message}\n")
+        self.exit(EXIT_INPUT, None if _mpi_rank() else
+                  f"{self.prog}: error: {message}\n")
+
+
+def _mpi_rank():
+    """This process's rank under mpiexec (0 otherwise): only rank 0 prints."""
+    import os
+
+    for name in ("OMPI_COMM_WORLD_RANK", "PMI_RANK", "PMIX_RANK"):
+        if os.environ.get(name, "").isdigit():
+            return int(os.environ[name])
+    return 0
 
 
 def build_parser():
@@ -136,6 +147,17 @@ def build_parser():
                           help="friction bound from the previous step's "
                                "normal force (thesis) or the current one's "
                                "(default lagged)")
+    engine = parser.add_argument_group(
+        "PETSc engine, under mpiexec (pip install '.[petsc]'; docs/mpi.md)")
+    engine.add_argument("--engine", choices=("serial", "petsc"),
+                        default="serial",
+                        help="petsc: the same solves with PETSc (MUMPS, "
+                             "KSP) on the MPI ranks of mpiexec -n N; "
+                             "default serial")
+    engine.add_argument("--ksp", choices=("mumps", "gamg"), default="mumps",
+                        help="with --engine petsc --system full: each Newton "
+                             "system by MUMPS or by CG + GAMG (rigid-body "
+                             "near-null space); default mumps")
     parser.add_argument("--plots", action="store_true",
                         help="also write PNG figures (deformed body, "
                              "displacements, convergence, contact "
@@ -219,4 +241,29 @@ def main(argv=None):
                      "--system full")
     if args.json and not args.info:
         parser.error("--json goes with --info")
+    if args.engine == "petsc":
+        return _petsc(parser, args)
+    if args.ksp != "mumps":
+        parser.error("--ksp goes with --engine petsc")
     return run(args)
+
+
+def _petsc(parser, args):
+    """``--engine petsc``: every rank runs this (solver.mpi.engine)."""
+    from . import mpi
+
+    reason = mpi.missing()
+    if reason:
+        parser.error(reason)
+    if args.linear_solver != "auto":
+        parser.error("--linear-solver chooses the serial engine's solver; "
+                     "the petsc engine factorises with MUMPS")
+    if args.start == "nested":
+        parser.error("--start nested runs on the serial engine; the petsc "
+                     "engine starts from no contact force (--start free)")
+    if args.ksp == "gamg" and args.system != "full":
+        parser.error("--ksp gamg solves the full system's Newton steps: add "
+                     "--system full")
+    from .mpi.engine import main as petsc_main
+
+    return petsc_main(args)

@@ -49,6 +49,11 @@ def _geometry(args, problem):
                             or problem_dim(problem) == 3)
 
 
+def _engine(args):
+    """"serial" or "petsc" (``--engine``; solver.mpi)."""
+    return getattr(args, "engine", "serial")
+
+
 def _failure_line(message, nit, history, tail=""):
     values = ", ".join(f"{r:.3e}" for r in history)
     return (f"error: {message} after {nit} iterations; residual history "
@@ -62,6 +67,10 @@ def frictionless(args, problem, open_folder, emit, write_summary):
     args.gap = getattr(args, "gap", None) or "obstacle"
     from .contact import solve_frictionless
     from .output import summary_of, write_result, write_vtk
+
+    if _engine(args) == "petsc":
+        from .mpi.jobs import solvers
+        solve_frictionless = solvers(args)[0]
     from .output.report import format_result
 
     args.method = args.method or "min"
@@ -74,6 +83,8 @@ def frictionless(args, problem, open_folder, emit, write_summary):
                                 backend=args.linear_solver)
     summary = summary_of(result, problem, tol=args.tol,
                          max_iter=args.max_iter)
+    if "engine" in result:
+        summary["engine"] = result["engine"]
     write_result(folder.file("result.npz"), result, problem)
     if problem.kind == "mesh":
         write_vtk(folder.file("result.vtu"), result, problem)
@@ -162,6 +173,10 @@ def friction(args, problem, open_folder, emit, write_summary):
     the run stops early."""
     from .contact import solve_friction
     from .contact.steps import MAX_LOAD_STEPS
+
+    if _engine(args) == "petsc":
+        from .mpi.jobs import solvers
+        solve_friction = solvers(args)[1]
     from .errors import SolverError
     from .output import StepWriter, friction_summary_of
     from .output.report import format_friction_result
@@ -193,6 +208,8 @@ def friction(args, problem, open_folder, emit, write_summary):
         _finish_steps(writer, problem, geometry, result)
     summary = friction_summary_of(result, problem, tol=args.tol,
                                   max_iter=args.max_iter)
+    if "engine" in result:
+        summary["engine"] = result["engine"]
     if args.plots and result.steps_completed:
         from .output.friction_figures import write_friction_figures
 

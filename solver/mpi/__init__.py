@@ -1,0 +1,70 @@
+r"""The contact solve on PETSc under MPI (``--engine petsc``; issue 20).
+
+``mpiexec -n N python -m solver X.npz --engine petsc [options]`` runs the
+same solves as the serial engine with PETSc (petsc4py, mpi4py) doing the
+linear algebra on N ranks. Nothing here is imported unless the petsc engine
+is asked for, and importing this package needs neither petsc4py nor MPI.
+
+Design (docs/mpi.md):
+
+* **Rank 0 drives, every rank computes.** Rank 0 reads the ``.npz``, runs
+  the project's own code (geometry, the φ_min / φ_FB Newton of
+  :mod:`solver.ncp`, verification, output); each collective linear-algebra
+  step (scatter K, factorise, solve, Schur complement) is a command that
+  rank 0 broadcasts and all ranks execute together
+  (:class:`~solver.mpi.service.Service`). Rank 0 reads and scatters because K
+  itself fits one machine far beyond the size at which its factorisation
+  does not (a 2D K of 10⁷ DOFs is ≈ 2.5 GB; its factors are ≈ 10× that);
+  PETSc's parallel ``MatLoad`` of a converted file is the alternative when
+  it stops fitting (measured 1.6 s for 4.8·10⁵ DOFs; not built).
+* **Layout** (:mod:`~solver.mpi.layout`): rows partitioned by nodes, block
+  size = dimension: every node of the mesh keeps its ``dim`` rows (a
+  Dirichlet DOF becomes an identity row), so a node's DOFs, and a contact
+  node's normal row, live on one rank.
+* **Methods** (:mod:`~solver.mpi.frictionless`, :mod:`~solver.mpi.full`,
+  :mod:`~solver.mpi.friction`): one distributed MUMPS factorisation of the
+  rotated K̂ = RKRᵀ, the Schur complement on the candidates' normal rows by
+  many-right-hand-side solves (``MatMatSolve`` with sparse right-hand
+  sides), the small NCP on rank 0, a distributed back-substitution; or the semismooth Newton on the
+  full system with each Newton system solved by KSP (MUMPS or CG + GAMG);
+  friction through :func:`solver.contact.solve_friction` on the PETSc
+  condensation. :mod:`~solver.mpi.snesvi` is PETSc's own SNESVI, a
+  cross-check.
+"""
+
+__all__ = ["available", "missing", "solve_frictionless", "solve_friction",
+           "EXTRA"]
+
+#: The pip extra that installs the engine's Python packages.
+EXTRA = "petsc"
+
+
+def missing():
+    """None if petsc4py and mpi4py import, else a one-line reason."""
+    import importlib.util
+
+    for name in ("mpi4py", "petsc4py"):
+        if importlib.util.find_spec(name) is None:
+            return (f"{name} is not installed: the petsc engine needs "
+                    f"pip install 'contact-ssn[{EXTRA}]' against a PETSc "
+                    "with MUMPS (docs/mpi.md)")
+    return None
+
+
+def available():
+    """Whether the petsc engine can run here."""
+    return missing() is None
+
+
+def solve_frictionless(problem, **options):
+    """:func:`solver.mpi.frictionless.solve_frictionless` (lazy import)."""
+    from .frictionless import solve_frictionless as solve
+
+    return solve(problem, **options)
+
+
+def solve_friction(problem, friction, **options):
+    """:func:`solver.mpi.friction.solve_friction` (lazy import)."""
+    from .friction import solve_friction as solve
+
+    return solve(problem, friction, **options)

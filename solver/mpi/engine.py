@@ -1,0 +1,74 @@
+"""Entry points of the engine: the shared service, :func:`spmd` for API
+users and :func:`main` for ``python -m solver ... --engine petsc``."""
+
+import sys
+
+__all__ = ["service", "spmd", "main", "engine_summary"]
+
+_SERVICE = []
+
+
+def service():
+    """The process's :class:`~solver.mpi.service.Service` (made once, after
+    petsc4py is initialised with the MUMPS options)."""
+    if not _SERVICE:
+        import petsc4py
+
+        petsc4py.init(sys.argv[:1])  # PETSc reads $PETSC_OPTIONS
+        from petsc4py import PETSc
+
+        from . import factor, full, snesvi  # noqa: F401 - register commands
+        from .service import Service
+
+        PETSc.Options().setValue("k_mat_mumps_icntl_14", 50)  # workspace +%
+        _SERVICE.append(Service(PETSc.COMM_WORLD.tompi4py()))
+    return _SERVICE[0]
+
+
+def spmd(main, *args, **kwargs):
+    """Call on every rank: rank 0 runs ``main(*args, **kwargs)`` and
+    returns its value (the solve functions of :mod:`solver.mpi` inside it
+    use all ranks); the other ranks serve its commands and return None.
+    The workers are released also when ``main`` raises."""
+    svc = service()
+    if not svc.root:
+        svc.serve()
+        return None
+    try:
+        return main(*args, **kwargs)
+    finally:
+        svc.stop(0)
+
+
+def engine_summary(svc, layout, extra):
+    """The ``engine`` entry of summary.json: ranks, per-rank rows, nonzeros,
+    contact nodes and candidates owned, peak memory and command times."""
+    import numpy as np
+
+    per_rank = svc.call("stats")
+    for name, rows in extra.pop("owned", {}).items():
+        owners = np.bincount(layout.owner(np.asarray(rows, np.int64)),
+                             minlength=svc.size) if len(rows) else \
+            np.zeros(svc.size, np.int64)
+        for stats, count in zip(per_rank, owners):
+            stats[name] = int(count)
+    return dict(name="petsc", ranks=svc.size, per_rank=per_rank, **extra)
+
+
+def main(args):
+    """``python -m solver ... --engine petsc`` on every rank: rank 0 runs
+    the serial command line (:func:`solver.runner.run`, whose jobs call the
+    petsc solvers), the others serve it; every rank returns rank 0's exit
+    code."""
+    svc = service()
+    if not svc.root:
+        return svc.serve()
+    from ..runner import run
+
+    code = 1
+    try:
+        code = run(args)
+    finally:
+        svc.stop(code)
+    return code
+

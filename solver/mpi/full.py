@@ -1,0 +1,226 @@
+r"""The semismooth Newton on the full system (67), each Newton system by KSP.
+
+For candidate sets too large for a dense Schur complement. The Newton
+iteration is the project's (:func:`solver.ncp.solve_ncp` on rank 0, on
+:class:`~solver.contact.frictionless.FrictionlessSystem`, the iterates of
+the serial ``condense=False``); its Newton systems J d = −Φ are solved on
+all ranks through the structured-Jacobian hook of :mod:`solver.ncp.newton`
+(``combine`` → ``direction``). In the node frames, v = Rd (R orthogonal),
+J Rᵀ has the rows of K̂ = RKRᵀ except at the normal row n_i of a contact
+node, −w_a K̂_{n_i,:} − c w_b e_{n_i}ᵀ (NCP weights w_a, w_b ≤ 0). Divided by
+−w_a it is K̂_{n_i,:} + c(w_b/w_a)e_{n_i}ᵀ, a non-negative diagonal shift;
+with w_a = 0 it fixes v_{n_i} = Φ_i/(c w_b). The fixed rows are eliminated
+symmetrically (``MatZeroRowsColumns``), so every Newton system is SPD: MUMPS
+(Cholesky, numeric refactorisation of the same pattern) or CG + GAMG with
+the rigid-body modes (rotated into the node frames) as near-null space
+(``--ksp gamg``; relative tolerance :data:`CG_RTOL`).
+"""
+
+import numpy as np
+import scipy.sparse as sp
+
+from ..contact.frictionless import FrictionlessSystem
+from ..contact.geometry import rotation
+from ..ncp import solve_ncp
+from .layout import gather_vector, scatter_matrix, scatter_vector
+from .service import EngineError, command
+
+__all__ = ["solve_full", "rigid_modes", "CG_RTOL"]
+
+#: Relative residual of a CG + GAMG Newton solve.
+CG_RTOL = 1e-12
+
+#: GAMG's Chebyshev smoothers: eigenvalue bounds estimated by CG with a
+#: 1.5 safety factor on the largest. PETSc's defaults (GMRES estimate, 1.1)
+#: and a factor of 1.2 made the preconditioner indefinite on some φ_FB
+#: Newton systems of the refined block, whose rows with w_a → 0 carry large
+#: diagonal shifts (KSP_DIVERGED_INDEFINITE_PC, measured). A Newton system
+#: on which CG still fails is solved by MUMPS (counted in the summary's
+#: ``ksp_fallbacks``; its iteration count is recorded as 0).
+GAMG_OPTIONS = {"mg_levels_ksp_chebyshev_esteig": "0,0.2,0,1.5",
+                "mg_levels_esteig_ksp_type": "cg"}
+
+
+def rigid_modes(problem, layout, R):
+    """Orthonormal rigid-body modes (2D: 3, 3D: 6) in the padded numbering,
+    rotated into the node frames at the free DOFs: (n_pad, k)."""
+    x = np.asarray(problem.nodes, float)[:, :layout.dim]
+    x = x - x.mean(axis=0)
+    d, n = layout.dim, len(x)
+    modes = [np.eye(d)[k][None, :].repeat(n, 0) for k in range(d)]
+    pairs = [(0, 1)] if d == 2 else [(0, 1), (1, 2), (2, 0)]
+    for a, b in pairs:
+        m = np.zeros((n, d))
+        m[:, a], m[:, b] = -x[:, b], x[:, a]
+        modes.append(m)
+    Z = np.column_stack([m.ravel() for m in modes])
+    Z[layout.red_to_pad] = R @ Z[layout.red_to_pad]
+    return np.linalg.qr(Z)[0]
+
+
+class _Jacobian:
+    def __init__(self, owner):
+        self.owner = owner
+        self.JA, self.JB = owner.system._JA, owner.system._JB
+
+    def combine(self, wa, wb):
+        return _Combined(self.owner, np.asarray(wa, float),
+                         np.asarray(wb, float))
+
+
+class _Combined:
+    def __init__(self, owner, wa, wb):
+        self.owner, self.wa, self.wb = owner, wa, wb
+
+    def rmatvec(self, F):
+        s = self.owner.system
+        ne = len(s.x_rows)
+        return s._JE.T @ F[:ne] + s._JA.T @ (self.wa * F[ne:]) + \
+            s._JB.T @ (self.wb * F[ne:])
+
+    def direction(self, F):
+        o, s = self.owner, self.owner.system
+        ne, c = len(s.x_rows), s.gap_scale
+        FE, FC = F[:ne], F[ne:]
+        mixed = self.wa != 0.0
+        if np.any(~mixed & (self.wb == 0.0)):
+            return None
+        rhs = np.zeros(o.layout.n)
+        rhs[o.layout.red_to_pad[s.x_rows]] = -FE
+        rows = o.layout.red_to_pad[s.y_rows]
+        rhs[rows[mixed]] = FC[mixed] / self.wa[mixed]
+        fixed = ~mixed
+        dv = o.service.call("newton_solve", dict(
+            shift_rows=rows[mixed], shift=c * self.wb[mixed] / self.wa[mixed],
+            fixed_rows=rows[fixed], fixed=FC[fixed] / (c * self.wb[fixed])),
+            rhs)
+        d = s.R.T @ o.layout.unpad(dv)
+        return d if np.all(np.isfinite(d)) else None
+
+
+class _Owner:
+    def __init__(self, service, layout, system):
+        self.service, self.layout, self.system = service, layout, system
+
+
+def solve_full(service, layout, problem, geometry, method, tol, max_iter,
+               gap_scale, stiffness, options, load_norm, ksp):
+    """(result, u, λ, u_n, engine extra) of the full-system Newton."""
+    system = FrictionlessSystem(problem.K, problem.f, geometry, gap_scale,
+                                stiffness, load_norm)
+    R = system.R
+    if abs(sp.linalg.norm(R @ R.T - sp.identity(R.shape[0]))) > 1e-12:
+        raise EngineError("the full system on the petsc engine needs "
+                          "orthogonal node frames (no rollers)")
+    K_hat = (R @ problem.K @ R.T).tocsr()
+    K_hat = 0.5 * (K_hat + K_hat.T)
+    modes = rigid_modes(problem, layout, R) if ksp == "gamg" else None
+    service.call("newton_setup", dict(ksp=ksp, bsize=layout.dim,
+                                      scale=float(K_hat.diagonal().mean())),
+                 (layout.matrix(K_hat), modes))
+    owner = _Owner(service, layout, system)
+    result = solve_ncp(system.residual, lambda x: _Jacobian(owner),
+                       np.zeros(problem.n_dofs), method=method, tol=tol,
+                       max_iter=max_iter, options=options,
+                       error=system.error, scale=system.scale)
+    result.levels = []
+    its = service.call("ksp_iterations")
+    u = result.x
+    return (result, u, system.contact_force(u),
+            system.normal_displacement(u),
+            dict(ksp_iterations=its, newton_solves=len(its),
+                 ksp_fallbacks=its.count(0) if ksp == "gamg" else 0))
+
+
+@command("newton_setup")
+def _setup(service, payload, local):
+    from petsc4py import PETSc
+
+    A_pad, modes = local if service.root else (None, None)
+    A = scatter_matrix(service, A_pad, payload["bsize"])
+    M = A.duplicate(copy=True)
+    ksp = PETSc.KSP().create(comm=A.getComm())
+    pc = ksp.getPC()
+    if payload["ksp"] == "gamg":
+        vecs = []
+        k = service.comm.bcast(None if modes is None else modes.shape[1])
+        for j in range(k):
+            v = M.createVecLeft()
+            scatter_vector(service, None if modes is None else
+                           np.ascontiguousarray(modes[:, j]), v)
+            vecs.append(v)
+        M.setNearNullSpace(PETSc.NullSpace().create(vectors=vecs,
+                                                    comm=A.getComm()))
+        ksp.setType("cg")
+        pc.setType("gamg")
+        options = PETSc.Options()
+        for name, value in GAMG_OPTIONS.items():
+            if not options.hasName(f"newton_{name}"):  # $PETSC_OPTIONS wins
+                options.setValue(f"newton_{name}", value)
+        ksp.setTolerances(rtol=CG_RTOL, atol=0.0, max_it=5000)
+    else:
+        ksp.setType("preonly")
+        pc.setType("cholesky")
+        pc.setFactorSolverType("mumps")
+    ksp.setOptionsPrefix("newton_")
+    ksp.setFromOptions()
+    x, b = M.createVecs()
+    service.objects["newton"] = dict(A=A, M=M, ksp=ksp, x=x, b=b, its=[],
+                                     scale=payload["scale"])
+
+
+@command("newton_solve")
+def _newton_solve(service, payload, local):
+    from petsc4py import PETSc
+
+    obj = service.objects["newton"]
+    A, M, ksp, x, b = (obj[k] for k in ("A", "M", "ksp", "x", "b"))
+    A.copy(M, structure=PETSc.Mat.Structure.SAME_NONZERO_PATTERN)
+    lo, hi = M.getOwnershipRange()
+    shift = M.createVecLeft()
+    shift.set(0.0)
+    rows, vals = payload["shift_rows"], payload["shift"]
+    own = (rows >= lo) & (rows < hi)
+    shift.setValues(rows[own].astype(PETSc.IntType), vals[own])
+    shift.assemble()
+    M.setDiagonal(shift, addv=PETSc.InsertMode.ADD_VALUES)
+    scatter_vector(service, local, b)
+    rows, vals = payload["fixed_rows"], payload["fixed"]
+    own = (rows >= lo) & (rows < hi)
+    x.set(0.0)
+    x.setValues(rows[own].astype(PETSc.IntType), vals[own])
+    x.assemble()
+    M.zeroRowsColumns(rows[own].astype(PETSc.IntType), diag=obj["scale"],
+                      x=x, b=b)
+    ksp.setOperators(M)
+    x.set(0.0)
+    ksp.solve(b, x)
+    its = ksp.getIterationNumber()
+    if ksp.getConvergedReason() < 0 and ksp.getType() == "cg":
+        ksp, its = _direct(obj, M), 0  # GAMG-CG failed: MUMPS, counted
+        ksp.solve(b, x)
+    if ksp.getConvergedReason() < 0:
+        raise EngineError(f"KSP failed on a Newton system (reason "
+                          f"{ksp.getConvergedReason()})")
+    obj["its"].append(its)
+    return gather_vector(service, x)
+
+
+def _direct(obj, M):
+    """The MUMPS KSP of a Newton system on which CG + GAMG failed."""
+    from petsc4py import PETSc
+
+    if "direct" not in obj:
+        ksp = obj["direct"] = PETSc.KSP().create(comm=M.getComm())
+        ksp.setType("preonly")
+        ksp.getPC().setType("cholesky")
+        ksp.getPC().setFactorSolverType("mumps")
+    obj["direct"].setOperators(M)
+    return obj["direct"]
+
+
+@command("ksp_iterations")
+def _its(service, payload, local):
+    its = list(service.objects["newton"]["its"])
+    service.objects["newton"]["its"].clear()
+    return its

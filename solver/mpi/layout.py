@@ -1,0 +1,121 @@
+r"""Rows partitioned by nodes: the padded numbering and the scatters.
+
+Every node of the mesh keeps its ``dim`` rows, row ``dim·node + component``
+(block size = dimension): a Dirichlet DOF of the reduced system becomes an
+identity row (scaled by the mean diagonal of K, so the padded matrix is as
+well conditioned as K and its solution there is 0). Rank r owns the nodes
+``starts[r]:starts[r+1]`` (contiguous, balanced by count), so a node's
+DOFs, and a contact node's normal row, live on one rank. Only rank 0 holds
+the reduced arrays; :func:`scatter_matrix` and :func:`scatter_vector` send
+each rank its rows, :func:`gather_vector` brings a vector back.
+"""
+
+import numpy as np
+import scipy.sparse as sp
+
+__all__ = ["Layout", "scatter_matrix", "scatter_vector", "gather_vector"]
+
+
+class Layout:
+    """The padded numbering of ``problem`` on ``size`` ranks (rank 0).
+
+    ``red_to_pad`` (Ñ,) maps a reduced DOF to its padded row; ``starts``
+    (size + 1,) are the first padded row of each rank; ``dirichlet`` the
+    padded rows of prescribed DOFs."""
+
+    def __init__(self, problem, size):
+        self.dim = problem.dim
+        n_nodes = len(problem.nodes)
+        self.n = n_nodes * self.dim
+        self.red_to_pad = (problem.dof_map[:, 0] * self.dim
+                           + problem.dof_map[:, 1]).astype(np.int64)
+        node_starts = (np.arange(size + 1) * n_nodes) // size
+        self.starts = node_starts * self.dim
+        free = np.zeros(self.n, bool)
+        free[self.red_to_pad] = True
+        self.dirichlet = np.flatnonzero(~free)
+
+    def pad(self, v):
+        """A reduced vector (Ñ,) or (Ñ, k) in padded numbering (0 at
+        Dirichlet rows)."""
+        v = np.asarray(v, float)
+        out = np.zeros((self.n,) + v.shape[1:])
+        out[self.red_to_pad] = v
+        return out
+
+    def unpad(self, v):
+        return np.asarray(v)[self.red_to_pad]
+
+    def matrix(self, A):
+        """The reduced sparse A as the padded CSR (identity rows, scaled
+        by mean diag A, at the Dirichlet DOFs)."""
+        A = sp.coo_matrix(A)
+        scale = float(np.mean(A.diagonal())) if A.shape[0] else 1.0
+        rows = np.concatenate([self.red_to_pad[A.row], self.dirichlet])
+        cols = np.concatenate([self.red_to_pad[A.col], self.dirichlet])
+        vals = np.concatenate([A.data, np.full(len(self.dirichlet), scale)])
+        return sp.csr_matrix((vals, (rows, cols)), shape=(self.n, self.n))
+
+    def owner(self, rows):
+        """The rank owning each padded row."""
+        return np.searchsorted(self.starts, rows, side="right") - 1
+
+    def ranges(self):
+        return [(int(a), int(b)) for a, b in zip(self.starts[:-1],
+                                                 self.starts[1:])]
+
+
+def scatter_matrix(service, A_pad, bsize):
+    """A distributed PETSc AIJ matrix from rank 0's padded CSR ``A_pad``
+    (each rank receives its row block; rank 0 keeps no second copy)."""
+    from petsc4py import PETSc
+
+    comm = service.comm
+    ranges = service.objects["ranges"]
+    blocks = None
+    if service.root:
+        blocks = [(A_pad.indptr[a:b + 1] - A_pad.indptr[a],
+                   A_pad.indices[A_pad.indptr[a]:A_pad.indptr[b]],
+                   A_pad.data[A_pad.indptr[a]:A_pad.indptr[b]])
+                  for a, b in ranges]
+    indptr, indices, data = comm.scatter(blocks, root=0)
+    a, b = ranges[service.rank]
+    n = ranges[-1][1]
+    M = PETSc.Mat().createAIJ(size=((b - a, n), (b - a, n)), bsize=bsize,
+                              csr=(indptr.astype(PETSc.IntType),
+                                   indices.astype(PETSc.IntType), data),
+                              comm=comm.tompi4py() if hasattr(
+                                  comm, "tompi4py") else comm)
+    M.assemble()
+    counts = service.objects.setdefault("counts", {})
+    counts.update(rows=b - a, nnz=int(len(data)))
+    return M
+
+
+def scatter_vector(service, v_pad, vec):
+    """Fill the PETSc vector ``vec`` from rank 0's padded array."""
+    ranges = service.objects["ranges"]
+    parts = None if not service.root else \
+        [np.ascontiguousarray(v_pad[a:b]) for a, b in ranges]
+    vec.setArray(service.comm.scatter(parts, root=0))
+    return vec
+
+
+def gather_vector(service, vec):
+    """The PETSc vector ``vec`` as one padded array on rank 0 (None
+    elsewhere)."""
+    parts = service.comm.gather(vec.getArray().copy(), root=0)
+    return np.concatenate(parts) if service.root else None
+
+
+def _layout_command():
+    from .service import command
+
+    @command("layout")
+    def _layout(service, payload, local):
+        service.objects["ranges"] = payload
+        a, b = payload[service.rank]
+        service.objects.setdefault("counts", {}).update(rows=b - a)
+
+
+_layout_command()

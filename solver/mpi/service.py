@@ -1,0 +1,110 @@
+r"""Rank 0 drives, every rank computes: the command service of the engine.
+
+Rank 0 runs the project's serial code (geometry, Newton, output). Each
+collective step is a *command*: rank 0 broadcasts its name and a small
+payload (:meth:`Service.call`), every other rank waits in
+:meth:`Service.serve` and runs the same handler, and large data (K, load
+vectors) travel inside the handler by scatter and gather. A handler's
+exception on any rank is gathered after it and raised on rank 0 as one
+:class:`EngineError` (the CLI then prints one line and exits with its code;
+the workers return to waiting), so a fault never leaves a rank blocked in a
+later collective. ``stop`` ends the workers with rank 0's exit code; a
+worker that loses rank 0 aborts the communicator (no hang).
+"""
+
+import sys
+import time
+
+__all__ = ["EngineError", "Service", "command", "HANDLERS"]
+
+#: name -> handler(service, payload, local); filled by :func:`command`.
+HANDLERS = {}
+
+
+class EngineError(RuntimeError):
+    """A collective step failed on some rank (message names the rank)."""
+
+
+def command(name):
+    """Register ``handler(service, payload, local)`` as command ``name``."""
+    def register(handler):
+        HANDLERS[name] = handler
+        return handler
+    return register
+
+
+class Service:
+    """The communicator, the objects the commands keep between calls
+    (``objects``: name -> distributed matrix, KSP, ...) and per-command
+    timings (``timings``: name -> [calls, seconds on this rank])."""
+
+    def __init__(self, comm=None):
+        from mpi4py import MPI
+
+        self.comm = comm or MPI.COMM_WORLD
+        self.rank, self.size = self.comm.Get_rank(), self.comm.Get_size()
+        self.objects, self.timings = {}, {}
+
+    @property
+    def root(self):
+        return self.rank == 0
+
+    def call(self, name, payload=None, local=None):
+        """(rank 0) Run command ``name`` on every rank; ``local`` is rank
+        0's large data, passed to its handler only. Returns rank 0's
+        result; raises :class:`EngineError` if any rank failed."""
+        self.comm.bcast((name, payload), root=0)
+        return self._run(name, payload, local)
+
+    def _run(self, name, payload, local):
+        clock = time.perf_counter()
+        try:
+            out, error = HANDLERS[name](self, payload, local), None
+        except Exception as exc:  # noqa: BLE001 - reported collectively
+            out, error = None, f"{type(exc).__name__}: {exc}"
+        entry = self.timings.setdefault(name, [0, 0.0])
+        entry[0] += 1
+        entry[1] += time.perf_counter() - clock
+        errors = self.comm.gather(error, root=0)
+        if self.root:
+            failed = [(r, e) for r, e in enumerate(errors) if e]
+            if failed:
+                rank, text = failed[0]
+                raise EngineError(f"{name} failed on rank {rank} of "
+                                  f"{self.size}: {' '.join(text.split())}")
+        return out
+
+    def serve(self):
+        """(ranks > 0) Run commands until ``stop``; return its exit code."""
+        try:
+            while True:
+                name, payload = self.comm.bcast(None, root=0)
+                if name == "stop":
+                    return int(payload)
+                self._run(name, payload, None)
+        except BaseException as exc:  # lost rank 0: do not hang
+            print(f"error: rank {self.rank}: {' '.join(str(exc).split())}",
+                  file=sys.stderr)
+            self.comm.Abort(1)
+            raise
+
+    def stop(self, code):
+        """(rank 0) End the workers with exit code ``code``."""
+        self.comm.bcast(("stop", int(code)), root=0)
+
+    def gather_stats(self):
+        """Per-rank counts and timings, gathered (rank 0: list by rank)."""
+        import resource
+
+        usage = resource.getrusage(resource.RUSAGE_SELF)
+        stats = dict(rank=self.rank, peak_rss_mb=usage.ru_maxrss / 1024.0,
+                     cpu_s=round(usage.ru_utime + usage.ru_stime, 3),
+            seconds={k: round(v[1], 4) for k, v in self.timings.items()},
+            calls={k: v[0] for k, v in self.timings.items()})
+        stats.update(self.objects.get("counts", {}))
+        return self.comm.gather(stats, root=0)
+
+
+@command("stats")
+def _stats(service, payload, local):
+    return service.gather_stats()
