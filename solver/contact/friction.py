@@ -45,8 +45,9 @@ In 3D (any d) g_t ∈ R^{d−1} per node, in the tangent basis
 ``friction_traction`` is then (Nc, d − 1). The thesis's split is 2D-only
 (it splits a scalar slip) and is refused there; so are roller nodes. The
 reduced Newton of :mod:`.friction_newton` is 2D-only: in 3D each Newton
-step solves the full sparse Jacobian of the condensed system (every DOF of
-the free contact nodes, no candidate screening) or of the full one.
+step solves the full Jacobian of the condensed system, by default on the
+candidate nodes only (:mod:`.friction_candidates`; ``candidates=False``:
+every DOF of the free contact nodes), or of the full one.
 
 ``coulomb="lagged"`` uses p = p_{κ−1} of the previous step (thesis: Coulomb
 as a sequence of Tresca problems); ``coulomb="implicit"`` uses the current
@@ -71,6 +72,7 @@ from ..linalg import resolve
 from ..ncp import MESSAGES, solve_ncp, stable_norm
 from .result import FrictionResult
 from .steps import MAX_LOAD_STEPS, StepStream
+from .friction_candidates import friction_on_candidates, use_candidates
 from .friction_system import (COULOMB, FORMULATIONS, FrictionSystem,
                               check_geometry)
 from .frictionless import (condense_onto_contact, contact_geometry,
@@ -144,7 +146,8 @@ def solve_friction(problem, friction, steps=None, formulation="thesis",
                    coulomb="lagged", method="fb", gap="obstacle", tol=1e-10,
                    max_iter=100, gap_scale=None, options=None, progress=None,
                    geometry=None, condense=None, on_step=None,
-                   keep_steps=True, backend="auto"):
+                   keep_steps=True, backend="auto", candidates=None,
+                   margin=None):
     r"""Quasi-static Coulomb friction in load steps (thesis §5, (110)/(111)).
 
     Parameters
@@ -214,6 +217,14 @@ def solve_friction(problem, friction, steps=None, formulation="thesis",
         Sparse direct solver of the condensed system, as in
         :func:`solve_frictionless`: one factorisation and its Schur
         complement serve every load step and Newton iteration.
+    candidates : bool, optional
+        Condense onto the d DOFs of candidate nodes only, enlarged until
+        no other node penetrates (:mod:`.friction_candidates`; result keys
+        ``condensation`` "candidates" and ``candidates``). Default: True
+        in 3D with the condensed projection form.
+    margin : float, optional
+        The candidates' round-0 gap margin δ₀, as in
+        :func:`solve_frictionless`.
 
     Returns
     -------
@@ -266,6 +277,16 @@ def solve_friction(problem, friction, steps=None, formulation="thesis",
     start = time.perf_counter()
     if geometry is None:
         geometry = contact_geometry(problem, gap)
+    if use_candidates(candidates, condense, formulation, geometry.dim):
+        check_geometry(geometry, formulation)
+        return friction_on_candidates(solve_friction, problem, friction,
+                                      geometry, margin, dict(
+            steps=None if problem.load_path is not None else steps,
+            formulation=formulation, coulomb=coulomb, method=method,
+            tol=tol, max_iter=max_iter, options=options, gap_scale=(
+                gap_scale if gap_scale is not None else GAP_WEIGHT *
+                contact_stiffness(problem.K, geometry)), progress=progress,
+            on_step=on_step, keep_steps=keep_steps, backend=backend))
     if formulation in FORMULATIONS:  # an unknown one: FrictionSystem says
         check_geometry(geometry, formulation)
     if steps > MAX_LOAD_STEPS:
