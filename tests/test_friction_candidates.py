@@ -193,3 +193,45 @@ def test_rules_and_refusals(dome):
     with pytest.raises(SolverError, match="condensed projection"):
         solve_friction(problem, 0.3, geometry=geometry, candidates=True,
                        condense=False, formulation="projection")
+
+
+@pytest.mark.parametrize("coulomb", ["lagged", "implicit"])
+def test_disc_direction_solves_the_whole_jacobian(dome, coulomb):
+    """The Newton direction with the tractions eliminated (friction_disc)
+    solves J d = −F of the sparse J that FrictionSystem assembles, to
+    round-off, and rmatvec is Jᵀ F; at an iterate with stick and slip
+    nodes and pairs of every kind (w_a, w_b of φ_FB and φ_min)."""
+    import scipy.sparse as sp
+
+    from solver.contact.friction_disc import DiscSystem
+    from solver.contact.friction_system import FrictionSystem
+    from solver.contact.frictionless import condense_onto_contact
+
+    problem, geometry = dome
+    condensation, local = condense_onto_contact(problem, geometry, "superlu")
+    lumped = np.asarray(problem.M.sum(axis=1)).ravel()[geometry.index]
+    system = DiscSystem(condensation.S, condensation.load(problem.f)[0],
+                        local, lumped, 0.3, "projection", coulomb, 100.0,
+                        100.0)
+    rng = np.random.default_rng(18)
+    m, n = system.m, system.n
+    system.set_step(rng.normal(0, 1e-3, n), 0.5,
+                    rng.uniform(0, 2, m) * (rng.random(m) < 0.7))
+    x = np.concatenate([rng.normal(0, 1e-6, n),  # |g_t| ~ f_c p
+                        rng.normal(0, 0.5 / system.c_t, system.mt)])
+    jac = system.jacobian(x)
+    slip = np.linalg.norm(jac.P.reshape(m, -1) - np.eye(2).ravel(), axis=1)
+    assert (slip > 0).any() and (slip == 0).any()  # stick and slip nodes
+    JE, JA, JB = FrictionSystem.jacobian(system, x)
+    for wa, wb in [(rng.uniform(-1, 0, m), rng.uniform(-1, 0, m)),
+                   ((rng.random(m) < 0.5) * 1.0, None)]:
+        wb = 1.0 - wa if wb is None else wb
+        J = sp.vstack([JE, sp.diags(wa) @ JA + sp.diags(wb) @ JB]).toarray()
+        F = rng.normal(size=J.shape[0])
+        combined = jac.combine(wa, wb)
+        d = combined.direction(F)
+        assert np.linalg.norm(J @ d + F) <= 1e-10 * (
+            np.linalg.norm(J) * np.linalg.norm(d) + np.linalg.norm(F))
+        np.testing.assert_allclose(combined.rmatvec(F), J.T @ F,
+                                   rtol=0, atol=1e-12 * np.abs(J).max()
+                                   * np.abs(F).sum())

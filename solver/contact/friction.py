@@ -45,9 +45,10 @@ In 3D (any d) g_t ∈ R^{d−1} per node, in the tangent basis
 ``friction_traction`` is then (Nc, d − 1). The thesis's split is 2D-only
 (it splits a scalar slip) and is refused there; so are roller nodes. The
 reduced Newton of :mod:`.friction_newton` is 2D-only: in 3D each Newton
-step solves the full Jacobian of the condensed system, by default on the
-candidate nodes only (:mod:`.friction_candidates`; ``candidates=False``:
-every DOF of the free contact nodes), or of the full one.
+step of the condensed system is solved with the tractions eliminated
+(:mod:`.friction_disc`), by default on the candidate nodes only
+(:mod:`.friction_candidates`; ``candidates=False``: every DOF of the free
+contact nodes); the full system takes a sparse LU of its whole Jacobian.
 
 ``coulomb="lagged"`` uses p = p_{κ−1} of the previous step (thesis: Coulomb
 as a sequence of Tresca problems); ``coulomb="implicit"`` uses the current
@@ -73,6 +74,7 @@ from ..ncp import MESSAGES, solve_ncp, stable_norm
 from .result import FrictionResult
 from .steps import MAX_LOAD_STEPS, StepStream
 from .friction_candidates import friction_on_candidates, use_candidates
+from .friction_disc import condensed_system
 from .friction_system import (COULOMB, FORMULATIONS, FrictionSystem,
                               check_geometry)
 from .frictionless import (condense_onto_contact, contact_geometry,
@@ -310,10 +312,9 @@ def solve_friction(problem, friction, steps=None, formulation="thesis",
                                     stiffness, geometry.gap)
         condensation, local = condense_onto_contact(problem, geometry,
                                                     linear_solver)
-        system = FrictionSystem(condensation.S,
-                                condensation.load(problem.f)[0], local,
-                                lumped, friction, formulation, coulomb,
-                                gap_scale, stiffness)
+        system = condensed_system(geometry.dim, formulation)(
+            condensation.S, condensation.load(problem.f)[0], local, lumped,
+            friction, formulation, coulomb, gap_scale, stiffness)
     else:
         problem.check_stiffness()  # singular / indefinite K: input error
         system = FrictionSystem(problem.K, problem.f, geometry, lumped,
