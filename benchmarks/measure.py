@@ -2,7 +2,7 @@
 
 Usage::
 
-    python benchmarks/measure.py PROBLEM.npz STAGE [BACKEND] [STEPS]
+    python benchmarks/measure.py PROBLEM.npz STAGE [BACKEND] [STEPS [BOUND]]
 
 Loads the problem (not timed), loads the backend's library (not timed:
 ``get_backend`` opens MKL or kvxopt before the clock starts in every stage
@@ -24,7 +24,8 @@ problem, which every stage holds). Stages:
   nested start, Newton, back-substitution, verification all timed); the
   solution is saved next to the problem for the peers to compare with;
 * ``friction``: ``solve_friction`` with f_c = 0.3, STEPS load steps,
-  projection formulation, φ_min, lagged bound;
+  projection formulation, φ_min, lagged bound (or the bound named after
+  STEPS: ``implicit``);
 * ``clarabel``, ``sfepy``: the peers of ``peers.py`` on the same K, f and
   gaps; ``agreement`` is their max-norm distance to our φ_min solution
   (relative).
@@ -89,12 +90,12 @@ def frictionless(problem, method, backend, path):
             "candidates": (r.get("candidates") or {}).get("n_candidates")}
 
 
-def friction(problem, backend, steps):
+def friction(problem, backend, steps, coulomb="lagged"):
     get_backend(backend)
     with Clock() as clock:
         r = solve_friction(problem, 0.3, steps=steps,
                            formulation="projection", method="min",
-                           backend=backend)
+                           coulomb=coulomb, backend=backend)
     screening = r.get("candidates") or {}
     return {**clock.times, "J": r.njev, "F": r.nfev,
             "converged": bool(r.success),
@@ -134,7 +135,7 @@ def main(argv):
     elif stage in ("min", "fb"):
         out.update(frictionless(problem, stage, backend, path))
     elif stage == "friction":
-        out.update(friction(problem, backend, int(argv[3])))
+        out.update(friction(problem, backend, int(argv[3]), *argv[4:5]))
     elif stage in ("clarabel", "sfepy"):
         out.update(peer(problem, stage, f"{path}.min.{backend}.npy"))
     else:

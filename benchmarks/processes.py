@@ -49,11 +49,12 @@ def run_process(command, cwd=ROOT):
     return stdout, elapsed, usage.ru_maxrss / 1024
 
 
-def measure(npz, stage, backend="auto", steps=100):
-    """One stage of ``measure.py`` in a fresh process; its JSON as a dict."""
+def measure(npz, stage, backend="auto", steps=100, *extra):
+    """One stage of ``measure.py`` in a fresh process (``extra``: its
+    further arguments); its JSON as a dict."""
     stdout, _, _ = run_process([sys.executable,
                                 ROOT / "benchmarks" / "measure.py", npz,
-                                stage, backend, steps])
+                                stage, backend, steps, *extra])
     line = stdout.strip().splitlines()[-1]
     if LOG:
         with open(LOG[0], "a") as log:

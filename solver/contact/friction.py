@@ -113,7 +113,8 @@ def _check_step(system, x, load, friction, p_previous, tol_v):
     return verify_contact(system.K, load, system.u_previous + du,
                           geometry.dofs, geometry.normal, geometry.gap, lam,
                           system.stiffness, tol_v, _nodal(system.lumped, g),
-                          system.lumped * bound, geometry.tangents)
+                          system.lumped * bound, geometry.tangents,
+                          system.load_norm)  # the stopping test's F
 
 
 def _nodal(lumped, g):

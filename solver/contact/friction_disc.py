@@ -80,7 +80,8 @@ class DiscJacobian:
         du, g = x[:s.n], s.traction(x)
         r = s._force(du)
         b, db = s.bound(r)
-        w = (g - s.c_t * (s.R @ du)[s.t_rows]).reshape(m, k)
+        ct = self.ct = np.broadcast_to(s.c_t, (s.mt,))
+        w = (g - ct * (s.R @ du)[s.t_rows]).reshape(m, k)
         size = np.linalg.norm(w, axis=1)
         stick = size < b
         ratio = np.where(stick, 1.0, np.divide(
@@ -90,7 +91,7 @@ class DiscJacobian:
         slip_hat = np.where(stick[:, None], 0.0, hat)
         self.P = ratio[:, None, None] * (np.eye(k) - slip_hat[:, :, None]
                                          * slip_hat[:, None, :])
-        Pu = s.c_t * self._blocks(s.R_t)
+        Pu = ct[:, None] * self._blocks(s.R_t)
         if db is not None:  # −ŵ ∂b/∂Δu at slip nodes
             Pu -= slip_hat.reshape(-1, 1) * np.repeat(
                 np.asarray(db.todense()), k, axis=0)
@@ -124,7 +125,7 @@ class _DiscCombined:
         self.jac, s = jac, jac.system
         self.N = -(wa[:, None] * s.RS_n) - s.gap_scale * (wb[:, None]
                                                           * s.R_n)
-        self.Dc = s.lumped_t * s.c_t
+        self.Dc = s.lumped_t * jac.ct
 
     def _free(self, X):
         """(I − P_w) X."""
@@ -135,9 +136,9 @@ class _DiscCombined:
         jac, s = self.jac, self.jac.system
         mt = s.mt
         F1, F2, F3 = F[:mt], F[mt:2 * mt], F[2 * mt:]
-        M = np.vstack([jac.Pu + s.c_t * self._free(s.RS_t / self.Dc[:, None]),
-                       self.N])
-        h = np.concatenate([-F2 - s.c_t * self._free(F1 / self.Dc), -F3])
+        D = s.lumped_t
+        M = np.vstack([jac.Pu + self._free(s.RS_t / D[:, None]), self.N])
+        h = np.concatenate([-F2 - self._free(F1 / D), -F3])
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", sla.LinAlgWarning)
             lu, piv = sla.lu_factor(M, check_finite=False)
@@ -148,7 +149,7 @@ class _DiscCombined:
         own = jac.own  # slip nodes far from the disc's edge: their own rows
         if own.any():
             m, k = jac.P.shape[:2]
-            rhs = -(F2 + jac.Pu @ du).reshape(m, k)[own] / s.c_t
+            rhs = -((F2 + jac.Pu @ du) / jac.ct).reshape(m, k)[own]
             dg.reshape(m, k)[own] = np.einsum("ikl,il->ik", jac.inverse,
                                               rhs)
         d = np.concatenate([du, dg])
@@ -160,5 +161,5 @@ class _DiscCombined:
         mt = s.mt
         F1, F2, F3 = F[:mt], F[mt:2 * mt], F[2 * mt:]
         gu = F1 @ s.RS_t + F2 @ jac.Pu + F3 @ self.N
-        gg = -self.Dc * F1 + s.c_t * (F2 - jac._blocks(F2, transpose=True))
+        gg = -self.Dc * F1 + jac.ct * (F2 - jac._blocks(F2, transpose=True))
         return np.concatenate([gu, gg])
