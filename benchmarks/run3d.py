@@ -24,6 +24,7 @@ stage; ``processes.py``), which reports wall and CPU time and its peak RSS:
 * **python -m solver**: ``python -m solver hsN.npz -o DIR
   --linear-solver fastest`` as a whole (start-up, loading, solve,
   verification, result folder): "end to end from the .npz";
+  **imports**: ``python -c "import solver.cli"`` alone (its start-up);
 * **friction**: ``solve_friction`` with f_c = 0.3, ``--steps`` load steps
   (default 10), projection form, φ_min, ``--bound`` (default implicit:
   with the lagged bound φ_min stalls at a/h 16, step 6), fastest backend (3D
@@ -56,7 +57,8 @@ def columns(backends):
     return (["a/h", "DOFs", "Nc", "export [s]", "export RSS [MB]"]
             + [f"floor {b} [s]" for b in backends]
             + ["fastest", "solve [s] (/floor)",
-               "python -m solver [s] (/floor)", "in contact", "candidates",
+               "python -m solver [s] (/floor)", "imports [s]", "in contact",
+               "candidates",
                "friction [s] (/floor)", "friction J", "friction candidates",
                "RSS floor [MB]", "RSS solve [MB]",
                "RSS python -m solver [MB]", "RSS friction [MB]"])
@@ -97,10 +99,13 @@ def measure_case(npz, args, scratch):
     solve = _best([measure(npz, "min", fastest)
                    for _ in range(args.repeat)])
     seconds, rss = output_stage(npz, fastest, scratch)
+    imports = processes.run_process([sys.executable, "-c",
+                                     "import solver.cli"])[1]
     wall = {"DOFs": floor["dofs"], "Nc": floor["nc"], "fastest": fastest,
             "solve [s] (/floor)": ratio(solve["time"], floor["time"]) + (
                 "" if solve["converged"] else " not converged"),
             "python -m solver [s] (/floor)": ratio(seconds, floor["time"]),
+            "imports [s]": f"{imports:.3g}",
             "in contact": solve["contact"],
             "candidates": solve["candidates"],
             "RSS floor [MB]": f"{floor['peak_rss_mb']:.0f}",
