@@ -20,7 +20,7 @@ import numpy as np
 
 from solver import load_problem, solve_friction, solve_frictionless, two_dof_bar
 from solver.examples import two_dof_bar_closed_form
-from solver.output import figures
+from solver.output import figures, friction_figures
 
 ROOT = Path(__file__).resolve().parent.parent
 FIGURES = ROOT / "docs" / "figures"
@@ -55,10 +55,10 @@ def main():
         r = solve_friction(bar, fc, steps=100)
         exact = np.array([two_dof_bar_closed_form(k, fc)
                           for k in range(1, 101)])
-        plt.close(figures.plot_step_history(
+        plt.close(friction_figures.plot_step_history(
             bar, r, reference=exact, path=FIGURES / f"bar_fc{name}.png"))
     r = solve_friction(block, 0.3, steps=100)
-    plt.close(figures.plot_friction_along_boundary(
+    plt.close(friction_figures.plot_friction_along_boundary(
         block, r, path=FIGURES / "friction_tractions_fc0.3.png"))
     last = SimpleNamespace(displacement=r.displacement[-1],
                            in_contact=r.in_contact[-1])

@@ -184,7 +184,7 @@ def friction(args, problem, open_folder, emit, write_summary):
     summary = friction_summary_of(result, problem, tol=args.tol,
                                   max_iter=args.max_iter)
     if args.plots and result.steps_completed:
-        from .output.figures import write_friction_figures
+        from .output.friction_figures import write_friction_figures
 
         steps = _load_steps(folder, result)
         for path in write_friction_figures(folder.path, problem,

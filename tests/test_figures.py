@@ -11,7 +11,7 @@ import pytest
 
 from solver import load_problem, solve_friction, solve_frictionless
 from solver.examples import two_dof_bar, two_dof_bar_closed_form
-from solver.output import figures
+from solver.output import figures, friction_figures
 
 
 @pytest.fixture(scope="module")
@@ -237,7 +237,7 @@ def test_bar_history_draws_the_closed_form_over_hollow_markers(fc, tmp_path):
     bar = two_dof_bar()
     r = solve_friction(bar, fc, steps=100)
     exact = np.array([two_dof_bar_closed_form(k, fc) for k in range(1, 101)])
-    fig = figures.plot_step_history(bar, r, reference=exact)
+    fig = friction_figures.plot_step_history(bar, r, reference=exact)
     _render(fig, tmp_path)
     for ax in fig.axes:
         computed = next(line for line in ax.lines
@@ -255,7 +255,7 @@ def test_bar_history_draws_the_closed_form_over_hollow_markers(fc, tmp_path):
 
 def test_friction_figures_of_a_mesh(block, tmp_path):
     r = solve_friction(block, 0.3, steps=10, formulation="projection")
-    paths = figures.write_friction_figures(tmp_path, block, r)
+    paths = friction_figures.write_friction_figures(tmp_path, block, r)
     assert sorted(paths) == ["deformed", "friction_along_gc", "history"]
     for path in paths.values():
         assert (tmp_path / f"{path.rsplit('/', 1)[-1]}").stat().st_size > 1e4
@@ -266,7 +266,7 @@ def test_friction_figures_of_a_mesh(block, tmp_path):
                              fig.axes[0].get_title()).group(1))
     largest = np.hypot(*r.displacement[-1].T).max()
     assert 0.05 <= factor * largest / 20 <= 0.2
-    fig = figures.plot_friction_along_boundary(block, r)
+    fig = friction_figures.plot_friction_along_boundary(block, r)
     _render(fig, tmp_path, "along.png")
     _assert_legends_clear_of_data(fig)
     _assert_units(fig)

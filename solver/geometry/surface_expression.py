@@ -17,7 +17,7 @@ import numpy as np
 import sympy
 
 from ..errors import ExpressionError
-from .obstacle import MAX_DERIVATIVE_NODES, _size, parse_expression
+from .expression import MAX_DERIVATIVE_NODES, _size, parse_expression
 
 __all__ = ["SurfaceMap"]
 

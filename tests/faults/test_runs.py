@@ -166,8 +166,8 @@ def test_interrupted_friction_run(block, tmp_path, signum, code):
         SOLVER + [block, "--friction", "0.3", "--steps", "20000",
                   "--formulation", "projection", "-o", str(out)],
         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-    deadline = time.monotonic() + 120
-    while not (out / "steps" / "step_0040.vtu").exists():
+    deadline = time.monotonic() + 300
+    while not (out / "steps" / "step_0010.vtu").exists():
         assert time.monotonic() < deadline and proc.poll() is None
         time.sleep(0.05)
     proc.send_signal(signum)
@@ -178,7 +178,7 @@ def test_interrupted_friction_run(block, tmp_path, signum, code):
     data = read_everything(out)
     assert data["status"] == "interrupted" and data["converged"] is False
     done = data["steps_completed"]
-    assert 40 <= done < 20000
+    assert 10 <= done < 20000
     with np.load(out / "result.npz") as npz:
         assert npz["displacement"].shape[0] == done
         assert not npz["converged"]

@@ -1,0 +1,33 @@
+r"""Counterparts of the thesis's Fig. 1-27, for the notebooks.
+
+Each function draws one figure in the thesis's layout, returns the matplotlib
+Figure and, given ``path``, saves it as a PNG (100 dpi). matplotlib is
+imported here only; nothing here prints or calls ``plt.show()``. The
+notebooks in ``notebooks/`` call these functions and list which thesis
+figure each file stands for (``notebooks/README.md``).
+
+Units (one convention, every axis label uses it). The thesis gives no
+units; its numbers (E = 2·10⁵, a 10 × 20 block, F = 4000) read naturally as
+**lengths in mm, E in MPa, plane strain per unit thickness**: a nodal force
+(F, the contact force λ_i, the friction force t_i) is in N per mm of
+thickness, written [N]; pressures and tractions (p = λ_i/D_ii with
+D_ii = Σ_j M_ij in mm, g_t) are in N/mm² = MPa.
+
+Sketches (Fig. 1, 2, 3, 16, 17) are drawn from the problem data where there
+is data: Fig. 3 from the exported mesh, supports and load, Fig. 16 from the
+bar's computed load path.
+"""
+
+from .common import DPI, FORCE, LENGTH, PRESSURE, UNITS, _position, _save  # noqa: F401
+from .sketches import ncp_functions, boundary_conditions_sketch  # noqa: F401
+from .model import _outline, obstacle_for_display, contact_offset, model_problem  # noqa: F401
+from .frictionless import _nice_scale, deformed_and_directions, convergence, pressure_along_contact, mesh_comparison  # noqa: F401
+from .bar import load_increment, bar_sketch, BAR_QUANTITIES, _bar_values, bar_history  # noqa: F401
+from .friction import tractions_along_contact, _fit_y, tangential_displacement  # noqa: F401
+
+__all__ = ["LENGTH", "FORCE", "PRESSURE", "UNITS",
+           "ncp_functions", "boundary_conditions_sketch", "model_problem",
+           "deformed_and_directions", "obstacle_for_display",
+           "convergence", "pressure_along_contact", "mesh_comparison",
+           "load_increment", "bar_sketch", "bar_history",
+           "tractions_along_contact", "tangential_displacement"]
