@@ -44,6 +44,14 @@ What is exported (``docs/npz-format.md``):
   P1 field, assembled over the whole mesh and restricted to the contact nodes
   in their order.
 
+**Two bodies** (format version 4, 2D; issue 19; :func:`two_body_keys`):
+one mesh with a cell region per body that share no node, ``mortar=dict(
+slave=..., master=..., bodies=[...])`` naming the slave and master facet
+regions and the bodies' cell regions (index = body id). Exported: ``body``
+per node, the facets of the two regions as segments oriented with their
+body on the left (``mortar_slave``, ``mortar_master``), contact_nodes = the
+slave chain in the segments' direction, M on the slave region, no obstacle.
+
 **2D and 3D.** The dimension d is the mesh's. Full field DOF numbers are
 ``d * node + component``, nodal arrays have d columns, the cells are SfePy's
 ``'2_3'`` triangles or ``'3_4'`` tetrahedra. In 3D a problem file exports
@@ -64,7 +72,8 @@ from solver.geometry.mesh import order_along_boundary
 from solver.problem import ContactProblem, save_problem
 
 __all__ = ['export_contact_problem', 'reduced_system', 'full_stiffness',
-           'stage_loads', 'contact_triangles', 'export_only', 'NO_SOLVE',
+           'stage_loads', 'contact_triangles', 'two_body_keys',
+           'export_only', 'NO_SOLVE',
            'set_verbosity', 'main', 'VERBOSE_ENV']
 
 #: ``nls.newton`` settings that stop before the first linear solve: the
@@ -242,7 +251,8 @@ def stage_loads(pb, u, stiffness, load, stages):
 
 def export_contact_problem(pb, variables, filename, *, stiffness, load=None,
                            obstacle, meta, region='Gamma_c',
-                           mass='dw_dot.i.{region}(q, p)', load_path=None):
+                           mass='dw_dot.i.{region}(q, p)', load_path=None,
+                           mortar=None):
     """Assemble K, f, M of ``pb`` and write the ``.npz`` problem file.
 
     Parameters
@@ -268,6 +278,10 @@ def export_contact_problem(pb, variables, filename, *, stiffness, load=None,
     load_path : list of dict, optional
         Load stages for friction runs, see :func:`stage_loads`; the last
         stage must end at the full Dirichlet values and load.
+    mortar : dict, optional
+        Two bodies (:func:`two_body_keys`): ``slave``, ``master`` (facet
+        regions) and ``bodies`` (cell regions, index = body id); then
+        ``obstacle`` is None and ``region`` is the slave region.
 
     Returns
     -------
@@ -288,9 +302,14 @@ def export_contact_problem(pb, variables, filename, *, stiffness, load=None,
     dof_map = nm.stack([eqi // dim, eqi % dim], axis=1).astype(nm.int64)
 
     cells = mesh.get_conn(f'{dim}_{dim + 1}').astype(nm.int64)
+    if mortar is not None:
+        region = mortar['slave']
     gamma_c = pb.domain.regions[region]
     faces = {}
-    if dim == 2:  # the vertices of Gamma_c, ordered along the boundary
+    if mortar is not None:  # two bodies: the slave chain, no obstacle
+        faces = two_body_keys(pb, mortar, cells, mesh.coors)
+        contact_nodes = faces.pop('contact_nodes')
+    elif dim == 2:  # the vertices of Gamma_c, ordered along the boundary
         contact_nodes = order_along_boundary(gamma_c.vertices, cells,
                                              mesh.coors)
     else:  # its triangles, outward; the nodes in increasing order
@@ -321,6 +340,81 @@ def export_contact_problem(pb, variables, filename, *, stiffness, load=None,
     print(f'exported {problem.n_dofs} DOFs, {problem.n_contact} contact '
           f'nodes -> {filename}')
     return problem
+
+
+def _segments(pb, region, cells, coors):
+    """The facets of the 2D facet region ``region`` as segments (a, b) with
+    their body on the left of a→b (format v4, ``docs/npz-format.md``)."""
+    cmesh = pb.domain.cmesh
+    facets = pb.domain.regions[region].facets
+    cmesh.setup_connectivity(1, 0)
+    cmesh.setup_connectivity(1, 2)
+    vertices = cmesh.get_incident(0, facets, 1)
+    segments = nm.asarray(vertices, dtype=nm.int64).reshape(-1, 2)
+    owner, offsets = cmesh.get_incident(2, facets, 1, ret_offsets=True)
+    if not len(segments) or nm.any(nm.diff(offsets) != 1):
+        raise ValueError(f'{region}: empty, or a facet bounds two cells '
+                         '(not on the surface)')
+    third = cells[owner].sum(axis=1) - segments.sum(axis=1)
+    a, b = coors[segments[:, 0], :2], coors[segments[:, 1], :2]
+    c = coors[third, :2]
+    right = ((b - a)[:, 0] * (c - a)[:, 1] - (b - a)[:, 1] * (c - a)[:, 0]) < 0
+    segments[right] = segments[right][:, ::-1]
+    return segments
+
+
+def _chain(segments, cells, coors):
+    """The segments as one chain of nodes in their direction (or None if
+    they do not form one open chain)."""
+    try:
+        chain = order_along_boundary(nm.unique(segments), cells, coors)
+    except ValueError:
+        return None
+    n = len(coors)
+    known = set((segments[:, 0] * n + segments[:, 1]).tolist())
+    if chain[0] * n + chain[1] not in known:
+        chain = chain[::-1]
+    steps = chain[:-1] * n + chain[1:]
+    if len(chain) != len(segments) + 1 or not all(
+            int(k) in known for k in steps):
+        return None
+    return chain
+
+
+def two_body_keys(pb, mortar, cells, coors):
+    """The two-body keys (format version 4) of a problem with the regions
+    ``mortar['slave']``, ``mortar['master']`` (facets) and
+    ``mortar['bodies']`` (cells, one per body, sharing no node).
+
+    Returns
+    -------
+    dict
+        ``body`` (n_nodes,), ``mortar_slave`` (in chain order),
+        ``mortar_master`` (in chain order if they form one) and
+        ``contact_nodes`` (the slave chain).
+    """
+    regions = pb.domain.regions
+    body = nm.full(len(coors), -1, dtype=nm.int64)
+    for i, name in enumerate(mortar['bodies']):
+        vertices = regions[name].vertices
+        if nm.any(body[vertices] >= 0):
+            raise ValueError(f'{name}: shares nodes with another body')
+        body[vertices] = i
+    if nm.any(body < 0):
+        raise ValueError(f'{int(nm.sum(body < 0))} nodes are in no body '
+                         'region')
+    slave = _segments(pb, mortar['slave'], cells, coors)
+    chain = _chain(slave, cells, coors)
+    if chain is None:
+        raise ValueError(f"{mortar['slave']}: the slave facets do not form "
+                         'one open chain')
+    master = _segments(pb, mortar['master'], cells, coors)
+    master_chain = _chain(master, cells, coors)
+    if master_chain is not None:
+        master = nm.stack([master_chain[:-1], master_chain[1:]], axis=1)
+    return dict(body=body, contact_nodes=chain,
+                mortar_slave=nm.stack([chain[:-1], chain[1:]], axis=1),
+                mortar_master=master)
 
 
 def contact_triangles(pb, region, cells, coors):

@@ -39,10 +39,12 @@ def _geometry(args, problem):
     resolve(args.linear_solver)  # not installed: SolverError, exit 2
     if _condense(args) is False:  # else checked by the solve's factorisation
         problem.check_stiffness()
-    # contact nodes on symmetry planes (rollers) take part in frictionless
-    # contact; friction runs treat them as supports (not built yet)
-    return contact_geometry(problem, args.gap,
-                            rollers=args.friction is None)
+    # contact nodes on symmetry planes (rollers) take part in contact; 2D
+    # friction runs (the thesis's) keep them supports, as solve_friction
+    from .contact.geometry import problem_dim
+
+    return contact_geometry(problem, args.gap, rollers=args.friction is None
+                            or problem_dim(problem) == 3)
 
 
 def _failure_line(message, nit, history, tail=""):

@@ -29,14 +29,37 @@ and its Cattaneo–Mindlin stick radius (Johnson §7.2) c = a(1 − Q/(f_c P))^{
 The first moment of the Hertz pressure, ∫ p r dA / ∫ p dA = 3πa/16, gives
 a from the nodal contact forces without a fit
 (:func:`contact_radius_from_moment`).
+
+Hertz replaces the sphere by the paraboloid r²/(2R). The exact half-space
+solution for the spherical profile R − √(R² − r²) (I. N. Sneddon, Int. J.
+Engng Sci. 3 (1965) 47–57, eqs. for the spherical punch; his general
+axisymmetric solution with G(t) = δ − t ∫₀ᵗ f'(s)/√(t² − s²) ds):
+
+.. math::
+    δ = \frac{a}{2}\ln\frac{R + a}{R − a}, \qquad
+    P = \frac{E^*}{2}\left[(a^2 + R^2)\ln\frac{R + a}{R − a}
+        − 2aR\right] = \frac{4E^* a^3}{3R}\Bigl(1 + \frac{2}{5}
+        \frac{a^2}{R^2} + …\Bigr),
+
+    p(r) = \frac{E^*}{π} \int_r^a \frac{h(t)\,dt}{\sqrt{t^2 − r^2}},
+    \qquad h(t) = −G'(t) = \frac12\ln\frac{R + t}{R − t}
+    + \frac{tR}{R^2 − t^2}
+
+(:func:`sphere_flat_contact`, :func:`sphere_flat_pressure`). For a given P
+its contact radius is Hertz's times 1 − (2/15)(a/R)² and its pressure is
+not a semi-ellipse: this is the size of Hertz's own error on a real sphere
+(at a/R = 0.1: a −0.13 %, a Hertz-profile fit's p0 +0.22 %).
 """
+
+import functools
 
 import numpy as np
 
 __all__ = ["hertz_line_contact", "hertz_pressure", "fit_semi_ellipse",
            "cattaneo_mindlin_stick_half_width", "contact_resultants",
            "zone_of", "hertz_point_contact", "cattaneo_mindlin_stick_radius",
-           "contact_radius_from_moment", "fit_hertz_profile"]
+           "contact_radius_from_moment", "fit_hertz_profile",
+           "sphere_flat_contact", "sphere_flat_pressure"]
 
 
 def hertz_line_contact(P, R, E, nu, plane="strain"):
@@ -150,3 +173,47 @@ def fit_hertz_profile(radius, p, guess):
     fit = least_squares(residual, x0=[guess[0], guess[1]],
                         x_scale=[guess[0], guess[1]])
     return abs(fit.x[0]), fit.x[1]
+
+
+def _sphere_force(a, R, E_star):
+    """Sneddon's P(a) of a rigid-flat contact of a sphere (module doc)."""
+    return 0.5 * E_star * ((a * a + R * R) * np.log((R + a) / (R - a))
+                           - 2.0 * a * R)
+
+
+def sphere_flat_contact(P, R, E, nu):
+    """(a, δ) of an elastic half-space with the exact spherical profile
+    R − √(R² − r²), not Hertz's paraboloid, pressed with P onto a rigid
+    flat (Sneddon 1965; module doc). a is the root of P(a) = P in
+    (0, R), bracketed by Hertz's a, which is larger."""
+    from scipy.optimize import brentq
+
+    E_star = E / (1 - nu ** 2)
+    a_hertz, _ = hertz_point_contact(P, R, E, nu)
+    if not 0 < P or not a_hertz < R:
+        raise ValueError(f"P = {P:g} gives no contact radius below R")
+    a = brentq(lambda x: _sphere_force(x, R, E_star) - P, 0.5 * a_hertz,
+               a_hertz, xtol=1e-15 * a_hertz, rtol=4 * np.finfo(float).eps)
+    return a, 0.5 * a * np.log((R + a) / (R - a))
+
+
+@functools.lru_cache(maxsize=4)
+def _gauss_legendre(order):
+    return np.polynomial.legendre.leggauss(order)
+
+
+def sphere_flat_pressure(r, a, R, E, nu, order=64):
+    """Sneddon's p(r) for the spherical profile at contact radius ``a``
+    (module doc), zero for r ≥ a. With t² = r² + s² the integral is
+    E*/π ∫₀^√(a² − r²) h(t)/t ds, smooth: Gauss–Legendre of ``order``
+    points, vectorised over r."""
+    E_star = E / (1 - nu ** 2)
+    r = np.asarray(r, float)
+    x, w = _gauss_legendre(order)
+    top = np.sqrt(np.clip(a * a - r * r, 0.0, None))[..., None]
+    s = 0.5 * top * (x + 1.0)
+    t = np.sqrt(r[..., None] ** 2 + s * s)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        h = (0.5 * np.log((R + t) / (R - t)) + t * R / (R * R - t * t)) / t
+        h = np.where(t > 0, h, 2.0 / R)  # the limit t → 0
+    return E_star / np.pi * 0.5 * top[..., 0] * (h @ w)

@@ -150,17 +150,6 @@ def test_thesis_formulation_refused_in_3d():
     assert "\n" not in str(info.value)
 
 
-def test_rollers_refused():
-    problem, geometry, _, _ = dragged_block(0.0, 0.01)
-    dofs = geometry.dofs.copy()
-    dofs[0, 0] = -1
-    rollers = ContactGeometry(geometry.index, dofs, geometry.gap,
-                              geometry.normal)
-    with pytest.raises(SolverError, match="roller"):
-        solve_friction(problem, 0.3, formulation="projection",
-                       geometry=rollers)
-
-
 def test_cli_3d_friction_run(tmp_path):
     """python -m solver X.npz --friction 0.3 --formulation projection
     --steps 3 --plots on a 3D file writes its result, VTU steps (read back)

@@ -34,10 +34,11 @@ def sphere16(tmp_path_factory):
 def test_hertz_sphere_a_over_h_16(sphere16):
     """Issue 18: at a/h ≥ 16, a within 1 % (from the first moment of the
     contact forces), p0 from a least-squares fit of the Hertz profile
-    within 1 %, the largest nodal pressure within 3 % (lumped λ_i/D_ii).
-    The RMS deviation target (3 % of p0) is not met at a/h 16: measured
-    3.2 %; the bound asserted is the measured one, so that it cannot
-    silently grow."""
+    (a and p0 both fitted) within 1 %, the largest nodal pressure within
+    3 % and the RMS deviation of the nodal pressures from Hertz's profile
+    inside r < a below 3 % of p0 (lumped λ_i/D_ii). Measured on the
+    Netgen-optimised a = 0.05 R mesh: −0.16 %, +0.51 %, +0.8 %, 2.2 %
+    (the RMS was 3.2 % with gmsh's Delaunay tets alone at a = 0.1 R)."""
     problem, result = sphere16
     assert result.success, result.message
     row = hertz_sphere_row(problem, result)
@@ -46,7 +47,7 @@ def test_hertz_sphere_a_over_h_16(sphere16):
     assert abs(row["a moment err %"]) < 1.0
     assert abs(row["p0 fit err %"]) < 1.0
     assert abs(row["max p err %"]) < 3.0
-    assert row["RMS/p0 %"] < 3.5
+    assert row["RMS/p0 %"] < 3.0
 
 
 def test_hertz_sphere_methods_and_systems_agree(sphere16):

@@ -30,7 +30,8 @@ import pytest
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from tet_elasticity import box, mesh_problem, rectangle, stiffness  # noqa: E402
 
-from solver.contact import contact_geometry, solve_frictionless  # noqa: E402
+from solver.contact import (contact_geometry, solve_friction,  # noqa: E402
+                            solve_frictionless)
 from solver.contact.geometry import ROLLER_TOLERANCE, rotation  # noqa: E402
 from solver.geometry.obstacle import ParametricCurve  # noqa: E402
 
@@ -64,11 +65,11 @@ class Paraboloid:
         return z + KAPPA * (x * x + y * y), nu, points.copy()
 
 
-def block_3d(part, n=4, nz=3):
+def block_3d(part, n=4, nz=3, top=(0.0, 0.0, -DZ)):
     """The block [−1, 1]² × [0, 1] ("whole"), [0, 1] × [−1, 1] × [0, 1]
     ("half", u_x = 0 on x = 0) or [0, 1]² × [0, 1] ("quarter", also u_y = 0
-    on y = 0), its top pressed down by DZ onto the paraboloid; Γc its
-    bottom."""
+    on y = 0), its top pressed down by DZ onto the paraboloid (or moved
+    by ``top``); Γc its bottom."""
     nodes, cells = box((n, n, nz))
     if part in ("half", "whole"):
         nodes, cells = mirror(nodes, cells, 1)
@@ -80,8 +81,7 @@ def block_3d(part, n=4, nz=3):
         prescribed[np.isclose(x, 0.0), 0] = 0.0
     if part == "quarter":
         prescribed[np.isclose(y, 0.0), 1] = 0.0
-    top = np.isclose(z, 1.0)
-    prescribed[top] = [0.0, 0.0, -DZ]
+    prescribed[np.isclose(z, 1.0)] = top
     contact = np.flatnonzero(np.isclose(z, 0.0))
     faces = np.sort(cells[:, [[0, 1, 2], [0, 1, 3], [0, 2, 3], [1, 2, 3]]]
                     .reshape(-1, 3), axis=1)
@@ -413,3 +413,208 @@ def test_hertz_sphere_quarter_a_over_h_8(tmp_path):
     assert old["axis"] == 0 and old["peak"] > 0.5 and old["rms"] > 0.3
     assert new["axis"] > 0.9 and abs(new["peak"]) < 0.06
     assert new["rms"] < 0.06 and abs(new["p0"]) < 0.03
+
+
+# --- friction with rollers (issue 18: the Cattaneo–Mindlin sphere) --------
+#
+# The reference is again the whole model. With a load symmetric about the
+# plane x = 0 the whole model's friction traction has no x component on it
+# (mirror symmetry of the unique incremental solution), so the half model's
+# roller, whose friction lives in the free tangents only, must reproduce it:
+# u equal, λ and the nodal friction force D g halved on the plane (D, the
+# lumped Γc measure, is halved there), the traction vector g equal.
+
+FC = 0.3
+
+
+def dragged_3d(part, slide, steps=(2, 3)):
+    """:func:`block_3d` pressed (stage 1), then its top moved by ``slide``
+    along y, parallel to the plane x = 0 (stage 2), friction in both."""
+    press = block_3d(part)
+    end = block_3d(part, top=(0.0, slide, -DZ))
+    end.load_path = np.array([press.f, end.f])
+    end.load_path_steps = np.array(steps)
+    end.load_path_friction = np.ones(2)
+    end.load_path_prescribed = np.array([press.u_prescribed,
+                                         end.u_prescribed])
+    return end
+
+
+def traction_vectors(problem, result, step=-1):
+    """Σ_k g_k τ_k per contact node (global coordinates; NaN-free), the
+    tangents those of the geometry the solver builds (rollers=True)."""
+    geometry = contact_geometry(problem, "obstacle", rollers=True)
+    out = np.zeros((problem.n_contact, problem.dim))
+    g = result.friction_traction[step][geometry.index]
+    out[geometry.index] = np.einsum("ik,ikj->ij", np.reshape(
+        g, (len(geometry.index), -1)), geometry.tangents)
+    return out
+
+
+def check_friction_against_whole(whole, r_whole, part, r_part, share):
+    """:func:`check_against_whole` at the last step, plus the friction
+    traction vectors equal to 1e-9 of the largest."""
+    last = [type(r_whole)(displacement=r.displacement[-1],
+                          contact_force=r.contact_force[-1],
+                          contact_pressure=r.contact_pressure[-1],
+                          in_contact=r.in_contact[-1])
+            for r in (r_whole, r_part)]
+    check_against_whole(whole, last[0], part, last[1], share)
+    c = contact_match(whole, part)
+    t_whole = traction_vectors(whole, r_whole)[c]
+    t_part = traction_vectors(part, r_part)
+    scale = np.abs(t_whole).max()
+    assert scale > 0
+    assert np.abs(t_part - t_whole).max() <= 1e-9 * scale
+    np.testing.assert_array_equal(r_part.stick[-1], r_whole.stick[-1][c])
+
+
+@pytest.fixture(scope="module")
+def dragged_whole():
+    problem = dragged_3d("whole", 0.02)
+    result = solve_friction(problem, FC, formulation="projection",
+                            method="min", tol=1e-13)
+    assert result.success, result.message
+    return problem, result
+
+
+@pytest.mark.parametrize("coulomb, method, condense", [
+    ("lagged", "min", True), ("implicit", "min", False),
+    ("implicit", "fb", True), ("lagged", "fb", False)])
+def test_half_friction_matches_the_whole_3d(dragged_whole, coulomb, method,
+                                            condense):
+    """Pressed, then dragged along the plane: the half model with rollers
+    (the default in 3D) against the whole one, condensed and full, both
+    Coulomb variants, both methods; the plane's rollers carry friction
+    along y (stick and slip nodes among them)."""
+    whole, r_whole = dragged_whole
+    if coulomb != "lagged" or method != "min":
+        r_whole = solve_friction(whole, FC, formulation="projection",
+                                 coulomb=coulomb, method=method, tol=1e-13)
+        assert r_whole.success, r_whole.message
+    part = dragged_3d("half", 0.02)
+    result = solve_friction(part, FC, formulation="projection",
+                            coulomb=coulomb, method=method, tol=1e-13,
+                            condense=condense)
+    assert result.success and result.verification["passed"], result.message
+    on_x = np.abs(part.nodes[part.contact_nodes, 0]) < 1e-12
+    check_friction_against_whole(whole, r_whole, part, result,
+                                 np.where(on_x, 0.5, 1.0))
+    rolling = on_x & result.in_contact[-1]
+    assert rolling.sum() >= 2
+    g = result.friction_traction[-1][rolling]
+    assert (np.abs(g[:, 1]) > 1e-3 * np.abs(g).max()).all()  # along y
+    np.testing.assert_array_equal(g[:, 0], 0.0)  # e_x: a support reaction
+    assert result.slip[-1][rolling].any()
+
+
+def test_quarter_friction_pressed_matches_the_whole_3d():
+    """Normal load only, with friction (the body's Poisson spreading
+    against the curved obstacle makes radial friction): the quarter with
+    rollers on both planes, the axis node with two constrained tangents
+    (g ≡ 0 there), against the whole model."""
+    kwargs = dict(formulation="projection", method="min", tol=1e-13,
+                  steps=3)
+    whole, part = block_3d("whole"), block_3d("quarter")
+    r_whole = solve_friction(whole, FC, **kwargs)
+    result = solve_friction(part, FC, **kwargs)
+    assert r_whole.success and result.success, result.message
+    xy = part.nodes[part.contact_nodes, :2]
+    on = np.abs(xy) < 1e-12
+    check_friction_against_whole(whole, r_whole, part, result,
+                                 0.5 ** on.sum(axis=1))
+    axis = on.all(axis=1)
+    assert result.in_contact[-1][axis].item()
+    np.testing.assert_array_equal(result.friction_traction[-1][axis], 0.0)
+
+
+def test_rollers_false_is_the_old_answer_3d():
+    """rollers=False keeps the plane nodes supports (λ = 0, as before
+    issue 18's friction work), and then the answer differs from the whole
+    model's."""
+    part = block_3d("quarter")
+    old = solve_friction(part, FC, formulation="projection", method="min",
+                         steps=3, rollers=False)
+    assert old.success
+    plane = (part.contact_dofs < 0).any(axis=1)
+    assert (old.contact_force[-1][plane] == 0).all()
+    new = solve_friction(part, FC, formulation="projection", method="min",
+                         steps=3)
+    assert (new.contact_force[-1][plane] > 0).any()
+
+
+def test_half_friction_matches_the_whole_2d():
+    """2D, through the parabola: pressed with friction in 4 steps, the
+    half model (rollers=True: the axis node's only tangent is
+    constrained, g ≡ 0 there) against the whole one; 2D's default keeps
+    rollers as supports (the thesis's runs) and the split refuses them."""
+    from solver.errors import SolverError
+
+    kwargs = dict(formulation="projection", method="min", tol=1e-13,
+                  steps=4)
+    whole, part = block_2d("whole"), block_2d("half")
+    r_whole = solve_friction(whole, FC, **kwargs)
+    result = solve_friction(part, FC, rollers=True, **kwargs)
+    assert r_whole.success and result.success, result.message
+    on_axis = np.abs(part.nodes[part.contact_nodes, 0]) < 1e-12
+    check_friction_against_whole(whole, r_whole, part, result,
+                                 np.where(on_axis, 0.5, 1.0))
+    assert result.in_contact[-1][on_axis].item()
+    assert result.friction_traction[-1][on_axis].item() == 0.0
+    default = solve_friction(part, FC, **kwargs)
+    assert default.contact_force[-1][on_axis].item() == 0.0
+    with pytest.raises(SolverError, match="split formulation does not "
+                       "take roller") as info:
+        solve_friction(part, FC, steps=4, rollers=True)
+    assert "\n" not in str(info.value)
+
+
+@pytest.mark.parametrize("coulomb", ["lagged", "implicit"])
+@pytest.mark.parametrize("part", ["half", "quarter"])
+def test_roller_friction_jacobian_matches_finite_differences(part, coulomb):
+    """The projection system with rollers (one or two constrained
+    tangents): its Jacobian against central differences of its residual at
+    an iterate with stick and slip nodes, rollers among both (away from
+    the kinks); the shapes: one tangential equilibrium row per free
+    tangent, a projection row per tangent (g_c ≡ 0 at e_c)."""
+    from solver.contact.friction_system import FrictionSystem
+
+    problem = block_3d(part, n=2, nz=1)
+    geometry = contact_geometry(problem, "obstacle", rollers=True)
+    assert geometry.has_rollers
+    lumped = np.asarray(problem.M.sum(axis=1)).ravel()[geometry.index]
+    system = FrictionSystem(problem.K, problem.f, geometry, lumped, FC,
+                            "projection", coulomb)
+    m, mt, free = system.m, system.mt, system.t_free
+    rng = np.random.default_rng(5)
+    system.set_step(np.zeros(system.n), 1.0, rng.uniform(0.5, 1.5, m))
+    x = rng.normal(scale=1e-3, size=system.n_unknowns)
+    du = x[:system.n]
+    r = system._force(du)
+    if coulomb == "implicit":  # every node pressed: p > 0 and smooth
+        assert (r[system.n_rows] < 0).all()
+    b = system.bound(r, False)[0]
+    factor = np.where(np.arange(m) % 2, 0.5, 2.0) * np.maximum(b, 0.1)
+    w = rng.normal(size=(m, 2)) * free.reshape(m, 2)  # 0 along e_c
+    norm = np.linalg.norm(w, axis=1)  # 0 on the quarter's axis
+    w *= np.divide(factor, norm, out=np.zeros(m), where=norm > 0)[:, None]
+    g = w.ravel() + system.c_t * system.tangential(system.R @ du)
+    x[system.n:] = g / system.c_t
+    JE, JA, JB = system.jacobian(x)
+    J = np.vstack([JE.toarray(), JA.toarray(), JB.toarray()])
+    h = 1e-7 * np.abs(x).max()
+    numeric = np.empty_like(J)
+    for j in range(len(x)):
+        e = np.zeros_like(x)
+        e[j] = h
+        numeric[:, j] = (np.concatenate(system.residual(x + e))
+                         - np.concatenate(system.residual(x - e))) / (2 * h)
+    size = np.linalg.norm(w, axis=1)
+    rolling = ~free.reshape(m, 2).all(axis=1)
+    assert (size[rolling] < b[rolling]).any() and \
+        (size[rolling] > b[rolling]).any()
+    assert np.all(np.abs(size - b) > 1e-3 * b)
+    E = system.residual(x)[0]
+    assert len(E) == len(system.x_rows) + free.sum() + mt
+    assert J.shape == (system.n_unknowns + m, system.n_unknowns)  # E, A, B
+    np.testing.assert_allclose(J, numeric, atol=1e-6 * np.abs(J).max())

@@ -43,12 +43,21 @@ In 3D (any d) g_t ∈ R^{d−1} per node, in the tangent basis
 ``geometry.tangents``, and the clip becomes the projection onto the disc
 |g_t| ≤ f_c p (Alart & Curnier 1991; Hüeber, Stadler & Wohlmuth 2008):
 ``friction_traction`` is then (Nc, d − 1). The thesis's split is 2D-only
-(it splits a scalar slip) and is refused there; so are roller nodes. The
+(it splits a scalar slip) and is refused there, and with roller nodes. The
 reduced Newton of :mod:`.friction_newton` is 2D-only: in 3D each Newton
 step of the condensed system is solved with the tractions eliminated
 (:mod:`.friction_disc`), by default on the candidate nodes only
 (:mod:`.friction_candidates`; ``candidates=False``: every DOF of the free
 contact nodes); the full system takes a sparse LU of its whole Jacobian.
+
+Rollers (symmetry planes, :mod:`~solver.contact.geometry`): at a contact
+node with u_c = 0 along the plane normal e_c and ν in the plane, the row
+along e_c is a support reaction, not friction: the projection form keeps
+g_t,c ≡ 0 there (w_c = 0, so g − P(w) gives it) and drops that tangential
+equilibrium row, so that the Coulomb set is the disc cut to the free
+tangents (an interval with one free tangent). This is exact for loads
+symmetric about the plane: the whole model's friction traction has no
+component across the plane there (mirror symmetry).
 
 ``coulomb="lagged"`` uses p = p_{κ−1} of the previous step (thesis: Coulomb
 as a sequence of Tresca problems); ``coulomb="implicit"`` uses the current
@@ -79,6 +88,7 @@ from .friction_system import (COULOMB, FORMULATIONS, FrictionSystem,
                               check_geometry)
 from .frictionless import (condense_onto_contact, contact_geometry,
                            contact_stiffness)
+from .geometry import problem_dim
 from .verify import (describe_failure, force_scale, unit_free_options,
                      verification_tolerance, verify_contact,
                      worst_verification)
@@ -111,8 +121,9 @@ def _check_step(system, x, load, friction, p_previous, tol_v):
                         else pressure)
     geometry = system.geometry
     return verify_contact(system.K, load, system.u_previous + du,
-                          geometry.dofs, geometry.normal, geometry.gap, lam,
-                          system.stiffness, tol_v, _nodal(system.lumped, g),
+                          geometry.node_dofs, geometry.normal, geometry.gap,
+                          lam, system.stiffness, tol_v,
+                          _nodal(system.lumped, g),
                           system.lumped * bound, geometry.tangents,
                           system.load_norm)  # the stopping test's F
 
@@ -134,7 +145,7 @@ def _final_check(problem, geometry, stiffness, tol_v, condensation, last,
         _, u_c, w, f_step, lam, t, bound, _ = last
         u = condensation.displacement(u_c, w)
         checks = checks + [verify_contact(
-            problem.K, f_step, u, geometry.dofs, geometry.normal,
+            problem.K, f_step, u, geometry.node_dofs, geometry.normal,
             geometry.gap, lam, stiffness, tol_v, t, bound,
             geometry.tangents)]
     return worst_verification(checks, tol_v)
@@ -149,8 +160,8 @@ def solve_friction(problem, friction, steps=None, formulation="thesis",
                    coulomb="lagged", method="fb", gap="obstacle", tol=1e-10,
                    max_iter=100, gap_scale=None, options=None, progress=None,
                    geometry=None, condense=None, on_step=None,
-                   keep_steps=True, backend="auto", candidates=None,
-                   margin=None):
+                   keep_steps=True, backend="auto", rollers=None,
+                   candidates=None, margin=None):
     r"""Quasi-static Coulomb friction in load steps (thesis §5, (110)/(111)).
 
     Parameters
@@ -220,6 +231,14 @@ def solve_friction(problem, friction, steps=None, formulation="thesis",
         Sparse direct solver of the condensed system, as in
         :func:`solve_frictionless`: one factorisation and its Schur
         complement serve every load step and Newton iteration.
+    rollers : bool or None
+        Whether contact nodes on symmetry planes (a Dirichlet component
+        along which ν has none, :mod:`~solver.contact.geometry`) take part
+        in contact and friction, as in :func:`solve_frictionless`: their
+        friction traction lives in the free tangents only (module
+        docstring). None (default): True in 3D, False in 2D (the thesis's
+        runs: a roller is a support, λ = 0; the thesis's split refuses
+        rollers). Ignored when ``geometry`` is given.
     candidates : bool, optional
         Condense onto the d DOFs of candidate nodes only, enlarged until
         no other node penetrates (:mod:`.friction_candidates`; result keys
@@ -278,9 +297,12 @@ def solve_friction(problem, friction, steps=None, formulation="thesis",
     path = problem.load_steps(steps)
     steps = problem.n_load_steps(steps)
     start = time.perf_counter()
+    if rollers is None:  # 3D: rollers (the projection takes them)
+        rollers = problem_dim(problem) == 3
     if geometry is None:
-        geometry = contact_geometry(problem, gap)
-    if use_candidates(candidates, condense, formulation, geometry.dim):
+        geometry = contact_geometry(problem, gap, rollers=rollers)
+    if use_candidates(candidates, condense, formulation, geometry.dim,
+                      geometry.has_rollers):
         check_geometry(geometry, formulation)
         return friction_on_candidates(solve_friction, problem, friction,
                                       geometry, margin, dict(
@@ -395,7 +417,7 @@ def solve_friction(problem, friction, steps=None, formulation="thesis",
             at_bound = size >= bound * (1 - 1e-6) - 1e-12 * scale
             slip_nodes = contact & at_bound
             stick_nodes = contact & ~slip_nodes
-            ut = (system.R @ u)[system.t_rows]
+            ut = system.tangential(system.R @ u)
             last = (kappa, u.copy(), w if condense else None, f_step, lam,
                     _nodal(lumped, g), lumped * bound,
                     result.history["residual"])

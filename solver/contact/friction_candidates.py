@@ -84,12 +84,16 @@ class _Penetration(Exception):
         self.step, self.remaining, self.length = step, remaining, length
 
 
-def use_candidates(candidates, condense, formulation, dim):
+def use_candidates(candidates, condense, formulation, dim, rollers=False):
     """Whether to run friction on candidates (default: 3D, condensed,
-    projection form); SolverError (one line) if asked where it cannot."""
+    projection form, no roller nodes); SolverError (one line) if asked
+    where it cannot."""
     if candidates is None:
         return dim == 3 and condense is not False \
-            and formulation == "projection"
+            and formulation == "projection" and not rollers
+    if candidates and rollers:
+        raise SolverError("friction on candidate nodes does not take roller "
+                          "nodes yet; give candidates=False or rollers=False")
     if candidates and (condense is False or formulation != "projection"):
         raise SolverError("friction on candidate nodes needs the condensed "
                           "projection formulation (condense=True, "
@@ -98,9 +102,11 @@ def use_candidates(candidates, condense, formulation, dim):
 
 
 def remaining_gap(geometry, u):
-    """s − u_n at every node of ``geometry`` (no rollers) for reduced u."""
+    """s − u_n at every node of ``geometry`` for reduced u (its component
+    DOFs ``node_dofs``; −1, a Dirichlet component, reads 0)."""
+    padded = np.append(np.asarray(u, float), 0.0)
     return geometry.gap - np.einsum("ij,ij->i", geometry.normal,
-                                    np.asarray(u)[geometry.dofs])
+                                    padded[geometry.node_dofs])
 
 
 #: Default ring of the friction candidates: nodes whose frictionless
@@ -256,7 +262,7 @@ def _complete(result, problem, geometry, nodes, fields, final, stiffness,
     lumped = np.asarray(problem.M.sum(axis=1)).ravel()[index]
     t = fields["friction_traction"][index]
     t = lumped * t if t.ndim == 1 else lumped[:, None] * t
-    check = verify_contact(problem.K, final, fields["u"], geometry.dofs,
+    check = verify_contact(problem.K, final, fields["u"], geometry.node_dofs,
                            geometry.normal, geometry.gap,
                            fields["contact_force"][index], stiffness, tol_v,
                            t, lumped * fields["friction_bound"][index],

@@ -57,7 +57,8 @@ class DiscSystem(FrictionSystem):
     def __init__(self, K, *args, **kwargs):
         super().__init__(K, *args, **kwargs)
         self.dense = isinstance(K, np.ndarray) and not len(self.x_rows) \
-            and self.formulation == "projection" and self.dim == 3
+            and self.formulation == "projection" and self.dim == 3 \
+            and not self.geometry.has_rollers  # rollers: FrictionSystem's J
         if self.dense:
             R = self.R.toarray()
             RS = R @ np.asarray(K, float)

@@ -23,19 +23,21 @@ COULOMB = ("lagged", "implicit")
 
 
 def check_geometry(geometry, formulation):
-    """SolverError (one line) for what friction does not take: roller nodes
-    (a Dirichlet component; friction runs keep them as supports), and the
-    thesis's split formulation (110)/(111) outside 2D: its Δu_t = Δu_t⁺ −
+    """SolverError (one line) for what friction does not take: the
+    thesis's split formulation (110)/(111) outside 2D (its Δu_t = Δu_t⁺ −
     Δu_t⁻ splits a scalar tangential slip, which a tangent plane does not
-    have (the projection onto the Coulomb disc replaces it)."""
-    if geometry.has_rollers:
-        raise SolverError("friction does not take roller nodes (contact "
-                          "nodes with a Dirichlet component); give a "
-                          "geometry without rollers")
+    have: the projection onto the Coulomb disc replaces it), and with
+    roller nodes (the split has no row to drop for a roller's constrained
+    tangent; the projection form takes rollers, :class:`FrictionSystem`)."""
     if formulation == "thesis" and geometry.dim != 2:
         raise SolverError("the thesis's split formulation (Δu_t⁺, Δu_t⁻) is "
                           "2D-only; use --formulation projection "
                           "(formulation=\"projection\") in 3D")
+    if formulation == "thesis" and geometry.has_rollers:
+        raise SolverError("the thesis's split formulation does not take "
+                          "roller nodes (contact nodes with a Dirichlet "
+                          "component); use --formulation projection "
+                          "(formulation=\"projection\") or rollers=False")
 
 
 class FrictionSystem:
@@ -45,7 +47,11 @@ class FrictionSystem:
     ----------
     K, f : reduced stiffness and full load.
     geometry : ContactGeometry
-        Gaps and normals at the free contact nodes.
+        Gaps and normals at the free contact nodes and the rollers (the
+        projection form only: a roller's g_t is 0 along its constrained
+        tangents e_c and that tangential equilibrium row is left out, so
+        that its Coulomb set is the disc cut to the free tangents,
+        :mod:`solver.contact.friction`).
     lumped : (Nca,) array
         D_ii = Σ_j M_ij at the free contact nodes.
     friction : float
@@ -80,6 +86,10 @@ class FrictionSystem:
         self.x_rows, self.t_rows, self.n_rows = other, a, b  # X, Z, Y
         #: tangential unknowns: m(d − 1), node by node (the tangent basis)
         self.mt = len(a)
+        #: the tangential unknowns with an equilibrium row: False at a
+        #: roller's constrained tangent e_c (``dofs`` −1), whose g is 0
+        self.t_free = a >= 0
+        self.rollers = not bool(self.t_free.all())
         self.lumped_t = np.repeat(self.lumped, self.dim - 1)
         self.RK = (self.R @ self.K).tocsr()
         self.Rf = self.R @ self.f
@@ -104,9 +114,17 @@ class FrictionSystem:
                                          Z0], format="csr")
         else:
             Zt = sp.csr_matrix((m, mt))
+            Dt, free = sp.diags(self.lumped_t, format="csr"), a
+            #: ZR with a roller's e_c rows 0 (it moves no tangential DOF)
+            self._Rt = R[a]
+            if self.rollers:
+                free = a[self.t_free]
+                Dt = Dt[self.t_free]
+                self._Rt = sp.diags(self.t_free.astype(float)) @ R[
+                    np.where(self.t_free, a, 0)]
             self._JE_fixed = sp.bmat([
                 [RK[other], sp.csr_matrix((len(other), mt))],
-                [RK[a], -sp.diags(self.lumped_t)]], format="csr")
+                [RK[free], -Dt]], format="csr")
             self._JA = sp.hstack([-RK[b], Zt], format="csr")
             self._JB = sp.hstack([-self.gap_scale * R[b], Zt], format="csr")
         self.load_norm = stable_norm(self.f)
@@ -114,7 +132,7 @@ class FrictionSystem:
         # systems on the free components only (:mod:`.friction_newton`;
         # 2D only: in 3D the generic path with the full Jacobian).
         self.reduced = (self.reduced_newton and formulation == "projection"
-                        and self.dim == 2
+                        and self.dim == 2 and not self.rollers
                         and isinstance(K, np.ndarray) and not len(other))
         if self.reduced:
             RS = R @ np.asarray(K, float)
@@ -200,22 +218,37 @@ class FrictionSystem:
         gap = self.gap_scale * (self.geometry.gap - (self.R @ u)[self.n_rows])
         b, _ = self.bound(r, derivative=False)
         tangential = r[self.t_rows] - self.lumped_t * g
+        if self.rollers:  # no equilibrium row along a roller's e_c
+            tangential = tangential[self.t_free]
         if self.formulation == "thesis":
             split = (self.R @ du)[self.t_rows] - dp + dm
             E = np.concatenate([r[self.x_rows], tangential, split])
             A = np.concatenate([lam, dm, dp])
             B = np.concatenate([gap, b - g, b + g])
         elif self.dim == 2:
-            w = g - self.c_t * (self.R @ du)[self.t_rows]
+            w = self._slide(g, du)
             E = np.concatenate([r[self.x_rows], tangential,
                                 g - np.clip(w, -b, b)])
             A, B = lam, gap
         else:
-            w = g - self.c_t * (self.R @ du)[self.t_rows]
+            w = self._slide(g, du)
             E = np.concatenate([r[self.x_rows], tangential,
                                 g - project_disc(w, b, self.dim - 1)])
             A, B = lam, gap
         return E, A, B
+
+    def _slide(self, g, du):
+        """w = g − c_t ZRΔu of the projection, 0 along a roller's e_c: the
+        Coulomb set there is the disc cut to the free tangents (an
+        interval when one is free), and g − P(w) = 0 makes g_c = 0."""
+        w = g - self.c_t * (self.R @ du)[self.t_rows]
+        return np.where(self.t_free, w, 0.0) if self.rollers else w
+
+    def tangential(self, v):
+        """The tangential components v[Z] of a rotated vector v = R·(…),
+        node by node; 0 along a roller's e_c (u_c = 0 is prescribed)."""
+        out = v[self.t_rows]
+        return np.where(self.t_free, out, 0.0) if self.rollers else out
 
     def jacobian(self, x):
         """(JE, JA, JB) with respect to x (ĝ columns scaled by c_t), or,
@@ -255,14 +288,14 @@ class FrictionSystem:
                                 sp.hstack([db, self._I, self._Z0,
                                            self._Z0])], format="csr")
             return self._JE, self._JA, JB
-        if self.dim != 2:
+        if self.dim != 2 or self.rollers:
             return self._disc_jacobian(du, g, b, db)
         # projection row: g − clip(w, −b, b), w = g − c_t ZRΔu
         w = g - self.c_t * (self.R @ du)[self.t_rows]
         stick = np.abs(w) < b
         upper = ~stick & (w >= 0)
         stick_rows = sp.diags(stick.astype(float)) @ (
-            self.c_t * self.R[self.t_rows])
+            self.c_t * self._Rt)
         slip_g = sp.diags((~stick).astype(float))
         rows_du = stick_rows
         if db is not None:
@@ -277,9 +310,11 @@ class FrictionSystem:
         g − P(w), w = g − c_t ZRΔu, P(w) = w·min(1, b/|w|); stick (|w| < b):
         ∂P/∂w = I; slip: ∂P/∂w = b/|w| (I − ŵŵᵀ), ∂P/∂b = ŵ (Alart &
         Curnier 1991; Hüeber, Stadler & Wohlmuth 2008). In 2D this is the
-        clip's Jacobian (I − ŵŵᵀ = 0, ŵ = ±1)."""
+        clip's Jacobian (I − ŵŵᵀ = 0, ŵ = ±1). At a roller w_c ≡ 0
+        (:meth:`_slide`): the e_c column of ∂P/∂w drops, the row of g_c is
+        g_c itself."""
         k, m = self.dim - 1, self.m
-        w = (g - self.c_t * (self.R @ du)[self.t_rows]).reshape(m, k)
+        w = self._slide(g, du).reshape(m, k)
         size = np.linalg.norm(w, axis=1)
         stick = size < b
         ratio = np.where(stick, 1.0, np.divide(
@@ -290,11 +325,13 @@ class FrictionSystem:
         P = ratio[:, None, None] * (np.eye(k) - np.where(
             stick[:, None, None], 0.0, hat[:, :, None] * hat[:, None, :]))
         blocks = _block_diagonal(P)
-        rows_du = blocks @ (self.c_t * self.R[self.t_rows])
+        rows_du = blocks @ (self.c_t * self._Rt)
         if db is not None:  # −∂P/∂b db = −ŵ db at slip nodes
             slip_hat = np.where(stick[:, None], 0.0, hat).ravel()
             rows_du = rows_du - sp.diags(slip_hat) @ sp.csr_matrix(
                 db[np.repeat(np.arange(m), k)])
+        if self.rollers:  # w_c ≡ 0: ∂P/∂g loses the e_c columns
+            blocks = blocks @ sp.diags(self.t_free.astype(float))
         J3 = sp.hstack([rows_du, sp.identity(m * k) - blocks],
                        format="csr")
         return sp.vstack([self._JE_fixed, J3], format="csr"), self._JA, \
@@ -330,7 +367,7 @@ class FrictionSystem:
                 np.minimum(k * A[m:2 * m], self.lumped * B[m:2 * m]),
                 np.minimum(k * A[2 * m:], self.lumped * B[2 * m:])])
         else:
-            mt = self.mt
+            mt = int(self.t_free.sum())  # the tangential equilibrium rows
             E = np.concatenate([E[:nx + mt], self.lumped_t * E[nx + mt:]])
             pairs = np.minimum(A, k / c * B)
         return float(np.hypot(stable_norm(E), stable_norm(pairs)))

@@ -88,7 +88,7 @@ class ContactGeometry:
 
     @property
     def has_rollers(self):
-        """Whether any node is a roller (friction does not take them yet)."""
+        """Whether any node is a roller."""
         return bool(self.rollers.any())
 
     def free_dofs(self):
@@ -147,11 +147,13 @@ def contact_geometry(problem, gap="obstacle", rollers=False):
     that line (§2.1.2). Discrete problems carry their gaps and normals;
     ``gap`` is ignored.
 
-    ``rollers``: False (default, the thesis and every friction run): only
+    ``rollers``: False (default, the thesis and 2D friction runs): only
     the nodes whose DOFs are all free take part, a node with a Dirichlet
     DOF is a support. True: also the rollers, nodes with some Dirichlet
     components whose normal has no component along them (module
-    docstring); :func:`solve_frictionless` asks for them.
+    docstring); :func:`solve_frictionless` asks for them, and
+    :func:`solve_friction` in 3D (their friction traction then lives in
+    the free tangents only, :mod:`solver.contact.friction`).
     """
     constrained = problem.contact_dofs < 0
     eligible = ~constrained.all(axis=1) if rollers \

@@ -28,6 +28,16 @@ def format_summary(info):
                   f"material          E = {meta['E']:g}, nu = {meta['nu']:g}",
                   "obstacle          " + json.dumps(info["obstacle"],
                                                     sort_keys=True)]
+    elif info["kind"] == "mesh" and "slave_segments" in info:  # two bodies
+        lines += [f"mesh              {meta.get('mesh')}: "
+                  f"{info['triangles']} triangles, {info['nodes']} nodes, "
+                  f"{info['bodies']} bodies",
+                  *(f"body {i}            {b.get('name')}: E = {b['E']:g}, "
+                    f"nu = {b['nu']:g}" for i, b in enumerate(meta["bodies"])),
+                  f"interface         {info['pairs']} pair(s), "
+                  f"{info['slave_segments']} slave segments (body "
+                  f"{meta['slave_body']}), {info['master_segments']} master "
+                  f"segments (body {meta['master_body']})"]
     elif info["kind"] == "mesh":
         x, y = info["obstacle"]
         rng = info["obstacle_t_range"]

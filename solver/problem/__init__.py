@@ -4,8 +4,9 @@ checks it (see :mod:`solver.problem.format` for the layout).
 Modules, each importing only those before it: :mod:`.format` (version,
 keys, limits), :mod:`.checks` (generic array checks), :mod:`.meta` (the
 metadata JSON), :mod:`.surface_spec` (the 3D obstacle spec),
-:mod:`.geometry3d` (tetrahedra, contact triangles), :mod:`.geometry` (mesh
-keys and geometry, 2D and 3D),
+:mod:`.geometry3d` (tetrahedra, contact triangles), :mod:`.two_body` (the
+bodies and mortar segments of a two-body file, version 4),
+:mod:`.geometry` (mesh keys and geometry, 2D and 3D),
 :mod:`.validate` (all keys), :mod:`.core` (:class:`ContactProblem`),
 :mod:`.archive` (safe reading of the members), :mod:`.load` (reading
 and writing files).

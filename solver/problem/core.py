@@ -30,6 +30,13 @@ class ContactProblem:
     ``solver.geometry.surface.surface_from_spec`` (or its spec dict, see
     :mod:`solver.problem.surface_spec`) and ``contact_faces`` holds the
     contact triangles.
+
+    Two elastic bodies (format version 4, 2D, issue 19): ``body`` gives
+    each node's body, ``mortar_slave`` and ``mortar_master`` the interface
+    segments (body on the left of a→b) and ``mortar_*_pair`` their pair;
+    ``obstacle`` is None and ``contact_nodes`` are the slave nodes. All
+    five are None in a one-body file (a two-body file without pair keys
+    gets zeros).
     """
 
     K: sp.csr_matrix
@@ -50,6 +57,11 @@ class ContactProblem:
     load_path_friction: np.ndarray = None
     load_path_prescribed: np.ndarray = None
     contact_faces: np.ndarray = None
+    body: np.ndarray = None
+    mortar_slave: np.ndarray = None
+    mortar_master: np.ndarray = None
+    mortar_slave_pair: np.ndarray = None
+    mortar_master_pair: np.ndarray = None
     source: str = field(default=None, compare=False)
     _checked: object = field(default=None, init=False, repr=False,
                              compare=False)
@@ -63,6 +75,16 @@ class ContactProblem:
     def dim(self):
         """The space dimension, 2 or 3 (the columns of ``contact_dofs``)."""
         return int(self.contact_dofs.shape[1])
+
+    @property
+    def n_bodies(self):
+        """B, the number of bodies (1 without a ``body`` key)."""
+        return 1 if self.body is None else int(self.body.max()) + 1
+
+    @property
+    def is_mortar(self):
+        """True for two bodies in contact through mortar segments."""
+        return self.mortar_slave is not None
 
     @property
     def n_dofs(self):
@@ -109,7 +131,9 @@ class ContactProblem:
             if search is not None and self.dim == 2:
                 arrays["obstacle_search_interval"] = np.array(search,
                                                               dtype=float)
-        for name in ("gap", "normal", "load_path", "load_path_steps",
+        for name in ("body", "mortar_slave", "mortar_master",
+                     "mortar_slave_pair", "mortar_master_pair", "gap",
+                     "normal", "load_path", "load_path_steps",
                      "load_path_friction", "load_path_prescribed"):
             if getattr(self, name) is not None:
                 arrays[name] = getattr(self, name)
@@ -133,6 +157,9 @@ class ContactProblem:
         if self.kind != "mesh":
             raise ProblemError("search interval: a discrete problem has no "
                                "obstacle (its gaps are given)")
+        if self.is_mortar:
+            raise ProblemError("search interval: a two-body problem has no "
+                               "obstacle (it has a master body)")
         if self.dim == 3:
             raise ProblemError("search interval: a 3D obstacle surface has "
                                "no parameter interval t")
@@ -149,7 +176,13 @@ class ContactProblem:
                       f"nodes={len(self.nodes)}"]
             if self.dim == 3:
                 parts.append(f"contact_faces={len(self.contact_faces)}")
-            parts.append(f"obstacle={self._obstacle_text}")
+            if self.body is not None:
+                parts.append(f"bodies={self.n_bodies}")
+            if self.is_mortar:
+                parts.append(f"slave_segments={len(self.mortar_slave)}, "
+                             f"master_segments={len(self.mortar_master)}")
+            else:
+                parts.append(f"obstacle={self._obstacle_text}")
         if self.load_path is not None:
             parts.append(f"load_stages={len(self.load_path)}")
         parts.append(f"source={self.source!r}")
@@ -270,6 +303,14 @@ class ContactProblem:
                         tetrahedra=int(len(self.cells)),
                         contact_faces=int(len(self.contact_faces)),
                         obstacle=spec)
+        elif self.is_mortar:
+            info.update(nodes=int(len(self.nodes)),
+                        triangles=int(len(self.cells)),
+                        bodies=self.n_bodies,
+                        pairs=int(max(self.mortar_slave_pair.max(),
+                                      self.mortar_master_pair.max())) + 1,
+                        slave_segments=int(len(self.mortar_slave)),
+                        master_segments=int(len(self.mortar_master)))
         elif self.kind == "mesh":
             info.update(nodes=int(len(self.nodes)),
                         triangles=int(len(self.cells)),

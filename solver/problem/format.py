@@ -38,25 +38,33 @@ both dimensions; a 2D file of version 3 has exactly the keys of version 1.
 Version 2 was never written: the number is skipped so that "format v3"
 names this layout in issue 18, and a file marked 2 reads like a 2D file of
 version 1 or 3. Files of all three versions load unchanged; only version 3
-may carry d = 3.
+may carry d = 3. Version 4 (issue 19) adds two elastic bodies in contact
+(2D only): ``body`` per node and the interface segments ``mortar_slave``,
+``mortar_master`` (with optional pair indices) instead of an obstacle; a
+file without them has exactly the keys of version 3, and versions 1 to 3
+load unchanged. Only version 4 may carry the two-body keys
+(:mod:`solver.problem.two_body` checks them).
 
-Keys (format version 3)
+Keys (format version 4)
 -----------------------
 The table :data:`KEYS` below is the specification; ``docs/npz-format.md``
 is generated from it (:func:`format_table`).
 """
 
 __all__ = ["FORMAT_VERSION", "READ_VERSIONS", "DIMS", "KEYS", "KINDS",
-           "ONLY_2D", "META_REQUIRED",
+           "ONLY_2D", "TWO_BODY", "TWO_BODY_VERSION", "META_REQUIRED",
            "SYMMETRY_RTOL", "MAX_TEXT", "MAX_META_DEPTH", "MAX_INT_DIGITS",
            "MAX_STAGES", "MAX_OBSTACLE_POINTS", "MAX_TOTAL_BYTES",
            "format_table"]
 
 #: Version of the ``.npz`` layout written by ``save_problem``.
-FORMAT_VERSION = 3
+FORMAT_VERSION = 4
 
 #: Versions the reader accepts (2 reads like 1; see the module doc).
-READ_VERSIONS = (1, 2, 3)
+READ_VERSIONS = (1, 2, 3, 4)
+
+#: First version that may carry the two-body keys :data:`TWO_BODY`.
+TWO_BODY_VERSION = 4
 
 #: Space dimensions: 2 from version 1 on, 3 from version 3 on.
 DIMS = {2: 1, 3: 3}
@@ -68,16 +76,21 @@ SYMMETRY_RTOL = 1e-10
 #: "all" = both kinds; "mesh"/"discrete" = required for that kind only and
 #: refused for the other; "mesh3d" = required in a 3D mesh file, refused
 #: elsewhere; "optional" = may be absent in either kind (the 2D obstacle
-#: keys are refused in 3D, see :data:`ONLY_2D`).
+#: keys are refused in 3D, see :data:`ONLY_2D`); "two-body" = optional in a
+#: 2D mesh file of version 4, refused elsewhere (:data:`TWO_BODY`).
 KEYS = {
     "format_version": ("all", "int", "()",
-                       "layout version: 3 (written); 1, 2 and 3 are read"),
+                       "layout version: 4 (written); 1, 2, 3 and 4 are read"),
     "kind": ("all", "str", "()", '"mesh" or "discrete"'),
     "meta": ("all", "str", "()",
              "JSON object: E, nu, plane (strain|stress; 2D only), load, "
              "mesh, description, versions (required fields: E, nu, plane, "
              "load, mesh for a 2D mesh; E, nu, load, mesh for a 3D mesh; "
-             "description for kind discrete)"),
+             "description for kind discrete); a two-body file also needs "
+             "bodies (a list, index = body id, of {name, E, nu}), "
+             "slave_body and master_body (body ids; a list with one per "
+             "pair if the pairs differ), and E, nu are then those of the "
+             "slave body"),
     "K_data": ("all", "float", "(nnz,)",
                "reduced stiffness K (Ñ×Ñ, Dirichlet DOFs eliminated, "
                "symmetric positive definite) in CSR: values"),
@@ -88,7 +101,8 @@ KEYS = {
           "load vector for the full load (load step κ applies κ/κc·f)"),
     "M_data": ("all", "float", "(nnzM,)",
                "boundary matrix on Γc, M_ij = ∫Γc φi φj (thesis (80)), "
-               "Nc×Nc in CSR: values"),
+               "Nc×Nc in CSR: values (two bodies: Γc = the slave "
+               "boundary; the mortar D, M are computed by the solver)"),
     "M_indices": ("all", "int", "(nnzM,)", "CSR column indices of M"),
     "M_indptr": ("all", "int", "(Nc+1,)", "CSR row pointers of M"),
     "M_shape": ("all", "int", "(2,)", "(Nc, Nc)"),
@@ -112,7 +126,9 @@ KEYS = {
     "contact_nodes": ("mesh", "int", "(Nc,)",
                       "nodes of Γc; in 2D ordered along Γc (consecutive "
                       "nodes share a boundary edge), in 3D the vertices of "
-                      "contact_faces in any order"),
+                      "contact_faces in any order; in a two-body file the "
+                      "slave nodes, pair by pair, each pair's chain in the "
+                      "direction of its mortar_slave segments"),
     "obstacle_x": ("optional", "str", "()",
                    "x(t) of the obstacle Γo(t) (2D mesh kind: either "
                    "obstacle_x and obstacle_y, or obstacle_points)"),
@@ -139,6 +155,27 @@ KEYS = {
                          "obstacle as a JSON surface spec, kind plane, "
                          "sphere, graph or parametric (docs/npz-format.md, "
                          "solver.geometry.surface)"),
+    "body": ("two-body", "int", "(n_nodes,)",
+             "body id (0 … B−1, each used) of every node; the bodies share "
+             "no node and no triangle, so K is block-diagonal. Absent = one "
+             "body (all 0)"),
+    "mortar_slave": ("two-body", "int", "(n_s, 2)",
+                     "slave interface segments (a, b) as global node ids, "
+                     "boundary edges of the mesh with the body on the LEFT "
+                     "of a→b (its outward normal is (t_y, −t_x)/|t|, t = "
+                     "x_b − x_a); each pair's segments form one open chain, "
+                     "listed in contact_nodes in their direction; replaces "
+                     "the obstacle keys (refused with it)"),
+    "mortar_master": ("two-body", "int", "(n_m, 2)",
+                      "master interface segments, oriented like "
+                      "mortar_slave, in another body than the slave "
+                      "segments of their pair; needs mortar_slave"),
+    "mortar_slave_pair": ("two-body", "int", "(n_s,)",
+                          "contact pair (interface) of each slave segment, "
+                          "0 … P−1 (absent = all 0: one pair)"),
+    "mortar_master_pair": ("two-body", "int", "(n_m,)",
+                           "contact pair of each master segment (absent = "
+                           "all 0)"),
     "load_path": ("optional", "float", "(n_stages, Ñ)",
                   "load vectors at the ends of the load stages of a friction "
                   "run; the load goes linearly from the previous end (zero "
@@ -166,6 +203,10 @@ KINDS = ("mesh", "discrete")
 #: Keys a 3D file may not carry (the 2D obstacle curve).
 ONLY_2D = ("obstacle_x", "obstacle_y", "obstacle_points", "obstacle_t_range",
            "obstacle_search_interval")
+
+#: The two-body keys (version 4, 2D mesh kind only; docs/npz-format.md).
+TWO_BODY = ("body", "mortar_slave", "mortar_master", "mortar_slave_pair",
+            "mortar_master_pair")
 
 #: Fields of ``meta`` each kind needs (a 3D mesh needs no ``plane``).
 META_REQUIRED = {"mesh": ("E", "nu", "plane", "load", "mesh"),
@@ -205,6 +246,7 @@ def format_table():
     for key, (need, dtype, shape, doc) in KEYS.items():
         need = {"all": "both kinds", "mesh": "mesh only",
                 "discrete": "discrete only", "mesh3d": "3D mesh only",
-                "optional": "optional"}[need]
+                "optional": "optional",
+                "two-body": "2D two-body (optional)"}[need]
         lines.append(f"| `{key}` | {need} | {dtype} | {shape} | {doc} |")
     return "\n".join(lines)

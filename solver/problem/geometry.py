@@ -12,7 +12,8 @@ as large as its distance from the origin (a body of size 20 shifted by
 least two nodes, no two consecutive contact nodes at one point, no
 zero-area triangle on Γc (:func:`solver.geometry.normals.boundary_normals`).
 Failures raise :class:`~solver.errors.ProblemError` naming the key and the
-nodes.
+nodes. A two-body file (``mortar_slave``, format version 4) has no obstacle
+and its slave chain is checked by :mod:`solver.problem.two_body`.
 """
 
 import numpy as np
@@ -23,6 +24,7 @@ from ..geometry.normals import boundary_normals
 from ..geometry.obstacle import ParametricCurve
 from ..geometry.polyline import PolylineCurve
 from .checks import check_array, check_range, fail
+from .format import ONLY_2D, TWO_BODY
 from .geometry3d import validate_solid
 
 __all__ = ["COORDINATE_LIMIT", "RESOLUTION", "validate_mesh"]
@@ -90,6 +92,16 @@ def validate_mesh(arrays, n, contact_dofs):
     if d == 3:
         _check_contact_dofs(flat, n_nodes, contact_nodes, contact_dofs)
         fields.update(validate_solid(arrays, nodes, cells, contact_nodes))
+        return fields
+    if any(k in arrays for k in TWO_BODY[1:]):  # two bodies: no obstacle;
+        # the segments and the slave chain: solver.problem.two_body
+        for key in ONLY_2D:
+            if key in arrays:
+                fail(key, "not allowed in a two-body file (mortar_slave): "
+                          "the contact is with the master body, not an "
+                          "obstacle")
+        _check_contact_dofs(flat, n_nodes, contact_nodes, contact_dofs)
+        fields["obstacle"] = None
         return fields
     if len(contact_nodes) < 2:
         fail("contact_nodes", f"the contact boundary Γc is the single node "

@@ -19,7 +19,7 @@ import numpy as np
 from ..errors import ProblemError
 from .format import MAX_INT_DIGITS, MAX_META_DEPTH
 
-__all__ = ["parse_meta", "parse_json", "check_material"]
+__all__ = ["parse_meta", "parse_json", "check_material", "check_bodies"]
 
 # A JSON string literal (with escapes); removed before counting brackets.
 _STRING = re.compile(r'"(?:[^"\\]|\\.)*"', re.DOTALL)
@@ -126,6 +126,61 @@ def check_material(meta, dim=2):
     if dim == 2 and meta["plane"] not in ("strain", "stress"):
         _fail(f"plane must be 'strain' or 'stress', got "
               f"{_short(meta['plane'])}")
+
+
+def _body_id(meta, name, n_bodies, n_pairs):
+    """``meta[name]``: a body id, or a list of one per pair."""
+    value = meta[name]
+    ids = value if isinstance(value, list) else [value]
+    if not all(_number(v) and isinstance(v, int) and 0 <= v < n_bodies
+               for v in ids) or isinstance(value, list) \
+            and len(value) != n_pairs:
+        _fail(f"{name} must be a body id 0 … {n_bodies - 1} (or a list of "
+              f"one per pair, {n_pairs}), got {_short(value)}")
+    return ids * n_pairs if not isinstance(value, list) else ids
+
+
+def check_bodies(meta, n_bodies, slave_body=None, master_body=None):
+    """The two-body fields of ``meta`` (format version 4): ``bodies``, a
+    list of ``n_bodies`` objects {name, E, nu} (index = body id), and, for
+    an interface (``slave_body``, ``master_body``: the body of each pair's
+    slave and master segments, found by the loader), the fields
+    ``slave_body`` and ``master_body`` naming the same bodies. ``E`` and
+    ``nu`` of ``meta`` must be those of the slave body (of the one slave
+    body of all pairs)."""
+    bodies = meta.get("bodies")
+    if not isinstance(bodies, list) or len(bodies) != n_bodies:
+        _fail(f"bodies must be a list of {n_bodies} objects "
+              f"{{name, E, nu}} (one per body), got {_short(bodies)}")
+    for i, entry in enumerate(bodies):
+        if not isinstance(entry, dict) or not isinstance(
+                entry.get("name"), str) or "E" not in entry \
+                or "nu" not in entry:
+            _fail(f"bodies[{i}] must be an object with name, E and nu, got "
+                  f"{_short(entry)}")
+        try:
+            check_material(entry, dim=3)
+        except ProblemError as exc:
+            _fail(f"bodies[{i}]: {str(exc).removeprefix('meta: ')}")
+    if slave_body is None:
+        return
+    n_pairs = len(slave_body)
+    for name, found in (("slave_body", slave_body),
+                        ("master_body", master_body)):
+        if name not in meta:
+            _fail(f"field {name!r} missing (a two-body file needs "
+                  "slave_body and master_body)")
+        ids = _body_id(meta, name, n_bodies, n_pairs)
+        for pair, (want, got) in enumerate(zip(ids, found)):
+            if want != got:
+                _fail(f"{name} is {want} for pair {pair}, but its segments "
+                      f"lie in body {int(got)}")
+    if len(set(int(b) for b in slave_body)) == 1:
+        entry = bodies[int(slave_body[0])]
+        if (meta["E"], meta["nu"]) != (entry["E"], entry["nu"]):
+            _fail(f"E, nu ({_short(meta['E'])}, {_short(meta['nu'])}) must "
+                  f"be those of the slave body {int(slave_body[0])} "
+                  f"({_short(entry['E'])}, {_short(entry['nu'])})")
 
 
 def _short(value):

@@ -3,7 +3,8 @@
 :func:`validate_fields` checks every key of
 :data:`~solver.problem.format.KEYS` (presence for the kind, dtype, shape,
 finiteness, ranges, the consistency of K, M, the DOF maps and the load
-path) and the mesh geometry (:mod:`solver.problem.geometry`), and raises
+path), the mesh geometry (:mod:`solver.problem.geometry`) and the two-body
+keys (:mod:`solver.problem.two_body`), and raises
 :class:`~solver.errors.ProblemError` naming the first offending key.
 """
 
@@ -13,9 +14,11 @@ import numpy as np
 
 from .checks import (check_array, check_norm, check_positive_definite,
                      check_range, csr, fail)
-from .format import DIMS, KEYS, KINDS, META_REQUIRED, ONLY_2D, READ_VERSIONS
+from .format import (DIMS, KEYS, KINDS, META_REQUIRED, ONLY_2D,
+                     READ_VERSIONS, TWO_BODY, TWO_BODY_VERSION)
 from .geometry import validate_mesh
 from .meta import check_material, parse_meta
+from .two_body import validate_two_body
 
 __all__ = ["validate_fields"]
 
@@ -89,6 +92,11 @@ def _validate(arrays):
         fail("format_version", f"a {dim}D problem needs version "
                                f"{DIMS[dim]}, the file has {version}")
     _check_keys(arrays, kind, dim)
+    two_body = [k for k in TWO_BODY if k in arrays]
+    if two_body and version < TWO_BODY_VERSION:
+        fail("format_version", f"a two-body problem ({two_body[0]}) needs "
+                               f"version {TWO_BODY_VERSION}, the file has "
+                               f"{version}")
 
     meta = parse_meta(check_array(arrays, "meta", "str", 0))
     need = "mesh3d" if kind == "mesh" and dim == 3 else kind
@@ -115,6 +123,8 @@ def _validate(arrays):
     problem = dict(K=K, f=f, M=M, contact_dofs=contact_dofs, meta=meta)
     if kind == "mesh":
         problem.update(validate_mesh(arrays, n, contact_dofs))
+        if dim == 2:
+            problem.update(validate_two_body(arrays, problem, K, meta))
     else:
         if (contact_dofs < 0).any():
             fail("contact_dofs", "a discrete problem has no Dirichlet DOFs "
@@ -137,6 +147,8 @@ def _check_keys(arrays, kind, dim):
     if kind == "mesh" and dim == 3:
         needs.add("mesh3d")
     allowed = {k for k, (need, *_rest) in KEYS.items() if need in needs}
+    if kind == "mesh" and dim == 2:
+        allowed |= set(TWO_BODY)
     if kind == "discrete":
         allowed -= set(ONLY_2D) | {"load_path_prescribed"}
     if dim == 3:
