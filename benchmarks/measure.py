@@ -87,7 +87,8 @@ def frictionless(problem, method, backend, path):
             "converged": bool(r.success), "contact": r.n_contact,
             "levels": len(r.levels),
             "J_finest": r.levels[-1]["njev"] if r.levels else r.njev,
-            "backend": r.linear_solver}
+            "backend": r.linear_solver,
+            "candidates": (r.get("candidates") or {}).get("n_candidates")}
 
 
 def friction(problem, backend, steps, coulomb="lagged", method="min"):
@@ -96,8 +97,12 @@ def friction(problem, backend, steps, coulomb="lagged", method="min"):
         r = solve_friction(problem, 0.3, steps=steps,
                            formulation="projection", method=method,
                            coulomb=coulomb, backend=backend)
+    screening = r.get("candidates") or {}
     return {**clock.times, "J": r.njev, "F": r.nfev,
-            "converged": bool(r.success)}
+            "converged": bool(r.success),
+            "contact": r.records[-1]["n_contact"] if r.records else None,
+            "candidates": screening.get("n_candidates"),
+            "enlarged": screening.get("enlarged"), "message": r.message}
 
 
 def peer(problem, name, reference):

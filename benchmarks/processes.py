@@ -49,11 +49,12 @@ def run_process(command, cwd=ROOT):
     return stdout, elapsed, usage.ru_maxrss / 1024
 
 
-def measure(npz, stage, backend="auto", steps=100):
-    """One stage of ``measure.py`` in a fresh process; its JSON as a dict."""
+def measure(npz, stage, backend="auto", steps=100, *extra):
+    """One stage of ``measure.py`` in a fresh process (``extra``: its
+    further arguments); its JSON as a dict."""
     stdout, _, _ = run_process([sys.executable,
                                 ROOT / "benchmarks" / "measure.py", npz,
-                                stage, backend, steps])
+                                stage, backend, steps, *extra])
     line = stdout.strip().splitlines()[-1]
     if LOG:
         with open(LOG[0], "a") as log:
@@ -72,11 +73,13 @@ def output_stage(npz, backend, folder):
     return elapsed, rss
 
 
-def export(mesh, name, folder):
-    """Make the mesh (``mesh`` is generate.py's arguments or a committed
-    mesh file) and export it with sfepy-run; (npz, export time, export
-    RSS MB). With a kept folder an earlier export is reused, with the time
-    and memory recorded then."""
+def export(mesh, name, folder, generator="generate.py",
+           problem="block_obstacle.py"):
+    """Make the mesh (``mesh`` is the arguments of ``meshes/<generator>``
+    or a committed mesh file) and export it with sfepy-run of
+    ``sfepy_problems/<problem>``; (npz, export time, export RSS MB). With
+    a kept folder an earlier export is reused, with the time and memory
+    recorded then (the mesh generation is not in the export time)."""
     folder = Path(folder)
     npz, record = folder / f"{name}.npz", folder / f"{name}.export.json"
     if npz.exists() and record.exists():
@@ -86,12 +89,12 @@ def export(mesh, name, folder):
         mesh_file = Path(mesh)
     else:
         mesh_file = folder / f"{name}.mesh"
-        run_process([sys.executable, ROOT / "meshes" / "generate.py", *mesh,
+        run_process([sys.executable, ROOT / "meshes" / generator, *mesh,
                      "-o", mesh_file])
     script = Path(sys.executable).parent / "sfepy-run"
     _, elapsed, rss = run_process(
         [script if script.exists() else "sfepy-run",
-         ROOT / "sfepy_problems" / "block_obstacle.py", "-d",
+         ROOT / "sfepy_problems" / problem, "-d",
          f"mesh='{mesh_file}', output='{npz}'"], cwd=folder)
     record.write_text(json.dumps({"time": elapsed, "rss": rss}))
     return npz, elapsed, rss

@@ -99,3 +99,63 @@ def test_cpu_ratios_take_the_shortest_repeat_and_the_fastest_floor():
     assert cells["min a CPU [s] (/floor)"] == "1.5 (1.50)"  # shortest repeat
     assert cells["fb a CPU [s] (/floor)"] == "–"
     assert cells["Schur CPU [s] (/floor)"] == "1.2 (1.20)"
+
+
+@pytest.fixture(scope="module")
+def rows3d(tmp_path_factory):
+    """benchmarks/run3d.py on the Hertz sphere of a/h 4 (the committed
+    mesh), 2 friction steps: (wall row, CPU row) as dicts."""
+    workdir = tmp_path_factory.mktemp("run3d")
+    result = subprocess.run(
+        [sys.executable, str(ROOT / "benchmarks" / "run3d.py"),
+         "--a-over-h", "4", "--steps", "2", "--workdir", str(workdir)],
+        capture_output=True, text=True, timeout=900, cwd=ROOT)
+    assert result.returncode == 0, result.stderr[-2000:]
+    tables, lines = [], []
+    for line in result.stdout.splitlines() + [""]:
+        if line.startswith("|"):
+            lines.append(line)
+        elif lines:
+            tables.append(lines)
+            lines = []
+    assert len(tables) == 2 and all(len(t) == 3 for t in tables)
+
+    def cells(table):
+        head = [c.strip() for c in table[0].strip("|").split("|")]
+        return dict(zip(head, (c.strip() for c in
+                               table[2].strip("|").split("|"))))
+    return cells(tables[0]), cells(tables[1])
+
+
+def test_run3d_row_is_complete_and_consistent(rows3d):
+    wall, cpu = rows3d
+    assert "–" not in wall.values(), wall
+    assert wall["DOFs"] == cpu["DOFs"] and int(wall["DOFs"]) > 1000
+    nc = int(wall["Nc"])
+    floors = {b: float(wall[f"floor {b} [s]"]) for b in available_backends()}
+    assert wall["fastest"] == min(floors, key=floors.get)
+    fastest = floors[wall["fastest"]]
+    assert 0 < float(wall["imports [s]"]) < _seconds(
+        wall["python -m solver [s] (/floor)"])[0]
+    for key in ("solve [s] (/floor)", "python -m solver [s] (/floor)",
+                "friction [s] (/floor)"):
+        assert "not converged" not in wall[key]
+        time, ratio = _seconds(wall[key])
+        assert ratio == pytest.approx(time / fastest, rel=5e-2, abs=0.05)
+    # the end-to-end run includes the solve
+    assert _seconds(wall["python -m solver [s] (/floor)"])[0] > \
+        _seconds(wall["solve [s] (/floor)"])[0]
+    contact, candidates = int(wall["in contact"]), int(wall["candidates"])
+    assert 0 < contact <= candidates < nc
+    friction_candidates = wall["friction candidates"].split()[0]
+    if friction_candidates != "None":  # None: rollers, every contact DOF
+        assert contact <= int(friction_candidates) < nc
+    assert int(wall["friction J"]) >= 2            # a Jacobian per step
+    assert all(50 < float(wall[f"RSS {s} [MB]"]) < 2000 for s in (
+        "floor", "solve", "python -m solver", "friction"))
+    cpu_floors = {b: float(cpu[f"floor {b} CPU [s]"])
+                  for b in available_backends()}
+    assert cpu["fastest"] == min(cpu_floors, key=cpu_floors.get)
+    time, ratio = _seconds(cpu["friction CPU [s] (/floor)"])
+    assert ratio == pytest.approx(time / cpu_floors[cpu["fastest"]],
+                                  rel=5e-2, abs=0.05)

@@ -45,8 +45,10 @@ In 3D (any d) g_t ∈ R^{d−1} per node, in the tangent basis
 ``friction_traction`` is then (Nc, d − 1). The thesis's split is 2D-only
 (it splits a scalar slip) and is refused there, and with roller nodes. The
 reduced Newton of :mod:`.friction_newton` is 2D-only: in 3D each Newton
-step solves the full sparse Jacobian of the condensed system (every DOF of
-the free contact nodes, no candidate screening) or of the full one.
+step of the condensed system is solved with the tractions eliminated
+(:mod:`.friction_disc`), by default on the candidate nodes only
+(:mod:`.friction_candidates`; ``candidates=False``: every DOF of the free
+contact nodes); the full system takes a sparse LU of its whole Jacobian.
 
 Rollers (symmetry planes, :mod:`~solver.contact.geometry`): at a contact
 node with u_c = 0 along the plane normal e_c and ν in the plane, the row
@@ -80,6 +82,8 @@ from ..linalg import resolve
 from ..ncp import MESSAGES, solve_ncp, stable_norm
 from .result import FrictionResult
 from .steps import MAX_LOAD_STEPS, StepStream
+from .friction_candidates import friction_on_candidates, use_candidates
+from .friction_disc import condensed_system
 from .friction_system import (COULOMB, FORMULATIONS, FrictionSystem,
                               check_geometry)
 from .frictionless import (condense_onto_contact, contact_geometry,
@@ -120,7 +124,8 @@ def _check_step(system, x, load, friction, p_previous, tol_v):
                           geometry.node_dofs, geometry.normal, geometry.gap,
                           lam, system.stiffness, tol_v,
                           _nodal(system.lumped, g),
-                          system.lumped * bound, geometry.tangents)
+                          system.lumped * bound, geometry.tangents,
+                          system.load_norm)  # the stopping test's F
 
 
 def _nodal(lumped, g):
@@ -155,7 +160,8 @@ def solve_friction(problem, friction, steps=None, formulation="thesis",
                    coulomb="lagged", method="fb", gap="obstacle", tol=1e-10,
                    max_iter=100, gap_scale=None, options=None, progress=None,
                    geometry=None, condense=None, on_step=None,
-                   keep_steps=True, backend="auto", rollers=None):
+                   keep_steps=True, backend="auto", rollers=None,
+                   candidates=None, margin=None):
     r"""Quasi-static Coulomb friction in load steps (thesis §5, (110)/(111)).
 
     Parameters
@@ -233,6 +239,14 @@ def solve_friction(problem, friction, steps=None, formulation="thesis",
         docstring). None (default): True in 3D, False in 2D (the thesis's
         runs: a roller is a support, λ = 0; the thesis's split refuses
         rollers). Ignored when ``geometry`` is given.
+    candidates : bool, optional
+        Condense onto the d DOFs of candidate nodes only, enlarged until
+        no other node penetrates (:mod:`.friction_candidates`; result keys
+        ``condensation`` "candidates" and ``candidates``). Default: True
+        in 3D with the condensed projection form.
+    margin : float, optional
+        The candidates' round-0 gap margin δ₀, as in
+        :func:`solve_frictionless`.
 
     Returns
     -------
@@ -287,6 +301,17 @@ def solve_friction(problem, friction, steps=None, formulation="thesis",
         rollers = problem_dim(problem) == 3
     if geometry is None:
         geometry = contact_geometry(problem, gap, rollers=rollers)
+    if use_candidates(candidates, condense, formulation, geometry.dim,
+                      geometry.has_rollers):
+        check_geometry(geometry, formulation)
+        return friction_on_candidates(solve_friction, problem, friction,
+                                      geometry, margin, dict(
+            steps=None if problem.load_path is not None else steps,
+            formulation=formulation, coulomb=coulomb, method=method,
+            tol=tol, max_iter=max_iter, options=options, gap_scale=(
+                gap_scale if gap_scale is not None else GAP_WEIGHT *
+                contact_stiffness(problem.K, geometry)), progress=progress,
+            on_step=on_step, keep_steps=keep_steps, backend=backend))
     if formulation in FORMULATIONS:  # an unknown one: FrictionSystem says
         check_geometry(geometry, formulation)
     if steps > MAX_LOAD_STEPS:
@@ -310,10 +335,9 @@ def solve_friction(problem, friction, steps=None, formulation="thesis",
                                     stiffness, geometry.gap)
         condensation, local = condense_onto_contact(problem, geometry,
                                                     linear_solver)
-        system = FrictionSystem(condensation.S,
-                                condensation.load(problem.f)[0], local,
-                                lumped, friction, formulation, coulomb,
-                                gap_scale, stiffness)
+        system = condensed_system(geometry.dim, formulation)(
+            condensation.S, condensation.load(problem.f)[0], local, lumped,
+            friction, formulation, coulomb, gap_scale, stiffness)
     else:
         problem.check_stiffness()  # singular / indefinite K: input error
         system = FrictionSystem(problem.K, problem.f, geometry, lumped,
