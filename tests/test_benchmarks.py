@@ -135,7 +135,9 @@ def test_run3d_row_is_complete_and_consistent(rows3d):
     floors = {b: float(wall[f"floor {b} [s]"]) for b in available_backends()}
     assert wall["fastest"] == min(floors, key=floors.get)
     fastest = floors[wall["fastest"]]
-    assert 0 < float(wall["imports [s]"]) < _seconds(
+    # the start-up is part of python -m solver, but the two are timed in
+    # separate processes (file cache, load): compare with a margin
+    assert 0 < float(wall["imports [s]"]) < 1.5 * _seconds(
         wall["python -m solver [s] (/floor)"])[0]
     for key in ("solve [s] (/floor)", "python -m solver [s] (/floor)",
                 "friction [s] (/floor)"):
