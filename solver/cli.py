@@ -135,13 +135,13 @@ def build_parser():
                                f"{MAX_STEPS}; step k applies k/steps * f "
                                "(default 100; a problem with a load path "
                                "uses its own stages and steps)")
-    friction.add_argument("--formulation", choices=("thesis", "projection"),
-                          default="thesis",
-                          help="thesis: the split tangential increment of "
-                               "(110)/(111) (singular where p = 0, the min "
-                               "method fails on it); projection: "
-                               "g_t = proj(g_t - c du_t), non-degenerate "
-                               "(default thesis)")
+    friction.add_argument("--formulation", choices=("projection", "thesis"),
+                          default="projection",
+                          help="projection: g_t = proj(g_t - c du_t), "
+                               "non-degenerate, 2D and 3D; thesis: the split "
+                               "tangential increment of (110)/(111), as in "
+                               "Table 2 (2D only; singular where p = 0, it "
+                               "fails on fine meshes) (default projection)")
     friction.add_argument("--coulomb", choices=("lagged", "implicit"),
                           default="lagged",
                           help="friction bound from the previous step's "

@@ -537,7 +537,8 @@ def test_singular_jacobian_status_3_friction(exported, tmp_path, capsys):
     (see test_friction); on the command line exit 3, no completed step."""
     out = tmp_path / "out"
     err, summary = failed_run([exported(118)[0], "--friction", "0.3",
-                               "--method", "min", "--steps", "4"], capsys,
+                               "--formulation", "thesis", "--method", "min",
+                               "--steps", "4"], capsys,
                               out)
     assert "load step 1 of 4 did not converge" in err
     assert "singular Jacobian" in err and "0 completed steps kept" in err

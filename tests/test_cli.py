@@ -148,7 +148,7 @@ def test_system_option(exported, tmp_path, capsys, friction):
     if friction is not None:
         out = tmp_path / "thesis"
         assert main([str(path), "--friction", friction, "--steps", "5",
-                     "-o", str(out)]) == 0
+                     "--formulation", "thesis", "-o", str(out)]) == 0
         assert json.loads((out / "summary.json").read_text())["system"] \
             == "full"
     capsys.readouterr()
@@ -244,7 +244,8 @@ def test_friction_run_outputs(exported, tmp_path, capsys):
     summary = json.loads((out / "summary.json").read_text())
     assert summary["mode"] == "friction" and summary["converged"] is True
     assert summary["method"] == "fb"  # the thesis's method for friction
-    assert summary["formulation"] == "thesis"
+    assert summary["formulation"] == "projection"  # the default since the
+    # thesis's split fails on finer meshes (test_friction_default.py)
     assert summary["coulomb"] == "lagged"
     assert len(summary["per_step"]) == 8 == summary["steps_completed"]
     assert summary["n_jacobian"] == sum(r["njev"] for r in

@@ -184,7 +184,8 @@ def test_cli_3d_friction_run(tmp_path):
     assert mesh.cells[0].type == "tetra"
     assert mesh.point_data["friction_traction"].shape == (75, 2)
     refused = subprocess.run([sys.executable, "-m", "solver", "X.npz",
-                              "--friction", "0.3", "--steps", "3"],
+                              "--friction", "0.3", "--steps", "3",
+                              "--formulation", "thesis"],
                              cwd=tmp_path, capture_output=True, text=True,
                              timeout=300)
     assert refused.returncode == 2

@@ -170,7 +170,8 @@ def test_errors_one_line_every_rank(problems, tmp_path):
     """Bad input on 2 ranks: exit 2 on every rank, one line from rank 0,
     no traceback, no hang."""
     for options, text in ((["--ksp", "gamg"], "--system full"),
-                          (["--friction", "0.3"], "projection")):
+                          (["--friction", "0.3", "--formulation", "thesis"],
+                           "projection")):
         code, _, err = mpirun(2, ["-m", "solver", problems["118"],
                                   "--engine", "petsc", "-o",
                                   tmp_path / "e", *options])

@@ -156,7 +156,7 @@ def _is_real(value):
         and not isinstance(value, bool)
 
 
-def solve_friction(problem, friction, steps=None, formulation="thesis",
+def solve_friction(problem, friction, steps=None, formulation="projection",
                    coulomb="lagged", method="fb", gap="obstacle", tol=1e-10,
                    max_iter=100, gap_scale=None, options=None, progress=None,
                    geometry=None, condense=None, on_step=None,
@@ -173,9 +173,13 @@ def solve_friction(problem, friction, steps=None, formulation="thesis",
         Number of load steps κc; step κ applies κ/κc · f (default 100).
         A problem with a ``load_path`` follows its stages instead (their
         steps, loads and friction multipliers); ``steps`` must then be None.
-    formulation : {"thesis", "projection"}
-        The thesis's split (110)/(111) (2D only: SolverError in 3D) or the
-        projection form (see module; in 3D onto the Coulomb disc).
+    formulation : {"projection", "thesis"}
+        The projection form (see module; in 3D onto the Coulomb disc), the
+        default, or the thesis's split (110)/(111), which reproduces Table 2
+        (2D only: SolverError in 3D). The split is singular where p = 0; with
+        φ_FB it stalls at load step 28 of 100 on the thesis's own 1878-cell
+        block at f_c = 0.3 (tests/test_friction_default.py), hence not the
+        default.
     coulomb : {"lagged", "implicit"}
         Friction bound from the previous step's pressure (thesis) or from
         the current one.
