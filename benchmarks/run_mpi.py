@@ -9,14 +9,16 @@ processes and ``--repeat`` times each (rounds over the configurations):
   iteration the engine runs); with ``--serial-default`` also the serial
   default (nested start);
 - **petsc N**: ``mpiexec -n N`` of the engine's condensed φ_min solve
-  (MUMPS factorisation, Schur by KSPMatSolve in blocks of 64, NCP on
-  rank 0), N = 1, 2; with ``--columns`` also the column-by-column Schur;
+  (MUMPS factorisation in its Schur mode, NCP on rank 0), N = 1, 2; with
+  ``--blocked`` / ``--columns`` also (1 rank) the Schur complement from
+  KSPMatSolve in blocks of 64 / column by column (before MPI20B);
 - **gamg**: CG + GAMG (rigid-body near-null space) solving K u = f once,
   for the iteration counts as the mesh grows (``--gamg``).
 
 Each measurement prints one JSON line: wall time of the solve (problem
-loaded before the clock starts), Newton counts, per-rank peak RSS (MB) and
-command times. ``--log`` appends them to a file. The table of
+loaded before the clock starts), Newton counts, per-rank peak RSS (MB),
+CPU time and command times, the factorisations and per-round candidates,
+and the load average when it ended. ``--log`` appends them to a file. The table of
 benchmarks/README.md is made from that log by hand.
 """
 
@@ -28,6 +30,9 @@ import sys
 import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
+#: Engine mode -> ``schur_block``: MUMPS's Schur mode (the default since
+#: MPI20B), KSPMatSolve of 64 sparse right-hand sides, column by column.
+SCHUR_MODES = dict(schur=None, blocked=64, columns=1)
 MPIEXEC = ["mpiexec", "--allow-run-as-root", "--oversubscribe", "--bind-to",
            "none"]
 
@@ -63,8 +68,7 @@ def _petsc(path, mode):
         from solver.mpi.frictionless import solve_frictionless
 
         result = solve_frictionless(problem, method="min",
-                                    schur_block=1 if mode == "columns"
-                                    else 64)
+                                    schur_block=SCHUR_MODES[mode])
         seconds = time.perf_counter() - clock
         per_rank = result.engine["per_rank"]
         return dict(time=seconds, njev=int(result.njev), nit=int(result.nit),
@@ -73,7 +77,10 @@ def _petsc(path, mode):
                     peak_rss_mb=[r["peak_rss_mb"] for r in per_rank],
                     cpu_s=[r.get("cpu_s") for r in per_rank],
                     seconds=[r["seconds"] for r in per_rank],
-                    rows=[r["rows"] for r in per_rank])
+                    rows=[r["rows"] for r in per_rank],
+                    factorizations=result.engine["factorizations"],
+                    rounds=[(r["n_candidates"], round(r["factorize_time"], 2))
+                            for r in result.candidates["rounds"]])
 
     def _gamg(problem, clock):
         import scipy.sparse as sp
@@ -131,7 +138,7 @@ def measure(kind, path, mode, ranks=1):
                     error=done.stderr.strip()[-400:])
     out = json.loads(lines[-1][7:])
     out.update(kind=kind, problem=os.path.basename(path), mode=mode,
-               ranks=ranks)
+               ranks=ranks, loadavg=[round(x, 2) for x in os.getloadavg()])
     return out
 
 
@@ -143,6 +150,7 @@ def main():
     parser.add_argument("--gamg", default="")
     parser.add_argument("--repeat", type=int, default=3)
     parser.add_argument("--columns", action="store_true")
+    parser.add_argument("--blocked", action="store_true")
     parser.add_argument("--no-serial", action="store_true")
     parser.add_argument("--serial-default", action="store_true")
     parser.add_argument("--ranks", default="1,2")
@@ -154,8 +162,10 @@ def main():
             configs += [("serial", path, "free", 1)]
         if args.serial_default:
             configs += [("serial", path, "default", 1)]
-        configs += [("petsc", path, "blocked", int(n))
+        configs += [("petsc", path, "schur", int(n))
                     for n in args.ranks.split(",")]
+        if args.blocked:
+            configs += [("petsc", path, "blocked", 1)]
         if args.columns:
             configs += [("petsc", path, "columns", 1)]
     for path in filter(None, args.gamg.split(",")):
