@@ -48,7 +48,8 @@ class PetscFactor(Factor):
     def __init__(self, service, layout, A, schur=None, key="K",
                  block=SCHUR_BLOCK):
         self.service, self.layout, self.key = service, layout, key
-        self.n, self.block, self._cho = A.shape[0], block, None
+        self.n, self.block, self._cho, self._rows = A.shape[0], block, \
+            None, None
         service.call("scatter_matrix", dict(key=key, bsize=layout.dim),
                      layout.matrix(A))
         self.factorizations = 0
@@ -76,15 +77,17 @@ class PetscFactor(Factor):
         self._rows = self.layout.red_to_pad[self.schur_dofs]
         if self.block is None:  # MUMPS's Schur mode
             S = self._factor(self._rows)
-            self._cho = la.cho_factor(0.5 * (S + S.T))
+            try:
+                self._cho = la.cho_factor(0.5 * (S + S.T))
+            except (la.LinAlgError, ValueError):  # K singular or indefinite
+                raise EngineError("MUMPS could not factorise K (singular: "
+                                  "is the body supported?)") from None
         else:
             G = self.service.call("inverse_block", dict(
                 key=self.key, rows=self._rows, block=int(self.block)))
             S = np.linalg.inv(0.5 * (G + G.T))
         self.S = 0.5 * (S + S.T)
         return self.S
-
-    _rows = None
 
     def solve(self, b):
         """K⁻¹b, b of shape (n,) or (n, k) (k solves)."""
