@@ -1,7 +1,7 @@
 """Benchmark of the PETSc engine (issue 20): 1 and 2 ranks against serial.
 
 ``python benchmarks/run_mpi.py [--problems A.npz,B.npz] [--repeat 3]
-[--gamg R1.npz,...] [--log FILE]`` runs, for each problem, in fresh
+[--gamg R1.npz,...] [--blas libopenblas.so.0] [--log FILE]`` runs, for each problem, in fresh
 processes and ``--repeat`` times each (rounds over the configurations):
 
 - **serial**: ``solve_frictionless(problem, method="min",
@@ -33,6 +33,8 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 #: Engine mode -> ``schur_block``: MUMPS's Schur mode (the default since
 #: MPI20B), KSPMatSolve of 64 sparse right-hand sides, column by column.
 SCHUR_MODES = dict(schur=None, blocked=64, columns=1)
+#: ``--blas``: a shared BLAS preloaded into the PETSc runs.
+BLAS = [None]
 MPIEXEC = ["mpiexec", "--allow-run-as-root", "--oversubscribe", "--bind-to",
            "none"]
 
@@ -77,6 +79,7 @@ def _petsc(path, mode):
                     peak_rss_mb=[r["peak_rss_mb"] for r in per_rank],
                     cpu_s=[r.get("cpu_s") for r in per_rank],
                     seconds=[r["seconds"] for r in per_rank],
+                    cpu_seconds=[r["cpu_seconds"] for r in per_rank],
                     rows=[r["rows"] for r in per_rank],
                     factorizations=result.engine["factorizations"],
                     rounds=[(r["n_candidates"], round(r["factorize_time"], 2))
@@ -127,9 +130,12 @@ def worker(argv):
 def measure(kind, path, mode, ranks=1):
     cmd = [sys.executable, os.path.abspath(__file__), "--worker", kind,
            path, mode]
+    env = dict(os.environ, OMP_NUM_THREADS="1", MKL_NUM_THREADS="1",
+               OPENBLAS_NUM_THREADS="1")
     if kind == "petsc":
         cmd = MPIEXEC + ["-n", str(ranks)] + cmd
-    env = dict(os.environ, OMP_NUM_THREADS="1", MKL_NUM_THREADS="1")
+        if BLAS[0]:  # MUMPS's BLAS: Debian links the reference one
+            env["LD_PRELOAD"] = BLAS[0]
     done = subprocess.run(cmd, capture_output=True, text=True, env=env)
     lines = [ln for ln in done.stdout.splitlines()
              if ln.startswith("RESULT ")]
@@ -155,7 +161,12 @@ def main():
     parser.add_argument("--serial-default", action="store_true")
     parser.add_argument("--ranks", default="1,2")
     parser.add_argument("--log")
+    parser.add_argument("--blas", help="a BLAS shared library (for "
+                        "instance libopenblas.so.0) to LD_PRELOAD into the "
+                        "PETSc runs: Debian's petsc-dev links the reference "
+                        "BLAS, which makes MUMPS's dense fronts 2-3x slower")
     args = parser.parse_args()
+    BLAS[0] = args.blas
     configs = []
     for path in filter(None, args.problems.split(",")):
         if not args.no_serial:
