@@ -1,9 +1,9 @@
 r"""Rank 0 drives, every rank computes: the command service of the engine.
 
 Rank 0 runs the project's serial code (geometry, Newton, output). Each
-collective step is a *command*: rank 0 broadcasts its name and a small
-payload (:meth:`Service.call`), every other rank waits in
-:meth:`Service.serve` and runs the same handler, and large data (K, load
+collective step is a *command*: rank 0 sends its name and a small
+payload to every rank (:meth:`Service.call`), every other rank waits idle
+in :meth:`Service.serve` and runs the same handler, and large data (K, load
 vectors) travel inside the handler by scatter and gather. A handler's
 exception on any rank is gathered after it and raised on rank 0 as one
 :class:`EngineError` (the CLI then prints one line and exits with its code;
@@ -19,6 +19,9 @@ __all__ = ["EngineError", "Service", "command", "HANDLERS"]
 
 #: name -> handler(service, payload, local); filled by :func:`command`.
 HANDLERS = {}
+
+#: MPI tag of the commands; a waiting worker polls at most every POLL s.
+TAG, POLL = 2020, 1e-3
 
 
 class EngineError(RuntimeError):
@@ -55,8 +58,25 @@ class Service:
         """(rank 0) Run command ``name`` on every rank; ``local`` is rank
         0's large data, passed to its handler only. Returns rank 0's
         result; raises :class:`EngineError` if any rank failed."""
-        self.comm.bcast((name, payload), root=0)
+        self._send((name, payload))
         return self._run(name, payload, local)
+
+    def _send(self, message):
+        """Rank 0's command to every worker (point to point, tag
+        :data:`TAG`; few ranks)."""
+        for rank in range(1, self.size):
+            self.comm.send(message, dest=rank, tag=TAG)
+
+    def _receive(self):
+        """A worker's next command. It waits *idle*: polling with short
+        sleeps, not in a blocking MPI call, which busy-waits and would take
+        a core from rank 0's serial work (Newton, geometry, output) on an
+        oversubscribed machine."""
+        wait = 1e-5
+        while not self.comm.iprobe(source=0, tag=TAG):
+            time.sleep(wait)
+            wait = min(2 * wait, POLL)
+        return self.comm.recv(source=0, tag=TAG)
 
     def _run(self, name, payload, local):
         clock, cpu = time.perf_counter(), time.process_time()
@@ -81,7 +101,7 @@ class Service:
         """(ranks > 0) Run commands until ``stop``; return its exit code."""
         try:
             while True:
-                name, payload = self.comm.bcast(None, root=0)
+                name, payload = self._receive()
                 if name == "stop":
                     return int(payload)
                 self._run(name, payload, None)
@@ -93,7 +113,7 @@ class Service:
 
     def stop(self, code):
         """(rank 0) End the workers with exit code ``code``."""
-        self.comm.bcast(("stop", int(code)), root=0)
+        self._send(("stop", int(code)))
 
     def gather_stats(self):
         """Per-rank counts and timings, gathered (rank 0: list by rank)."""
