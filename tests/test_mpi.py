@@ -243,3 +243,28 @@ def test_schur_mode_matches_serial(problems, tmp_path, n):
             assert close(data[name + "/x"], ref.solve(b))
             assert close(data[name + "/u"], ref.back_substitute(b, u_c))
             assert int(data[name + "/factorizations"]) == refactorised
+
+
+IDLE_DRIVER = """
+import sys, time
+from solver.mpi.engine import service, spmd
+
+def main(out):
+    svc = service()
+    before = svc.call("stats")[1]["cpu_s"]
+    time.sleep(2.0)  # rank 0's serial work: the worker must not spin
+    after = svc.call("stats")[1]["cpu_s"]
+    open(out, "w").write(str(after - before))
+
+spmd(main, sys.argv[1])
+"""
+
+
+def test_worker_waits_idle(tmp_path):
+    """While rank 0 works alone for 2 s, rank 1 waits for the next command
+    without spinning (solver/mpi/service.py polls with sleeps; a blocking
+    MPI broadcast busy-waits, ≈ 2 s of CPU): under 0.5 s of CPU."""
+    out = tmp_path / "cpu.txt"
+    code, _, err = mpirun(2, ["-c", IDLE_DRIVER, out])
+    assert code == 0, err[-3000:]
+    assert float(out.read_text()) < 0.5
