@@ -1,7 +1,7 @@
 """Benchmark of the PETSc engine (issue 20): 1 and 2 ranks against serial.
 
 ``python benchmarks/run_mpi.py [--problems A.npz,B.npz] [--repeat 3]
-[--gamg R1.npz,...] [--log FILE]`` runs, for each problem, in fresh
+[--gamg R1.npz,...] [--blas libopenblas.so.0] [--log FILE]`` runs, for each problem, in fresh
 processes and ``--repeat`` times each (rounds over the configurations):
 
 - **serial**: ``solve_frictionless(problem, method="min",
@@ -9,14 +9,16 @@ processes and ``--repeat`` times each (rounds over the configurations):
   iteration the engine runs); with ``--serial-default`` also the serial
   default (nested start);
 - **petsc N**: ``mpiexec -n N`` of the engine's condensed φ_min solve
-  (MUMPS factorisation, Schur by KSPMatSolve in blocks of 64, NCP on
-  rank 0), N = 1, 2; with ``--columns`` also the column-by-column Schur;
+  (MUMPS factorisation in its Schur mode, NCP on rank 0), N = 1, 2; with
+  ``--blocked`` / ``--columns`` also (1 rank) the Schur complement from
+  KSPMatSolve in blocks of 64 / column by column (before MPI20B);
 - **gamg**: CG + GAMG (rigid-body near-null space) solving K u = f once,
   for the iteration counts as the mesh grows (``--gamg``).
 
 Each measurement prints one JSON line: wall time of the solve (problem
-loaded before the clock starts), Newton counts, per-rank peak RSS (MB) and
-command times. ``--log`` appends them to a file. The table of
+loaded before the clock starts), Newton counts, per-rank peak RSS (MB),
+CPU time and command times, the factorisations and per-round candidates,
+and the load average when it ended. ``--log`` appends them to a file. The table of
 benchmarks/README.md is made from that log by hand.
 """
 
@@ -28,6 +30,11 @@ import sys
 import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
+#: Engine mode -> ``schur_block``: MUMPS's Schur mode (the default since
+#: MPI20B), KSPMatSolve of 64 sparse right-hand sides, column by column.
+SCHUR_MODES = dict(schur=None, blocked=64, columns=1)
+#: ``--blas``: a shared BLAS preloaded into the PETSc runs.
+BLAS = [None]
 MPIEXEC = ["mpiexec", "--allow-run-as-root", "--oversubscribe", "--bind-to",
            "none"]
 
@@ -63,8 +70,7 @@ def _petsc(path, mode):
         from solver.mpi.frictionless import solve_frictionless
 
         result = solve_frictionless(problem, method="min",
-                                    schur_block=1 if mode == "columns"
-                                    else 64)
+                                    schur_block=SCHUR_MODES[mode])
         seconds = time.perf_counter() - clock
         per_rank = result.engine["per_rank"]
         return dict(time=seconds, njev=int(result.njev), nit=int(result.nit),
@@ -73,7 +79,11 @@ def _petsc(path, mode):
                     peak_rss_mb=[r["peak_rss_mb"] for r in per_rank],
                     cpu_s=[r.get("cpu_s") for r in per_rank],
                     seconds=[r["seconds"] for r in per_rank],
-                    rows=[r["rows"] for r in per_rank])
+                    cpu_seconds=[r["cpu_seconds"] for r in per_rank],
+                    rows=[r["rows"] for r in per_rank],
+                    factorizations=result.engine["factorizations"],
+                    rounds=[(r["n_candidates"], round(r["factorize_time"], 2))
+                            for r in result.candidates["rounds"]])
 
     def _gamg(problem, clock):
         import scipy.sparse as sp
@@ -120,9 +130,12 @@ def worker(argv):
 def measure(kind, path, mode, ranks=1):
     cmd = [sys.executable, os.path.abspath(__file__), "--worker", kind,
            path, mode]
+    env = dict(os.environ, OMP_NUM_THREADS="1", MKL_NUM_THREADS="1",
+               OPENBLAS_NUM_THREADS="1")
     if kind == "petsc":
         cmd = MPIEXEC + ["-n", str(ranks)] + cmd
-    env = dict(os.environ, OMP_NUM_THREADS="1", MKL_NUM_THREADS="1")
+        if BLAS[0]:  # MUMPS's BLAS: Debian links the reference one
+            env["LD_PRELOAD"] = BLAS[0]
     done = subprocess.run(cmd, capture_output=True, text=True, env=env)
     lines = [ln for ln in done.stdout.splitlines()
              if ln.startswith("RESULT ")]
@@ -131,7 +144,7 @@ def measure(kind, path, mode, ranks=1):
                     error=done.stderr.strip()[-400:])
     out = json.loads(lines[-1][7:])
     out.update(kind=kind, problem=os.path.basename(path), mode=mode,
-               ranks=ranks)
+               ranks=ranks, loadavg=[round(x, 2) for x in os.getloadavg()])
     return out
 
 
@@ -143,19 +156,27 @@ def main():
     parser.add_argument("--gamg", default="")
     parser.add_argument("--repeat", type=int, default=3)
     parser.add_argument("--columns", action="store_true")
+    parser.add_argument("--blocked", action="store_true")
     parser.add_argument("--no-serial", action="store_true")
     parser.add_argument("--serial-default", action="store_true")
     parser.add_argument("--ranks", default="1,2")
     parser.add_argument("--log")
+    parser.add_argument("--blas", help="a BLAS shared library (for "
+                        "instance libopenblas.so.0) to LD_PRELOAD into the "
+                        "PETSc runs: Debian's petsc-dev links the reference "
+                        "BLAS, which makes MUMPS's dense fronts 2-3x slower")
     args = parser.parse_args()
+    BLAS[0] = args.blas
     configs = []
     for path in filter(None, args.problems.split(",")):
         if not args.no_serial:
             configs += [("serial", path, "free", 1)]
         if args.serial_default:
             configs += [("serial", path, "default", 1)]
-        configs += [("petsc", path, "blocked", int(n))
+        configs += [("petsc", path, "schur", int(n))
                     for n in args.ranks.split(",")]
+        if args.blocked:
+            configs += [("petsc", path, "blocked", 1)]
         if args.columns:
             configs += [("petsc", path, "columns", 1)]
     for path in filter(None, args.gamg.split(",")):

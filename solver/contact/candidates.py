@@ -167,7 +167,7 @@ class NormalCondensation:
 
 def solve_on_candidates(problem, geometry, method, tol, max_iter, x0,
                         gap_scale, stiffness, options, load_norm, backend,
-                        margin=None):
+                        margin=None, condensation=None):
     """Solve (67) condensed onto the candidates' normal DOFs, enlarging
     the candidates until no other node penetrates (module docstring).
 
@@ -175,6 +175,9 @@ def solve_on_candidates(problem, geometry, method, tol, max_iter, x0,
     candidates; the default is the free start λ = 0 (u_n = w_c). Each
     later round starts from the previous round's normal displacements.
     ``max_iter`` bounds the iterations of all rounds together.
+    ``condensation``: an object with :class:`NormalCondensation`'s
+    ``R``, ``normal_rows``, ``factorize`` and ``displacement`` (default:
+    a NormalCondensation on ``backend``; the PETSc engine passes its own).
 
     Returns
     -------
@@ -195,7 +198,8 @@ def solve_on_candidates(problem, geometry, method, tol, max_iter, x0,
     from .frictionless import FrictionlessSystem
     from .verify import force_scale, verification_tolerance
 
-    condensation = NormalCondensation(problem, geometry, backend)
+    if condensation is None:
+        condensation = NormalCondensation(problem, geometry, backend)
     nodes, delta = initial_candidates(geometry.gap, margin)
     tol_v = verification_tolerance(tol)
     start_un = None if x0 is None else \

@@ -161,7 +161,7 @@ def solve_friction(problem, friction, steps=None, formulation="projection",
                    max_iter=100, gap_scale=None, options=None, progress=None,
                    geometry=None, condense=None, on_step=None,
                    keep_steps=True, backend="auto", rollers=None,
-                   candidates=None, margin=None):
+                   candidates=None, margin=None, condensation=None):
     r"""Quasi-static Coulomb friction in load steps (thesis §5, (110)/(111)).
 
     Parameters
@@ -251,6 +251,10 @@ def solve_friction(problem, friction, steps=None, formulation="projection",
     margin : float, optional
         The candidates' round-0 gap margin δ₀, as in
         :func:`solve_frictionless`.
+    condensation : :class:`~solver.linalg.Condensation`, optional
+        K already condensed onto ``geometry.free_dofs()`` (its ``S``,
+        ``load``, ``displacement``), used instead of factorising K with
+        ``backend`` (the PETSc engine passes its distributed one).
 
     Returns
     -------
@@ -337,8 +341,11 @@ def solve_friction(problem, friction, steps=None, formulation="projection",
     if condense:  # φ_FB's (26) unit-free, as in solve_frictionless
         options = unit_free_options(method, options, reference_norm,
                                     stiffness, geometry.gap)
-        condensation, local = condense_onto_contact(problem, geometry,
-                                                    linear_solver)
+        if condensation is None:
+            condensation, local = condense_onto_contact(problem, geometry,
+                                                        linear_solver)
+        else:
+            local = geometry.compact()
         system = condensed_system(geometry.dim, formulation)(
             condensation.S, condensation.load(problem.f)[0], local, lumped,
             friction, formulation, coulomb, gap_scale, stiffness)

@@ -23,12 +23,13 @@ Design (docs/mpi.md):
   node's normal row, live on one rank.
 * **Methods** (:mod:`~solver.mpi.frictionless`, :mod:`~solver.mpi.full`,
   :mod:`~solver.mpi.friction`): one distributed MUMPS factorisation of the
-  rotated K̂ = RKRᵀ, the Schur complement on the candidates' normal rows by
-  many-right-hand-side solves (``MatMatSolve`` with sparse right-hand
-  sides), the small NCP on rank 0, a distributed back-substitution; or the semismooth Newton on the
-  full system with each Newton system solved by KSP (MUMPS or CG + GAMG);
-  friction through :func:`solver.contact.solve_friction` on the PETSc
-  condensation. :mod:`~solver.mpi.snesvi` is PETSc's own SNESVI, a
+  rotated K̂ = RKRᵀ in MUMPS's own Schur mode (:mod:`~solver.mpi.schur`,
+  ctypes on libpetsc: S on the candidates' normal rows from the partial
+  factorisation), the small NCP on rank 0, a distributed back-substitution
+  (the serial screening loop, :mod:`solver.contact.candidates`, runs on
+  it); or the semismooth Newton on the full system with each Newton system solved by KSP (MUMPS or CG + GAMG);
+  friction through :func:`solver.contact.solve_friction` given the PETSc
+  condensation (its ``condensation`` keyword). :mod:`~solver.mpi.snesvi` is PETSc's own SNESVI, a
   cross-check.
 """
 

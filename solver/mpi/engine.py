@@ -17,7 +17,7 @@ def service():
         petsc4py.init(sys.argv[:1])  # PETSc reads $PETSC_OPTIONS
         from petsc4py import PETSc
 
-        from . import factor, full, snesvi  # noqa: F401 - register commands
+        from . import factor, full, schur, snesvi  # noqa: F401 - commands
         from .service import Service
 
         PETSc.Options().setValue("k_mat_mumps_icntl_14", 50)  # workspace +%

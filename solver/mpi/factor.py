@@ -3,28 +3,28 @@ r"""One distributed MUMPS factorisation, its Schur complement and solves.
 :class:`PetscFactor` is a :class:`solver.linalg.base.Factor` (the serial
 backends' interface: ``solve``, ``S``, ``back_substitute``) whose work runs
 on every rank: K (reduced numbering, rank 0) is padded and scattered
-(:mod:`~solver.mpi.layout`) and factorised once by MUMPS (``PCCHOLESKY``,
-``mat_solver_type mumps``; LDLᵀ of the SPD K, half LU's work); MUMPS
-controls go through the options database (``-mat_mumps_icntl_*``: petsc4py
-3.18 binds no ``MatMumpsSetIcntl``).
+(:mod:`~solver.mpi.layout`) once and factorised by MUMPS (``PCCHOLESKY``,
+``mat_solver_type mumps``; LDLᵀ of the SPD K); MUMPS controls go through
+the options database (``-k_mat_mumps_icntl_*``).
 
-The Schur complement on the DOFs c (m of them) comes from the same factor:
-(K⁻¹)_cc = S⁻¹ (block inverse), so S = ((K⁻¹)_cc)⁻¹, and the columns
-K⁻¹e_c are computed ``block`` at a time by one many-right-hand-side solve
-(``MatMatSolve`` of the factor, what ``KSPMatSolve`` calls; petsc4py 3.18
-binds the former only), of which only the rows c are kept. The right-hand
-sides e_c go to MUMPS as a *sparse* block (the transpose of a k×n AIJ
-matrix: ICNTL(20), the forward solve pruned to the paths of c), measured
-on the 1.2·10⁵-DOF block with 64 columns: 0.77 s CPU against 1.86 s as a
-dense block and 3.8 s as 64 single solves (``block=1``, the plain
-column-by-column solve; benchmarks/README.md has the large sizes). The
-dense n×block slab is transient and far smaller than the factors. The
-factor does not depend on c: a larger candidate set costs solves, not a
-refactorisation (the serial backends refactorise). MUMPS's own Schur mode
-(``MatFactorSetSchurIS``) has no petsc4py 3.18 binding.
+The Schur complement S = K_cc − K_ci K_ii⁻¹ K_ic on the DOFs c (thesis
+(63)-(66)) comes, by default, from **MUMPS's own Schur mode**
+(:mod:`~solver.mpi.schur`: the partial factorisation returns S on rank 0,
+no solves). The factor then solves with K_ii only (PETSc 3.18 solves with
+the whole K through S on one rank only), so a solve with K is the block
+elimination x_c = S⁻¹(b_c − K_ci K_ii⁻¹b_i), x_i = K_ii⁻¹(b_i − K_ic x_c)
+(two interior solves, S⁻¹ by a dense Cholesky on rank 0), and the
+back-substitution u_i = K_ii⁻¹(b_i − K_ic u_c) is one. A new candidate set
+is a new factorisation (as the serial backends'), K is not scattered again.
+
+``block=k`` instead keeps one factorisation of K and forms S = ((K⁻¹)_cc)⁻¹
+from columns K⁻¹e_c, k at a time (``MatMatSolve`` with sparse right-hand
+sides, ICNTL(20)); issue 20's first version, slower: at 4.8·10⁵ DOFs the
+solves took 62-76 s on 1 rank and 156-197 s on 2 (benchmarks/README.md).
 """
 
 import numpy as np
+import scipy.linalg as la
 
 from ..linalg.base import Factor
 from .layout import gather_vector, scatter_matrix, scatter_vector
@@ -32,36 +32,60 @@ from .service import EngineError, command
 
 __all__ = ["PetscFactor", "SCHUR_BLOCK"]
 
-#: Right-hand sides per KSPMatSolve of the Schur complement.
-SCHUR_BLOCK = 64
+#: Default Schur complement: None = MUMPS's Schur mode; k = KSPMatSolve
+#: of k columns at a time.
+SCHUR_BLOCK = None
 
 
 class PetscFactor(Factor):
     """Rank 0's handle of a distributed factorisation of the reduced SPD
     ``A`` (scipy sparse) with the Schur complement on ``schur`` (reduced
-    DOFs, optional). ``key`` names it in the service's objects."""
+    DOFs, optional). ``key`` names it in the service's objects; ``block``
+    as :data:`SCHUR_BLOCK`."""
 
     backend = "petsc-mumps"
 
     def __init__(self, service, layout, A, schur=None, key="K",
                  block=SCHUR_BLOCK):
         self.service, self.layout, self.key = service, layout, key
-        self.n = A.shape[0]
-        service.call("factor", dict(key=key, bsize=layout.dim),
+        self.n, self.block, self._cho, self._rows = A.shape[0], block, \
+            None, None
+        service.call("scatter_matrix", dict(key=key, bsize=layout.dim),
                      layout.matrix(A))
-        self.schur(schur, block)
+        self.factorizations = 0
+        if block is not None or schur is None or not len(schur):
+            self._factor(None)
+        self.schur(schur)
 
-    def schur(self, dofs, block=SCHUR_BLOCK):
-        """(Re)compute S on the reduced DOFs ``dofs`` (no refactorisation)."""
+    def _factor(self, rows):
+        S = self.service.call("factor", dict(key=self.key, schur=rows))
+        self.factorizations += 1
+        return S
+
+    def schur(self, dofs):
+        """(Re)compute S on the reduced DOFs ``dofs``."""
         self.schur_dofs = None if dofs is None else \
             np.asarray(dofs, np.int64)
+        self._cho, self.S = None, None
         if dofs is None or not len(dofs):
+            if self.block is None and self.factorizations and \
+                    self._rows is not None:  # drop the old Schur set
+                self._factor(None)
+            self._rows = None
             self.S = None if dofs is None else np.zeros((0, 0))
             return self.S
-        rows = self.layout.red_to_pad[self.schur_dofs]
-        G = self.service.call("inverse_block", dict(key=self.key, rows=rows,
-                                                    block=int(block)))
-        S = np.linalg.inv(0.5 * (G + G.T))
+        self._rows = self.layout.red_to_pad[self.schur_dofs]
+        if self.block is None:  # MUMPS's Schur mode
+            S = self._factor(self._rows)
+            try:
+                self._cho = la.cho_factor(0.5 * (S + S.T))
+            except (la.LinAlgError, ValueError):  # K singular or indefinite
+                raise EngineError("MUMPS could not factorise K (singular: "
+                                  "is the body supported?)") from None
+        else:
+            G = self.service.call("inverse_block", dict(
+                key=self.key, rows=self._rows, block=int(self.block)))
+            S = np.linalg.inv(0.5 * (G + G.T))
         self.S = 0.5 * (S + S.T)
         return self.S
 
@@ -70,27 +94,72 @@ class PetscFactor(Factor):
         b = np.asarray(b, float)
         if b.ndim == 2:
             return np.column_stack([self.solve(col) for col in b.T])
-        x = self.service.call("solve", dict(key=self.key),
-                              self.layout.pad(b))
+        if self._cho is None:
+            x = self.service.call("solve", dict(key=self.key),
+                                  self.layout.pad(b))
+        else:
+            x = self.service.call("schur_solve", dict(
+                key=self.key, rows=self._rows), (self.layout.pad(b),
+                                                 self._cho))
         return self.layout.unpad(x)
+
+    def back_substitute(self, b, u_c):
+        """u with u_c on c, K_ii u_i = b_i − K_ic u_c: one interior solve
+        in the Schur mode (else as :class:`Factor`)."""
+        u_c = np.asarray(u_c, float)
+        if self._cho is None:
+            return super().back_substitute(b, u_c)
+        if u_c.ndim == 2:
+            return np.column_stack([self.back_substitute(
+                None if b is None else b[:, j], u_c[:, j])
+                for j in range(u_c.shape[1])])
+        x = self.service.call("interior_solve", dict(
+            key=self.key, rows=self._rows, rhs=b is not None), (
+            None if b is None else self.layout.pad(b), u_c))
+        return self.layout.unpad(x)
+
+
+@command("scatter_matrix")
+def _scatter(service, payload, local):
+    old = service.objects.pop(payload["key"], {})
+    for item in old.values():
+        item.destroy()
+    A = scatter_matrix(service, local, payload["bsize"])
+    x, b = A.createVecs()
+    service.objects[payload["key"]] = dict(A=A, x=x, b=b)
 
 
 @command("factor")
 def _factor(service, payload, local):
+    """A MUMPS Cholesky of the scattered A, with the Schur set
+    ``payload["schur"]`` (padded rows) if given: returns S on rank 0."""
     from petsc4py import PETSc
 
-    A = scatter_matrix(service, local, payload["bsize"])
-    ksp = PETSc.KSP().create(comm=A.getComm())
-    ksp.setOperators(A)
+    from .schur import interior_solves, schur_complement, set_schur_is
+
+    obj = service.objects[payload["key"]]
+    if "ksp" in obj:
+        obj.pop("ksp").destroy()
+    ksp = PETSc.KSP().create(comm=obj["A"].getComm())
+    ksp.setOperators(obj["A"])
     ksp.setType("preonly")
     pc = ksp.getPC()
     pc.setType("cholesky")
     pc.setFactorSolverType("mumps")
     ksp.setOptionsPrefix(f"{payload['key'].lower()}_")
     ksp.setFromOptions()
+    obj["ksp"], S = ksp, None
+    if payload.get("schur") is not None:
+        pc.setFactorSetUpSolverType()
+        set_schur_is(pc.getFactorMatrix(), payload["schur"],
+                     obj["A"].getComm())
     ksp.setUp()
-    x, b = A.createVecs()
-    service.objects[payload["key"]] = dict(A=A, ksp=ksp, x=x, b=b)
+    if payload.get("schur") is not None:
+        F = pc.getFactorMatrix()
+        if service.root:
+            S = schur_complement(F)
+        interior_solves(F)
+    return S
 
 
 @command("solve")

@@ -4,13 +4,14 @@ r"""Frictionless contact (67) on the PETSc engine.
 :mod:`solver.contact.candidates` with the linear algebra distributed. K is
 rotated into the node frames on rank 0 (K̂ = RKRᵀ, f̂ = Rf, sparse),
 factorised once by MUMPS on all ranks (:class:`~solver.mpi.factor.PetscFactor`),
-its Schur complement S on the candidates' normal rows formed by blocked
-many-right-hand-side solves, the NCP S u_n = g̃ + λ ⟂ s − u_n ≥ 0 solved on
+its Schur complement S on the candidates' normal rows by MUMPS's Schur
+mode (:mod:`~solver.mpi.schur`), the NCP S u_n = g̃ + λ ⟂ s − u_n ≥ 0 solved on
 rank 0 by the project's φ_min / φ_FB Newton (:func:`solver.ncp.solve_ncp`
 on :class:`~solver.contact.frictionless.FrictionlessSystem` of the normal
 line), and u = Rᵀ(w + K̂⁻¹Pᵀ S(u_n − w_c)) by one distributed solve. The
-same screening rounds as the serial solver (enlarged candidates cost a new
-S, not a new factorisation); the iterates are those of
+screening rounds are the serial solver's own loop
+(:func:`~solver.contact.candidates.solve_on_candidates`, on
+:class:`PetscNormalCondensation`); the iterates are those of
 ``solver.solve_frictionless(problem, candidates=True, start="free")``.
 
 ``system="full"``: the thesis's system in all unknowns from u = 0 (c = 1),
@@ -22,17 +23,14 @@ import time
 
 import numpy as np
 
-from ..contact.candidates import (MAX_ROUNDS, enlarge_candidates,
-                                  initial_candidates, normal_line)
-from ..contact.frictionless import (STOPPING_TEST, FrictionlessSystem,
-                                    _nodal_arrays)
+from ..contact.candidates import solve_on_candidates
+from ..contact.frictionless import STOPPING_TEST, _nodal_arrays
 from ..contact.geometry import contact_geometry, contact_stiffness, rotation
 from ..contact.result import ContactResult
-from ..contact.verify import (describe_failure, force_scale,
-                              unit_free_options, verification_tolerance,
-                              verify_contact)
+from ..contact.verify import (describe_failure, unit_free_options,
+                              verification_tolerance, verify_contact)
 from ..errors import SolverError
-from ..ncp import MESSAGES, solve_ncp, stable_norm
+from ..ncp import MESSAGES, stable_norm
 from .engine import engine_summary, service
 from .factor import SCHUR_BLOCK, PetscFactor
 from .layout import Layout
@@ -58,8 +56,9 @@ def solve_frictionless(problem, method="min", gap="obstacle", tol=1e-10,
     :func:`solver.mpi.engine.spmd`). Arguments as
     :func:`solver.contact.solve_frictionless`, plus ``system``
     ({"condensed", "full"}), ``ksp`` ({"mumps", "gamg"}: the full system's
-    Newton solves) and ``schur_block`` (right-hand sides per KSPMatSolve;
-    1 = column by column). Returns the serial solver's result with
+    Newton solves) and ``schur_block`` (None: MUMPS's Schur mode, the
+    default; k: S from the columns of K̂⁻¹, k right-hand sides per
+    MatMatSolve, :mod:`~solver.mpi.factor`). Returns the serial solver's result with
     ``engine`` (ranks, per-rank counts and timings) added."""
     check_problem(problem)
     if system not in SYSTEMS or ksp not in KSPS:
@@ -90,7 +89,9 @@ def solve_frictionless(problem, method="min", gap="obstacle", tol=1e-10,
         result, u, lam, un, screening = _on_candidates(
             svc, layout, problem, geometry, method, tol, max_iter, gap_scale,
             stiffness, options, load_norm, margin, schur_block)
-        extra = dict(schur_block=int(schur_block))
+        extra = dict(schur="mumps" if schur_block is None else "solves",
+                     schur_block=schur_block, factorizations=screening.pop(
+                         "factorizations"))
     result.stopping["test"] = STOPPING_TEST
     result.x = u
     verification = verify_contact(
@@ -118,62 +119,56 @@ def solve_frictionless(problem, method="min", gap="obstacle", tol=1e-10,
     return ContactResult(result)
 
 
+class PetscNormalCondensation:
+    """:class:`solver.contact.candidates.NormalCondensation`'s interface
+    (``R``, ``normal_rows``, ``factorize(nodes)``, ``displacement(u_n)``)
+    on one distributed MUMPS factor (:class:`PetscFactor`), so that the
+    serial screening rounds (:func:`~solver.contact.candidates.
+    solve_on_candidates`) run unchanged. K̂ = RKRᵀ is scattered once; each
+    round's candidate set is a new Schur-mode factorisation (``block``
+    None) or only new solves (``block`` = k)."""
+
+    def __init__(self, svc, layout, problem, geometry, block=SCHUR_BLOCK):
+        self.svc, self.layout, self.block = svc, layout, block
+        self.R = rotation(problem.n_dofs, geometry)[0]
+        K = (self.R @ problem.K @ self.R.T).tocsr()
+        self.K = 0.5 * (K + K.T)  # exactly symmetric
+        self.f = self.R @ problem.f
+        self.normal_rows = geometry.dofs[:, -1]
+        self.factor, self.nodes = None, None
+
+    def factorize(self, nodes):
+        """(S, g̃, w) on the normal rows of ``nodes``, w = K̂⁻¹f̂."""
+        self.nodes = np.asarray(nodes, np.int64)
+        c = self.normal_rows[self.nodes]
+        if self.factor is None:
+            self.factor = PetscFactor(self.svc, self.layout, self.K, c,
+                                      block=self.block)
+            self.K = None  # scattered: rank 0 keeps no copy
+            self.w = self.factor.solve(self.f)
+        else:
+            self.factor.schur(c)
+        S = self.factor.S
+        return S, S @ self.w[c], self.w
+
+    def displacement(self, u_n):
+        """(u, u_n at every free contact node): one back-substitution."""
+        c = self.normal_rows[self.nodes]
+        u_hat = self.w if not len(c) else self.w + \
+            self.factor.back_substitute(None, np.asarray(u_n, float)
+                                        - self.w[c])
+        return self.R.T @ u_hat, u_hat[self.normal_rows]
+
+
 def _on_candidates(svc, layout, problem, geometry, method, tol, max_iter,
                    gap_scale, stiffness, options, load_norm, margin, block):
-    """The screening rounds of :func:`solver.contact.candidates.
-    solve_on_candidates` on one PETSc factorisation of K̂."""
-    R = rotation(problem.n_dofs, geometry)[0]
-    K_hat = (R @ problem.K @ R.T).tocsr()
-    K_hat = 0.5 * (K_hat + K_hat.T)
-    normal = geometry.dofs[:, -1]
-    nodes, delta = initial_candidates(geometry.gap, margin)
-    clock = time.perf_counter()
-    factor = PetscFactor(svc, layout, K_hat, normal[nodes], block=block)
-    w = factor.solve(R @ problem.f)
-    tol_v = verification_tolerance(tol)
-    rounds, history, budget, start_un = [], {}, max_iter, None
-    totals = dict(nit=0, njev=0, nfev=0)
-    exhausted = False
-    for k in range(MAX_ROUNDS):
-        S = factor.S if k == 0 else factor.schur(normal[nodes], block)
-        factorize_time = time.perf_counter() - clock
-        c = normal[nodes]
-        system = FrictionlessSystem(S, S @ w[c], normal_line(geometry, nodes),
-                                    gap_scale, stiffness, load_norm)
-        start = w[c] if start_un is None else start_un[nodes]
-        result = solve_ncp(system.residual, system.jacobian, start,
-                           method=method, tol=tol, max_iter=budget,
-                           options=options, error=system.error,
-                           scale=system.scale)
-        budget -= result.nit
-        for key in totals:
-            totals[key] += result[key]
-        for key, values in result.history.items():
-            history.setdefault(key, []).extend(values)
-        history.setdefault("round", []).extend([k] * result.nit)
-        lam = np.zeros(len(geometry.gap))
-        lam[nodes] = system.contact_force(result.x)
-        u_hat = w + factor.back_substitute(None, result.x - w[c])
-        un = u_hat[normal]
-        length = tol_v * force_scale(load_norm, lam) / stiffness
-        grown = enlarge_candidates(nodes, geometry.gap - un, length)
-        outside = np.setdiff1d(np.arange(len(lam)), nodes)
-        rounds.append(dict(
-            n_candidates=len(nodes), nit=result.nit, njev=result.njev,
-            nfev=result.nfev, success=bool(result.success),
-            penetrating=int(np.count_nonzero(
-                geometry.gap[outside] - un[outside] < -length)),
-            factorize_time=factorize_time,
-            time=time.perf_counter() - clock))
-        clock = time.perf_counter()
-        if grown is None or not result.success:
-            break
-        if k == MAX_ROUNDS - 1:
-            exhausted = True
-            break
-        nodes, start_un = grown, un
-    result.update(totals, history=history, levels=[])
-    screening = dict(margin=delta, rounds=rounds, n_candidates=len(nodes),
-                     enlarged=len(rounds) - 1, exhausted=exhausted,
-                     nodes=nodes)
-    return result, R.T @ u_hat, lam, un, screening
+    """:func:`solver.contact.candidates.solve_on_candidates` on a
+    :class:`PetscNormalCondensation`."""
+    condensation = PetscNormalCondensation(svc, layout, problem, geometry,
+                                           block)
+    result, u, lam, un, screening = solve_on_candidates(
+        problem, geometry, method, tol, max_iter, None, gap_scale,
+        stiffness, options, load_norm, None, margin, condensation)
+    screening["nodes"] = condensation.nodes
+    screening["factorizations"] = condensation.factor.factorizations
+    return result, u, lam, un, screening

@@ -1,9 +1,9 @@
 r"""Rank 0 drives, every rank computes: the command service of the engine.
 
 Rank 0 runs the project's serial code (geometry, Newton, output). Each
-collective step is a *command*: rank 0 broadcasts its name and a small
-payload (:meth:`Service.call`), every other rank waits in
-:meth:`Service.serve` and runs the same handler, and large data (K, load
+collective step is a *command*: rank 0 sends its name and a small
+payload to every rank (:meth:`Service.call`), every other rank waits idle
+in :meth:`Service.serve` and runs the same handler, and large data (K, load
 vectors) travel inside the handler by scatter and gather. A handler's
 exception on any rank is gathered after it and raised on rank 0 as one
 :class:`EngineError` (the CLI then prints one line and exits with its code;
@@ -19,6 +19,9 @@ __all__ = ["EngineError", "Service", "command", "HANDLERS"]
 
 #: name -> handler(service, payload, local); filled by :func:`command`.
 HANDLERS = {}
+
+#: MPI tag of the commands; a waiting worker polls at most every POLL s.
+TAG, POLL = 2020, 1e-3
 
 
 class EngineError(RuntimeError):
@@ -36,7 +39,9 @@ def command(name):
 class Service:
     """The communicator, the objects the commands keep between calls
     (``objects``: name -> distributed matrix, KSP, ...) and per-command
-    timings (``timings``: name -> [calls, seconds on this rank])."""
+    timings (``timings``: name -> [calls, wall seconds, CPU seconds on
+    this rank]; CPU because the wall clock of a shared machine is
+    noise)."""
 
     def __init__(self, comm=None):
         from mpi4py import MPI
@@ -53,18 +58,36 @@ class Service:
         """(rank 0) Run command ``name`` on every rank; ``local`` is rank
         0's large data, passed to its handler only. Returns rank 0's
         result; raises :class:`EngineError` if any rank failed."""
-        self.comm.bcast((name, payload), root=0)
+        self._send((name, payload))
         return self._run(name, payload, local)
 
+    def _send(self, message):
+        """Rank 0's command to every worker (point to point, tag
+        :data:`TAG`; few ranks)."""
+        for rank in range(1, self.size):
+            self.comm.send(message, dest=rank, tag=TAG)
+
+    def _receive(self):
+        """A worker's next command. It waits *idle*: polling with short
+        sleeps, not in a blocking MPI call, which busy-waits and would take
+        a core from rank 0's serial work (Newton, geometry, output) on an
+        oversubscribed machine."""
+        wait = 1e-5
+        while not self.comm.iprobe(source=0, tag=TAG):
+            time.sleep(wait)
+            wait = min(2 * wait, POLL)
+        return self.comm.recv(source=0, tag=TAG)
+
     def _run(self, name, payload, local):
-        clock = time.perf_counter()
+        clock, cpu = time.perf_counter(), time.process_time()
         try:
             out, error = HANDLERS[name](self, payload, local), None
         except Exception as exc:  # noqa: BLE001 - reported collectively
             out, error = None, f"{type(exc).__name__}: {exc}"
-        entry = self.timings.setdefault(name, [0, 0.0])
+        entry = self.timings.setdefault(name, [0, 0.0, 0.0])
         entry[0] += 1
         entry[1] += time.perf_counter() - clock
+        entry[2] += time.process_time() - cpu
         errors = self.comm.gather(error, root=0)
         if self.root:
             failed = [(r, e) for r, e in enumerate(errors) if e]
@@ -78,7 +101,7 @@ class Service:
         """(ranks > 0) Run commands until ``stop``; return its exit code."""
         try:
             while True:
-                name, payload = self.comm.bcast(None, root=0)
+                name, payload = self._receive()
                 if name == "stop":
                     return int(payload)
                 self._run(name, payload, None)
@@ -90,7 +113,7 @@ class Service:
 
     def stop(self, code):
         """(rank 0) End the workers with exit code ``code``."""
-        self.comm.bcast(("stop", int(code)), root=0)
+        self._send(("stop", int(code)))
 
     def gather_stats(self):
         """Per-rank counts and timings, gathered (rank 0: list by rank)."""
@@ -100,6 +123,7 @@ class Service:
         stats = dict(rank=self.rank, peak_rss_mb=usage.ru_maxrss / 1024.0,
                      cpu_s=round(usage.ru_utime + usage.ru_stime, 3),
             seconds={k: round(v[1], 4) for k, v in self.timings.items()},
+            cpu_seconds={k: round(v[2], 4) for k, v in self.timings.items()},
             calls={k: v[0] for k, v in self.timings.items()})
         stats.update(self.objects.get("counts", {}))
         return self.comm.gather(stats, root=0)
