@@ -12,6 +12,15 @@ def service():
     """The process's :class:`~solver.mpi.service.Service` (made once, after
     petsc4py is initialised with the MUMPS options)."""
     if not _SERVICE:
+        import os
+
+        from mpi4py import MPI
+
+        # MUMPS's BLAS (OpenBLAS through Debian's libblas.so.3, docs/mpi.md)
+        # reads this once, when libpetsc loads: one share of the cores per
+        # rank, so that N ranks do not start N × cores threads.
+        os.environ.setdefault("OPENBLAS_NUM_THREADS", str(max(
+            1, (os.cpu_count() or 1) // MPI.COMM_WORLD.Get_size())))
         import petsc4py
 
         petsc4py.init(sys.argv[:1])  # PETSc reads $PETSC_OPTIONS
