@@ -497,6 +497,9 @@ def test_half_friction_matches_the_whole_3d(dragged_whole, coulomb, method,
                             coulomb=coulomb, method=method, tol=1e-13,
                             condense=condense)
     assert result.success and result.verification["passed"], result.message
+    # 3D default: condensed on candidate nodes, rollers among them
+    assert result.get("condensation") == ("candidates" if condense
+                                          else None)
     on_x = np.abs(part.nodes[part.contact_nodes, 0]) < 1e-12
     check_friction_against_whole(whole, r_whole, part, result,
                                  np.where(on_x, 0.5, 1.0))

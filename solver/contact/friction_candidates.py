@@ -25,6 +25,13 @@ Choosing them (the rule of :mod:`solver.contact.candidates`):
    set (:func:`enlarge_candidates`: every node with s − u_n ≤ the deepest
    penetration) and the run restarts.
 
+Roller nodes (symmetry planes, :mod:`~solver.contact.geometry`) are
+candidates like any other node: the run on the candidates' geometry keeps
+their frames, and their friction lives in the free tangent(s) as in the
+run on every contact DOF (:mod:`.friction`, :mod:`.friction_disc`); a
+non-candidate roller's tangential displacement is read on its own DOFs
+(its constrained component is 0).
+
 The Newton systems of a step have 5m unknowns (3m displacements, 2m
 tractions) and are dense (S is): :func:`solver.ncp.solve_ncp` factorises
 them by LAPACK, (5m)³/3 flops, instead of (5Nc)³/3 on every contact DOF.
@@ -84,16 +91,13 @@ class _Penetration(Exception):
         self.step, self.remaining, self.length = step, remaining, length
 
 
-def use_candidates(candidates, condense, formulation, dim, rollers=False):
+def use_candidates(candidates, condense, formulation, dim):
     """Whether to run friction on candidates (default: 3D, condensed,
-    projection form, no roller nodes); SolverError (one line) if asked
-    where it cannot."""
+    projection form; roller nodes included); SolverError (one line) if
+    asked where it cannot."""
     if candidates is None:
         return dim == 3 and condense is not False \
-            and formulation == "projection" and not rollers
-    if candidates and rollers:
-        raise SolverError("friction on candidate nodes does not take roller "
-                          "nodes yet; give candidates=False or rollers=False")
+            and formulation == "projection"
     if candidates and (condense is False or formulation != "projection"):
         raise SolverError("friction on candidate nodes needs the condensed "
                           "projection formulation (condense=True, "
@@ -228,9 +232,13 @@ def friction_on_candidates(solve, problem, friction, geometry, margin,
 
 def _tangential(geometry, outside, u):
     """Tangential displacements (…, k, d − 1) of the nodes ``outside`` for
-    reduced u (…, Ñ)."""
+    reduced u (…, Ñ): the tangents on the node's own DOFs ``node_dofs``
+    (a roller's Dirichlet component reads 0, so its e_c component is 0, as
+    :meth:`FrictionSystem.tangential` gives)."""
+    u = np.asarray(u, float)
+    padded = np.concatenate([u, np.zeros(u.shape[:-1] + (1,))], axis=-1)
     return np.einsum("ikj,...ij->...ik", geometry.tangents[outside],
-                     u[..., geometry.dofs[outside]])
+                     padded[..., geometry.node_dofs[outside]])
 
 
 def _fill(fields, geometry, outside):
