@@ -44,8 +44,9 @@ import warnings
 
 import numpy as np
 import scipy.linalg as sla
+import scipy.sparse as sp
 
-from .friction_system import FrictionSystem
+from .friction_system import FrictionSystem, _block_diagonal
 
 __all__ = ["DiscSystem", "DiscJacobian", "condensed_system"]
 
@@ -67,14 +68,29 @@ class DiscSystem(FrictionSystem):
             and self.formulation == "projection" and self.dim == 3
         if self.dense:  # R sparse (per-node frames): R S and R's rows dense
             t = np.where(self.t_free, self.t_rows, 0)
-            RS = np.asarray(self.R @ np.asarray(K, float))
-            self.RS_t, self.RS_n = RS[t], RS[self.n_rows]
-            self.R_t = self.R[t].toarray()
-            self.R_n = self.R[self.n_rows].toarray()
+            self.RS = np.asarray(self.R @ np.asarray(K, float))
+            self.RS_t, self.RS_n = self.RS[t], self.RS[self.n_rows]
             # a roller's constrained tangent e_c: no equilibrium row, and
             # it moves no DOF (u_c = 0): its rows of (RS)_t and R_t are 0
+            self.R_t = sp.diags(self.t_free.astype(float)) @ self.R[t]
             self.RS_t[~self.t_free] = 0.0
-            self.R_t[~self.t_free] = 0.0
+            self.R_n = self.R[self.n_rows].toarray()
+
+    def _force(self, du):
+        """r = R(Ku − f_κ) (:meth:`FrictionSystem._force`), by BLAS on the
+        dense R S."""
+        if not self.dense:
+            return super()._force(du)
+        return self._r_previous + self.RS @ du - self._Rf_step
+
+    def bound(self, r, derivative=True):
+        """f_c p and its derivative rows (:meth:`FrictionSystem.bound`),
+        the rows dense (m × n) on the dense R S."""
+        if not self.dense or self.coulomb == "lagged" or not derivative:
+            return super().bound(r, derivative)
+        active = (-r[self.n_rows] > 0.0) / self.lumped
+        return self.friction * self.pressure(r), \
+            -self.friction * active[:, None] * self.RS_n
 
     def jacobian(self, x):
         if not self.dense:
@@ -111,10 +127,11 @@ class DiscJacobian:
                                          * slip_hat[:, None, :])
         if s.rollers:  # w_c ≡ 0: ∂P/∂w loses the e_c columns
             self.P *= s.t_free.reshape(m, 1, k)
-        Pu = ct[:, None] * self._blocks(s.R_t)
+        Pu = (_block_diagonal(self.P) @ s.R_t).toarray()  # R_t sparse
+        Pu *= ct[:, None]
         if db is not None:  # −ŵ ∂b/∂Δu at slip nodes
-            Pu -= slip_hat.reshape(-1, 1) * np.repeat(
-                np.asarray(db.todense()), k, axis=0)
+            Pu -= slip_hat.reshape(-1, 1) * np.repeat(np.asarray(
+                db.todense() if sp.issparse(db) else db), k, axis=0)
         self.Pu = Pu
         # Slip nodes with |b|/|w| ≤ 1/2 take dĝ from their projection row,
         # (I − P_w)⁻¹ = (I − ŵŵᵀ)/(1 − ratio) + ŵŵᵀ: exact where b = 0
