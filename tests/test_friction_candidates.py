@@ -223,10 +223,14 @@ def test_disc_direction_solves_the_whole_jacobian(dome, coulomb):
     slip = np.linalg.norm(jac.P.reshape(m, -1) - np.eye(2).ravel(), axis=1)
     assert (slip > 0).any() and (slip == 0).any()  # stick and slip nodes
     JE, JA, JB = FrictionSystem.jacobian(system, x)
+    # DiscSystem's projection rows are D(g − P(w)) (nodal forces)
+    rows = sp.diags(np.concatenate([np.ones(JE.shape[0] - system.mt),
+                                    system.lumped_t]))
     for wa, wb in [(rng.uniform(-1, 0, m), rng.uniform(-1, 0, m)),
                    ((rng.random(m) < 0.5) * 1.0, None)]:
         wb = 1.0 - wa if wb is None else wb
-        J = sp.vstack([JE, sp.diags(wa) @ JA + sp.diags(wb) @ JB]).toarray()
+        J = sp.vstack([rows @ JE, sp.diags(wa) @ JA
+                       + sp.diags(wb) @ JB]).toarray()
         F = rng.normal(size=J.shape[0])
         combined = jac.combine(wa, wb)
         d = combined.direction(F)

@@ -32,6 +32,21 @@ direction is that of J d = −F up to round-off (tests compare it with the
 sparse J of :class:`FrictionSystem`); J is singular exactly when this
 matrix is.
 
+Units of the projection rows. :class:`DiscSystem` returns them as nodal
+forces D(g − P(w)) (D = ``lumped_t``, the Γc area of the node), like the
+equilibrium and normal rows, and not as tractions g − P(w): a row scaled
+by a positive constant leaves the Newton direction as it is (the matrix
+above is unchanged, F_2 is divided back), but the merit ‖Φ‖ of φ_min's
+damping and φ_FB's ψ then weigh every row in force units, as the stopping
+measure does (:meth:`FrictionSystem.error`). As tractions they weighed
+1/D more (1e5 on the Hertz sphere, R = 1, at a/h 16), and the damped
+Newton rejected full steps that cut the normal rows' residual 40-fold for
+tractions far beyond f_c p at nodes that go from stick to slip, then crept
+on with α ≈ 2⁻⁵…2⁻¹⁰ until the stall test stopped it (the lagged bound's
+stall at a/h 16, benchmarks/README.md; the same problem in mm instead of
+m stalled φ_FB with the implicit bound; tests/
+test_friction_candidates_rollers.py).
+
 Rollers (nodes on symmetry planes, :mod:`~solver.contact.geometry`): a
 roller's constrained tangent e_c has no equilibrium row and w_c ≡ 0, so
 its projection row is c_t dĝ_c = −F_2,c (ĝ_c stays 0), ∂P/∂w loses the
@@ -91,6 +106,23 @@ class DiscSystem(FrictionSystem):
         active = (-r[self.n_rows] > 0.0) / self.lumped
         return self.friction * self.pressure(r), \
             -self.friction * active[:, None] * self.RS_n
+
+    def residual(self, x):
+        """(E, A, B) of :meth:`FrictionSystem.residual` with the projection
+        rows g − P(w) in nodal force units, D(g − P(w)) (module
+        docstring: the merit ‖Φ‖ of the line searches)."""
+        E, A, B = super().residual(x)
+        if self.dense:
+            E[len(E) - self.mt:] *= self.lumped_t
+        return E, A, B
+
+    def error(self, E, A, B):
+        """:meth:`FrictionSystem.error` (which weighs the projection rows
+        by D itself) of the residual of :meth:`residual`."""
+        if self.dense:
+            E = E.copy()
+            E[len(E) - self.mt:] /= self.lumped_t
+        return super().error(E, A, B)
 
     def jacobian(self, x):
         if not self.dense:
@@ -189,6 +221,7 @@ class _DiscCombined:
         jac, s = self.jac, self.jac.system
         F1, F2, F3 = self._rows(F)
         D = s.lumped_t
+        F2 = F2 / D  # rows D(g − P(w)) (DiscSystem.residual): J's rows /D
         top = jac.Pu + self._free(s.RS_t / D[:, None])
         h = -F2 - self._free(F1 / D)
         free = s.t_free  # a roller's e_c row gives dĝ_c = −F_2,c/c_t
@@ -218,6 +251,7 @@ class _DiscCombined:
         """JᵀF in the unknowns x = [Δu; ĝ] (∇ψ of φ_FB, (28))."""
         jac, s = self.jac, self.jac.system
         F1, F2, F3 = self._rows(F)
+        F2 = F2 * s.lumped_t  # (diag(D) J_2)ᵀ F_2
         gu = F1 @ s.RS_t + F2 @ jac.Pu + F3 @ self.N
         gg = -self.Dc * F1 + jac.ct * (F2 - jac._blocks(F2, transpose=True))
         return np.concatenate([gu, gg])
