@@ -239,3 +239,38 @@ def test_disc_direction_solves_the_whole_jacobian(dome, coulomb):
         np.testing.assert_allclose(combined.rmatvec(F), J.T @ F,
                                    rtol=0, atol=1e-12 * np.abs(J).max()
                                    * np.abs(F).sum())
+
+
+def test_first_candidates_take_two_rings_of_surface_neighbours():
+    """The default rule with contact triangles: the screening's contact
+    set and RINGS = 2 rings of neighbours along the triangles' edges (by
+    hand on a strip of 2 × 6 nodes, node ids ≠ Γc positions, a support
+    left out of the geometry), δ the largest remaining gap among them; a
+    given margin keeps the gap rule."""
+    import types
+
+    from solver.contact.friction_candidates import RINGS, surface_adjacency
+
+    assert RINGS == 2
+    ids = 100 + np.arange(12)  # Γc position p ↔ node id 100 + p
+    grid = ids.reshape(2, 6)  # columns 0-5 along the strip
+    faces = np.concatenate([
+        np.column_stack([grid[0, :-1], grid[0, 1:], grid[1, :-1]]),
+        np.column_stack([grid[0, 1:], grid[1, 1:], grid[1, :-1]])])
+    problem = types.SimpleNamespace(contact_faces=faces, contact_nodes=ids)
+    present = np.delete(np.arange(12), 11)  # position 11: a support
+    geometry = types.SimpleNamespace(index=present)
+    adjacency = surface_adjacency(problem, geometry)
+    assert adjacency.shape == (11, 11)
+    assert (adjacency != adjacency.T).nnz == 0
+    contact = np.zeros(11, bool)
+    contact[0] = True  # column 0, top row
+    remaining = np.arange(11.0)
+    nodes, delta = first_candidates(remaining, None, contact, adjacency)
+    # ring 1: top 1, bottom 6 (position 6 = column 0, bottom); ring 2:
+    # top 2, bottom 7 (neighbours of 1 and 6)
+    assert list(nodes) == [0, 1, 2, 6, 7] and delta == 7.0
+    assert list(first_candidates(remaining, 2.5, contact, adjacency)[0]) \
+        == [0, 1, 2]
+    no_faces = types.SimpleNamespace(contact_faces=None, contact_nodes=ids)
+    assert surface_adjacency(no_faces, geometry) is None
