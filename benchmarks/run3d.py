@@ -5,7 +5,7 @@ Usage::
     python benchmarks/run3d.py [--a-over-h 8,16,32] [--workdir DIR]
                                [--backends a,b] [--repeat N] [--steps N]
                                [--max-friction-dofs N] [--bound B]
-                               [--threads N] [--log FILE]
+                               [--method M] [--threads N] [--log FILE]
 
 One row per a/h (``meshes/hertz_sphere.py --a-over-h N``, or the committed
 ``meshes/hertz_sphere_N.mesh``; exported by ``sfepy-run
@@ -26,10 +26,12 @@ stage; ``processes.py``), which reports wall and CPU time and its peak RSS:
   verification, result folder): "end to end from the .npz";
   **imports**: ``python -c "import solver.cli"`` alone (its start-up);
 * **friction**: ``solve_friction`` with f_c = 0.3, ``--steps`` load steps
-  (default 10), projection form, φ_min, ``--bound`` (default implicit:
-  with the lagged bound φ_min stalls at a/h 16, step 6), fastest backend (3D
-  default: on candidate nodes, :mod:`solver.contact.friction_candidates`),
-  up to ``--max-friction-dofs``; its final candidates and enlargements;
+  (default 10), projection form, ``--method`` and ``--bound`` (default
+  solve_friction's own: φ_FB, lagged; the lagged bound's stall at a/h 16
+  is gone since ROLL18B, benchmarks/README.md), fastest backend (3D
+  default: on candidate nodes, rollers included,
+  :mod:`solver.contact.friction_candidates`), up to
+  ``--max-friction-dofs``; its final candidates and enlargements;
 * **RSS** of each stage's process (``ru_maxrss``; every one holds the
   loaded problem).
 
@@ -119,7 +121,8 @@ def measure_case(npz, args, scratch):
         wall[f"floor {b} [s]"] = f"{best['floor', b]['time']:.3g}"
         cpu[f"floor {b} CPU [s]"] = f"{best['floor', b]['cpu']:.3g}"
     if floor["dofs"] <= args.max_friction_dofs:
-        r = measure(npz, "friction", fastest, args.steps, args.bound)
+        r = measure(npz, "friction", fastest, args.steps, args.bound,
+                    args.method)
         wall.update({
             "friction [s] (/floor)": ratio(r["time"], floor["time"], 1) + (
                 "" if r["converged"] else " not converged"),
@@ -148,9 +151,11 @@ def parse(argv):
     parser.add_argument("--steps", type=int, default=10)
     parser.add_argument("--max-friction-dofs", type=float, default=1.5e5)
     parser.add_argument("--bound", choices=("implicit", "lagged"),
-                        default="implicit", help="the friction rows' "
-                        "Coulomb bound (default implicit: with the lagged "
-                        "one φ_min stalled at a/h 16, README)")
+                        default="lagged", help="the friction rows' "
+                        "Coulomb bound (default lagged, solve_friction's)")
+    parser.add_argument("--method", choices=("fb", "min"), default="fb",
+                        help="the friction rows' NCP method (default fb, "
+                        "solve_friction's)")
     parser.add_argument("--threads", type=int)
     parser.add_argument("--log")
     args = parser.parse_args(argv)

@@ -223,10 +223,14 @@ def test_disc_direction_solves_the_whole_jacobian(dome, coulomb):
     slip = np.linalg.norm(jac.P.reshape(m, -1) - np.eye(2).ravel(), axis=1)
     assert (slip > 0).any() and (slip == 0).any()  # stick and slip nodes
     JE, JA, JB = FrictionSystem.jacobian(system, x)
+    # DiscSystem's projection rows are D(g − P(w)) (nodal forces)
+    rows = sp.diags(np.concatenate([np.ones(JE.shape[0] - system.mt),
+                                    system.lumped_t]))
     for wa, wb in [(rng.uniform(-1, 0, m), rng.uniform(-1, 0, m)),
                    ((rng.random(m) < 0.5) * 1.0, None)]:
         wb = 1.0 - wa if wb is None else wb
-        J = sp.vstack([JE, sp.diags(wa) @ JA + sp.diags(wb) @ JB]).toarray()
+        J = sp.vstack([rows @ JE, sp.diags(wa) @ JA
+                       + sp.diags(wb) @ JB]).toarray()
         F = rng.normal(size=J.shape[0])
         combined = jac.combine(wa, wb)
         d = combined.direction(F)
@@ -235,3 +239,38 @@ def test_disc_direction_solves_the_whole_jacobian(dome, coulomb):
         np.testing.assert_allclose(combined.rmatvec(F), J.T @ F,
                                    rtol=0, atol=1e-12 * np.abs(J).max()
                                    * np.abs(F).sum())
+
+
+def test_first_candidates_take_two_rings_of_surface_neighbours():
+    """The default rule with contact triangles: the screening's contact
+    set and RINGS = 2 rings of neighbours along the triangles' edges (by
+    hand on a strip of 2 × 6 nodes, node ids ≠ Γc positions, a support
+    left out of the geometry), δ the largest remaining gap among them; a
+    given margin keeps the gap rule."""
+    import types
+
+    from solver.contact.friction_candidates import RINGS, surface_adjacency
+
+    assert RINGS == 2
+    ids = 100 + np.arange(12)  # Γc position p ↔ node id 100 + p
+    grid = ids.reshape(2, 6)  # columns 0-5 along the strip
+    faces = np.concatenate([
+        np.column_stack([grid[0, :-1], grid[0, 1:], grid[1, :-1]]),
+        np.column_stack([grid[0, 1:], grid[1, 1:], grid[1, :-1]])])
+    problem = types.SimpleNamespace(contact_faces=faces, contact_nodes=ids)
+    present = np.delete(np.arange(12), 11)  # position 11: a support
+    geometry = types.SimpleNamespace(index=present)
+    adjacency = surface_adjacency(problem, geometry)
+    assert adjacency.shape == (11, 11)
+    assert (adjacency != adjacency.T).nnz == 0
+    contact = np.zeros(11, bool)
+    contact[0] = True  # column 0, top row
+    remaining = np.arange(11.0)
+    nodes, delta = first_candidates(remaining, None, contact, adjacency)
+    # ring 1: top 1, bottom 6 (position 6 = column 0, bottom); ring 2:
+    # top 2, bottom 7 (neighbours of 1 and 6)
+    assert list(nodes) == [0, 1, 2, 6, 7] and delta == 7.0
+    assert list(first_candidates(remaining, 2.5, contact, adjacency)[0]) \
+        == [0, 1, 2]
+    no_faces = types.SimpleNamespace(contact_faces=None, contact_nodes=ids)
+    assert surface_adjacency(no_faces, geometry) is None

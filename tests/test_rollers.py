@@ -57,19 +57,23 @@ class Paraboloid:
     z = 0, ν = (h_x, h_y, −1)/|·| from the body towards the obstacle. ν_x
     is exactly 0 at x = 0, and the data are mirror-symmetric."""
 
+    def __init__(self, kappa=KAPPA):
+        self.kappa = kappa
+
     def gap_along_obstacle_normal(self, points):
         x, y, z = points.T
-        nu = np.column_stack([-2 * KAPPA * x, -2 * KAPPA * y,
-                              -np.ones(len(x))])
+        k = self.kappa
+        nu = np.column_stack([-2 * k * x, -2 * k * y, -np.ones(len(x))])
         nu /= np.linalg.norm(nu, axis=1)[:, None]
-        return z + KAPPA * (x * x + y * y), nu, points.copy()
+        return z + k * (x * x + y * y), nu, points.copy()
 
 
-def block_3d(part, n=4, nz=3, top=(0.0, 0.0, -DZ)):
+def block_3d(part, n=4, nz=3, top=(0.0, 0.0, -DZ), scale=1.0):
     """The block [−1, 1]² × [0, 1] ("whole"), [0, 1] × [−1, 1] × [0, 1]
     ("half", u_x = 0 on x = 0) or [0, 1]² × [0, 1] ("quarter", also u_y = 0
     on y = 0), its top pressed down by DZ onto the paraboloid (or moved
-    by ``top``); Γc its bottom."""
+    by ``top``); Γc its bottom. ``scale``: every length times it (the
+    same problem in another length unit)."""
     nodes, cells = box((n, n, nz))
     if part in ("half", "whole"):
         nodes, cells = mirror(nodes, cells, 1)
@@ -81,14 +85,15 @@ def block_3d(part, n=4, nz=3, top=(0.0, 0.0, -DZ)):
         prescribed[np.isclose(x, 0.0), 0] = 0.0
     if part == "quarter":
         prescribed[np.isclose(y, 0.0), 1] = 0.0
-    prescribed[np.isclose(z, 1.0)] = top
+    prescribed[np.isclose(z, 1.0)] = np.asarray(top) * scale
     contact = np.flatnonzero(np.isclose(z, 0.0))
     faces = np.sort(cells[:, [[0, 1, 2], [0, 1, 3], [0, 2, 3], [1, 2, 3]]]
                     .reshape(-1, 3), axis=1)
     faces = faces[np.isclose(z[faces], 0.0).all(axis=1)]
+    nodes = nodes * scale
     problem = mesh_problem(nodes, cells, stiffness(nodes, cells, 100.0, 0.3),
                            prescribed, contact, faces)
-    problem.obstacle = Paraboloid()
+    problem.obstacle = Paraboloid(KAPPA / scale)
     return problem
 
 
@@ -427,11 +432,11 @@ def test_hertz_sphere_quarter_a_over_h_8(tmp_path):
 FC = 0.3
 
 
-def dragged_3d(part, slide, steps=(2, 3)):
+def dragged_3d(part, slide, steps=(2, 3), scale=1.0):
     """:func:`block_3d` pressed (stage 1), then its top moved by ``slide``
     along y, parallel to the plane x = 0 (stage 2), friction in both."""
-    press = block_3d(part)
-    end = block_3d(part, top=(0.0, slide, -DZ))
+    press = block_3d(part, scale=scale)
+    end = block_3d(part, top=(0.0, slide, -DZ), scale=scale)
     end.load_path = np.array([press.f, end.f])
     end.load_path_steps = np.array(steps)
     end.load_path_friction = np.ones(2)
@@ -497,6 +502,9 @@ def test_half_friction_matches_the_whole_3d(dragged_whole, coulomb, method,
                             coulomb=coulomb, method=method, tol=1e-13,
                             condense=condense)
     assert result.success and result.verification["passed"], result.message
+    # 3D default: condensed on candidate nodes, rollers among them
+    assert result.get("condensation") == ("candidates" if condense
+                                          else None)
     on_x = np.abs(part.nodes[part.contact_nodes, 0]) < 1e-12
     check_friction_against_whole(whole, r_whole, part, result,
                                  np.where(on_x, 0.5, 1.0))

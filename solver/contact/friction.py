@@ -309,8 +309,7 @@ def solve_friction(problem, friction, steps=None, formulation="projection",
         rollers = problem_dim(problem) == 3
     if geometry is None:
         geometry = contact_geometry(problem, gap, rollers=rollers)
-    if use_candidates(candidates, condense, formulation, geometry.dim,
-                      geometry.has_rollers):
+    if use_candidates(candidates, condense, formulation, geometry.dim):
         check_geometry(geometry, formulation)
         return friction_on_candidates(solve_friction, problem, friction,
                                       geometry, margin, dict(
