@@ -39,7 +39,7 @@ from ..geometry.mortar import mortar_coupling, node_to_segment
 from ..problem import ContactProblem
 
 __all__ = ["VARIANTS", "interface_coupling", "equivalent_problem",
-           "solve_two_body"]
+           "transformed_stiffness", "solve_two_body"]
 
 #: Couplings: the dual mortar, and node-to-segment (patch-test foil).
 VARIANTS = {"mortar": mortar_coupling, "node-to-segment": node_to_segment}
@@ -118,8 +118,7 @@ def equivalent_problem(problem, coupling, friction=False):
                                               np.concatenate(cols))),
                       shape=(n, n))
     T_inv = (sp.identity(n, format="csr") + E).tocsr()
-    K = (T_inv.T @ problem.K @ T_inv).tocsr()
-    K = 0.5 * (K + K.T)  # exact symmetry (round-off of the triple product)
+    K = transformed_stiffness(problem.K, E)
     contact_dofs = reduced[problem.contact_nodes].copy()
     contact_dofs[~covered] = -1
     load_path = None if problem.load_path is None \
@@ -133,6 +132,21 @@ def equivalent_problem(problem, coupling, friction=False):
         source=problem.source)
     equivalent.node_graph = lambda: _node_graph(problem, K)
     return equivalent, T_inv, covered
+
+
+def transformed_stiffness(K, E):
+    """K̃ = (I + E)ᵀ K (I + E) = K + A + Aᵀ + EᵀKE, A = K E, touching
+    only the rows of K at the DOFs E maps onto (the slave DOFs): with
+    E_s those rows of E, A = K[s, :]ᵀ E_s and EᵀKE = E_sᵀ K[s, s] E_s,
+    both O(interface), and one sparse sum with K (no product over all of
+    K, no transpose of it). K̃ is as symmetric as K: A + Aᵀ exactly, the
+    small EᵀKE symmetrised."""
+    s = np.flatnonzero(np.diff(E.indptr))
+    E_s = E[s]
+    B = K[s]                               # = K[:, s]ᵀ (K symmetric)
+    A = (B.T @ E_s).tocsr()
+    C = E_s.T @ (B[:, s] @ E_s)
+    return (K + A + A.T + 0.5 * (C + C.T)).tocsr()
 
 
 def _node_graph(problem, K):
