@@ -21,7 +21,9 @@ master segment. n_j is the nodal slave normal, the average of the unit
 outward normals of the slave segments at j (the outward normal of segment
 (a, b) is (t_y, −t_x)/|t|, t = x_b − x_a: the body lies left of a → b).
 Only master segments whose normal faces the slave's (n_s·n_m < 0) are
-projected onto.
+projected onto, and only those :func:`candidate_pairs` finds near a slave
+segment: bounding boxes, sorted and swept (Yang & Laursen, Comput. Mech.
+41 (2008) 189), no ns × nm work.
 
 The weighted gap of slave node j (Hüeber & Wohlmuth, CMAME 194 (2005)
 3147, (3.4)) is g̃_j = n_j·(Σ_k M_jk x_k − D_jj x_j) ≥ 0 in the reference
