@@ -7,6 +7,7 @@ target here: the 1.2·10⁵-DOF row is in benchmarks/README.md)."""
 import subprocess
 import sys
 
+import numpy as np
 import pytest
 
 from conftest import ROOT
@@ -70,3 +71,30 @@ def test_counts_are_those_of_a_direct_solve(tables):
         assert wall[f"{method} J/F (finest)"].startswith(
             f"{r.njev}/{r.nfev} ")
         assert int(wall["in contact"]) == r.n_contact
+
+
+def test_refined_block_mesh(tmp_path):
+    """``meshes/two_body.py block --refine 1`` (the benchmark's mesh at one
+    level): the block's 118 triangles split into 4 × 118, its base nodes
+    first and unmoved (``meshes/block_118.mesh``), each Γc segment halved
+    (2 × 10 + 1 nodes on x = 5), the parabola body unchanged."""
+    sys.path.insert(0, str(ROOT / "meshes"))
+    import generate
+    import two_body
+
+    out = tmp_path / "r1.mesh"
+    result = subprocess.run(
+        [sys.executable, str(ROOT / "meshes" / "two_body.py"), "block",
+         "--base", "118", "--refine", "1", "-o", str(out)],
+        capture_output=True, text=True, timeout=300, cwd=ROOT)
+    assert result.returncode == 0, result.stderr
+    points, triangles, body = two_body.read_bodies(out)
+    base, base_triangles = generate.read_mesh(ROOT / "meshes" /
+                                              "block_118.mesh")
+    _, plain_triangles, plain_group = two_body.block_mesh(118)
+    assert (body[triangles[:, 0]] == 0).sum() == 4 * len(base_triangles)
+    assert np.array_equal(points[:len(base)], base)
+    on_edge = (body == 0) & np.isclose(points[:, 0], 5.0)
+    assert on_edge.sum() == 2 * 10 + 1
+    assert (body == 1).sum() == \
+        np.unique(plain_triangles[plain_group == 2]).size
