@@ -27,6 +27,9 @@ in ``sfepy_problems/`` (``two_body_patch.py``, ``two_cylinders.py``,
     5.05 + 0.005 y² for |y| <= ``--y-max`` (vertices exactly on it every
     ``--h-contact``), its right side x = ``--x-far``; element size
     ``--h-contact`` at the parabola growing to ``--h-far`` at the far side.
+    ``--refine K`` splits the block's triangles into 4, K times (the
+    ~10⁵-DOF benchmark, ``benchmarks/run_two_body.py``: ``--base 1878
+    --refine 3 --h-contact 0.0625``).
 
 Options are fixed as in ``generate.py`` (one thread, fixed seed), so reruns
 with the same gmsh version give identical files (``meshes/README.md`` lists
@@ -225,9 +228,12 @@ def parabola(y):
 
 
 def block_mesh(base=454, y_max=11.0, x_far=10.0, h_contact=0.25,
-               h_far=1.5):
-    """The thesis block and the elastic parabola body (module doc)."""
+               h_far=1.5, refine=0):
+    """The thesis block and the elastic parabola body (module doc); the
+    block refined uniformly ``refine`` times (its old nodes first)."""
     block = generate.read_mesh(HERE / generate.mesh_filename(base))
+    if refine:
+        block = generate.refine_uniform(*block, levels=refine)
     n = int(math.ceil(2 * y_max / h_contact))
     y = np.linspace(y_max, -y_max, n + 1)  # top to bottom: body on the left
     corners = list(zip(parabola(y), y)) + [(x_far, -y_max), (x_far, y_max)]
@@ -276,6 +282,8 @@ def _parser() -> argparse.ArgumentParser:
                        default=454)
     block.add_argument("--h-contact", type=_positive, default=0.25)
     block.add_argument("--h-far", type=_positive, default=1.5)
+    block.add_argument("--refine", type=int, default=0, metavar="K",
+                       help="split the block's triangles into 4, K times")
     block.add_argument("-o", "--output", type=Path, default=None)
     return parser
 
@@ -294,9 +302,13 @@ def main(argv=None) -> int:
             output = args.output or (CYLINDERS_IDENTICAL if args.identical
                                      else CYLINDERS)
         else:
+            if args.refine < 0:
+                parser.error(f"--refine must be >= 0, got {args.refine}")
             mesh = block_mesh(args.base, h_contact=args.h_contact,
-                              h_far=args.h_far)
-            output = args.output or HERE / f"two_body_block_{args.base}.mesh"
+                              h_far=args.h_far, refine=args.refine)
+            suffix = f"_r{args.refine}" if args.refine else ""
+            output = args.output or \
+                HERE / f"two_body_block_{args.base}{suffix}.mesh"
         if output.suffix != ".mesh":
             parser.error(f"output file must end in .mesh, got {output}")
         write_bodies(output, *mesh)

@@ -39,7 +39,7 @@ from ..geometry.mortar import mortar_coupling, node_to_segment
 from ..problem import ContactProblem
 
 __all__ = ["VARIANTS", "interface_coupling", "equivalent_problem",
-           "solve_two_body"]
+           "interface_stiffness", "solve_two_body"]
 
 #: Couplings: the dual mortar, and node-to-segment (patch-test foil).
 VARIANTS = {"mortar": mortar_coupling, "node-to-segment": node_to_segment}
@@ -118,8 +118,8 @@ def equivalent_problem(problem, coupling, friction=False):
                                               np.concatenate(cols))),
                       shape=(n, n))
     T_inv = (sp.identity(n, format="csr") + E).tocsr()
-    K = (T_inv.T @ problem.K @ T_inv).tocsr()
-    K = 0.5 * (K + K.T)  # exact symmetry (round-off of the triple product)
+    extra = interface_stiffness(problem.K, E)
+    K = (problem.K + extra).tocsr()
     contact_dofs = reduced[problem.contact_nodes].copy()
     contact_dofs[~covered] = -1
     load_path = None if problem.load_path is None \
@@ -131,17 +131,37 @@ def equivalent_problem(problem, coupling, friction=False):
         load_path=load_path, load_path_steps=problem.load_path_steps,
         load_path_friction=problem.load_path_friction,
         source=problem.source)
-    equivalent.node_graph = lambda: _node_graph(problem, K)
+    equivalent.node_graph = lambda: _node_graph(problem, extra)
     return equivalent, T_inv, covered
 
 
-def _node_graph(problem, K):
-    """The nodes of ``problem`` with an edge wherever K̃ couples two nodes
-    (the mesh's edges and the slave–master couplings), for the fill-reducing
+def interface_stiffness(K, E):
+    """K̃ − K for K̃ = (I + E)ᵀ K (I + E) = K + A + Aᵀ + EᵀKE, A = K E,
+    from the rows of K at the DOFs E maps onto (the slave DOFs) alone:
+    with E_s those rows of E, A = K[s, :]ᵀ E_s and EᵀKE = E_sᵀ K[s, s] E_s,
+    both O(interface) (no product over all of K, no transpose of it). K̃
+    is then as symmetric as K: A + Aᵀ exactly, the small EᵀKE
+    symmetrised."""
+    s = np.flatnonzero(np.diff(E.indptr))
+    E_s = E[s]
+    B = K[s]                               # = K[:, s]ᵀ (K symmetric)
+    A = (B.T @ E_s).tocsr()
+    C = E_s.T @ (B[:, s] @ E_s)
+    return (A + A.T + 0.5 * (C + C.T)).tocsr()
+
+
+def _node_graph(problem, extra):
+    """The nodes of ``problem`` with an edge wherever K̃ = K + ``extra``
+    couples two nodes: the mesh's edges (those of K) and the nonzeros of
+    the interface part (slave–master couplings), for the fill-reducing
     order of :func:`solver.linalg.dof_ordering`."""
-    rows, cols = K.nonzero()
+    cells = np.asarray(problem.cells, np.int64)
+    k = cells.shape[1]
+    mesh = [cells[:, [a, b]] for a in range(k) for b in range(a + 1, k)]
+    rows, cols = extra.nonzero()
     node = problem.dof_map[:, 0]
-    return problem.nodes, np.c_[node[rows], node[cols]], problem.dof_map
+    edges = np.concatenate(mesh + [np.c_[node[rows], node[cols]]])
+    return problem.nodes, edges, problem.dof_map
 
 
 def solve_two_body(problem, friction=None, variant="mortar", **options):
