@@ -83,6 +83,7 @@ class FrictionSystem:
         self.friction, self.formulation = float(friction), formulation
         self.coulomb, self.gap_scale = coulomb, float(gap_scale)
         self.R, other, a, b = rotation(n, geometry)
+        self.RT = self.R.T  # once: SciPy makes a new transpose per ``.T``
         self.x_rows, self.t_rows, self.n_rows = other, a, b  # X, Z, Y
         #: tangential unknowns: m(d − 1), node by node (the tangent basis)
         self.mt = len(a)
