@@ -78,10 +78,9 @@ def test_reduced_direction_is_the_full_newton_direction(
     # bound (unsymmetric LU): 1.9e-12 and 4.3e-11
     assert max(backward) <= 1e-11
     assert max(forward) <= 1e-9
-    # few contact constraints: the dual form whenever allowed (the lagged
-    # bound only, friction_newton.direction)
-    allowed = dual and coulomb == "lagged"
-    assert seen["dual"] > 0 if allowed else seen["dual"] == 0
+    # few contact constraints: the dual form whenever allowed (both bounds
+    # at f_c = 0.3 ≤ DUAL_MAX_FRICTION, friction_newton.direction)
+    assert seen["dual"] > 0 if dual else seen["dual"] == 0
     assert seen["primal"] > 0 or dual
 
 
@@ -121,3 +120,61 @@ def test_thesis_split_keeps_the_full_system(exported):
     assert FrictionSystem(*args, formulation="projection").reduced
     assert not FrictionSystem(problem.K, problem.f, geometry, lumped, 0.3,
                               formulation="projection").reduced
+
+
+@pytest.mark.parametrize("method", ["min", "fb"])
+def test_implicit_dual_run_equals_full_run(exported, monkeypatch, method):
+    """The implicit bound at f_c = 0.3 (≤ DUAL_MAX_FRICTION: its reduced
+    systems go through the flexibility), 100 load steps on the 454 block:
+    the answers of the full Newton systems (SciPy's LU of the assembled J,
+    the solver before the reduction) to 1e-12, the same stick and slip
+    sets, and the Jacobian count within one of theirs (the implicit
+    bound's active set a_i = [λ_i > 0] at a λ_i of round-off size decides
+    one iteration: φ_min 108 against 109 measured, the primal M_FF 110)."""
+    problem = load_problem(exported(454)[0])
+    kwargs = dict(steps=100, formulation="projection", coulomb="implicit",
+                  method=method)
+    seen = []
+    solve = FrictionSystem._reduced_solve
+
+    def counted(self, A, h, symmetric, kind):
+        seen.append(kind)
+        return solve(self, A, h, symmetric, kind)
+
+    monkeypatch.setattr(FrictionSystem, "_reduced_solve", counted)
+    ours = solve_friction(problem, 0.3, **kwargs)
+    assert "dual" in seen
+    monkeypatch.setattr(FrictionSystem, "reduced_newton", False)
+    full = solve_friction(problem, 0.3, **kwargs)
+    assert ours.success and full.success
+    for key in ("u", "contact_force", "friction_traction"):
+        scale = np.abs(full[key]).max()
+        assert np.abs(ours[key] - full[key]).max() <= 1e-12 * scale, key
+    assert abs(ours.njev - full.njev) <= 1
+    np.testing.assert_array_equal(ours.stick, full.stick)
+    np.testing.assert_array_equal(ours.slip, full.slip)
+
+
+def test_implicit_dual_only_up_to_its_friction_limit(exported, monkeypatch):
+    """Above DUAL_MAX_FRICTION the implicit bound's slip rows (f_c·q_n)
+    stay out of the dual form: every reduced system is the primal M_FF;
+    the lagged bound still takes the dual form at the same f_c."""
+    problem = load_problem(exported(454)[0])
+    f_c = 2.0 * friction_newton.DUAL_MAX_FRICTION
+    solve = FrictionSystem._reduced_solve
+    for coulomb in ("implicit", "lagged"):
+        seen = []
+
+        def counted(self, A, h, symmetric, kind):
+            seen.append(kind)
+            return solve(self, A, h, symmetric, kind)
+
+        monkeypatch.setattr(FrictionSystem, "_reduced_solve", counted)
+        result = solve_friction(problem, f_c, steps=10,
+                                formulation="projection", coulomb=coulomb,
+                                method="min")
+        assert result.success
+        if coulomb == "implicit":
+            assert seen and set(seen) == {"primal"}
+        else:
+            assert "dual" in seen

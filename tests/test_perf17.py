@@ -148,3 +148,31 @@ def test_single_blas_thread_restores_the_thread_counts():
     with single_blas_thread():
         assert all(get() == 1 for get, _ in _libraries())
     assert [get() for get, _ in _libraries()] == before
+
+
+def test_stable_norm_of_a_long_vector_single_threaded(monkeypatch):
+    """A mesh-sized vector is normed with one BLAS thread (FRIC17B): the
+    value against math.fsum's correctly rounded sum of squares, the
+    thread counts restored, and the short vectors of the Newton loops
+    never switch threads."""
+    import math
+
+    from solver.ncp import newton
+
+    rng = np.random.default_rng(7)
+    v = rng.standard_normal(newton.SINGLE_THREAD_NORM + 5)
+    before = [get() for get, _ in _libraries()]
+    entered = []
+    original = newton.single_blas_thread
+
+    def spy():
+        entered.append(True)
+        return original()
+
+    monkeypatch.setattr(newton, "single_blas_thread", spy)
+    reference = math.sqrt(math.fsum(v * v))
+    assert abs(newton.stable_norm(v) - reference) <= 1e-14 * reference
+    assert entered == [True]
+    newton.stable_norm(v[:100])
+    assert entered == [True]
+    assert [get() for get, _ in _libraries()] == before

@@ -34,7 +34,9 @@ q_j (or ties it to dv_j, φ_FB), dv = C q with the flexibility C = T⁻¹
 (once per run), and what is left is a system on the contact constraints
 (fixed components K, plus φ_FB's mixed normal rows), of size 40-70 against
 |F| ≈ 580 on the 1.2·10⁵-DOF block (m = 312). Whichever is smaller is
-solved. Nothing larger than S is formed, no 3m×3m matrix is factorised,
+solved (with the implicit bound only for f_c ≤ :data:`DUAL_MAX_FRICTION`:
+100 load steps there, f_c = 0.3, cost 9.2 floors through M_FF, an LU of
+order ≈ 580 per iteration). Nothing larger than S is formed, no 3m×3m matrix is factorised,
 and an unchanged reduced matrix reuses its factorisation (rare in
 practice: the contact set moves from step to step). The direction is that
 of the full Newton system J d = −Φ up to round-off (tests: backward error
@@ -51,12 +53,20 @@ import warnings
 import numpy as np
 import scipy.linalg as sla
 
-__all__ = ["ReducedJacobian", "DUAL"]
+__all__ = ["ReducedJacobian", "DUAL", "DUAL_MAX_FRICTION"]
 
 #: Solve through the flexibility (:meth:`_Combined._dual`) when its system
-#: is the smaller one and the bound is lagged; False: always the primal
-#: M_FF (tests).
+#: is the smaller one (and, with the implicit bound, f_c ≤
+#: :data:`DUAL_MAX_FRICTION`); False: always the primal M_FF (tests).
 DUAL = True
+
+#: The implicit bound's slip rows q_t,i + k_i q_n,i = h_t,i (|k_i| = f_c)
+#: put q_t,i = h_t,i − k_i q_n,i into the dual system: the error of the
+#: computed q_n,i (through the explicit C = T⁻¹, ~cond(T)·eps) reaches q_t,i
+#: times f_c. Up to f_c = 1 that is no worse than the lagged bound's dual
+#: form; with f_c = 10⁶ (454 block) it stalled at a relative residual of
+#: 2e-10 where the primal form converges, so larger f_c solve M_FF.
+DUAL_MAX_FRICTION = 1.0
 
 
 class ReducedJacobian:
@@ -108,7 +118,7 @@ class _Combined:
         if k is not None:  # slip rows' db term: k_i/D_i · T_{n_i,:}
             gv += (k / s.lumped * F3) @ T_n
         gg = -s.lumped * c_t * F2 + c_t * np.where(stick, 0.0, F3)
-        return np.concatenate([s.R.T @ gv, gg])
+        return np.concatenate([s.RT @ gv, gg])
 
     def direction(self, F):
         """d with J d = −F, or None if J is (numerically) singular."""
@@ -130,11 +140,11 @@ class _Combined:
             hn = Fc[free_n] / wa[free_n]
             fixed = np.ones(2 * m, bool)
             fixed[free] = False
-            # dual only with the lagged bound: the implicit bound's slip
-            # rows carry f_c·k_i, and through the explicit flexibility C
-            # their round-off grows with f_c (f_c = 1e6 on the 454 block
-            # stalled at a relative residual of 2e-10; primal converges)
-            if DUAL and k is None and np.count_nonzero(fixed) \
+            # the implicit bound's slip rows carry f_c: through the
+            # explicit flexibility C their round-off grows with f_c
+            # (:data:`DUAL_MAX_FRICTION`)
+            if DUAL and (k is None or s.friction <= DUAL_MAX_FRICTION) \
+                    and np.count_nonzero(fixed) \
                     + np.count_nonzero(ratio) < free.size:
                 solved = self._dual(v, free, fixed, ht, hn, c * ratio, k,
                                     slip, free_n)
@@ -151,7 +161,7 @@ class _Combined:
             dg[slip] -= k[slip] / D[slip] * Tv[nr[slip]] / c_t
         dg[stick] = (Tv[t[stick]] + F2[stick]) / (D[stick] * c_t) \
             if stick.any() else 0.0
-        d = np.concatenate([s.R.T @ v, dg])
+        d = np.concatenate([s.RT @ v, dg])
         return d if np.all(np.isfinite(d)) else None
 
     def _primal(self, v, free, ht, hn, ratio, k, slip):

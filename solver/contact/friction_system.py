@@ -83,6 +83,7 @@ class FrictionSystem:
         self.friction, self.formulation = float(friction), formulation
         self.coulomb, self.gap_scale = coulomb, float(gap_scale)
         self.R, other, a, b = rotation(n, geometry)
+        self.RT = self.R.T  # once: SciPy makes a new transpose per ``.T``
         self.x_rows, self.t_rows, self.n_rows = other, a, b  # X, Z, Y
         #: tangential unknowns: m(d − 1), node by node (the tangent basis)
         self.mt = len(a)
@@ -172,6 +173,7 @@ class FrictionSystem:
         if friction is not None:
             self.friction = float(friction)
         self._r_previous = self.RK @ self.u_previous
+        self._last_force = None  # (Δu, r) of the last :meth:`_force`
 
     def _split(self, x):
         """(Δu, g_t, Δu_t⁺, Δu_t⁻) from the unknown vector x.
@@ -192,8 +194,16 @@ class FrictionSystem:
         return self.c_t * x[self.n:self.n + self.mt]
 
     def _force(self, du):
-        """r = R(Ku − f_κ) with u = u_{κ−1} + Δu."""
-        return self._r_previous + self.RK @ du - self._Rf_step
+        """r = R(Ku − f_κ) with u = u_{κ−1} + Δu. The last one is kept:
+        the Jacobian at the iterate whose residual was just evaluated, and
+        the step's check, reuse it (one product with the dense RS fewer per
+        Newton iteration on the condensed system)."""
+        last = self._last_force
+        if last is not None and np.array_equal(last[0], du):
+            return last[1]
+        r = self._r_previous + self.RK @ du - self._Rf_step
+        self._last_force = (np.array(du, float), r)
+        return r
 
     def pressure(self, r):
         """Lumped contact pressure of the current iterate, ≥ 0."""

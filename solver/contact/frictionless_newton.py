@@ -62,6 +62,9 @@ class CondensedJacobian:
         RS = R @ S
         self.T = np.ascontiguousarray((R @ RS.T).T)  # R S Rᵀ
         self.R, self.x_rows, self.y_rows = R, x_rows, y_rows
+        #: Rᵀ made once (SciPy builds a new transpose on every ``R.T``:
+        #: 0.2-0.5 ms, twice per φ_FB iteration); the same product
+        self.RT = R.T
         self.JA, self.JB, self.c = JA, JB, float(gap_scale)
         self.n = S.shape[0]
 
@@ -94,7 +97,7 @@ class _Combined:
         y, Fy = jac.y_rows, F[len(jac.x_rows):]
         w1[y] = -self.wa * Fy
         w2[y] = -jac.c * self.wb * Fy
-        return jac.R.T @ (w1 @ jac.T + w2)
+        return jac.RT @ (w1 @ jac.T + w2)
 
     def direction(self, F):
         """d with J d = −F, or None if J is (numerically) singular.
@@ -125,5 +128,5 @@ class _Combined:
             return None
         v = solve(h)
         v[fixed] = v_K
-        d = jac.R.T @ v
+        d = jac.RT @ v
         return d if np.all(np.isfinite(d)) else None
