@@ -96,10 +96,14 @@ def test_large_friction_freezes_tangential_motion(exported, formulation,
     not converge on this mesh: the bound's slope f_c·k is too steep for its
     merit function; it reports so, exit 3 on the command line. Condensed
     onto Γc it fails too, at some f_c ≥ 100 and not at others: round-off
-    level changes of the path decide.)"""
+    level changes of the path decide.) tol 1e-9: with f_c = 1e6 the
+    attainable relative residual is about 1e-10 itself (φ_min with the
+    implicit bound stalled at 1.0e-10 against tol 1e-10 in one full-suite
+    order, where an earlier test's cached factorisation changed the
+    round-off, and converged in another)."""
     problem = load_problem(exported(454)[0])
     result = solve_friction(problem, 1e6, steps=20, formulation=formulation,
-                            coulomb=coulomb, method=method)
+                            coulomb=coulomb, method=method, tol=1e-9)
     assert result.success, result.message
     ut = result.tangential_displacement
     scale = np.abs(result.u).max()

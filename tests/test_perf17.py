@@ -150,6 +150,23 @@ def test_single_blas_thread_restores_the_thread_counts():
     assert [get() for get, _ in _libraries()] == before
 
 
+def test_large_dense_factorisation_gets_the_threads_back():
+    """Inside single_blas_thread, blas_threads_for(order) restores the
+    outer counts for orders >= THREADED_ORDER only, and one thread after."""
+    from solver.linalg.threads import THREADED_ORDER, blas_threads_for
+
+    before = [get() for get, _ in _libraries()]
+    with single_blas_thread():
+        with blas_threads_for(THREADED_ORDER):
+            assert [get() for get, _ in _libraries()] == before
+        with blas_threads_for(THREADED_ORDER - 1):
+            assert all(get() == 1 for get, _ in _libraries())
+        assert all(get() == 1 for get, _ in _libraries())
+    with blas_threads_for(THREADED_ORDER):  # outside: nothing changes
+        assert [get() for get, _ in _libraries()] == before
+    assert [get() for get, _ in _libraries()] == before
+
+
 def test_stable_norm_of_a_long_vector_single_threaded(monkeypatch):
     """A mesh-sized vector is normed with one BLAS thread (FRIC17B): the
     value against math.fsum's correctly rounded sum of squares, the

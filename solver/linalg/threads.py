@@ -21,9 +21,16 @@ import ctypes
 import glob
 import os
 
-__all__ = ["single_blas_thread"]
+__all__ = ["single_blas_thread", "blas_threads_for", "THREADED_ORDER"]
 
 _LIBRARIES = None  # [(get, set)] of the loaded OpenBLAS libraries
+_OUTER = []  # the thread counts before each open single_blas_thread block
+
+#: A dense factorisation of at least this order gets the process's BLAS
+#: threads back inside :func:`single_blas_thread` (:func:`blas_threads_for`):
+#: 3D friction on candidates factorises orders of 3·10³ (a/h 32), where two
+#: threads pay on an idle machine (an LU of order 3300: 2·10¹⁰ flops).
+THREADED_ORDER = 2000
 
 
 def _libraries():
@@ -64,12 +71,35 @@ def single_blas_thread():
     """Run the block with one OpenBLAS thread (NumPy's and SciPy's)."""
     libraries = _libraries()
     before = [get() for get, _ in libraries]
+    _OUTER.append(before)
     try:
         for (_, set_), count in zip(libraries, before):
             if count != 1:
                 set_(1)
         yield
     finally:
+        _OUTER.pop()
         for (_, set_), count in zip(libraries, before):
             if count != 1:
                 set_(count)
+
+
+@contextlib.contextmanager
+def blas_threads_for(order):
+    """Inside :func:`single_blas_thread`: the thread counts from before the
+    outermost block, for one dense factorisation of order ≥
+    :data:`THREADED_ORDER`; below it, or outside such a block, nothing
+    changes."""
+    libraries = _libraries()
+    if order < THREADED_ORDER or not _OUTER:
+        yield
+        return
+    try:
+        for (_, set_), count in zip(libraries, _OUTER[0]):
+            if count != 1:
+                set_(count)
+        yield
+    finally:
+        for (_, set_), count in zip(libraries, _OUTER[0]):
+            if count != 1:
+                set_(1)
