@@ -43,6 +43,9 @@ class Condensation:
         Linear solver: "auto" (default), "superlu", "pardiso" or "cholmod"
         (:mod:`solver.linalg.base`). The factorisation checks that K is
         positive definite.
+    factorization : Factor, optional
+        K already factorised with ``dofs`` last and its S (the PETSc
+        engine's); ``backend`` is then only its name.
 
     Attributes
     ----------
@@ -54,14 +57,18 @@ class Condensation:
         Solves with K so far (proportional loads reuse them).
     """
 
-    def __init__(self, problem, dofs, backend="auto"):
+    def __init__(self, problem, dofs, backend="auto", factorization=None):
         self.dofs = np.asarray(dofs, np.int64).ravel()
-        self.backend = resolve(backend)
-        module = get_backend(self.backend)
-        order = dof_ordering(problem, last=self.dofs) \
-            if module.USES_ORDER else None
-        self.factorization = module.factorize(problem.K, order, self.dofs,
-                                              "K", True)
+        if factorization is None:  # K with ``backend``, self.dofs last
+            self.backend = resolve(backend)
+            module = get_backend(self.backend)
+            order = dof_ordering(problem, last=self.dofs) \
+                if module.USES_ORDER else None
+            factorization = module.factorize(problem.K, order, self.dofs,
+                                             "K", True)
+        else:  # made elsewhere (the PETSc engine's): ``backend`` names it
+            self.backend = backend
+        self.factorization = factorization
         self.S = self.factorization.S
         self._solved = []  # up to two recent (f, K⁻¹f)
         self._gram = None  # their loads' Gram matrix

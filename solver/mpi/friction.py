@@ -29,13 +29,10 @@ class PetscCondensation(Condensation):
     ``dofs`` whose factorisation is a :class:`PetscFactor` (all ranks);
     ``load`` and ``displacement`` are Condensation's own."""
 
-    backend = "petsc-mumps"
-
     def __init__(self, svc, layout, problem, dofs):  # noqa: D107
-        self.dofs = np.asarray(dofs, np.int64).ravel()
-        self.factorization = PetscFactor(svc, layout, problem.K, self.dofs)
-        self.S = self.factorization.S
-        self._solved, self._gram, self.n_solves = [], None, 0
+        dofs = np.asarray(dofs, np.int64).ravel()
+        super().__init__(problem, dofs, "petsc-mumps",
+                         PetscFactor(svc, layout, problem.K, dofs))
 
 
 def solve_friction(problem, friction, formulation="projection",
