@@ -73,6 +73,34 @@ def test_reduced_direction_solves_the_assembled_jacobian(exported, method):
                        atol=1e-12 * np.abs(J.T @ F).max())
 
 
+@pytest.mark.parametrize("method", ["min", "fb"])
+def test_normal_complement_direction_equals_unreduced(exported, method):
+    """The direction after eliminating the rows X once (the normal
+    complement N = T_YY − T_YX T_XX⁻¹ T_XY) against the direction on all
+    free components, the path it replaces: the same vector to round-off,
+    for φ_min's fixed rows and φ_FB's mixed rows."""
+    problem = load_problem(exported(454)[0])
+    geometry = contact_geometry(problem, "obstacle")
+    condensation, local = condense_onto_contact(problem, geometry, "superlu")
+    g, w = condensation.load(problem.f)
+    system = FrictionlessSystem(condensation.S, g, local, gap_scale=2.5e3)
+    jac = system.jacobian(None)
+    assert jac.normal_complement() is not None  # the reduced path runs
+    rng = np.random.default_rng(11)
+    x = w[condensation.dofs] + 1e-3 * rng.standard_normal(len(g))
+    _, A, B = system.residual(x)
+    wa, wb, _ = derivative_weights(A, B, method, None, None)
+    combined = jac.combine(wa, wb)
+    F = rng.standard_normal(len(g))
+    h = -combined._natural(F)
+    fixed = wa == 0.0
+    v_K = h[jac.y_rows[fixed]] / (-jac.c * wb[fixed])
+    h[jac.y_rows[~fixed]] /= -wa[~fixed]
+    reference = combined._unreduced(h, fixed, v_K)
+    d = combined.direction(F)
+    assert np.abs(d - reference).max() <= 1e-10 * np.abs(reference).max()
+
+
 def test_reduced_direction_singular_row():
     """A row with w_a = w_b = 0 makes J singular: no direction."""
     from solver.contact.frictionless_newton import CondensedJacobian
