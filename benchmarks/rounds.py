@@ -21,9 +21,11 @@ and (stage, backend), wall and CPU:
   fastest floor *of the same round*, with the lowest and highest of those
   ratios.
 
-Stages: ``min``, ``fb`` (frictionless, every default) and ``friction``
+Stages: ``min``, ``fb`` (frictionless, every default), ``friction``
 (``measure.py``'s: projection formulation, lagged bound, φ_min, f_c = 0.3,
-``--friction-steps`` steps).
+``--friction-steps`` steps: issue 17's benchmark configuration) and
+``friction-fb`` (the same with φ_FB: the defaults of ``solve_friction`` and
+of ``python -m solver X.npz --friction 0.3``).
 """
 
 import argparse
@@ -39,8 +41,10 @@ MEASURE = str(Path(__file__).resolve().parent / "measure.py")
 
 def measure(problem, stage, backend, steps):
     argv = [sys.executable, MEASURE, problem, stage, backend]
-    if stage == "friction":
-        argv.append(str(steps))
+    if stage.startswith("friction"):
+        argv[3] = "friction"
+        argv += [str(steps), "lagged", "fb" if stage == "friction-fb"
+                 else "min"]
     done = subprocess.run(argv, capture_output=True, text=True, check=False)
     if done.returncode:
         raise SystemExit(f"{' '.join(argv[1:])} failed: "

@@ -161,3 +161,41 @@ def test_run3d_row_is_complete_and_consistent(rows3d):
     time, ratio = _seconds(cpu["friction CPU [s] (/floor)"])
     assert ratio == pytest.approx(time / cpu_floors[cpu["fastest"]],
                                   rel=5e-2, abs=0.05)
+
+
+def test_rounds_pair_each_stage_with_its_own_rounds_fastest_floor(capsys):
+    """benchmarks/rounds.py: ``best/floor`` divides by the fastest floor of
+    all rounds, ``paired`` by the fastest floor of the stage's own round
+    (here round 0: 2.0 s, round 1: 4.0 s; by hand: 3/2 and 4.4/4)."""
+    from rounds import report
+
+    def out(time, rnd):
+        return {"time": time, "cpu": time, "round": rnd, "dofs": 10,
+                "peak_rss_mb": 1.0}
+    times = {("p", "floor", "a"): [out(2.0, 0), out(4.0, 1)],
+             ("p", "floor", "b"): [out(2.5, 0), out(5.0, 1)],
+             ("p", "min", "a"): [out(3.0, 0), out(4.4, 1)],
+             ("p", "min", "b"): [out(3.2, 0), out(6.0, 1)]}
+    report(times, ["p"], ["a", "b"], ["min"], 2)
+    wall = capsys.readouterr().out.split("CPU:")[0]
+    row = next(l for l in wall.splitlines() if l.split()[:2] == ["min", "a"])
+    best, best_ratio, median, spread = row.split()[2:6]
+    assert (float(best), float(best_ratio)) == (3.0, 1.5)
+    assert float(median) == pytest.approx((1.5 + 1.1) / 2, abs=0.005)
+    assert spread == "(1.10-1.50)"
+
+
+def test_rounds_runs_fresh_processes_on_a_thesis_mesh(exported, tmp_path):
+    """One round of benchmarks/rounds.py on the 118-triangle block with
+    SuperLU: a floor and both methods measured, converged, logged."""
+    path = exported(118)[0]
+    log = tmp_path / "rounds.jsonl"
+    result = subprocess.run(
+        [sys.executable, str(ROOT / "benchmarks" / "rounds.py"), str(path),
+         "--rounds", "1", "--backends", "superlu", "--log", str(log)],
+        capture_output=True, text=True, timeout=600, cwd=ROOT)
+    assert result.returncode == 0, result.stderr[-2000:]
+    assert "138 DOFs, 1 rounds" in result.stdout
+    assert "converged True" in result.stdout
+    assert "converged False" not in result.stdout
+    assert len(log.read_text().splitlines()) == 3  # floor, min, fb
