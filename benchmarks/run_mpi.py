@@ -77,6 +77,8 @@ def _petsc(path, mode):
                     n_dofs=problem.n_dofs,
                     n_candidates=result.candidates["n_candidates"],
                     peak_rss_mb=[r["peak_rss_mb"] for r in per_rank],
+                    memory_mb=[r["memory_mb"] for r in per_rank],
+                    mumps_mb=[r.get("mumps_mb") for r in per_rank],
                     cpu_s=[r.get("cpu_s") for r in per_rank],
                     seconds=[r["seconds"] for r in per_rank],
                     cpu_seconds=[r["cpu_seconds"] for r in per_rank],

@@ -50,8 +50,11 @@ class PetscFactor(Factor):
         self.service, self.layout, self.key = service, layout, key
         self.n, self.block, self._cho, self._rows = A.shape[0], block, \
             None, None
+        A_pad = layout.matrix(A)
+        service.mark("pad")
         service.call("scatter_matrix", dict(key=key, bsize=layout.dim),
-                     layout.matrix(A))
+                     A_pad)
+        del A_pad
         self.factorizations = 0
         if block is not None or schur is None or not len(schur):
             self._factor(None)
@@ -135,7 +138,8 @@ def _factor(service, payload, local):
     ``payload["schur"]`` (padded rows) if given: returns S on rank 0."""
     from petsc4py import PETSc
 
-    from .schur import interior_solves, schur_complement, set_schur_is
+    from .schur import (interior_solves, mumps_memory, schur_complement,
+                        set_schur_is)
 
     obj = service.objects[payload["key"]]
     if "ksp" in obj:
@@ -154,8 +158,11 @@ def _factor(service, payload, local):
         set_schur_is(pc.getFactorMatrix(), payload["schur"],
                      obj["A"].getComm())
     ksp.setUp()
+    F = pc.getFactorMatrix()
+    if F.getType() == "mumps":  # a factorisation that failed has none
+        service.objects.setdefault("counts", {})["mumps_mb"] = \
+            mumps_memory(F)
     if payload.get("schur") is not None:
-        F = pc.getFactorMatrix()
         if service.root:
             S = schur_complement(F)
         interior_solves(F)

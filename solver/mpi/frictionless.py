@@ -66,12 +66,14 @@ def solve_frictionless(problem, method="min", gap="obstacle", tol=1e-10,
                           f"{KSPS}, got {system!r}, {ksp!r}")
     clock = time.perf_counter()
     svc = service()
+    svc.mark("start")
     if geometry is None:
         geometry = contact_geometry(problem, gap)
     geometry_time = time.perf_counter() - clock
     load_norm = stable_norm(problem.f)
     stiffness = contact_stiffness(problem.K, geometry)
     layout = Layout(problem, svc.size)
+    svc.mark("geometry")
     svc.call("layout", layout.ranges())
     normal_rows = layout.red_to_pad[geometry.dofs[:, -1]]
     if system == "full":
@@ -97,6 +99,7 @@ def solve_frictionless(problem, method="min", gap="obstacle", tol=1e-10,
     verification = verify_contact(
         problem.K, problem.f, u, geometry.node_dofs, geometry.normal,
         geometry.gap, lam, stiffness, verification_tolerance(tol))
+    svc.mark("verify")
     if result.success and not verification["passed"]:
         result.update(success=False, status=6, message=(
             f"{MESSAGES[6]}: {describe_failure(verification)}"))
@@ -133,6 +136,7 @@ class PetscNormalCondensation:
         self.R = rotation(problem.n_dofs, geometry)[0]
         K = (self.R @ problem.K @ self.R.T).tocsr()
         self.K = 0.5 * (K + K.T)  # exactly symmetric
+        svc.mark("rotate")
         self.f = self.R @ problem.f
         self.normal_rows = geometry.dofs[:, -1]
         self.factor, self.nodes = None, None
