@@ -39,7 +39,8 @@ SCHUR_BLOCK = None
 
 class PetscFactor(Factor):
     """Rank 0's handle of a distributed factorisation of the reduced SPD
-    ``A`` (scipy sparse) with the Schur complement on ``schur`` (reduced
+    ``A`` (scipy sparse, or a function returning it: then rank 0 holds A
+    only while padding it, not during the factorisation) with the Schur complement on ``schur`` (reduced
     DOFs, optional). ``key`` names it in the service's objects; ``block``
     as :data:`SCHUR_BLOCK`."""
 
@@ -48,13 +49,14 @@ class PetscFactor(Factor):
     def __init__(self, service, layout, A, schur=None, key="K",
                  block=SCHUR_BLOCK):
         self.service, self.layout, self.key = service, layout, key
-        self.n, self.block, self._cho, self._rows = A.shape[0], block, \
-            None, None
-        A_pad = layout.matrix(A)
+        self.block, self._cho, self._rows = block, None, None
+        A_pad = layout.matrix(A() if callable(A) else A)
+        del A  # a callable's K lived only while padding
+        self.n = len(layout.red_to_pad)
         service.mark("pad")
         service.call("scatter_matrix", dict(key=key, bsize=layout.dim),
                      A_pad)
-        del A_pad
+        del A_pad  # rank 0 keeps no copy during the factorisation
         self.factorizations = 0
         if block is not None or schur is None or not len(schur):
             self._factor(None)
