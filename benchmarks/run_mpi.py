@@ -16,7 +16,11 @@ processes and ``--repeat`` times each (rounds over the configurations):
   for the iteration counts as the mesh grows (``--gamg``).
 
 Each measurement prints one JSON line: wall time of the solve (problem
-loaded before the clock starts), Newton counts, per-rank peak RSS (MB),
+loaded before the clock starts), Newton counts, per-rank peak RSS (MB,
+``ru_maxrss``), per-rank memory after each stage (``memory_mb``: stage ->
+[VmRSS, VmHWM] in MB; rank 0's own stages ``start``, ``geometry``,
+``rotate``, ``pad``, ``verify`` and every command), MUMPS's own memory
+per rank (``mumps_mb``: INFO(15)/(16)/(22), INFOG(16)/(17)/(21)/(22)),
 CPU time and command times, the factorisations and per-round candidates,
 and the load average when it ended. ``--log`` appends them to a file. The table of
 benchmarks/README.md is made from that log by hand.
@@ -77,6 +81,8 @@ def _petsc(path, mode):
                     n_dofs=problem.n_dofs,
                     n_candidates=result.candidates["n_candidates"],
                     peak_rss_mb=[r["peak_rss_mb"] for r in per_rank],
+                    memory_mb=[r["memory_mb"] for r in per_rank],
+                    mumps_mb=[r.get("mumps_mb") for r in per_rank],
                     cpu_s=[r.get("cpu_s") for r in per_rank],
                     seconds=[r["seconds"] for r in per_rank],
                     cpu_seconds=[r["cpu_seconds"] for r in per_rank],

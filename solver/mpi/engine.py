@@ -3,7 +3,7 @@ users and :func:`main` for ``python -m solver ... --engine petsc``."""
 
 import sys
 
-__all__ = ["service", "spmd", "main", "engine_summary"]
+__all__ = ["service", "spmd", "main", "engine_summary", "restore_malloc"]
 
 _SERVICE = []
 
@@ -26,12 +26,38 @@ def service():
         petsc4py.init(sys.argv[:1])  # PETSc reads $PETSC_OPTIONS
         from petsc4py import PETSc
 
+        restore_malloc()
         from . import factor, full, schur, snesvi  # noqa: F401 - commands
         from .service import Service
 
         PETSc.Options().setValue("k_mat_mumps_icntl_14", 50)  # workspace +%
         _SERVICE.append(Service(PETSc.COMM_WORLD.tompi4py()))
     return _SERVICE[0]
+
+
+#: glibc's ``mallopt`` parameters and their defaults (malloc.h).
+M_TRIM_THRESHOLD, M_MMAP_MAX = -1, -4
+DEFAULTS = {M_TRIM_THRESHOLD: 128 * 1024, M_MMAP_MAX: 65536}
+
+
+def restore_malloc():
+    """Give freed memory back to the system again. Debian's
+    ``libsuperlu_dist.so.8``, which ``libpetsc`` links, calls
+    ``mallopt(M_MMAP_MAX, 0)`` and ``mallopt(M_TRIM_THRESHOLD, -1)`` in its
+    load-time constructors: from then on glibc never unmaps or trims, and
+    every array the process ever freed (reading the problem, rotating and
+    padding K, the scatter's buffers) stays in its resident memory under
+    MUMPS's factor (MEM20C, benchmarks/README.md). Restores glibc's
+    defaults; returns whether it could (False off glibc)."""
+    import ctypes
+    import ctypes.util
+
+    try:
+        mallopt = ctypes.CDLL(ctypes.util.find_library("c")).mallopt
+    except (OSError, AttributeError, TypeError):
+        return False
+    return all(mallopt(param, value) == 1 for param, value in
+               DEFAULTS.items())
 
 
 def spmd(main, *args, **kwargs):

@@ -39,7 +39,8 @@ SCHUR_BLOCK = None
 
 class PetscFactor(Factor):
     """Rank 0's handle of a distributed factorisation of the reduced SPD
-    ``A`` (scipy sparse) with the Schur complement on ``schur`` (reduced
+    ``A`` (scipy sparse, or a function returning it: then rank 0 holds A
+    only while padding it, not during the factorisation) with the Schur complement on ``schur`` (reduced
     DOFs, optional). ``key`` names it in the service's objects; ``block``
     as :data:`SCHUR_BLOCK`."""
 
@@ -48,10 +49,14 @@ class PetscFactor(Factor):
     def __init__(self, service, layout, A, schur=None, key="K",
                  block=SCHUR_BLOCK):
         self.service, self.layout, self.key = service, layout, key
-        self.n, self.block, self._cho, self._rows = A.shape[0], block, \
-            None, None
+        self.block, self._cho, self._rows = block, None, None
+        A_pad = layout.matrix(A() if callable(A) else A)
+        del A  # a callable's K lived only while padding
+        self.n = len(layout.red_to_pad)
+        service.mark("pad")
         service.call("scatter_matrix", dict(key=key, bsize=layout.dim),
-                     layout.matrix(A))
+                     A_pad)
+        del A_pad  # rank 0 keeps no copy during the factorisation
         self.factorizations = 0
         if block is not None or schur is None or not len(schur):
             self._factor(None)
@@ -135,7 +140,8 @@ def _factor(service, payload, local):
     ``payload["schur"]`` (padded rows) if given: returns S on rank 0."""
     from petsc4py import PETSc
 
-    from .schur import interior_solves, schur_complement, set_schur_is
+    from .schur import (interior_solves, mumps_memory, schur_complement,
+                        set_schur_is)
 
     obj = service.objects[payload["key"]]
     if "ksp" in obj:
@@ -154,8 +160,11 @@ def _factor(service, payload, local):
         set_schur_is(pc.getFactorMatrix(), payload["schur"],
                      obj["A"].getComm())
     ksp.setUp()
+    F = pc.getFactorMatrix()
+    if F.getType() == "mumps":  # a factorisation that failed has none
+        service.objects.setdefault("counts", {})["mumps_mb"] = \
+            mumps_memory(F)
     if payload.get("schur") is not None:
-        F = pc.getFactorMatrix()
         if service.root:
             S = schur_complement(F)
         interior_solves(F)

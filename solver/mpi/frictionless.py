@@ -66,12 +66,14 @@ def solve_frictionless(problem, method="min", gap="obstacle", tol=1e-10,
                           f"{KSPS}, got {system!r}, {ksp!r}")
     clock = time.perf_counter()
     svc = service()
+    svc.mark("start")
     if geometry is None:
         geometry = contact_geometry(problem, gap)
     geometry_time = time.perf_counter() - clock
     load_norm = stable_norm(problem.f)
     stiffness = contact_stiffness(problem.K, geometry)
     layout = Layout(problem, svc.size)
+    svc.mark("geometry")
     svc.call("layout", layout.ranges())
     normal_rows = layout.red_to_pad[geometry.dofs[:, -1]]
     if system == "full":
@@ -97,6 +99,7 @@ def solve_frictionless(problem, method="min", gap="obstacle", tol=1e-10,
     verification = verify_contact(
         problem.K, problem.f, u, geometry.node_dofs, geometry.normal,
         geometry.gap, lam, stiffness, verification_tolerance(tol))
+    svc.mark("verify")
     if result.success and not verification["passed"]:
         result.update(success=False, status=6, message=(
             f"{MESSAGES[6]}: {describe_failure(verification)}"))
@@ -124,27 +127,34 @@ class PetscNormalCondensation:
     (``R``, ``normal_rows``, ``factorize(nodes)``, ``displacement(u_n)``)
     on one distributed MUMPS factor (:class:`PetscFactor`), so that the
     serial screening rounds (:func:`~solver.contact.candidates.
-    solve_on_candidates`) run unchanged. K̂ = RKRᵀ is scattered once; each
+    solve_on_candidates`) run unchanged. K̂ = RKRᵀ is built and scattered
+    once (:meth:`rotated`); each
     round's candidate set is a new Schur-mode factorisation (``block``
     None) or only new solves (``block`` = k)."""
 
     def __init__(self, svc, layout, problem, geometry, block=SCHUR_BLOCK):
         self.svc, self.layout, self.block = svc, layout, block
         self.R = rotation(problem.n_dofs, geometry)[0]
-        K = (self.R @ problem.K @ self.R.T).tocsr()
-        self.K = 0.5 * (K + K.T)  # exactly symmetric
+        self.problem = problem
         self.f = self.R @ problem.f
         self.normal_rows = geometry.dofs[:, -1]
         self.factor, self.nodes = None, None
+
+    def rotated(self):
+        """K̂ = RKRᵀ, exactly symmetric (built when scattered: rank 0 holds
+        it only while padding, not under MUMPS's factor)."""
+        K = (self.R @ self.problem.K @ self.R.T).tocsr()
+        K = 0.5 * (K + K.T)
+        self.svc.mark("rotate")
+        return K
 
     def factorize(self, nodes):
         """(S, g̃, w) on the normal rows of ``nodes``, w = K̂⁻¹f̂."""
         self.nodes = np.asarray(nodes, np.int64)
         c = self.normal_rows[self.nodes]
         if self.factor is None:
-            self.factor = PetscFactor(self.svc, self.layout, self.K, c,
-                                      block=self.block)
-            self.K = None  # scattered: rank 0 keeps no copy
+            self.factor = PetscFactor(self.svc, self.layout, self.rotated,
+                                      c, block=self.block)
             self.w = self.factor.solve(self.f)
         else:
             self.factor.schur(c)

@@ -65,25 +65,56 @@ class Layout:
                                                  self.starts[1:])]
 
 
+def _scatterv(comm, send, counts, dtype):
+    """Rank 0's contiguous ``send`` cut into ``counts`` pieces, piece r to
+    rank r (MPI_Scatterv of the buffer, no pickling). Rank 0's own piece
+    stays a view of ``send`` (MPI_IN_PLACE); the others are new arrays."""
+    from mpi4py import MPI
+
+    counts = np.asarray(counts, np.int64)
+    if counts.max(initial=0) >= 2 ** 31:  # MPI's counts are C ints
+        raise ValueError("a rank's share exceeds 2^31 entries: use more "
+                         "ranks")
+    displs = np.concatenate([[0], np.cumsum(counts)[:-1]])
+    rank = comm.Get_rank()
+    if rank == 0:
+        send = np.ascontiguousarray(send, dtype)
+        comm.Scatterv([send, (counts.tolist(), displs.tolist())],
+                      MPI.IN_PLACE, root=0)
+        return send[displs[0]:displs[0] + counts[0]]
+    out = np.empty(int(counts[rank]), dtype)
+    comm.Scatterv(None, out, root=0)
+    return out
+
+
 def scatter_matrix(service, A_pad, bsize):
-    """A distributed PETSc AIJ matrix from rank 0's padded CSR ``A_pad``
-    (each rank receives its row block; rank 0 keeps no second copy)."""
+    """A distributed PETSc AIJ matrix from rank 0's padded CSR ``A_pad``:
+    each rank receives its row block by three buffer scatters (row
+    pointers, column indices, values; no pickled copies), PETSc copies it
+    into its matrix, and the caller's ``A_pad`` is then the only copy on
+    rank 0 (dropped by :class:`~solver.mpi.factor.PetscFactor` before the
+    factorisation)."""
     from petsc4py import PETSc
 
     comm = service.comm
     ranges = service.objects["ranges"]
-    blocks = None
-    if service.root:
-        blocks = [(A_pad.indptr[a:b + 1] - A_pad.indptr[a],
-                   A_pad.indices[A_pad.indptr[a]:A_pad.indptr[b]],
-                   A_pad.data[A_pad.indptr[a]:A_pad.indptr[b]])
-                  for a, b in ranges]
-    indptr, indices, data = comm.scatter(blocks, root=0)
     a, b = ranges[service.rank]
     n = ranges[-1][1]
+    starts = np.array([r[0] for r in ranges] + [n], np.int64)
+    indptr = A_pad.indptr if service.root else None
+    nnz = comm.bcast(None if indptr is None else np.diff(
+        np.asarray(indptr, np.int64)[starts]), root=0)
+    itype = np.dtype(PETSc.IntType)
+    ptr = _scatterv(comm, indptr, np.diff(starts), itype)
+    indices = _scatterv(comm, None if indptr is None else A_pad.indices,
+                        nnz, itype)
+    data = _scatterv(comm, None if indptr is None else A_pad.data, nnz,
+                     PETSc.ScalarType)
+    local_ptr = np.empty(b - a + 1, itype)
+    local_ptr[:-1] = ptr - (ptr[0] if len(ptr) else 0)
+    local_ptr[-1] = len(data)
     M = PETSc.Mat().createAIJ(size=((b - a, n), (b - a, n)), bsize=bsize,
-                              csr=(indptr.astype(PETSc.IntType),
-                                   indices.astype(PETSc.IntType), data),
+                              csr=(local_ptr, indices, data),
                               comm=comm.tompi4py() if hasattr(
                                   comm, "tompi4py") else comm)
     M.assemble()
@@ -93,19 +124,25 @@ def scatter_matrix(service, A_pad, bsize):
 
 
 def scatter_vector(service, v_pad, vec):
-    """Fill the PETSc vector ``vec`` from rank 0's padded array."""
+    """Fill the PETSc vector ``vec`` from rank 0's padded array (one
+    buffer scatter)."""
     ranges = service.objects["ranges"]
-    parts = None if not service.root else \
-        [np.ascontiguousarray(v_pad[a:b]) for a, b in ranges]
-    vec.setArray(service.comm.scatter(parts, root=0))
+    part = _scatterv(service.comm, v_pad, [b - a for a, b in ranges],
+                     np.float64)
+    vec.setArray(part)
     return vec
 
 
 def gather_vector(service, vec):
     """The PETSc vector ``vec`` as one padded array on rank 0 (None
-    elsewhere)."""
-    parts = service.comm.gather(vec.getArray().copy(), root=0)
-    return np.concatenate(parts) if service.root else None
+    elsewhere; one buffer gather)."""
+    ranges = service.objects["ranges"]
+    counts = [b - a for a, b in ranges]
+    out = np.empty(ranges[-1][1]) if service.root else None
+    service.comm.Gatherv(np.ascontiguousarray(vec.getArray(), float),
+                         None if out is None else
+                         [out, (counts, [a for a, _ in ranges])], root=0)
+    return out
 
 
 def _layout_command():

@@ -24,7 +24,8 @@ import numpy as np
 
 from .service import command
 
-__all__ = ["set_schur_is", "schur_complement", "interior_solves"]
+__all__ = ["set_schur_is", "schur_complement", "interior_solves",
+           "mumps_memory"]
 
 _LIB = []
 
@@ -38,7 +39,8 @@ def _lib():
         lib = ctypes.CDLL(path, mode=ctypes.RTLD_GLOBAL)
         for name in ("MatFactorSetSchurIS", "MatFactorCreateSchurComplement",
                      "MatDenseGetArrayRead", "MatDenseRestoreArrayRead",
-                     "MatGetSize", "MatDestroy", "MatMumpsSetIcntl"):
+                     "MatGetSize", "MatDestroy", "MatMumpsSetIcntl",
+                     "MatMumpsGetInfo", "MatMumpsGetInfog"):
             getattr(lib, name).restype = ctypes.c_int
         _LIB.append(lib)
     return _LIB[0]
@@ -102,6 +104,38 @@ def interior_solves(F):
     _check(_lib().MatMumpsSetIcntl(ctypes.c_void_p(F.handle), c_int(26),
                                    c_int(0)),
            "MatMumpsSetIcntl")
+
+
+#: MUMPS's memory statistics (MB; Users' Guide 5.5, section 6): this
+#: process's INFO and the INFOG maxima / sums over the processes.
+MEMORY_INFO = dict(estimate=15, allocated=16, used=22)
+MEMORY_INFOG = dict(estimate_max=16, estimate_sum=17, used_max=21,
+                    used_sum=22)
+
+
+def _int_type():
+    from petsc4py import PETSc
+
+    return ctypes.c_int64 if PETSc.IntType().itemsize == 8 else \
+        ctypes.c_int32
+
+
+def mumps_memory(F):
+    """MUMPS's memory of the factorised ``F`` in MB: INFO(15) (estimated
+    in analysis, in-core), INFO(16) (allocated by the factorisation), INFO(22)
+    (effectively used), and INFOG(16)/(17), INFOG(21)/(22) (max / sum over
+    the processes of INFO(15) and INFO(22))."""
+    lib, c_int = _lib(), _int_type()
+    out = {}
+    for table, fields in (("MatMumpsGetInfo", MEMORY_INFO),
+                          ("MatMumpsGetInfog", MEMORY_INFOG)):
+        for name, index in fields.items():
+            value = c_int()
+            _check(getattr(lib, table)(ctypes.c_void_p(F.handle),
+                                       c_int(index), ctypes.byref(value)),
+                   table)
+            out[name] = int(value.value)
+    return out
 
 
 def _interior(service, obj, rhs, rows, values):

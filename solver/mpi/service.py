@@ -15,13 +15,29 @@ worker that loses rank 0 aborts the communicator (no hang).
 import sys
 import time
 
-__all__ = ["EngineError", "Service", "command", "HANDLERS"]
+__all__ = ["EngineError", "Service", "command", "HANDLERS", "memory_mb"]
 
 #: name -> handler(service, payload, local); filled by :func:`command`.
 HANDLERS = {}
 
 #: MPI tag of the commands; a waiting worker polls at most every POLL s.
 TAG, POLL = 2020, 1e-3
+
+
+def memory_mb():
+    """(resident, peak resident) memory of this process in MB: VmRSS and
+    VmHWM of /proc/self/status (Linux), else the peak ``ru_maxrss``
+    twice."""
+    try:
+        with open("/proc/self/status") as stream:
+            fields = dict(line.split(":", 1) for line in stream)
+        return tuple(round(int(fields[k].split()[0]) / 1024.0, 1)
+                     for k in ("VmRSS", "VmHWM"))
+    except (OSError, KeyError, ValueError):
+        import resource
+
+        peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
+        return peak, peak
 
 
 class EngineError(RuntimeError):
@@ -41,14 +57,20 @@ class Service:
     (``objects``: name -> distributed matrix, KSP, ...) and per-command
     timings (``timings``: name -> [calls, wall seconds, CPU seconds on
     this rank]; CPU because the wall clock of a shared machine is
-    noise)."""
+    noise) and the memory after each stage (``memory``: stage -> [MB
+    resident, MB peak resident] after its last run, in first-run order; a
+    command is a stage on every rank, :meth:`mark` adds rank 0's own)."""
 
     def __init__(self, comm=None):
         from mpi4py import MPI
 
         self.comm = comm or MPI.COMM_WORLD
         self.rank, self.size = self.comm.Get_rank(), self.comm.Get_size()
-        self.objects, self.timings = {}, {}
+        self.objects, self.timings, self.memory = {}, {}, {}
+
+    def mark(self, stage):
+        """Record this rank's memory after ``stage`` (:attr:`memory`)."""
+        self.memory[stage] = list(memory_mb())
 
     @property
     def root(self):
@@ -88,6 +110,7 @@ class Service:
         entry[0] += 1
         entry[1] += time.perf_counter() - clock
         entry[2] += time.process_time() - cpu
+        self.mark(name)
         errors = self.comm.gather(error, root=0)
         if self.root:
             failed = [(r, e) for r, e in enumerate(errors) if e]
@@ -124,7 +147,8 @@ class Service:
                      cpu_s=round(usage.ru_utime + usage.ru_stime, 3),
             seconds={k: round(v[1], 4) for k, v in self.timings.items()},
             cpu_seconds={k: round(v[2], 4) for k, v in self.timings.items()},
-            calls={k: v[0] for k, v in self.timings.items()})
+            calls={k: v[0] for k, v in self.timings.items()},
+            memory_mb=dict(self.memory))
         stats.update(self.objects.get("counts", {}))
         return self.comm.gather(stats, root=0)
 
