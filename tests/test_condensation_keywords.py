@@ -61,3 +61,30 @@ def test_friction_uses_given_condensation(exported):
     scale = np.abs(reference.displacement).max()
     assert np.abs(result.displacement - reference.displacement).max() <= \
         1e-10 * scale
+
+
+def test_2d_candidates_take_every_free_node_in_one_factorisation(exported):
+    """In 2D the candidates' default round 0 is every free contact node:
+    one factorisation (the 5 % screening grew once on the 1878 block), and
+    the answer of the (x, y) condensation onto all of Γc (the independent
+    reference: another Schur set, another Newton system, nested start).
+    An explicit margin still screens."""
+    problem = load_problem(exported(1878)[0])
+    geometry = contact_geometry(problem, "obstacle")
+    free = int(np.isfinite(geometry.gap).sum())
+    result = solve_frictionless(problem, method="min", candidates=True,
+                                start="free", backend="superlu",
+                                geometry=geometry)
+    screening = result.candidates
+    assert len(screening["rounds"]) == 1
+    assert screening["n_candidates"] == free
+    reference = solve_frictionless(problem, method="min", backend="superlu",
+                                   geometry=geometry)
+    assert result.success and reference.success
+    scale = np.abs(reference.u).max()
+    assert np.abs(result.u - reference.u).max() <= 1e-8 * scale
+    screened = solve_frictionless(problem, method="min", candidates=True,
+                                  start="free", backend="superlu",
+                                  geometry=geometry, margin=0.0)
+    assert screened.candidates["n_candidates"] < free
+    assert np.abs(screened.u - reference.u).max() <= 1e-8 * scale

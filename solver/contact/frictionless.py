@@ -302,9 +302,9 @@ def solve_frictionless(problem, method="min", gap="obstacle", tol=1e-10,
         condensed, False in 2D (the (x, y) condensation onto all of Γc).
     margin : float, optional
         The candidates' round-0 screening margin δ₀, a length: nodes with
-        initial gap s_i ≤ δ₀ (default
-        :func:`~solver.contact.candidates.initial_candidates`). Too small
-        a margin costs refactorisations, never accuracy.
+        initial gap s_i ≤ δ₀ (default: every free contact node in 2D,
+        :func:`~solver.contact.candidates.initial_candidates`'s screening
+        in 3D). Too small a margin costs refactorisations, never accuracy.
     rollers : bool
         Whether contact nodes with Dirichlet components orthogonal to ν
         (symmetry planes) take part in contact (default) or are supports
