@@ -239,7 +239,9 @@ def rotation(n, geometry):
     """
     dofs = geometry.dofs
     d = dofs.shape[1]
-    other = np.setdiff1d(np.arange(n), geometry.free_dofs())
+    keep = np.ones(n, bool)  # a mask, not np.setdiff1d: that sorts by
+    keep[geometry.free_dofs()] = False  # hashing, 0.2 s at 4.8e5 DOFs
+    other = np.flatnonzero(keep)
     Q = geometry.rotation()  # (m, d, d): Q[i, r, c] at (dofs[i, r],
     # node_dofs[i, c])
     rows = np.concatenate([other] + [np.repeat(dofs[:, r], d)
