@@ -146,8 +146,9 @@ class NormalCondensation:
         self.factorizations = 0
 
     def factorize(self, nodes):
-        """Factorise K̂ with the Schur set = normal rows of ``nodes``.
-        Returns (S, g̃, w): S (m, m), g̃ = S w_c, w = K̂⁻¹f̂ (rotated)."""
+        """Factorise K̂ with the Schur set = normal rows c of ``nodes``.
+        Returns (S, g̃, w_c): S (m, m), g̃ = S w_c, w = K̂⁻¹f̂ (rotated,
+        kept for :meth:`displacement`)."""
         self.nodes = np.asarray(nodes, np.int64)
         c = self.normal_rows[self.nodes]
         order = dof_ordering(self.problem, last=c) \
@@ -158,7 +159,7 @@ class NormalCondensation:
         self.factorizations += 1
         self.w = self.factor.solve(self.f)
         S = self.factor.S if len(c) else np.zeros((0, 0))
-        return S, S @ self.w[c], self.w
+        return S, S @ self.w[c], self.w[c]
 
     def displacement(self, u_n):
         """(u, normal displacement at every free contact node) from the
@@ -216,13 +217,12 @@ def solve_on_candidates(problem, geometry, method, tol, max_iter, x0,
     exhausted = False
     for k in range(MAX_ROUNDS):
         clock = time.perf_counter()
-        S, g, w = condensation.factorize(nodes)
+        S, g, w_c = condensation.factorize(nodes)
         problem._checked = problem.K  # its pivots were checked (round 0)
         factorize_time = time.perf_counter() - clock
         system = FrictionlessSystem(S, g, normal_line(geometry, nodes),
                                     gap_scale, stiffness, load_norm)
-        c = condensation.normal_rows[nodes]
-        start = w[c] if start_un is None else start_un[nodes]
+        start = w_c if start_un is None else start_un[nodes]
         result = solve_ncp(system.residual, system.jacobian, start,
                            method=method, tol=tol, max_iter=budget,
                            options=options, error=system.error,

@@ -108,6 +108,15 @@ class PetscFactor(Factor):
                                                  self._cho))
         return self.layout.unpad(x)
 
+    def condensed_rhs(self, b):
+        """g̃ = b_c − K_ci K_ii⁻¹ b_i, b of shape (n,): one interior solve in
+        the Schur mode (a solve with K costs two), else as :class:`Factor`."""
+        if self._cho is None:
+            return super().condensed_rhs(b)
+        return self.service.call("condensed_rhs", dict(
+            key=self.key, rows=self._rows), self.layout.pad(
+                np.asarray(b, float)))
+
     def back_substitute(self, b, u_c):
         """u with u_c on c, K_ii u_i = b_i − K_ic u_c: one interior solve
         in the Schur mode (else as :class:`Factor`)."""

@@ -149,24 +149,30 @@ class PetscNormalCondensation:
         return K
 
     def factorize(self, nodes):
-        """(S, g̃, w) on the normal rows of ``nodes``, w = K̂⁻¹f̂."""
+        """(S, g̃, w_c) on the normal rows c of ``nodes``, w = K̂⁻¹f̂: g̃ from
+        one interior solve of the Schur-mode factor and w_c = S⁻¹g̃ (w
+        itself is never formed: :meth:`displacement` back-substitutes with
+        f̂, one interior solve, where u = w + K̂⁻¹Pᵀ S(u_n − w_c) took two
+        more)."""
         self.nodes = np.asarray(nodes, np.int64)
         c = self.normal_rows[self.nodes]
         if self.factor is None:
             self.factor = PetscFactor(self.svc, self.layout, self.rotated,
                                       c, block=self.block)
-            self.w = self.factor.solve(self.f)
         else:
             self.factor.schur(c)
         S = self.factor.S
-        return S, S @ self.w[c], self.w
+        if not len(c):
+            self.w = self.factor.solve(self.f)
+            return S, np.zeros(0), np.zeros(0)
+        g = self.factor.condensed_rhs(self.f)
+        return S, g, np.linalg.solve(S, g)
 
     def displacement(self, u_n):
         """(u, u_n at every free contact node): one back-substitution."""
         c = self.normal_rows[self.nodes]
-        u_hat = self.w if not len(c) else self.w + \
-            self.factor.back_substitute(None, np.asarray(u_n, float)
-                                        - self.w[c])
+        u_hat = self.w if not len(c) else self.factor.back_substitute(
+            self.f, np.asarray(u_n, float))
         return self.R.T @ u_hat, u_hat[self.normal_rows]
 
 

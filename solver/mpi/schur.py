@@ -160,6 +160,36 @@ def _interior(service, obj, rhs, rows, values):
     return obj["x"]
 
 
+def _reduced_rhs(service, obj, rows, b_pad):
+    """g̃ = b_c − K_ci K_ii⁻¹ b_i on rank 0 (None elsewhere): one interior
+    solve (y_i = K_ii⁻¹b_i, y_c = 0) and (K y)_c gathered."""
+    from .layout import scatter_vector
+
+    scatter_vector(service, b_pad, obj["b"])
+    y = _interior(service, obj, obj["b"].copy(), rows, np.zeros(len(rows)))
+    t = obj["b"].duplicate()
+    obj["A"].mult(y, t)  # (K y)_c = K_ci y_i
+    a, b = obj["A"].getOwnershipRange()
+    mine = np.flatnonzero((rows >= a) & (rows < b))
+    parts = service.comm.gather((mine, t.getArray()[rows[mine] - a]),
+                                root=0)
+    t.destroy()
+    if not service.root:
+        return None
+    r = b_pad[rows].copy()
+    for idx, vals in parts:
+        r[idx] -= vals
+    return r
+
+
+@command("condensed_rhs")
+def _condensed_rhs(service, payload, local):
+    """g̃ = b_c − K_ci K_ii⁻¹ b_i (thesis (66)'s condensed load) on rank 0:
+    ``local`` = padded b on rank 0; one interior solve."""
+    obj, rows = service.objects[payload["key"]], payload["rows"]
+    return _reduced_rhs(service, obj, rows, local if service.root else None)
+
+
 @command("schur_solve")
 def _schur_solve(service, payload, local):
     """K⁻¹b by block elimination on the Schur-mode factor (module
@@ -172,21 +202,9 @@ def _schur_solve(service, payload, local):
 
     obj, rows = service.objects[payload["key"]], payload["rows"]
     b_pad, cho = local if service.root else (None, None)
-    zero = np.zeros(len(rows))
-    scatter_vector(service, b_pad, obj["b"])
-    y = _interior(service, obj, obj["b"].copy(), rows, zero)  # K_ii⁻¹b_i
-    t = obj["b"].duplicate()
-    obj["A"].mult(y, t)  # (K y)_c = K_ci y_i
-    a, b = obj["A"].getOwnershipRange()
-    mine = np.flatnonzero((rows >= a) & (rows < b))
-    parts = service.comm.gather((mine, t.getArray()[rows[mine] - a]),
-                                root=0)
-    t.destroy()
+    r = _reduced_rhs(service, obj, rows, b_pad)
     x_c = None
     if service.root:
-        r = b_pad[rows].copy()
-        for idx, vals in parts:
-            r[idx] -= vals
         x_c = la.cho_solve(cho, r)
         if not np.isfinite(x_c).all():
             raise EngineError("the Schur complement is singular")
