@@ -108,6 +108,13 @@ class PetscFactor(Factor):
                                                  self._cho))
         return self.layout.unpad(x)
 
+    def solve_schur(self, r):
+        """S⁻¹r on rank 0, by the Cholesky factor of S made with it (Schur
+        mode), else by a dense solve (``block`` mode)."""
+        if self._cho is not None:
+            return la.cho_solve(self._cho, r)
+        return np.linalg.solve(self.S, r)
+
     def condensed_rhs(self, b):
         """g̃ = b_c − K_ci K_ii⁻¹ b_i, b of shape (n,): one interior solve in
         the Schur mode (a solve with K costs two), else as :class:`Factor`."""

@@ -166,7 +166,7 @@ class PetscNormalCondensation:
             self.w = self.factor.solve(self.f)
             return S, np.zeros(0), np.zeros(0)
         g = self.factor.condensed_rhs(self.f)
-        return S, g, np.linalg.solve(S, g)
+        return S, g, self.factor.solve_schur(g)
 
     def displacement(self, u_n):
         """(u, u_n at every free contact node): one back-substitution."""
