@@ -48,9 +48,40 @@ class Layout:
 
     def matrix(self, A):
         """The reduced sparse A as the padded CSR (identity rows, scaled
-        by mean diag A, at the Dirichlet DOFs)."""
-        A = sp.coo_matrix(A)
+        by mean diag A, at the Dirichlet DOFs), sorted column indices.
+
+        The reduced numbering keeps the nodes' order (``red_to_pad``
+        increasing, as every exported problem has it), so each reduced row
+        is copied as it is into its padded row and only its column indices
+        are renumbered: one pass over the entries, 32-bit indices, no COO
+        triples (which took 0.36 s and 64-bit temporaries of 3.5 GB at
+        3.06·10⁶ DOFs on rank 0). Another numbering goes through COO."""
+        A = sp.csr_matrix(A, dtype=np.float64)
+        if not A.has_canonical_format:
+            A = A.copy()
+            A.sum_duplicates()  # also sorts each row's indices
         scale = float(np.mean(A.diagonal())) if A.shape[0] else 1.0
+        r = self.red_to_pad
+        if len(r) > 1 and not np.all(r[1:] > r[:-1]):
+            return self._matrix_coo(A, scale)
+        lengths = np.ones(self.n, np.int64)  # 1: a Dirichlet row's diagonal
+        lengths[r] = np.diff(A.indptr)
+        total = int(lengths.sum())
+        itype = np.int32 if max(total, self.n) < 2 ** 31 else np.int64
+        indptr = np.zeros(self.n + 1, itype)
+        np.cumsum(lengths, out=indptr[1:])
+        del lengths
+        indices, data = np.empty(total, itype), np.empty(total)
+        diagonal = indptr[self.dirichlet]  # those rows' one entry
+        copied = np.ones(total, bool)
+        copied[diagonal] = False
+        indices[copied] = r.astype(itype)[A.indices]
+        data[copied] = A.data
+        indices[diagonal], data[diagonal] = self.dirichlet, scale
+        return sp.csr_matrix((data, indices, indptr), shape=(self.n, self.n))
+
+    def _matrix_coo(self, A, scale):
+        A = A.tocoo()
         rows = np.concatenate([self.red_to_pad[A.row], self.dirichlet])
         cols = np.concatenate([self.red_to_pad[A.col], self.dirichlet])
         vals = np.concatenate([A.data, np.full(len(self.dirichlet), scale)])
