@@ -66,7 +66,7 @@ search (a global screening with a margin, then the exact local check).
 import numpy as np
 
 from ..linalg import dof_ordering, get_backend
-from .geometry import ContactGeometry, rotation
+from .geometry import ContactGeometry, rotate_stiffness, rotation
 
 __all__ = ["GAP_FRACTION", "MAX_ROUNDS", "initial_candidates",
            "enlarge_candidates", "normal_line", "NormalCondensation"]
@@ -139,8 +139,7 @@ class NormalCondensation:
         self.module = get_backend(backend)
         n = problem.n_dofs
         self.R = rotation(n, geometry)[0]
-        self.K = (self.R @ problem.K @ self.R.T).tocsr()
-        self.K = 0.5 * (self.K + self.K.T)  # exactly symmetric
+        self.K = rotate_stiffness(problem.K, self.R, geometry.free_dofs())
         self.f = self.R @ problem.f
         self.normal_rows = geometry.dofs[:, -1]
         self.factorizations = 0

@@ -35,7 +35,7 @@ from ..errors import SolverError
 from ..geometry.frames import frames, roller_frames, tangent_basis
 
 __all__ = ["GAP_MODES", "ROLLER_TOLERANCE", "ContactGeometry",
-           "contact_geometry", "problem_dim", "rotation",
+           "contact_geometry", "problem_dim", "rotation", "rotate_stiffness",
            "contact_stiffness"]
 
 #: How gaps and normals are found (thesis §2.1.1 / §2.1.2).
@@ -254,6 +254,42 @@ def rotation(n, geometry):
         rows, cols, vals = rows[used], cols[used], vals[used]
     R = sp.csr_matrix((vals, (rows, cols)), shape=(n, n))
     return R, other, dofs[:, :-1].ravel(), dofs[:, -1]
+
+
+def rotate_stiffness(K, R, dofs):
+    """K̂ = R K Rᵀ (thesis (60)) for R of :func:`rotation`, which is the
+    identity outside the contact DOFs ``dofs`` (``geometry.free_dofs()``).
+
+    Only the rows and columns ``dofs`` change, so they alone are computed:
+    X = (R K Rᵀ)_{dofs,:} = R_cc K_{dofs,:} Rᵀ (a few rows), its block on
+    ``dofs`` symmetrised, and K̂ = K with those rows replaced by X and
+    those columns by Xᵀ. The rows and columns ``dofs`` of K̂ are thus
+    exactly symmetric; elsewhere K̂ is K itself. Equal to ½(RKRᵀ +
+    (RKRᵀ)ᵀ) to rounding (tests/test_rotate_stiffness.py) in one pass over
+    K, where two sparse products and a transpose took 1.0 s at 9.2·10⁵
+    DOFs (PETSc engine, :mod:`solver.contact.candidates`).
+    """
+    K = sp.csr_matrix(K)
+    n = K.shape[0]
+    c = np.unique(np.asarray(dofs, np.int64))
+    if not len(c):
+        return K.copy()
+    in_c = np.zeros(n, bool)
+    in_c[c] = True
+    X = (R[c][:, c] @ K[c] @ R.T).tocoo()  # rows c of R K Rᵀ
+    block = in_c[X.col]
+    Xcc = sp.csr_matrix((X.data[block], (X.row[block], X.col[block])),
+                        shape=(len(c), n))[:, c]
+    Xcc = (0.5 * (Xcc + Xcc.T)).tocoo()
+    off = ~block  # X off the block: rows c and, transposed, columns c
+    rows = np.concatenate([c[X.row[off]], X.col[off], c[Xcc.row]])
+    cols = np.concatenate([X.col[off], c[X.row[off]], c[Xcc.col]])
+    vals = np.concatenate([X.data[off], X.data[off], Xcc.data])
+    changed = sp.csr_matrix((vals, (rows, cols)), shape=(n, n))
+    kept = np.where(np.repeat(in_c, np.diff(K.indptr)) | in_c[K.indices],
+                    0.0, K.data)
+    return (sp.csr_matrix((kept, K.indices, K.indptr), shape=(n, n))
+            + changed).tocsr()
 
 
 def contact_stiffness(K, geometry):

@@ -25,7 +25,8 @@ import numpy as np
 
 from ..contact.candidates import solve_on_candidates
 from ..contact.frictionless import STOPPING_TEST, _nodal_arrays
-from ..contact.geometry import contact_geometry, contact_stiffness, rotation
+from ..contact.geometry import (contact_geometry, contact_stiffness,
+                                rotate_stiffness, rotation)
 from ..contact.result import ContactResult
 from ..contact.verify import (describe_failure, unit_free_options,
                               verification_tolerance, verify_contact)
@@ -138,13 +139,14 @@ class PetscNormalCondensation:
         self.problem = problem
         self.f = self.R @ problem.f
         self.normal_rows = geometry.dofs[:, -1]
+        self.free_dofs = geometry.free_dofs()
         self.factor, self.nodes = None, None
 
     def rotated(self):
-        """K̂ = RKRᵀ, exactly symmetric (built when scattered: rank 0 holds
-        it only while padding, not under MUMPS's factor)."""
-        K = (self.R @ self.problem.K @ self.R.T).tocsr()
-        K = 0.5 * (K + K.T)
+        """K̂ = RKRᵀ (:func:`~solver.contact.geometry.rotate_stiffness`;
+        built when scattered: rank 0 holds it only while padding, not
+        under MUMPS's factor)."""
+        K = rotate_stiffness(self.problem.K, self.R, self.free_dofs)
         self.svc.mark("rotate")
         return K
 

@@ -20,7 +20,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..contact.frictionless import FrictionlessSystem
-from ..contact.geometry import rotation
+from ..contact.geometry import rotate_stiffness
 from ..ncp import solve_ncp
 from .layout import gather_vector, scatter_matrix, scatter_vector
 from .service import EngineError, command
@@ -112,8 +112,7 @@ def solve_full(service, layout, problem, geometry, method, tol, max_iter,
     if abs(sp.linalg.norm(R @ R.T - sp.identity(R.shape[0]))) > 1e-12:
         raise EngineError("the full system on the petsc engine needs "
                           "orthogonal node frames (no rollers)")
-    K_hat = (R @ problem.K @ R.T).tocsr()
-    K_hat = 0.5 * (K_hat + K_hat.T)
+    K_hat = rotate_stiffness(problem.K, R, geometry.free_dofs())
     modes = rigid_modes(problem, layout, R) if ksp == "gamg" else None
     service.call("newton_setup", dict(ksp=ksp, bsize=layout.dim,
                                       scale=float(K_hat.diagonal().mean())),

@@ -22,7 +22,7 @@ thesis blocks, measured 8/10 against 4/6).
 
 import numpy as np
 
-from ..contact.geometry import contact_geometry, rotation
+from ..contact.geometry import contact_geometry, rotate_stiffness, rotation
 from .engine import service
 from .layout import Layout, gather_vector, scatter_matrix, scatter_vector
 from .service import EngineError, command
@@ -45,8 +45,7 @@ def solve_snesvi(problem, gap="obstacle", geometry=None, rtol=1e-12,
     layout = Layout(problem, svc.size)
     svc.call("layout", layout.ranges())
     R = rotation(problem.n_dofs, geometry)[0]
-    K_hat = (R @ problem.K @ R.T).tocsr()
-    K_hat = 0.5 * (K_hat + K_hat.T)
+    K_hat = rotate_stiffness(problem.K, R, geometry.free_dofs())
     upper = np.full(layout.n, np.inf)
     upper[layout.red_to_pad[geometry.dofs[:, -1]]] = geometry.gap
     v, its = svc.call("snesvi", dict(bsize=layout.dim, rtol=rtol,
