@@ -35,9 +35,16 @@ def service():
     return _SERVICE[0]
 
 
-#: glibc's ``mallopt`` parameters and their defaults (malloc.h).
-M_TRIM_THRESHOLD, M_MMAP_MAX = -1, -4
-DEFAULTS = {M_TRIM_THRESHOLD: 128 * 1024, M_MMAP_MAX: 65536}
+#: glibc's ``mallopt`` parameters (malloc.h) and the engine's settings:
+#: mmap allowed again (glibc's default count), blocks of 32 MB and more
+#: mmapped, and the heap trimmed when 32 MB lie free at its top. glibc's
+#: own 128 kB thresholds (which a ``mallopt`` call also stops adapting)
+#: gave the same peak memory but unmapped and faulted in every n-vector:
+#: 460k against 300k page faults and ≈ 0.6 s more system time per rank
+#: at 4.8·10⁵ DOFs (benchmarks/README.md, "Fourth quiet re-measurement").
+M_TRIM_THRESHOLD, M_MMAP_THRESHOLD, M_MMAP_MAX = -1, -3, -4
+SETTINGS = {M_TRIM_THRESHOLD: 32 << 20, M_MMAP_THRESHOLD: 32 << 20,
+            M_MMAP_MAX: 65536}
 
 
 def restore_malloc():
@@ -47,8 +54,8 @@ def restore_malloc():
     load-time constructors: from then on glibc never unmaps or trims, and
     every array the process ever freed (reading the problem, rotating and
     padding K, the scatter's buffers) stays in its resident memory under
-    MUMPS's factor (MEM20C, benchmarks/README.md). Restores glibc's
-    defaults; returns whether it could (False off glibc)."""
+    MUMPS's factor (MEM20C, benchmarks/README.md). Sets :data:`SETTINGS`;
+    returns whether it could (False off glibc)."""
     import ctypes
     import ctypes.util
 
@@ -57,7 +64,7 @@ def restore_malloc():
     except (OSError, AttributeError, TypeError):
         return False
     return all(mallopt(param, value) == 1 for param, value in
-               DEFAULTS.items())
+               SETTINGS.items())
 
 
 def spmd(main, *args, **kwargs):
