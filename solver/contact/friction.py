@@ -73,87 +73,20 @@ Comput. 30 (2008) 572-596.
 """
 
 import time
+from types import SimpleNamespace
 
 import numpy as np
-import scipy.sparse.linalg as sla
 
 from ..errors import SolverError
-from ..linalg import resolve
-from ..ncp import MESSAGES, solve_ncp, stable_norm
-from .result import FrictionResult
 from .steps import MAX_LOAD_STEPS, StepStream
 from .friction_candidates import friction_on_candidates, use_candidates
-from .friction_disc import condensed_system
+from .friction_steps import GAP_WEIGHT, load_step, make_result, setup
 from .friction_system import (COULOMB, FORMULATIONS, FrictionSystem,
                               check_geometry)
-from .frictionless import (condense_onto_contact, contact_geometry,
-                           contact_stiffness)
+from .frictionless import contact_geometry, contact_stiffness
 from .geometry import problem_dim
-from .verify import (describe_failure, force_scale, unit_free_options,
-                     verification_tolerance, verify_contact,
-                     worst_verification)
 
 __all__ = ["FORMULATIONS", "COULOMB", "FrictionSystem", "solve_friction"]
-
-#: c = GAP_WEIGHT·k̄ on the condensed system. Any c ∝ k̄ makes the
-#: iterates independent of the units. With 1e-5·k̄ (close to the thesis's
-#: c = 1 in N, mm) φ_FB took 30 % fewer Jacobians on the projection form
-#: (75 against 108 on the 118 block, f_c = 0.3, 25 steps), but the thesis's
-#: split, condensed, stalled at a relative residual of 1e-9 (454 block,
-#: f_c = 0.05, step 26): Φ then weighs the gaps 1e5 times less than the
-#: stopping test does. c = k̄ (as frictionless) converged in every case
-#: measured.
-GAP_WEIGHT = 1.0
-
-#: The stopping test of each load step, as reported.
-STOPPING_TEST = ("‖[E; min(A, k̄B)]‖₂ (force units) ≤ "
-                 "tol·max(‖f‖₂, ‖f_κ‖₂, ‖λ⁺‖₂)")
-
-
-def _check_step(system, x, load, friction, p_previous, tol_v):
-    """:func:`verify_contact` of a load step's answer x on the system
-    solved (the condensed one when condensed), ``load`` its load vector."""
-    du, g = x[:system.n], system.traction(x)
-    r = system._force(du)
-    lam = -r[system.n_rows]
-    pressure = np.maximum(lam, 0.0) / system.lumped
-    bound = friction * (p_previous if system.coulomb == "lagged"
-                        else pressure)
-    geometry = system.geometry
-    return verify_contact(system.K, load, system.u_previous + du,
-                          geometry.node_dofs, geometry.normal, geometry.gap,
-                          lam, system.stiffness, tol_v,
-                          _nodal(system.lumped, g),
-                          system.lumped * bound, geometry.tangents,
-                          system.load_norm)  # the stopping test's F
-
-
-def _nodal(lumped, g):
-    """Nodal friction forces D_ii g_t,i: (m,) in 2D, (m, d − 1) else."""
-    if len(g) == len(lumped):
-        return lumped * g
-    return lumped[:, None] * np.reshape(g, (len(lumped), -1))
-
-
-def _final_check(problem, geometry, stiffness, tol_v, condensation, last,
-                 checks):
-    """The worst of the steps' checks, merged with the last completed
-    step's check against the original K and f (condensed: u recovered by
-    one solve with K; the full system's steps were checked with K
-    already)."""
-    if condensation is not None and last is not None:
-        _, u_c, w, f_step, lam, t, bound, _ = last
-        u = condensation.displacement(u_c, w)
-        checks = checks + [verify_contact(
-            problem.K, f_step, u, geometry.node_dofs, geometry.normal,
-            geometry.gap, lam, stiffness, tol_v, t, bound,
-            geometry.tangents)]
-    return worst_verification(checks, tol_v)
-
-
-def _is_real(value):
-    return isinstance(value, (int, float, np.integer, np.floating)) \
-        and not isinstance(value, bool)
 
 
 def solve_friction(problem, friction, steps=None, formulation="projection",
@@ -290,6 +223,58 @@ def solve_friction(problem, friction, steps=None, formulation="projection",
         :func:`solve_frictionless`). A load step that does not converge
         ends the run without raising: see ``success`` and ``failed_step``.
     """
+    _check_arguments(problem, friction, steps)
+    path = problem.load_steps(steps)
+    steps = problem.n_load_steps(steps)
+    start = time.perf_counter()
+    if rollers is None:  # 3D: rollers (the projection takes them)
+        rollers = problem_dim(problem) == 3
+    if geometry is None:
+        geometry = contact_geometry(problem, gap, rollers=rollers)
+    if use_candidates(candidates, condense, formulation, geometry.dim):
+        check_geometry(geometry, formulation)
+        if gap_scale is None:
+            gap_scale = GAP_WEIGHT * contact_stiffness(problem.K, geometry)
+        keywords = dict(
+            steps=None if problem.load_path is not None else steps,
+            formulation=formulation, coulomb=coulomb, method=method, tol=tol,
+            max_iter=max_iter, options=options, gap_scale=gap_scale,
+            progress=progress, on_step=on_step, keep_steps=keep_steps,
+            backend=backend)
+        return friction_on_candidates(solve_friction, problem, friction,
+                                      geometry, margin, keywords)
+    if formulation in FORMULATIONS:  # an unknown one: FrictionSystem says
+        check_geometry(geometry, formulation)
+    if steps > MAX_LOAD_STEPS:
+        raise SolverError(f"{steps} load steps: at most {MAX_LOAD_STEPS} are "
+                          "supported")
+    shared = setup(problem, geometry, friction, formulation, coulomb, method,
+                   tol, options, gap_scale, condense, backend, condensation)
+    stream = StepStream(problem, shared.condensation, on_step, keep_steps,
+                        steps)
+    run = SimpleNamespace(records=[], failed=None, checks=[], stoppings=[],
+                          last=None, totals=dict(njev=0, nfev=0, nit=0),
+                          message="all load steps converged")
+    state = SimpleNamespace(u=np.zeros(shared.system.n),  # u, or u on Γc
+                            w=np.zeros(problem.n_dofs),  # K⁻¹f of step κ−1
+                            p=np.zeros(shared.system.m),
+                            g=np.zeros(shared.system.mt))
+    try:
+        for kappa, (load, factor, prescribed, stage) in enumerate(path, 1):
+            if not load_step(shared, state, run, stream, kappa, steps, load,
+                             friction * factor, prescribed, stage, method,
+                             tol, max_iter):
+                break
+            if progress is not None:
+                progress(run.records[-1])
+    finally:  # also on KeyboardInterrupt: deliver every completed step
+        stream.flush()
+    return make_result(problem, geometry, shared, run, stream, steps,
+                       friction, formulation, coulomb, method, tol, start)
+
+
+def _check_arguments(problem, friction, steps):
+    """SolverError for a bad friction coefficient or number of steps."""
     if not _is_real(friction) or not np.isfinite(friction) or friction < 0:
         raise SolverError(f"friction coefficient must be >= 0 and finite, "
                           f"got {friction!r}")
@@ -302,193 +287,8 @@ def solve_friction(problem, friction, steps=None, formulation="projection",
                               or int(steps) != steps or steps < 1):
         raise SolverError(f"number of load steps must be a positive "
                           f"integer, got {steps!r}")
-    path = problem.load_steps(steps)
-    steps = problem.n_load_steps(steps)
-    start = time.perf_counter()
-    if rollers is None:  # 3D: rollers (the projection takes them)
-        rollers = problem_dim(problem) == 3
-    if geometry is None:
-        geometry = contact_geometry(problem, gap, rollers=rollers)
-    if use_candidates(candidates, condense, formulation, geometry.dim):
-        check_geometry(geometry, formulation)
-        return friction_on_candidates(solve_friction, problem, friction,
-                                      geometry, margin, dict(
-            steps=None if problem.load_path is not None else steps,
-            formulation=formulation, coulomb=coulomb, method=method,
-            tol=tol, max_iter=max_iter, options=options, gap_scale=(
-                gap_scale if gap_scale is not None else GAP_WEIGHT *
-                contact_stiffness(problem.K, geometry)), progress=progress,
-            on_step=on_step, keep_steps=keep_steps, backend=backend))
-    if formulation in FORMULATIONS:  # an unknown one: FrictionSystem says
-        check_geometry(geometry, formulation)
-    if steps > MAX_LOAD_STEPS:
-        raise SolverError(f"{steps} load steps: at most {MAX_LOAD_STEPS} are "
-                          "supported")
-    lumped_all = np.asarray(problem.M.sum(axis=1)).ravel()
-    mass = sla.splu(problem.M.tocsc())  # M⁻¹λ of every step
-    lumped = lumped_all[geometry.index]
-    stiffness = contact_stiffness(problem.K, geometry)
-    if condense is None:
-        condense = formulation != "thesis"
-    linear_solver = resolve(backend)  # unknown or not installed: raises
-    if not condense:  # K checked by SuperLU, Newton steps by SciPy's LU
-        linear_solver = "superlu"
-    if gap_scale is None:  # ∝ k̄: Φ's rows all in force units
-        gap_scale = GAP_WEIGHT * stiffness if condense else 1.0
-    reference_norm = stable_norm(problem.f)
-    tol_v = verification_tolerance(tol)
-    if condense:  # φ_FB's (26) unit-free, as in solve_frictionless
-        options = unit_free_options(method, options, reference_norm,
-                                    stiffness, geometry.gap)
-        if condensation is None:
-            condensation, local = condense_onto_contact(problem, geometry,
-                                                        linear_solver)
-        else:
-            local = geometry.compact()
-        system = condensed_system(geometry.dim, formulation)(
-            condensation.S, condensation.load(problem.f)[0], local, lumped,
-            friction, formulation, coulomb, gap_scale, stiffness)
-    else:
-        problem.check_stiffness()  # singular / indefinite K: input error
-        system = FrictionSystem(problem.K, problem.f, geometry, lumped,
-                                friction, formulation, coulomb, gap_scale,
-                                stiffness)
-    nc, idx = problem.n_contact, geometry.index
-    u = np.zeros(system.n)  # u, or u on Γc if condensed
-    w_previous = np.zeros(problem.n_dofs)  # K⁻¹f of the previous step
-    p_previous = np.zeros(system.m)
-    g = np.zeros(system.mt)
-    k = geometry.dim - 1
-    delivered = StepStream(problem, condensation if condense else None,
-                           on_step, keep_steps, steps)
-    records, failed = [], None
-    checks, stoppings, last = [], [], None
-    totals = dict(njev=0, nfev=0, nit=0)
-    message = "all load steps converged"
-    try:
-        for kappa, (load, factor, prescribed, stage) in enumerate(path, 1):
-            step_friction = friction * factor
-            f_step, step_norm = load, max(reference_norm, stable_norm(load))
-            du = None
-            if condense:
-                load, w = condensation.load(load)
-                # Start with the contact forces of the previous step, as the
-                # full system's Δu = 0 does: Γc moves as the unconstrained body.
-                du = (w - w_previous)[condensation.dofs]
-            x0 = system.initial_guess(g, du)
-            system.set_step(u, load, p_previous, step_friction, step_norm)
-            result = solve_ncp(system.residual, system.jacobian, x0,
-                               method=method, tol=tol, max_iter=max_iter,
-                               options=options, error=system.error,
-                               scale=system.scale)
-            result.stopping.update(test=STOPPING_TEST, step=kappa)
-            for key in totals:
-                totals[key] += int(result[key])
-            du, g_new = result.x[:system.n], system.traction(result.x)
-            check = _check_step(system, result.x, load, step_friction,
-                                p_previous, tol_v)
-            if result.success and not check["passed"]:
-                result.update(success=False, status=6, message=(
-                    f"{MESSAGES[6]}: {describe_failure(check)}"))
-            record = dict(step=kappa, converged=bool(result.success),
-                          verified=bool(check["passed"]),
-                          status=int(result.status),
-                          njev=int(result.njev), nfev=int(result.nfev),
-                          nit=int(result.nit), error=float(result.error),
-                          relative=float(result.stopping["relative"]),
-                          message=result.message,
-                          gradient_steps=int(sum(s == "gradient" for s in
-                                                 result.history["step"])))
-            if not result.success:
-                failed = kappa
-                record.update(n_contact=None, n_stick=None, n_slip=None,
-                              residual_history=list(map(float, result.history[
-                                  "residual"])))
-                records.append(record)
-                message = (f"load step {kappa} of {steps} did not converge: "
-                           f"{result.message}")
-                break
-            checks.append(check)
-            stoppings.append(result.stopping)
-            u = u + du
-            g = g_new
-            r = system._force(du)
-            lam = -r[system.n_rows]
-            pressure = np.maximum(lam, 0.0) / lumped
-            bound = step_friction * (p_previous if coulomb == "lagged"
-                                     else pressure)
-            scale = force_scale(step_norm, lam)  # as the stopping test's
-            threshold = 1e-9 * scale
-            contact = lam > threshold
-            # Slip: the traction is at the Coulomb bound (a node in contact with
-            # a zero bound slides freely); stick: strictly inside it.
-            size = np.abs(g) if k == 1 else \
-                np.linalg.norm(g.reshape(-1, k), axis=1)
-            at_bound = size >= bound * (1 - 1e-6) - 1e-12 * scale
-            slip_nodes = contact & at_bound
-            stick_nodes = contact & ~slip_nodes
-            ut = system.tangential(system.R @ u)
-            last = (kappa, u.copy(), w if condense else None, f_step, lam,
-                    _nodal(lumped, g), lumped * bound,
-                    result.history["residual"])
-            if condense:
-                w_previous = w
-            record.update(stage=int(stage), n_contact=int(contact.sum()),
-                          n_stick=int(stick_nodes.sum()),
-                          n_slip=int(slip_nodes.sum()),
-                          max_pressure=float(pressure.max(initial=0.0)))
-            records.append(record)
 
-            def full(values, fill=0.0, dtype=float):
-                values = np.asarray(values)
-                if k > 1 and values.size == k * len(idx):  # (Nca, d − 1)
-                    values = values.reshape(len(idx), k)
-                out = np.full((nc,) + values.shape[1:], fill, dtype=dtype)
-                out[idx] = values
-                return out
 
-            lam_all = full(lam)
-            delivered.add(dict(
-                load_factor=kappa / steps, stage=stage,
-                contact_force=lam_all, contact_pressure=full(pressure),
-                contact_pressure_consistent=mass.solve(lam_all) + 0.0,
-                friction_traction=full(g), friction_bound=full(bound),
-                tangential_displacement=full(ut, np.nan),
-                in_contact=full(contact, False, bool),
-                stick=full(stick_nodes, False, bool),
-                slip=full(slip_nodes, False, bool)),
-                u, w if condense else None, prescribed)
-            p_previous = pressure
-            if progress is not None:
-                progress(record)
-    finally:  # also on KeyboardInterrupt: deliver every completed step
-        delivered.flush()
-    verification = _final_check(problem, geometry, stiffness, tol_v,
-                                condensation if condense else None, last,
-                                checks)
-    if failed is None and not verification["passed"]:
-        failed = last[0]
-        message = (f"load step {failed} of {steps} fails verification "
-                   f"against the original K and f: "
-                   f"{describe_failure(verification)}")
-        records[-1].update(converged=False, verified=False, status=6,
-                           message=f"{MESSAGES[6]}: {message}",
-                           residual_history=list(map(float, last[-1])))
-    stopping = max(stoppings, key=lambda s: s["relative"]) if stoppings \
-        else dict(test=STOPPING_TEST, tol=float(tol), scale=np.nan,
-                  absolute=np.nan, relative=np.nan, step=None)
-    arrays = delivered.arrays()
-    normal = np.full((nc, geometry.normal.shape[1]), np.nan)
-    normal[idx] = geometry.normal
-    gap_all = np.full(nc, np.nan)
-    gap_all[idx] = geometry.gap
-    return FrictionResult(
-        success=failed is None, message=message, failed_step=failed,
-        steps=int(steps), steps_completed=delivered.count,
-        friction=float(friction), formulation=formulation, coulomb=coulomb,
-        method=method, gap_mode=geometry.mode, records=records,
-        condensed=bool(condense), gap=gap_all, normal=normal,
-        linear_solver=linear_solver, verification=verification,
-        stopping=stopping,
-        time=time.perf_counter() - start, **totals, **arrays)
-
+def _is_real(value):
+    return isinstance(value, (int, float, np.integer, np.floating)) \
+        and not isinstance(value, bool)
