@@ -5,6 +5,7 @@ used" for the METIS rows (the script exits non-zero otherwise), and every
 row's u agrees with the first AMD run on 1 rank (MUMPS's own ordering, an
 independent factorisation) to 1e-8 on 1 and 2 ranks."""
 
+import ctypes
 import shutil
 import subprocess
 import sys
@@ -18,6 +19,11 @@ REASON = missing() or next((f"{tool} not found: apt-get install petsc-dev "
                             "mpi-default-bin (docs/mpi.md)" for tool in
                             ("mpiexec", "mpicc", "gcc")
                             if shutil.which(tool) is None), None)
+if REASON is None:
+    try:
+        ctypes.CDLL("libmetis.so.5")
+    except OSError:
+        REASON = "libmetis.so.5 not found: apt-get install libmetis5"
 pytestmark = pytest.mark.skipif(REASON is not None, reason=str(REASON))
 
 
