@@ -75,6 +75,45 @@ def gap_from_obstacle(points, curve, body_normals, *, window=None,
     if not len(points):  # no free contact node: nothing to measure
         return np.zeros(0), np.zeros((0, 2)), np.zeros(0)
     n = len(points)
+    t, best_d2, end_d2 = _nearest_foot_points(points, curve, ts)
+    t = _window_ends(points, curve, t, best_d2, end_d2, (t0, t1),
+                     curve_ends, node_ids)
+    if np.isnan(t).any():
+        _fail(np.isnan(t), points, node_ids, lambda i: (
+            f"no finite obstacle point for t in [{t0:g}, {t1:g}]"))
+
+    foot_pt, normal, length, cosine = _contact_normals(points, curve, t,
+                                                       body)
+    if not (np.isfinite(length) & (length > 0)).all():
+        bad = ~(np.isfinite(length) & (length > 0))
+        _fail(bad, points, node_ids, lambda i: (
+            f"the obstacle has no tangent at its nearest point t = {t[i]:g}"))
+    grazing = ~(np.abs(cosine) >= min_cosine)
+    if grazing.any():
+        _fail(grazing, points, node_ids, lambda i: (
+            f"the obstacle normal at its nearest point t = {t[i]:g} is "
+            f"nearly perpendicular to the body normal "
+            f"(cosine {cosine[i]:.2g})"))
+    # ν from the body towards the obstacle: the obstacle is rigid and lies
+    # on one side of Γo, so one orientation of the curve's normal serves all
+    # nodes, the one most body normals agree with (a node past a corner of
+    # the body, whose own normal barely faces the obstacle, keeps the sign
+    # of its gap right).
+    side = np.sign(np.sum(cosine))
+    orient = np.sign(cosine) if side == 0 else np.full(n, side)
+    normal *= orient[:, None]
+    gap = np.sum((foot_pt - points) * normal, axis=1)
+    warn_penetration(gap, points, node_ids)
+    return gap, normal, t
+
+
+def _nearest_foot_points(points, curve, ts):
+    """Per node, the nearest foot point Γo(t) among the sampled brackets
+    of f(t) = (Γo(t) − B)·Γo'(t) (f < 0 then f ≥ 0: local minima of the
+    distance), refined by :func:`_refine`: t (NaN where none), its squared
+    distance (inf where none) and the squared distances to the window's
+    two ends, (n, 2)."""
+    n = len(points)
     with np.errstate(all="ignore"):
         c_pts = curve.point(ts)
         c_der = curve.derivative(ts)
@@ -114,7 +153,16 @@ def gap_from_obstacle(points, curve, body_normals, *, window=None,
     t[has] = root[best[has]]
     best_d2 = np.full(n, np.inf)
     best_d2[has] = d2[best[has]]
+    return t, best_d2, end_d2
 
+
+def _window_ends(points, curve, t, best_d2, end_d2, window, curve_ends,
+                 node_ids):
+    """t with an end of the window where it is closer than every interior
+    foot point; GapError unless that end is itself a foot point (distance
+    perpendicular to the obstacle)."""
+    t0, t1 = window
+    n = len(points)
     # An end of the window closer than every interior foot point wins; it is
     # accepted only if it is itself a foot point (distance perpendicular).
     end_d2 = np.where(np.isfinite(end_d2), end_d2, np.inf)
@@ -143,10 +191,13 @@ def gap_from_obstacle(points, curve, body_normals, *, window=None,
                         "larger search interval (--search-interval)")
             _fail(bad, points, node_ids, reason)
         t = np.where(at_end >= 0, t_end, t)
-    if np.isnan(t).any():
-        _fail(np.isnan(t), points, node_ids, lambda i: (
-            f"no finite obstacle point for t in [{t0:g}, {t1:g}]"))
+    return t
 
+
+def _contact_normals(points, curve, t, body):
+    """Γo(t), the obstacle's unit normals there (at a corner, the direction
+    from B to that point), the tangent lengths and ν·n with the body's
+    normals ``body`` (ν not yet oriented)."""
     with np.errstate(all="ignore"):
         foot_pt = curve.point(t)
         normal, length = _obstacle_normals(curve, t)
@@ -168,25 +219,4 @@ def gap_from_obstacle(points, curve, body_normals, *, window=None,
         normal[corner] = toward * np.where(flip == 0, 1.0, flip)[:, None]
         length[corner] = 1.0
         cosine = np.sum(normal * body, axis=1)
-    if not (np.isfinite(length) & (length > 0)).all():
-        bad = ~(np.isfinite(length) & (length > 0))
-        _fail(bad, points, node_ids, lambda i: (
-            f"the obstacle has no tangent at its nearest point t = {t[i]:g}"))
-    grazing = ~(np.abs(cosine) >= min_cosine)
-    if grazing.any():
-        _fail(grazing, points, node_ids, lambda i: (
-            f"the obstacle normal at its nearest point t = {t[i]:g} is "
-            f"nearly perpendicular to the body normal "
-            f"(cosine {cosine[i]:.2g})"))
-    # ν from the body towards the obstacle: the obstacle is rigid and lies
-    # on one side of Γo, so one orientation of the curve's normal serves all
-    # nodes, the one most body normals agree with (a node past a corner of
-    # the body, whose own normal barely faces the obstacle, keeps the sign
-    # of its gap right).
-    side = np.sign(np.sum(cosine))
-    orient = np.sign(cosine) if side == 0 else np.full(n, side)
-    normal *= orient[:, None]
-    gap = np.sum((foot_pt - points) * normal, axis=1)
-    warn_penetration(gap, points, node_ids)
-    return gap, normal, t
-
+    return foot_pt, normal, length, cosine
