@@ -427,7 +427,7 @@ def test_wrong_answer_fails_verification(block, system, monkeypatch):
 
 
 def test_wrong_friction_step_fails_verification(bar_problem, monkeypatch):
-    import solver.contact.friction as module
+    import solver.contact.friction_steps as module  # its solve_ncp
 
     perturbed(monkeypatch, module, lambda x: 1e-3 * np.abs(x).max())
     result = solve_friction(bar_problem, 0.5, steps=100,
