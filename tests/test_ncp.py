@@ -130,15 +130,15 @@ def test_dense_lcps_take_the_lapack_path(method, monkeypatch):
     """A dense 80×80 LCP (the Jacobian's density is above DENSE_FRACTION,
     so LAPACK factorises it): the solution satisfies the LCP, and the same
     problem with one dependent row reports a singular Jacobian (status 3)."""
-    from solver.ncp import newton
+    from solver.ncp import direction
 
     n = 80
-    assert n >= newton.DENSE_MIN_SIZE
+    assert n >= direction.DENSE_MIN_SIZE
 
     def no_superlu(*args, **kwargs):
         raise AssertionError("SuperLU called for a dense Jacobian")
 
-    monkeypatch.setattr(newton.sla, "splu", no_superlu)
+    monkeypatch.setattr(direction.sla, "splu", no_superlu)
     rng = np.random.default_rng(7)
     G = rng.normal(size=(n, n))
     M = G @ G.T + n * np.eye(n)

@@ -50,16 +50,13 @@ A. Fischer: A special Newton-type optimization method. Optimization 24
 
 import time
 
-import warnings
-
 import numpy as np
-import scipy.sparse as sp
-import scipy.linalg as sla_dense
-import scipy.sparse.linalg as sla
 from scipy.optimize import OptimizeResult
 
 from ..linalg.threads import single_blas_thread
-from .functions import NCP_FUNCTIONS, derivative_weights, phi
+from .direction import _newton_direction
+from .evaluation import _Counted
+from .functions import NCP_FUNCTIONS
 
 __all__ = ["solve_ncp", "MESSAGES", "DEFAULT_OPTIONS", "stable_norm"]
 
@@ -102,73 +99,6 @@ DEFAULT_OPTIONS = {
 }
 
 
-class _Counted:
-    """Wraps ``fun`` and ``jac`` to count evaluations (Table 1's metrics)."""
-
-    def __init__(self, fun, jac, kind):
-        self.fun, self.jac, self.kind = fun, jac, kind
-        self.nfev = self.njev = 0
-
-    def residual(self, x):
-        """Φ(x) and the pieces (E, A, B)."""
-        self.nfev += 1
-        E, A, B = (np.asarray(v, dtype=float) for v in self.fun(x))
-        return np.concatenate([E, phi(A, B, self.kind)]), (E, A, B)
-
-    def jacobian(self, x, parts, z=None, ties=0.0):
-        """J ∈ ∂_B Φ(x) (CSC) and the number of predicted contacts.
-
-        ``ties`` > 0 (φ_min only): rows with |A_i − B_i| ≤ ties take ∇A_i,
-        the element of ∂_B φ_min at an exact tie, where round-off may have
-        put A_i a hair above B_i (see :data:`TIE_RTOL`)."""
-        self.njev += 1
-        jac = self.jac(x)
-        structured = hasattr(jac, "combine")
-        JE, JA, JB = (None, jac.JA, jac.JB) if structured else jac
-        E, A, B = parts
-        za = zb = None
-        if self.kind == "fb":
-            gamma = (A == 0.0) & (B == 0.0)
-            if gamma.any():
-                direction = z(gamma) if z is not None else _default_z(
-                    JA, gamma)
-                za, zb = JA @ direction, JB @ direction
-        wa, wb, _ = derivative_weights(A, B, self.kind, za, zb)
-        if ties > 0 and self.kind == "min":
-            near = np.abs(A - B) <= ties
-            wa, wb = np.where(near, 1.0, wa), np.where(near, 0.0, wb)
-        if structured:
-            return jac.combine(wa, wb), int(np.count_nonzero(A > B))
-        if all(isinstance(block, np.ndarray) for block in (JE, JA, JB)):
-            rows = wa[:, None] * JA + wb[:, None] * JB  # dense blocks
-            return np.vstack([JE, rows]), int(np.count_nonzero(A > B))
-        rows = sp.diags(wa) @ sp.csr_matrix(JA) + sp.diags(wb) @ \
-            sp.csr_matrix(JB)
-        J = sp.vstack([sp.csr_matrix(JE), rows], format="csc")
-        return J, int(np.count_nonzero(A > B))
-
-
-def _default_z(JA, gamma):
-    """DFK's z with z_i = 1 on γ, read in the variables of A.
-
-    DFK (1996) pose x ≥ 0, F(x) ≥ 0, so ∇A_i = e_i and z = Σ_{i∈γ} e_i. For
-    general A we take z = Σ_{i∈γ} ∇A_i / ‖∇A_i‖², which gives ∇A_iᵀz = 1 when
-    the rows of γ are orthogonal (as for distinct contact nodes).
-    """
-    JA = sp.csr_matrix(JA)[np.flatnonzero(gamma)]
-    norms2 = np.asarray(JA.multiply(JA).sum(axis=1)).ravel()
-    norms2[norms2 == 0.0] = 1.0
-    return np.asarray(JA.T @ (1.0 / norms2)).ravel()
-
-
-#: Jacobians with more than this fraction of nonzeros (and at least
-#: DENSE_MIN_SIZE rows) are factorised by LAPACK instead of SuperLU: those of
-#: the systems condensed onto Γc (:class:`solver.linalg.Condensation`) are
-#: dense blocks, where SuperLU is several times slower than LAPACK.
-DENSE_FRACTION = 0.2
-DENSE_MIN_SIZE = 64
-
-
 #: φ_min's Jacobian is singular at some B-subdifferential elements of a
 #: degenerate formulation (the thesis's split (110)/(111) where p = 0):
 #: rows whose |A_i − B_i| is below this fraction of max(|A|, |B|) are then
@@ -176,32 +106,6 @@ DENSE_MIN_SIZE = 64
 #: counted). Without it, whether the thesis split runs on the 2-DOF bar
 #: depended on the round-off sign of g_t ≈ ±3e-17 in load step 37.
 TIE_RTOL = 1e-12
-
-
-def _newton_direction(J, F):
-    """Solve J d = −F (SuperLU, or LAPACK for a dense J, or the
-    structured Jacobian's own ``direction``); None if J is (numerically)
-    singular."""
-    if hasattr(J, "direction"):
-        return J.direction(F)
-    n = J.shape[0]
-    dense = isinstance(J, np.ndarray)
-    nnz = np.count_nonzero(J) if dense else J.nnz
-    if n >= DENSE_MIN_SIZE and nnz > DENSE_FRACTION * n * n:
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore", sla_dense.LinAlgWarning)
-            lu, piv = sla_dense.lu_factor(J if dense else J.toarray(),
-                                          overwrite_a=dense,
-                                          check_finite=False)
-            if not np.all(np.diagonal(lu)):
-                return None
-            d = sla_dense.lu_solve((lu, piv), -F, check_finite=False)
-    else:
-        try:
-            d = sla.splu(sp.csc_matrix(J) if dense else J).solve(-F)
-        except RuntimeError:  # "Factor is exactly singular"
-            return None
-    return d if np.all(np.isfinite(d)) else None
 
 
 #: A vector at least this long (a mesh-sized load or displacement) is
@@ -433,7 +337,7 @@ def _min_step(counted, x, F, parts, J, opts):
     d = _newton_direction(J, F)
     if d is None:
         return x, F, parts, dict(alpha=0.0, step="newton",
-                                line_search_failed=False, status=3)
+                                 line_search_failed=False, status=3)
     norm, alpha = stable_norm(F), 1.0
     while True:
         trial = x + alpha * d
@@ -481,4 +385,4 @@ def _fb_step(counted, x, F, parts, J, opts):
                 alpha=t, step=step, line_search_failed=False)
         t /= 2
     return x, F, parts, dict(alpha=0.0, step=step, line_search_failed=True,
-                            status=2)
+                             status=2)
