@@ -103,25 +103,14 @@ def worker(path, mode, hook):
     def factor(svc, payload, local):
         """The engine's factor command, with PERM_IN set through the hook
         before the KSP's set-up (which runs the analysis)."""
-        from petsc4py import PETSc
-
         if "order" not in payload or payload.get("schur") is None:
             return engine_factor(svc, payload, local)
+        from solver.mpi.factor import mumps_ksp
         from solver.mpi.schur import (interior_solves, mumps_memory,
                                       schur_complement, set_schur_is)
 
         obj = svc.objects[payload["key"]]
-        if "ksp" in obj:
-            obj.pop("ksp").destroy()
-        ksp = PETSc.KSP().create(comm=obj["A"].getComm())
-        ksp.setOperators(obj["A"])
-        ksp.setType("preonly")
-        pc = ksp.getPC()
-        pc.setType("cholesky")
-        pc.setFactorSolverType("mumps")
-        ksp.setOptionsPrefix(f"{payload['key'].lower()}_")
-        ksp.setFromOptions()
-        obj["ksp"] = ksp
+        ksp, pc = mumps_ksp(obj, payload["key"])
         pc.setFactorSetUpSolverType()
         F = pc.getFactorMatrix()
         set_schur_is(F, payload["schur"], obj["A"].getComm())
@@ -218,14 +207,14 @@ def main():
                 diff = float(np.abs(u - reference).max()
                              / np.abs(reference).max())
                 rank0 = out["seconds"][0]
+                solves = rank0["condensed_rhs"] + rank0["interior_solve"]
+                peaks = " / ".join(f"{m:.0f}" for m in out["peak_rss_mb"])
                 if mode == "metis" and not out.get("user_ordering"):
                     raise SystemExit("MUMPS did not use the METIS ordering")
                 print(f"{round_:>5} {mode:>8} {ranks:>5} {out['time']:7.2f} "
                       f"{out['ordering']:7.2f} {rank0['factor']:8.2f} "
-                      f"{rank0['condensed_rhs'] + rank0['interior_solve']:8.2f}"
-                      f" {out.get('entries', 0):>11,} "
-                      f"{' / '.join(f'{m:.0f}' for m in out['peak_rss_mb']):>18}"
-                      f" {diff:9.1e}", flush=True)
+                      f"{solves:8.2f} {out.get('entries', 0):>11,} "
+                      f"{peaks:>18} {diff:9.1e}", flush=True)
                 if args.log:
                     with open(args.log, "a") as stream:
                         stream.write(json.dumps(dict(

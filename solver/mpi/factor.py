@@ -40,9 +40,9 @@ SCHUR_BLOCK = None
 class PetscFactor(Factor):
     """Rank 0's handle of a distributed factorisation of the reduced SPD
     ``A`` (scipy sparse, or a function returning it: then rank 0 holds A
-    only while padding it, not during the factorisation) with the Schur complement on ``schur`` (reduced
-    DOFs, optional). ``key`` names it in the service's objects; ``block``
-    as :data:`SCHUR_BLOCK`."""
+    only while padding it, not during the factorisation) with the Schur
+    complement on ``schur`` (reduced DOFs, optional). ``key`` names it in
+    the service's objects; ``block`` as :data:`SCHUR_BLOCK`."""
 
     backend = "petsc-mumps"
 
@@ -150,16 +150,12 @@ def _scatter(service, payload, local):
     service.objects[payload["key"]] = dict(A=A, x=x, b=b)
 
 
-@command("factor")
-def _factor(service, payload, local):
-    """A MUMPS Cholesky of the scattered A, with the Schur set
-    ``payload["schur"]`` (padded rows) if given: returns S on rank 0."""
+def mumps_ksp(obj, key):
+    """A new KSP (``preonly``, PC ``cholesky`` by MUMPS, options prefix
+    ``key_``) on the scattered ``obj["A"]``, kept as ``obj["ksp"]`` (an
+    older one destroyed); not set up yet. Returns (ksp, pc)."""
     from petsc4py import PETSc
 
-    from .schur import (interior_solves, mumps_memory, schur_complement,
-                        set_schur_is)
-
-    obj = service.objects[payload["key"]]
     if "ksp" in obj:
         obj.pop("ksp").destroy()
     ksp = PETSc.KSP().create(comm=obj["A"].getComm())
@@ -168,9 +164,22 @@ def _factor(service, payload, local):
     pc = ksp.getPC()
     pc.setType("cholesky")
     pc.setFactorSolverType("mumps")
-    ksp.setOptionsPrefix(f"{payload['key'].lower()}_")
+    ksp.setOptionsPrefix(f"{key.lower()}_")
     ksp.setFromOptions()
-    obj["ksp"], S = ksp, None
+    obj["ksp"] = ksp
+    return ksp, pc
+
+
+@command("factor")
+def _factor(service, payload, local):
+    """A MUMPS Cholesky of the scattered A, with the Schur set
+    ``payload["schur"]`` (padded rows) if given: returns S on rank 0."""
+    from .schur import (interior_solves, mumps_memory, schur_complement,
+                        set_schur_is)
+
+    obj = service.objects[payload["key"]]
+    ksp, pc = mumps_ksp(obj, payload["key"])
+    S = None
     if payload.get("schur") is not None:
         pc.setFactorSetUpSolverType()
         set_schur_is(pc.getFactorMatrix(), payload["schur"],
