@@ -28,6 +28,7 @@ import scipy.linalg as la
 
 from ..linalg.base import Factor
 from .layout import gather_vector, scatter_matrix, scatter_vector
+from .pivots import schur_cholesky
 from .service import EngineError, command
 
 __all__ = ["PetscFactor", "SCHUR_BLOCK"]
@@ -51,6 +52,7 @@ class PetscFactor(Factor):
         self.service, self.layout, self.key = service, layout, key
         self.block, self._cho, self._rows = block, None, None
         A_pad = layout.matrix(A() if callable(A) else A)
+        self.scale = float(A_pad.diagonal().max())  # for the pivot test
         del A  # a callable's K lived only while padding
         self.n = len(layout.red_to_pad)
         service.mark("pad")
@@ -81,12 +83,8 @@ class PetscFactor(Factor):
             return self.S
         self._rows = self.layout.red_to_pad[self.schur_dofs]
         if self.block is None:  # MUMPS's Schur mode
-            S = self._factor(self._rows)
-            try:
-                self._cho = la.cho_factor(0.5 * (S + S.T))
-            except (la.LinAlgError, ValueError):  # K singular or indefinite
-                raise EngineError("MUMPS could not factorise K (singular: "
-                                  "is the body supported?)") from None
+            S = self._factor(self._rows)  # K_ii checked by MUMPS
+            self._cho = schur_cholesky(S, self.scale)
         else:
             G = self.service.call("inverse_block", dict(
                 key=self.key, rows=self._rows, block=int(self.block)))
@@ -177,18 +175,20 @@ def _factor(service, payload, local):
     from .schur import (interior_solves, mumps_memory, schur_complement,
                         set_schur_is)
 
+    from .pivots import check_factorization, watch_pivots
+
     obj = service.objects[payload["key"]]
     ksp, pc = mumps_ksp(obj, payload["key"])
     S = None
+    pc.setFactorSetUpSolverType()
+    watch_pivots(pc.getFactorMatrix())
     if payload.get("schur") is not None:
-        pc.setFactorSetUpSolverType()
         set_schur_is(pc.getFactorMatrix(), payload["schur"],
                      obj["A"].getComm())
     ksp.setUp()
     F = pc.getFactorMatrix()
-    if F.getType() == "mumps":  # a factorisation that failed has none
-        service.objects.setdefault("counts", {})["mumps_mb"] = \
-            mumps_memory(F)
+    check_factorization(F)  # singular or indefinite K: ProblemError
+    service.objects.setdefault("counts", {})["mumps_mb"] = mumps_memory(F)
     if payload.get("schur") is not None:
         if service.root:
             S = schur_complement(F)
@@ -201,9 +201,9 @@ def _solve(service, payload, local):
     obj = service.objects[payload["key"]]
     scatter_vector(service, local, obj["b"])
     obj["ksp"].solve(obj["b"], obj["x"])
-    if obj["ksp"].getConvergedReason() < 0:  # the factorisation failed
-        raise EngineError("MUMPS could not factorise K (singular: is the "
-                          "body supported?)")
+    if obj["ksp"].getConvergedReason() < 0:  # checked factor: not expected
+        raise EngineError(f"MUMPS's solve failed (KSP reason "
+                          f"{obj['ksp'].getConvergedReason()})")
     return gather_vector(service, obj["x"])
 
 

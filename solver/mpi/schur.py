@@ -153,9 +153,9 @@ def _interior(service, obj, rhs, rows, values):
     rhs.axpy(-1.0, t)  # rhs − K e(x_c); its c rows are ignored
     t.destroy()
     obj["ksp"].solve(rhs, obj["x"])
-    if obj["ksp"].getConvergedReason() < 0:
-        raise EngineError("MUMPS could not factorise K (singular: is the "
-                          "body supported?)")
+    if obj["ksp"].getConvergedReason() < 0:  # checked factor: not expected
+        raise EngineError(f"MUMPS's solve failed (KSP reason "
+                          f"{obj['ksp'].getConvergedReason()})")
     obj["x"].getArray()[rows[mine] - a] = values[mine]
     return obj["x"]
 

@@ -6,7 +6,8 @@ payload to every rank (:meth:`Service.call`), every other rank waits idle
 in :meth:`Service.serve` and runs the same handler, and large data (K, load
 vectors) travel inside the handler by scatter and gather. A handler's
 exception on any rank is gathered after it and raised on rank 0 as one
-:class:`EngineError` (the CLI then prints one line and exits with its code;
+:class:`EngineError`, or :class:`EngineInputError` for bad input (the CLI
+then prints one line and exits with its code;
 the workers return to waiting), so a fault never leaves a rank blocked in a
 later collective. ``stop`` ends the workers with rank 0's exit code; a
 worker that loses rank 0 aborts the communicator (no hang).
@@ -15,7 +16,9 @@ worker that loses rank 0 aborts the communicator (no hang).
 import sys
 import time
 
-__all__ = ["EngineError", "Service", "command", "HANDLERS", "memory_mb"]
+from ..errors import ProblemError, SolverError
+
+__all__ = ["EngineError", "EngineInputError", "Service", "command", "HANDLERS", "memory_mb"]
 
 #: name -> handler(service, payload, local); filled by :func:`command`.
 HANDLERS = {}
@@ -42,6 +45,12 @@ def memory_mb():
 
 class EngineError(RuntimeError):
     """A collective step failed on some rank (message names the rank)."""
+
+
+class EngineInputError(EngineError, ProblemError):
+    """A collective step found the input bad (a handler raised a
+    :class:`~solver.errors.SolverError`, e.g. K not positive definite):
+    the command line's one line and exit code 2, as the serial engine's."""
 
 
 def command(name):
@@ -104,8 +113,10 @@ class Service:
         clock, cpu = time.perf_counter(), time.process_time()
         try:
             out, error = HANDLERS[name](self, payload, local), None
+        except SolverError as exc:  # bad input: its own message
+            out, error = None, (True, str(exc))
         except Exception as exc:  # noqa: BLE001 - reported collectively
-            out, error = None, f"{type(exc).__name__}: {exc}"
+            out, error = None, (False, f"{type(exc).__name__}: {exc}")
         entry = self.timings.setdefault(name, [0, 0.0, 0.0])
         entry[0] += 1
         entry[1] += time.perf_counter() - clock
@@ -115,7 +126,9 @@ class Service:
         if self.root:
             failed = [(r, e) for r, e in enumerate(errors) if e]
             if failed:
-                rank, text = failed[0]
+                rank, (bad_input, text) = failed[0]
+                if bad_input:
+                    raise EngineInputError(text)
                 raise EngineError(f"{name} failed on rank {rank} of "
                                   f"{self.size}: {' '.join(text.split())}")
         return out

@@ -1,0 +1,116 @@
+r"""Is K positive definite? MUMPS's answer after its factorisation.
+
+The serial backends refuse a K that is singular or indefinite from the
+pivots of their LDLᵀ (:func:`solver.linalg.base.check_pivots`: a pivot
+≤ :data:`~solver.linalg.PIVOT_RTOL` of the largest). MUMPS factorises
+the padded K̂ as a general symmetric matrix (SYM = 2, which is
+right with a Schur set on several ranks, docs/mpi.md) and does not stop
+at such pivots, so without a check a floating body "converged" on the
+engine. Here the same test is asked of MUMPS (Users' Guide 5.5,
+sections 5.1.2, 6.1-6.2 and 8):
+
+- **null pivots**: ICNTL(24) = 1 with CNTL(3) = PIVOT_RTOL: a pivot
+  below PIVOT_RTOL‖K̂‖ is counted, INFOG(28);
+- **negative pivots**: the inertia of the LDLᵀ, INFOG(12);
+- **errors**: INFOG(1) < 0, with INFOG(2) (−10: numerically singular;
+  −8, −9, −13, −19, −20: memory).
+
+Under a Schur set these count the eliminated unknowns only; S itself is
+factorised by a dense Cholesky on rank 0
+(:class:`~solver.mpi.factor.PetscFactor`), which fails for the rest.
+"""
+
+import ctypes
+
+from ..errors import ProblemError
+from ..linalg.base import PIVOT_RTOL
+
+__all__ = ["watch_pivots", "check_factorization", "mumps_infog",
+           "schur_cholesky"]
+
+#: INFOG(1) values that mean MUMPS ran short of memory.
+MEMORY_ERRORS = (-8, -9, -13, -19, -20)
+
+
+def _lib_and_int():
+    from .schur import _int_type, _lib
+
+    return _lib(), _int_type()
+
+
+def watch_pivots(F):
+    """Ask the (not yet factorised) MUMPS factor ``F`` to count pivots
+    below PIVOT_RTOL‖K̂‖ (ICNTL(24) = 1, CNTL(3))."""
+    lib, c_int = _lib_and_int()
+    lib.MatMumpsSetCntl.restype = ctypes.c_int
+    code = lib.MatMumpsSetIcntl(ctypes.c_void_p(F.handle), c_int(24),
+                                c_int(1))
+    code = code or lib.MatMumpsSetCntl(ctypes.c_void_p(F.handle), c_int(3),
+                                       ctypes.c_double(PIVOT_RTOL))
+    if code:
+        raise RuntimeError(f"PETSc's MatMumpsSetIcntl/Cntl failed ({code})")
+
+
+def mumps_infog(F, *indices):
+    """INFOG(i) of the MUMPS factor ``F`` for each index (global values,
+    the same on every rank)."""
+    lib, c_int = _lib_and_int()
+    out = []
+    for index in indices:
+        value = c_int()
+        if lib.MatMumpsGetInfog(ctypes.c_void_p(F.handle), c_int(index),
+                                ctypes.byref(value)):
+            raise RuntimeError("PETSc's MatMumpsGetInfog failed")
+        out.append(int(value.value))
+    return out
+
+
+def check_factorization(F):
+    """Raise :class:`~solver.errors.ProblemError` (bad input: the CLI's
+    exit 2) if MUMPS found K singular or indefinite, RuntimeError if it
+    failed otherwise (with its INFOG(1), INFOG(2))."""
+    error, detail, negative, null = mumps_infog(F, 1, 2, 12, 28)
+    if error == -10 or (error >= 0 and null > 0):
+        count = f"{null} pivot(s)" if null > 0 else "a pivot"
+        raise ProblemError(
+            "K_data: K is not positive definite (singular stiffness: is the "
+            f"body supported?): {count} of MUMPS's LDLᵀ factorisation below "
+            f"{PIVOT_RTOL:g} of ‖K‖")
+    if error >= 0 and negative > 0:
+        raise ProblemError(
+            f"K_data: K is not positive definite: it has {negative} negative "
+            "eigenvalue(s) (the inertia of MUMPS's LDLᵀ factorisation)")
+    if error in MEMORY_ERRORS:
+        raise RuntimeError(
+            f"MUMPS ran out of memory (INFOG(1) = {error}, INFOG(2) = "
+            f"{detail}): run on more ranks or machines")
+    if error < 0:
+        raise RuntimeError(f"MUMPS failed: INFOG(1) = {error}, INFOG(2) = "
+                           f"{detail} (MUMPS Users' Guide, section 8)")
+
+
+def schur_cholesky(S, scale):
+    """The Cholesky factor (scipy's ``cho_factor``) of the Schur
+    complement S from MUMPS, whose pivots are the last ones of K's LDLᵀ:
+    :class:`~solver.errors.ProblemError` if one is ≤ PIVOT_RTOL ``scale``
+    (the largest diagonal entry of K, ≥ its largest pivot) or negative,
+    as the serial backends' test."""
+    import numpy as np
+    import scipy.linalg as la
+
+    try:
+        cho = la.cho_factor(0.5 * (S + S.T))
+    except (la.LinAlgError, ValueError):
+        raise ProblemError(
+            "K_data: K is not positive definite: its Schur complement on "
+            "the contact normal rows is not (MUMPS's S, dense Cholesky)"
+        ) from None
+    pivots = np.diag(cho[0]) ** 2
+    small = int(np.count_nonzero(pivots <= PIVOT_RTOL * scale))
+    if small:
+        raise ProblemError(
+            "K_data: K is not positive definite (singular stiffness: is the "
+            f"body supported?): {small} pivot(s) of its Schur complement on "
+            f"the contact normal rows at round-off level "
+            f"({pivots.min() / scale:.2g} of K's largest diagonal entry)")
+    return cho

@@ -1,0 +1,133 @@
+"""The PETSc engine refuses a K that is not positive definite, as the
+serial engine does (solver/mpi/pivots.py): before, MUMPS's LDLᵀ went on
+through a floating body and the run "converged" (exit 0), and an
+indefinite K ended as an "internal error" (exit 1).
+
+The reference is the serial engine's own refusal (its LDLᵀ pivots,
+solver.linalg.base.check_pivots): the same ``ProblemError`` text up to
+the colon after "positive definite", on 1 and 2 ranks. A 2D block pressed
+on an obstacle with its top moved down only (no u_x prescribed) floats
+in x. Three places where the defect shows:
+
+- flat obstacle: the rigid mode has no normal component at the contact
+  nodes, so K_ii (the unknowns MUMPS eliminates) is singular: MUMPS's null
+  pivot count, INFOG(28);
+- the same with K − 10⁻⁶ max(diag K)·I: one negative pivot in K_ii, the
+  inertia INFOG(12);
+- curved obstacle: the mode moves the contact nodes along their normals,
+  so K_ii is regular and the Schur complement S is singular: the pivots
+  of its dense Cholesky on rank 0.
+
+The supported block (one node's u_x fixed) solves on both engines.
+"""
+
+import json
+
+import numpy as np
+import pytest
+import scipy.sparse as sp
+
+from solver import ParametricCurve, save_problem, solve_frictionless
+from solver.errors import ProblemError
+from tet_elasticity import mesh_problem, rectangle, stiffness
+from test_mpi import REASON, mpirun
+
+pytestmark = pytest.mark.skipif(REASON is not None, reason=str(REASON))
+
+CASES = {"flat": ("0*t - 0.001", 0.0), "flat-shifted": ("0*t - 0.001", 1e-6),
+         "curved": ("-0.5*t**2", 0.0), "supported": ("-0.5*t**2", 0.0)}
+
+
+def block(obstacle, shift, supported=False):
+    nodes, cells = rectangle((8, 4))
+    nodes[:, 0] -= 0.5
+    x, y = nodes.T
+    prescribed = np.full(nodes.shape, np.nan)
+    prescribed[np.isclose(y, 1.0), 1] = -0.02
+    if supported:
+        prescribed[np.isclose(y, 1.0) & np.isclose(x, -0.5), 0] = 0.0
+    contact = np.flatnonzero(np.isclose(y, 0.0))
+    contact = contact[np.argsort(x[contact])]
+    p = mesh_problem(nodes, cells, stiffness(nodes, cells, 100.0, 0.3),
+                     prescribed, contact,
+                     np.column_stack([contact[:-1], contact[1:]]))
+    p.obstacle = ParametricCurve("t", obstacle)
+    p.meta = dict(E=100.0, nu=0.3, plane="strain", mesh="rectangle 8x4",
+                  load="top moved down by 0.02")
+    if shift:
+        p.K = (p.K - shift * p.K.diagonal().max()
+               * sp.identity(p.n_dofs)).tocsr()
+    return p
+
+
+DRIVER = """
+import json, sys
+from solver import load_problem
+from solver.errors import ProblemError
+from solver.mpi import solve_frictionless
+from solver.mpi.engine import spmd
+
+def main(paths, out):
+    said = {}
+    for name, path in paths.items():
+        try:
+            r = solve_frictionless(load_problem(path), method="min")
+            said[name] = ["solved", bool(r.success)]
+        except Exception as exc:
+            said[name] = [str(exc), isinstance(exc, ProblemError)]
+    json.dump(said, open(out, "w"))
+
+spmd(main, json.loads(sys.argv[1]), sys.argv[2])
+"""
+
+
+@pytest.fixture(scope="module")
+def paths(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("pivots")
+    out = {}
+    for name, (obstacle, shift) in CASES.items():
+        out[name] = str(save_problem(folder / f"{name}.npz", block(
+            obstacle, shift, supported=name == "supported")))
+    return out
+
+
+def serial_refusal(path):
+    from solver import load_problem
+
+    try:
+        solve_frictionless(load_problem(path), method="min")
+    except ProblemError as exc:
+        return str(exc)
+    return None
+
+
+@pytest.mark.parametrize("n", [1, 2])
+def test_engine_refuses_what_serial_refuses(paths, tmp_path, n):
+    out = tmp_path / "said.json"
+    code, _, err = mpirun(n, ["-c", DRIVER, json.dumps(paths), out])
+    assert code == 0, err[-3000:]
+    said = json.loads(out.read_text())
+    assert said["supported"] == ["solved", True]
+    assert serial_refusal(paths["supported"]) is None
+    for name in ("flat", "flat-shifted", "curved"):
+        serial = serial_refusal(paths[name])
+        assert serial is not None, name
+        text, input_error = said[name]
+        assert input_error, said[name]  # the CLI's exit 2
+        head = serial.split(":")[:2]
+        assert text.split(":")[:2] == head, (name, text, serial)
+        singular = "singular stiffness" in serial
+        assert ("singular stiffness" in text) == singular, (text, serial)
+        if not singular:
+            assert "1 negative eigenvalue" in text and "1 negative" in serial
+
+
+def test_command_line_exit_2_one_line(paths, tmp_path):
+    """``mpiexec -n 2 python -m solver X --engine petsc`` on the floating
+    block: exit 2, one line, no traceback, no output folder."""
+    code, _, err = mpirun(2, ["-m", "solver", paths["curved"], "--engine",
+                              "petsc", "-o", tmp_path / "out"])
+    lines = [ln for ln in err.splitlines() if ln.startswith("error")]
+    assert code == 2 and len(lines) == 1, err
+    assert "is the body supported?" in lines[0] and "Traceback" not in err
+    assert not (tmp_path / "out").exists()
