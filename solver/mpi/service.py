@@ -18,7 +18,8 @@ import time
 
 from ..errors import ProblemError, SolverError
 
-__all__ = ["EngineError", "EngineInputError", "Service", "command", "HANDLERS", "memory_mb"]
+__all__ = ["EngineError", "EngineInputError", "Service", "command",
+           "HANDLERS", "memory_mb"]
 
 #: name -> handler(service, payload, local); filled by :func:`command`.
 HANDLERS = {}
