@@ -21,6 +21,7 @@ import scipy.sparse as sp
 
 from ..contact.frictionless import FrictionlessSystem
 from ..contact.geometry import rotate_stiffness
+from ..linalg.base import PIVOT_RTOL
 from ..ncp import solve_ncp
 from .layout import gather_vector, scatter_matrix, scatter_vector
 from .service import EngineError, command
@@ -117,6 +118,9 @@ def solve_full(service, layout, problem, geometry, method, tol, max_iter,
     service.call("newton_setup", dict(ksp=ksp, bsize=layout.dim,
                                       scale=float(K_hat.diagonal().mean())),
                  (layout.matrix(K_hat), modes))
+    # K positive definite? As the serial check_stiffness, on all ranks
+    service.call("check_spd" if ksp == "mumps" else "check_spd_cg",
+                 dict(key="newton"))
     owner = _Owner(service, layout, system)
     result = solve_ncp(system.residual, lambda x: _Jacobian(owner),
                        np.zeros(problem.n_dofs), method=method, tol=tol,
@@ -196,8 +200,7 @@ def _newton_solve(service, payload, local):
     ksp.solve(b, x)
     its = ksp.getIterationNumber()
     if ksp.getConvergedReason() < 0 and ksp.getType() == "cg":
-        ksp, its = _direct(obj, M), 0  # GAMG-CG failed: MUMPS, counted
-        ksp.solve(b, x)
+        ksp, its = _direct_solve(obj, M, b, x), 0  # CG failed: counted
     if ksp.getConvergedReason() < 0:
         raise EngineError(f"KSP failed on a Newton system (reason "
                           f"{ksp.getConvergedReason()})")
@@ -216,6 +219,66 @@ def _direct(obj, M):
         ksp.getPC().setFactorSolverType("mumps")
     obj["direct"].setOperators(M)
     return obj["direct"]
+
+
+def _direct_solve(obj, M, b, x):
+    """Solve by :func:`_direct`; a Newton system that is not positive
+    definite means K is not (it is a principal submatrix of K̂ plus a
+    non-negative diagonal): ProblemError, as the serial engine's."""
+    from .pivots import check_factorization, watch_pivots
+
+    ksp = _direct(obj, M)
+    pc = ksp.getPC()
+    pc.setFactorSetUpSolverType()
+    watch_pivots(pc.getFactorMatrix())
+    ksp.setUp()
+    check_factorization(pc.getFactorMatrix())
+    ksp.solve(b, x)
+    return ksp
+
+
+#: The CG test of K: relative residual and iterations.
+CHECK_RTOL, CHECK_MAX_IT = 1e-8, 2000
+
+
+@command("check_spd_cg")
+def _check_spd_cg(service, payload, local):
+    """K̂ x = b (b random) by the Newton systems' CG + GAMG: CG meets a
+    direction of non-positive curvature on an indefinite K̂ and cannot
+    converge on a singular one (b has a part in its null space); either
+    is refused as the serial engine refuses K (no factorisation: the
+    ``--ksp gamg`` path has none). A test, not a proof: an SPD K̂ on
+    which CG fails here would fail in the Newton solves too."""
+    from ..errors import ProblemError
+
+    obj = service.objects[payload["key"]]
+    ksp, A, x, b = obj["ksp"], obj["A"], obj["x"], obj["b"]
+    rng = np.random.default_rng(20 + service.rank)
+    b.setArray(rng.standard_normal(b.getLocalSize()))
+    x.set(0.0)
+    from petsc4py import PETSc
+
+    norm = ksp.getNormType()
+    ksp.setOperators(A)
+    ksp.setNormType(PETSc.KSP.NormType.UNPRECONDITIONED)  # of K x − b
+    ksp.setTolerances(rtol=CHECK_RTOL, max_it=CHECK_MAX_IT)
+    ksp.solve(b, x)
+    reason = ksp.getConvergedReason()
+    ksp.setTolerances(rtol=CG_RTOL, max_it=5000)
+    ksp.setNormType(norm)
+    if reason < 0:
+        raise ProblemError(
+            "K_data: K is not positive definite (singular or indefinite: "
+            "is the body supported?): CG + GAMG on K x = b, b random, "
+            f"failed (PETSc KSP reason {reason})")
+    # GAMG's coarse solve inverts an exact null mode (its near-null space
+    # holds the rigid modes): then CG converges with x of size ~ 1/0
+    ratio = x.norm() * A.norm(PETSc.NormType.INFINITY) / b.norm()
+    if ratio > 1.0 / PIVOT_RTOL:
+        raise ProblemError(
+            "K_data: K is not positive definite (singular stiffness: is the "
+            f"body supported?): K x = b, b random, gave ‖K‖‖x‖/‖b‖ = "
+            f"{ratio:.2g}, a condition number above {1 / PIVOT_RTOL:.0e}")
 
 
 @command("ksp_iterations")
