@@ -39,26 +39,44 @@ class StepWriter:
         self.arrays, self.timesteps = {}, []
 
     def __call__(self, fields):
-        """One completed step (called in step order)."""
-        k = self.count
-        for key, value in fields.items():
-            value = np.asarray(value)
-            if key not in self.arrays:
-                self.arrays[key] = npy.open_memmap(
-                    os.path.join(self.scratch, key + ".npy"), mode="w+",
-                    dtype=value.dtype, shape=(self.total,) + value.shape)
-            self.arrays[key][k] = value
-        if self.problem.kind == "mesh":
-            name = os.path.join("steps", f"step_{k + 1:04d}.vtu")
-            os.makedirs(os.path.join(self.folder.path, "steps"),
-                        exist_ok=True)
-            import meshio
+        """One completed step (called in step order). Interrupted before
+        it is counted (Ctrl-C, SIGTERM), it leaves no step file behind: the
+        folder then lists exactly the steps of ``result.npz``."""
+        k, name = self.count, None
+        try:
+            for key, value in fields.items():
+                value = np.asarray(value)
+                if key not in self.arrays:
+                    self.arrays[key] = npy.open_memmap(
+                        os.path.join(self.scratch, key + ".npy"), mode="w+",
+                        dtype=value.dtype, shape=(self.total,) + value.shape)
+                self.arrays[key][k] = value
+            if self.problem.kind == "mesh":
+                name = os.path.join("steps", f"step_{k + 1:04d}.vtu")
+                os.makedirs(os.path.join(self.folder.path, "steps"),
+                            exist_ok=True)
+                import meshio
 
-            with atomic_path(self.folder.file(name)) as tmp:
-                meshio.write(tmp, step_mesh(self.problem, fields),
-                             file_format="vtu")
-            self.timesteps.append((float(fields["load_factor"]), name))
-        self.count += 1
+                with atomic_path(self.folder.file(name)) as tmp:
+                    meshio.write(tmp, step_mesh(self.problem, fields),
+                                 file_format="vtu")
+                self.timesteps.append((float(fields["load_factor"]), name))
+            self.count = k + 1
+        except BaseException:
+            if self.count == k and name is not None:
+                self._forget(name)
+            raise
+
+    def _forget(self, name):
+        """Remove the file of a step that was not counted."""
+        if self.timesteps and self.timesteps[-1][1] == name:
+            self.timesteps.pop()
+        if name in self.folder.files:
+            self.folder.files.remove(name)
+        try:
+            os.remove(os.path.join(self.folder.path, name))
+        except OSError:
+            pass
 
     def finish(self, extra):
         """Write ``result.npz`` (the completed steps and ``extra`` arrays)
