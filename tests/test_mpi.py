@@ -21,6 +21,7 @@ import os
 import shutil
 import subprocess
 import sys
+import time
 
 import numpy as np
 import pytest
@@ -269,3 +270,34 @@ def test_worker_waits_idle(tmp_path):
     code, _, err = mpirun(2, ["-c", IDLE_DRIVER, out])
     assert code == 0, err[-3000:]
     assert float(out.read_text()) < 0.5
+
+
+HALF_DRIVER = """
+import solver.mpi.service as S
+S.ABORT_AFTER = 2.0
+from solver.mpi.service import command
+from solver.mpi.engine import service, spmd
+
+@command("half_fails")
+def _half(svc, payload, local):
+    if svc.rank == {failing}:
+        raise RuntimeError("rank {failing} broke")
+    svc.comm.allreduce(1)  # the others wait here for the failed rank
+
+spmd(lambda: service().call("half_fails"))
+"""
+
+
+@pytest.mark.parametrize("failing", [0, 1])
+def test_failure_inside_a_collective_aborts_not_hangs(failing):
+    """A command that fails on one rank while the other waits in a
+    collective call (as inside PETSc) would hang both forever: the failed
+    rank aborts every rank after ABORT_AFTER (2 s here) with one line that
+    names the command, the rank and the error; no traceback."""
+    clock = time.monotonic()
+    code, _, err = mpirun(2, ["-c", HALF_DRIVER.replace(
+        "{failing}", str(failing))], timeout=120)
+    lines = [ln for ln in err.splitlines() if ln.startswith("error")]
+    assert code != 0 and time.monotonic() - clock < 60, err
+    assert len(lines) == 1 and f"on rank {failing} of 2" in lines[0], err
+    assert f"rank {failing} broke" in lines[0] and "Traceback" not in err

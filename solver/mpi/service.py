@@ -7,10 +7,12 @@ in :meth:`Service.serve` and runs the same handler, and large data (K, load
 vectors) travel inside the handler by scatter and gather. A handler's
 exception on any rank is gathered after it and raised on rank 0 as one
 :class:`EngineError`, or :class:`EngineInputError` for bad input (the CLI
-then prints one line and exits with its code;
-the workers return to waiting), so a fault never leaves a rank blocked in a
-later collective. ``stop`` ends the workers with rank 0's exit code; a
-worker that loses rank 0 aborts the communicator (no hang).
+then prints one line and exits with its code; the workers return to
+waiting), so a fault never leaves a rank blocked in a later collective. A
+rank that failed while the others are stuck in one of PETSc's collective
+calls aborts them all after :data:`ABORT_AFTER` s. ``stop`` ends the
+workers with rank 0's exit code; a worker that loses rank 0 aborts the
+communicator (no hang).
 """
 
 import sys
@@ -26,6 +28,10 @@ HANDLERS = {}
 
 #: MPI tag of the commands; a waiting worker polls at most every POLL s.
 TAG, POLL = 2020, 1e-3
+
+#: Seconds a rank whose command failed waits for the others before it
+#: aborts every rank (:meth:`Service._rendezvous`).
+ABORT_AFTER = 60.0
 
 
 def memory_mb():
@@ -77,6 +83,7 @@ class Service:
         self.comm = comm or MPI.COMM_WORLD
         self.rank, self.size = self.comm.Get_rank(), self.comm.Get_size()
         self.objects, self.timings, self.memory = {}, {}, {}
+        self._sync = None
 
     def mark(self, stage):
         """Record this rank's memory after ``stage`` (:attr:`memory`)."""
@@ -123,6 +130,7 @@ class Service:
         entry[1] += time.perf_counter() - clock
         entry[2] += time.process_time() - cpu
         self.mark(name)
+        self._rendezvous(name, error)
         errors = self.comm.gather(error, root=0)
         if self.root:
             failed = [(r, e) for r, e in enumerate(errors) if e]
@@ -133,6 +141,30 @@ class Service:
                 raise EngineError(f"{name} failed on rank {rank} of "
                                   f"{self.size}: {' '.join(text.split())}")
         return out
+
+    def _rendezvous(self, name, error):
+        """Wait, idle, until every rank has finished command ``name``. A
+        rank whose handler failed may have left the others inside one of
+        PETSc's collective calls, which then never return: after
+        :data:`ABORT_AFTER` s it prints its error on one line and aborts
+        the communicator (every rank ends, no hang)."""
+        if self.size == 1:
+            return
+        if self._sync is None:  # its own communicator: a barrier must not
+            self._sync = self.comm.Dup()  # match a collective left waiting
+        request = self._sync.Ibarrier()
+        deadline = time.monotonic() + ABORT_AFTER
+        wait = 1e-5
+        while not request.Test():
+            if error is not None and time.monotonic() > deadline:
+                text = " ".join(error[1].split())
+                print(f"error: {name} failed on rank {self.rank} of "
+                      f"{self.size} while the others were still in a "
+                      f"collective call: {text} (aborting all ranks)",
+                      file=sys.stderr, flush=True)
+                self.comm.Abort(1)
+            time.sleep(wait)
+            wait = min(2 * wait, POLL)
 
     def serve(self):
         """(ranks > 0) Run commands until ``stop``; return its exit code."""
