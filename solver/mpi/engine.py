@@ -27,8 +27,7 @@ def service():
         from petsc4py import PETSc
 
         restore_malloc()
-        from . import (factor, full, pivots, schur,  # noqa: F401 - commands
-                       snesvi)
+        from . import factor, full, schur, snesvi  # noqa: F401 - commands
         from .service import Service
 
         PETSc.Options().setValue("k_mat_mumps_icntl_14", 50)  # workspace +%

@@ -196,6 +196,25 @@ def _factor(service, payload, local):
     return S
 
 
+@command("check_spd")
+def _check_spd(service, payload, local):
+    """Is the scattered ``objects[key]["A"]`` (K̂) positive definite? One
+    MUMPS LDLᵀ with the pivot checks of :mod:`~solver.mpi.pivots`, then
+    dropped (the full system's test of K, which its Newton systems do not
+    make)."""
+    from .pivots import check_factorization, watch_pivots
+
+    ksp, pc = mumps_ksp(dict(A=service.objects[payload["key"]]["A"]),
+                        "check")
+    try:
+        pc.setFactorSetUpSolverType()
+        watch_pivots(pc.getFactorMatrix())
+        ksp.setUp()
+        check_factorization(pc.getFactorMatrix())
+    finally:
+        ksp.destroy()
+
+
 @command("solve")
 def _solve(service, payload, local):
     obj = service.objects[payload["key"]]

@@ -114,34 +114,3 @@ def schur_cholesky(S, scale):
             f"the contact normal rows at round-off level "
             f"({pivots.min() / scale:.2g} of K's largest diagonal entry)")
     return cho
-
-
-def _check_spd_command():
-    from .service import command
-
-    @command("check_spd")
-    def _check_spd(service, payload, local):
-        """Is the scattered ``objects[key]["A"]`` (K̂) positive definite?
-        One MUMPS LDLᵀ with the pivot checks above, then dropped (the
-        full system's test of K, which its Newton systems do not make)."""
-        from petsc4py import PETSc
-
-        A = service.objects[payload["key"]]["A"]
-        ksp = PETSc.KSP().create(comm=A.getComm())
-        try:
-            ksp.setOperators(A)
-            ksp.setType("preonly")
-            pc = ksp.getPC()
-            pc.setType("cholesky")
-            pc.setFactorSolverType("mumps")
-            ksp.setOptionsPrefix("check_")
-            ksp.setFromOptions()
-            pc.setFactorSetUpSolverType()
-            watch_pivots(pc.getFactorMatrix())
-            ksp.setUp()
-            check_factorization(pc.getFactorMatrix())
-        finally:
-            ksp.destroy()
-
-
-_check_spd_command()
