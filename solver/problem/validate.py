@@ -118,7 +118,7 @@ def _validate(arrays):
     if len(np.unique(used)) != len(used):
         fail("contact_dofs", "a reduced DOF appears twice")
     M = csr(arrays, "M", nc)
-    check_positive_definite(M, "M")  # Nc × Nc: cheap; needed for M⁻¹λ
+    check_positive_definite(M, "M", backend="superlu")  # Nc × Nc; M⁻¹λ
 
     problem = dict(K=K, f=f, M=M, contact_dofs=contact_dofs, meta=meta)
     if kind == "mesh":
