@@ -175,19 +175,17 @@ def _factor(service, payload, local):
     from .schur import (interior_solves, mumps_memory, schur_complement,
                         set_schur_is)
 
-    from .pivots import check_factorization, watch_pivots
+    from .pivots import set_up_checked
 
     obj = service.objects[payload["key"]]
-    ksp, pc = mumps_ksp(obj, payload["key"])
-    S = None
-    pc.setFactorSetUpSolverType()
-    watch_pivots(pc.getFactorMatrix())
-    if payload.get("schur") is not None:
-        set_schur_is(pc.getFactorMatrix(), payload["schur"],
-                     obj["A"].getComm())
-    ksp.setUp()
-    F = pc.getFactorMatrix()
-    check_factorization(F)  # singular or indefinite K: ProblemError
+    ksp, _ = mumps_ksp(obj, payload["key"])
+    S, rows = None, payload.get("schur")
+
+    def schur_set(F):
+        set_schur_is(F, rows, obj["A"].getComm())
+
+    # ProblemError if K is singular or indefinite
+    F = set_up_checked(ksp, None if rows is None else schur_set)
     service.objects.setdefault("counts", {})["mumps_mb"] = mumps_memory(F)
     if payload.get("schur") is not None:
         if service.root:
@@ -202,15 +200,12 @@ def _check_spd(service, payload, local):
     MUMPS LDLᵀ with the pivot checks of :mod:`~solver.mpi.pivots`, then
     dropped (the full system's test of K, which its Newton systems do not
     make)."""
-    from .pivots import check_factorization, watch_pivots
+    from .pivots import set_up_checked
 
-    ksp, pc = mumps_ksp(dict(A=service.objects[payload["key"]]["A"]),
-                        "check")
+    ksp, _ = mumps_ksp(dict(A=service.objects[payload["key"]]["A"]),
+                       "check")
     try:
-        pc.setFactorSetUpSolverType()
-        watch_pivots(pc.getFactorMatrix())
-        ksp.setUp()
-        check_factorization(pc.getFactorMatrix())
+        set_up_checked(ksp)
     finally:
         ksp.destroy()
 

@@ -225,14 +225,10 @@ def _direct_solve(obj, M, b, x):
     """Solve by :func:`_direct`; a Newton system that is not positive
     definite means K is not (it is a principal submatrix of K̂ plus a
     non-negative diagonal): ProblemError, as the serial engine's."""
-    from .pivots import check_factorization, watch_pivots
+    from .pivots import set_up_checked
 
     ksp = _direct(obj, M)
-    pc = ksp.getPC()
-    pc.setFactorSetUpSolverType()
-    watch_pivots(pc.getFactorMatrix())
-    ksp.setUp()
-    check_factorization(pc.getFactorMatrix())
+    set_up_checked(ksp)
     ksp.solve(b, x)
     return ksp
 
@@ -249,15 +245,15 @@ def _check_spd_cg(service, payload, local):
     is refused as the serial engine refuses K (no factorisation: the
     ``--ksp gamg`` path has none). A test, not a proof: an SPD K̂ on
     which CG fails here would fail in the Newton solves too."""
-    from ..errors import ProblemError
+    from petsc4py import PETSc
+
+    from .pivots import refusal
 
     obj = service.objects[payload["key"]]
     ksp, A, x, b = obj["ksp"], obj["A"], obj["x"], obj["b"]
     rng = np.random.default_rng(20 + service.rank)
     b.setArray(rng.standard_normal(b.getLocalSize()))
     x.set(0.0)
-    from petsc4py import PETSc
-
     norm = ksp.getNormType()
     ksp.setOperators(A)
     ksp.setNormType(PETSc.KSP.NormType.UNPRECONDITIONED)  # of K x − b
@@ -266,19 +262,16 @@ def _check_spd_cg(service, payload, local):
     reason = ksp.getConvergedReason()
     ksp.setTolerances(rtol=CG_RTOL, max_it=5000)
     ksp.setNormType(norm)
-    if reason < 0:
-        raise ProblemError(
-            "K_data: K is not positive definite (singular or indefinite: "
-            "is the body supported?): CG + GAMG on K x = b, b random, "
-            f"failed (PETSc KSP reason {reason})")
+    if reason < 0:  # singular or indefinite
+        raise refusal("CG + GAMG on K x = b, b random, failed (PETSc KSP "
+                      f"reason {reason}): singular or indefinite, is the "
+                      "body supported?", False)
     # GAMG's coarse solve inverts an exact null mode (its near-null space
     # holds the rigid modes): then CG converges with x of size ~ 1/0
     ratio = x.norm() * A.norm(PETSc.NormType.INFINITY) / b.norm()
     if ratio > 1.0 / PIVOT_RTOL:
-        raise ProblemError(
-            "K_data: K is not positive definite (singular stiffness: is the "
-            f"body supported?): K x = b, b random, gave ‖K‖‖x‖/‖b‖ = "
-            f"{ratio:.2g}, a condition number above {1 / PIVOT_RTOL:.0e}")
+        raise refusal(f"K x = b, b random, gave ‖K‖‖x‖/‖b‖ = {ratio:.2g}, a "
+                      f"condition number above {1 / PIVOT_RTOL:.0e}")
 
 
 @command("ksp_iterations")

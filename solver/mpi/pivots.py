@@ -23,10 +23,10 @@ factorised by a dense Cholesky on rank 0
 import ctypes
 
 from ..errors import ProblemError
-from ..linalg.base import PIVOT_RTOL
+from ..linalg.base import PIVOT_RTOL, not_positive_definite
 
 __all__ = ["watch_pivots", "check_factorization", "mumps_infog",
-           "schur_cholesky"]
+           "schur_cholesky", "set_up_checked", "refusal"]
 
 #: INFOG(1) values that mean MUMPS ran short of memory.
 MEMORY_ERRORS = (-8, -9, -13, -19, -20)
@@ -51,6 +51,27 @@ def watch_pivots(F):
         raise RuntimeError(f"PETSc's MatMumpsSetIcntl/Cntl failed ({code})")
 
 
+def refusal(detail, singular=True):
+    """The serial engine's ProblemError for K (``K_data: K is not positive
+    definite ...``, :func:`solver.linalg.base.not_positive_definite`)."""
+    return ProblemError(f"K_data: {not_positive_definite('K', singular)}: "
+                        f"{detail}")
+
+
+def set_up_checked(ksp, prepare=None):
+    """Set up the MUMPS KSP ``ksp`` with the pivot counts on
+    (:func:`watch_pivots`), ``prepare(F)`` before the factorisation if
+    given, and :func:`check_factorization` after; returns the factor."""
+    pc = ksp.getPC()
+    pc.setFactorSetUpSolverType()
+    watch_pivots(pc.getFactorMatrix())
+    if prepare is not None:
+        prepare(pc.getFactorMatrix())
+    ksp.setUp()
+    check_factorization(pc.getFactorMatrix())
+    return pc.getFactorMatrix()
+
+
 def mumps_infog(F, *indices):
     """INFOG(i) of the MUMPS factor ``F`` for each index (global values,
     the same on every rank)."""
@@ -72,14 +93,11 @@ def check_factorization(F):
     error, detail, negative, null = mumps_infog(F, 1, 2, 12, 28)
     if error == -10 or (error >= 0 and null > 0):
         count = f"{null} pivot(s)" if null > 0 else "a pivot"
-        raise ProblemError(
-            "K_data: K is not positive definite (singular stiffness: is the "
-            f"body supported?): {count} of MUMPS's LDLᵀ factorisation below "
-            f"{PIVOT_RTOL:g} of ‖K‖")
+        raise refusal(f"{count} of MUMPS's LDLᵀ factorisation below "
+                      f"{PIVOT_RTOL:g} of ‖K‖")
     if error >= 0 and negative > 0:
-        raise ProblemError(
-            f"K_data: K is not positive definite: it has {negative} negative "
-            "eigenvalue(s) (the inertia of MUMPS's LDLᵀ factorisation)")
+        raise refusal(f"it has {negative} negative eigenvalue(s) (the "
+                      "inertia of MUMPS's LDLᵀ factorisation)", False)
     if error in MEMORY_ERRORS:
         raise RuntimeError(
             f"MUMPS ran out of memory (INFOG(1) = {error}, INFOG(2) = "
@@ -101,16 +119,13 @@ def schur_cholesky(S, scale):
     try:
         cho = la.cho_factor(0.5 * (S + S.T))
     except (la.LinAlgError, ValueError):
-        raise ProblemError(
-            "K_data: K is not positive definite: its Schur complement on "
-            "the contact normal rows is not (MUMPS's S, dense Cholesky)"
-        ) from None
+        raise refusal("its Schur complement on the contact normal rows is "
+                      "not (MUMPS's S, dense Cholesky)", False) from None
     pivots = np.diag(cho[0]) ** 2
     small = int(np.count_nonzero(pivots <= PIVOT_RTOL * scale))
     if small:
-        raise ProblemError(
-            "K_data: K is not positive definite (singular stiffness: is the "
-            f"body supported?): {small} pivot(s) of its Schur complement on "
-            f"the contact normal rows at round-off level "
-            f"({pivots.min() / scale:.2g} of K's largest diagonal entry)")
+        raise refusal(f"{small} pivot(s) of its Schur complement on the "
+                      "contact normal rows at round-off level "
+                      f"({pivots.min() / scale:.2g} of K's largest diagonal "
+                      "entry)")
     return cho
