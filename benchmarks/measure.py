@@ -18,7 +18,7 @@ problem, which every stage holds). Stages:
   own choice, ``nmethods = 0``, took 4.8 s against 1 + 2.9 s at 4.8·10⁵
   DOFs), PARDISO with its own METIS order; no pivot check;
 * ``schur``: gap geometry (not timed), then the condensation of K onto Γc
-  alone (:func:`solver.contact.frictionless.condense_onto_contact`: the
+  alone (:func:`solver.contact.frictionless.driver.condense_onto_contact`: the
   factorisation with the contact DOFs last and the dense S);
 * ``min``, ``fb``: ``solve_frictionless(problem, method, backend=...)``
   with every other argument at its default (geometry, condensation,
@@ -69,7 +69,7 @@ def floor(problem, backend):
 
 
 def schur(problem, backend):
-    from solver.contact.frictionless import (condense_onto_contact,
+    from solver.contact.frictionless.driver import (condense_onto_contact,
                                              contact_geometry)
     geometry = contact_geometry(problem, "obstacle")
     get_backend(backend)

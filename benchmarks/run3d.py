@@ -19,7 +19,7 @@ stage; ``processes.py``), which reports wall and CPU time and its peak RSS:
   denominator of every ratio;
 * **solve**: ``solve_frictionless(problem, "min", backend=fastest)``, all
   else at its defaults (3D: condensed onto the normal DOFs of candidate
-  nodes, :mod:`solver.contact.candidates`); **N_c in contact** and
+  nodes, :mod:`solver.contact.strategies.candidates`); **N_c in contact** and
   **candidates** (final) from it;
 * **python -m solver**: ``python -m solver hsN.npz -o DIR
   --linear-solver fastest`` as a whole (start-up, loading, solve,
@@ -30,7 +30,7 @@ stage; ``processes.py``), which reports wall and CPU time and its peak RSS:
   solve_friction's own: φ_FB, lagged; the lagged bound's stall at a/h 16
   is gone since ROLL18B, benchmarks/README.md), fastest backend (3D
   default: on candidate nodes, rollers included,
-  :mod:`solver.contact.friction_candidates`), up to
+  :mod:`solver.contact.strategies.friction_candidates`), up to
   ``--max-friction-dofs``; its final candidates and enlargements;
 * **RSS** of each stage's process (``ru_maxrss``; every one holds the
   loaded problem).

@@ -128,8 +128,8 @@ def define(mesh='meshes/block_454.mesh', output='output/block_454.npz',
            obstacle_x='5.05 + 0.005*t**2', obstacle_y='t', order=1,
            obstacle_points=None, verbose=None):
     _load_export().set_verbosity(verbose)  # before SfePy's 'left over:'
-    from solver.geometry.obstacle import ParametricCurve
-    from solver.geometry.polyline import PolylineCurve
+    from solver.geometry.curves.parametric import ParametricCurve
+    from solver.geometry.curves.polyline import PolylineCurve
 
     filename_mesh = op.abspath(mesh)  # SfePy resolves relative paths from
     # this file's folder; the user means the working directory.

@@ -103,7 +103,7 @@ def define(mesh='meshes/hertz.mesh', output='output/cm.npz', E=2e5, nu=0.3,
            plane='strain', d=0.016, delta=7e-3, R=1.0, gamma_c_y=-0.8,
            steps_normal=10, steps_shear=20, order=1, verbose=None):
     _load('_contact_ssn_sfepy_export', '_export.py').set_verbosity(verbose)
-    from solver.geometry.obstacle import ParametricCurve
+    from solver.geometry.curves.parametric import ParametricCurve
 
     filename_mesh = op.abspath(mesh)
     output_dir = op.dirname(op.abspath(output))

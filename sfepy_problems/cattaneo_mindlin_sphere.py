@@ -9,7 +9,7 @@ It touches the rigid plane z = 0 (``{"kind": "plane", "point": [0, 0, 0],
 "normal": [0, 0, 1]}``) at the origin. Only y = 0 is a symmetry plane (u_y = 0 there): the tangential
 load along x keeps the mirror symmetry about y = 0 but breaks that about
 x = 0. The contact nodes on y = 0 are rollers (their friction traction
-lives in the free tangent, along x: ``solver.contact.friction``).
+lives in the free tangent, along x: ``solver.contact.friction.driver``).
 
 The flat top z = R is clamped and moved in two **load stages**, exported
 as a load path (``load_path*`` keys, docs/npz-format.md):

@@ -141,7 +141,7 @@ def define(mesh='meshes/hertz.mesh', output='output/hertz.npz',
            E=2e5, nu=0.3, plane='strain', d=0.016, R=1.0, gamma_c_y=-0.8,
            obstacle_x='t', obstacle_y=None, order=1, verbose=None):
     _load_export().set_verbosity(verbose)  # before SfePy's 'left over:'
-    from solver.geometry.obstacle import ParametricCurve
+    from solver.geometry.curves.parametric import ParametricCurve
 
     filename_mesh = op.abspath(mesh)  # SfePy resolves relative paths from
     # this file's folder; the user means the working directory.

@@ -11,31 +11,31 @@ Public API
 load_problem, save_problem, ContactProblem, FORMAT_VERSION
     The ``.npz`` problem format (:mod:`solver.problem`).
 ParametricCurve, parse_expression
-    Rigid obstacles given by safe expressions in t (:mod:`solver.geometry.obstacle`).
+    Rigid obstacles given by safe expressions in t (:mod:`solver.geometry.curves.parametric`).
 two_dof_bar
     The thesis's §6 two-DOF bar system (:mod:`solver.examples`).
 solve_frictionless, contact_geometry
     Frictionless contact, thesis (67) (:mod:`solver.contact`), condensed
-    onto Γc with a nested start (:mod:`solver.contact.nested`) or in all
+    onto Γc with a nested start (:mod:`solver.contact.strategies.nested`) or in all
     unknowns as in the thesis.
 solve_friction
     Coulomb friction by load steps, thesis (110)/(111) and a projection
-    formulation (:mod:`solver.contact.friction`).
+    formulation (:mod:`solver.contact.friction.driver`).
 solve_ncp
     Semismooth Newton methods for mixed NCPs, FE-free (:mod:`solver.ncp`).
 Factorization, Condensation, nested_dissection
     One LDLᵀ factorisation of K per solve, condensation onto Γc
     (:mod:`solver.linalg`).
 SolverError, ProblemError, ExpressionError, GapError
-    Errors caused by bad input (:mod:`solver.errors`, :mod:`solver.geometry.gap`).
+    Errors caused by bad input (:mod:`solver.errors`, :mod:`solver.geometry.curves`).
 """
 
 from .errors import ExpressionError, ProblemError, SolverError
-from .geometry.gap import GapError
+from .geometry.curves import GapError
 from .contact import contact_geometry, solve_friction, solve_frictionless
 from .examples import two_dof_bar
 from .ncp import solve_ncp
-from .geometry.obstacle import ParametricCurve, parse_expression
+from .geometry.curves.parametric import ParametricCurve, parse_expression
 from .problem import (FORMAT_VERSION, ContactProblem, load_problem,
                       save_problem)
 

@@ -173,7 +173,7 @@ def friction(args, problem, open_folder, emit, write_summary):
     once (steps/*.vtu and scratch arrays), result.npz at the end, also when
     the run stops early."""
     from .contact import solve_friction
-    from .contact.steps import MAX_LOAD_STEPS
+    from .contact.friction.stream import MAX_LOAD_STEPS
 
     if _engine(args) == "petsc":
         from .mpi.jobs import solvers

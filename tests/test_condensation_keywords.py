@@ -1,13 +1,13 @@
 """The ``condensation=`` keywords that let the PETSc engine (solver/mpi)
 run the serial loops on its own factorisation (task MPI20B's clean-ups):
-:func:`solver.contact.candidates.solve_on_candidates` and
+:func:`solver.contact.strategies.candidates.solve_on_candidates` and
 :func:`solver.contact.solve_friction` use the object given, and give the
 answer of their default path (the reference: the same call without it)."""
 
 import numpy as np
 
 from solver import load_problem, solve_friction, solve_frictionless
-from solver.contact.candidates import NormalCondensation, solve_on_candidates
+from solver.contact.strategies.candidates import NormalCondensation, solve_on_candidates
 from solver.contact.geometry import contact_geometry, contact_stiffness
 from solver.contact.verify import unit_free_options
 from solver.linalg.condensation import Condensation

@@ -22,7 +22,7 @@ from tet_elasticity import (box, extrude, mesh_problem, rectangle,  # noqa: E402
                             stiffness)
 from test_linalg_backends import require  # noqa: E402
 from solver.contact import ContactGeometry, solve_frictionless  # noqa: E402
-from solver.contact.candidates import (enlarge_candidates,  # noqa: E402
+from solver.contact.strategies.candidates import (enlarge_candidates,  # noqa: E402
                                        initial_candidates)
 from solver.contact.geometry import rotation  # noqa: E402
 from solver.errors import SolverError  # noqa: E402
@@ -344,7 +344,7 @@ def test_slab_reproduces_2d_to_discretisation_error():
 #: were checked equal bit for bit by hand when the change was made; another
 #: BLAS may change the last bits of both. Since PERF17 the condensed Newton
 #: systems are solved on their free components by Cholesky
-#: (:mod:`solver.contact.frictionless_newton`) instead of an LU of the whole
+#: (:mod:`solver.contact.frictionless.newton`) instead of an LU of the whole
 #: Jacobian: the same iterates up to round-off, so λ is compared to 1e-13
 #: (measured 1.4e-15) and the counts still exactly.
 BEFORE = {
@@ -399,7 +399,7 @@ class _Plane:
 def test_contact_geometry_3d_modes(monkeypatch):
     """Both gap modes through the contract: "obstacle" takes the surface's
     closest point and −its normal; "body" the ray along the body normals
-    (solver.geometry.surface_normals, stubbed here with tilted normals)."""
+    (solver.geometry.surfaces.normals, stubbed here with tilted normals)."""
     import types
 
     from solver.contact import contact_geometry
@@ -411,9 +411,9 @@ def test_contact_geometry_3d_modes(monkeypatch):
         contact_faces=np.array([[0, 2, 1], [1, 2, 3]]),
         contact_dofs=contact_dofs, obstacle=_Plane())
     tilted = np.array([[0.6, 0.0, -0.8]] * 4)
-    stub = types.ModuleType("solver.geometry.surface_normals")
+    stub = types.ModuleType("solver.geometry.surfaces.normals")
     stub.surface_normals = lambda nodes, faces, contact: tilted[contact]
-    monkeypatch.setitem(sys.modules, "solver.geometry.surface_normals", stub)
+    monkeypatch.setitem(sys.modules, "solver.geometry.surfaces.normals", stub)
     for mode, gap, normal in (
             ("obstacle", [0.1, 0.2, 0.4], [[0.0, 0.0, -1.0]] * 3),
             ("body", [0.125, 0.25, 0.5], tilted[:3])):
@@ -451,7 +451,7 @@ def test_candidates_empty_sets(backend):
 def test_candidates_exhausted_is_reported(dome, monkeypatch):
     """Out of rounds with a non-candidate still penetrating: not success,
     status 6 (verification: penetration), and the message says why."""
-    import solver.contact.candidates as candidates
+    import solver.contact.strategies.candidates as candidates
 
     problem, geometry, _ = dome
     monkeypatch.setattr(candidates, "MAX_ROUNDS", 1)

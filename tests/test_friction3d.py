@@ -158,7 +158,7 @@ def test_cli_3d_friction_run(tmp_path):
     import subprocess
 
     meshio = pytest.importorskip("meshio")
-    from solver.geometry.surface import surface_from_spec
+    from solver.geometry.surfaces import surface_from_spec
 
     problem, _, _, _ = dragged_block(np.radians(30.0), 0.05)
     final = dataclasses.replace(
@@ -198,7 +198,7 @@ def test_disc_jacobian_matches_finite_differences(coulomb):
     """The generalised Jacobian of the disc projection (stick: I; slip:
     b/|w|(I − ŵŵᵀ), ŵ ∂b) against central differences of the residual, at
     an iterate with stick and slip nodes (away from the kinks)."""
-    from solver.contact.friction_system import FrictionSystem
+    from solver.contact.friction.system import FrictionSystem
 
     problem, geometry, _, _ = dragged_block(np.radians(30.0), 0.05)
     lumped = np.asarray(problem.M.sum(axis=1)).ravel()[geometry.index]

@@ -1,4 +1,4 @@
-"""Coulomb friction on candidate nodes (solver/contact/friction_candidates.py,
+"""Coulomb friction on candidate nodes (solver/contact/strategies/friction_candidates.py,
 issue 18 part 6).
 
 Reference: the same run condensed onto every DOF of every free contact node
@@ -21,7 +21,7 @@ sys.path.insert(0, str(Path(__file__).parent))
 from tet_elasticity import box, mesh_problem, stiffness  # noqa: E402
 from test_core3d import bottom_faces, dome_block  # noqa: E402
 from solver.contact import ContactGeometry, solve_friction  # noqa: E402
-from solver.contact.friction_candidates import (  # noqa: E402
+from solver.contact.strategies.friction_candidates import (  # noqa: E402
     first_candidates, remaining_gap, use_candidates)
 from solver.errors import SolverError  # noqa: E402
 
@@ -203,9 +203,9 @@ def test_disc_direction_solves_the_whole_jacobian(dome, coulomb):
     nodes and pairs of every kind (w_a, w_b of φ_FB and φ_min)."""
     import scipy.sparse as sp
 
-    from solver.contact.friction_disc import DiscSystem
-    from solver.contact.friction_system import FrictionSystem
-    from solver.contact.frictionless import condense_onto_contact
+    from solver.contact.friction.disc import DiscSystem
+    from solver.contact.friction.system import FrictionSystem
+    from solver.contact.frictionless.driver import condense_onto_contact
 
     problem, geometry = dome
     condensation, local = condense_onto_contact(problem, geometry, "superlu")
@@ -249,7 +249,7 @@ def test_first_candidates_take_two_rings_of_surface_neighbours():
     given margin keeps the gap rule."""
     import types
 
-    from solver.contact.friction_candidates import RINGS, surface_adjacency
+    from solver.contact.strategies.friction_candidates import RINGS, surface_adjacency
 
     assert RINGS == 2
     ids = 100 + np.arange(12)  # Γc position p ↔ node id 100 + p

@@ -8,8 +8,8 @@ References, each independent of what is tested:
   system (``condense=False``: no condensation, no traction elimination,
   SciPy's sparse LU of FrictionSystem's whole Jacobian);
 * for the Newton direction with the tractions eliminated
-  (:mod:`solver.contact.friction_disc`), the sparse Jacobian that
-  :class:`~solver.contact.friction_system.FrictionSystem` assembles (its
+  (:mod:`solver.contact.friction.disc`), the sparse Jacobian that
+  :class:`~solver.contact.friction.system.FrictionSystem` assembles (its
   roller rows are checked against finite differences in
   tests/test_rollers.py);
 * the whole (mirrored) model, in tests/test_rollers.py, which now runs the
@@ -101,9 +101,9 @@ def test_disc_direction_with_rollers_solves_the_whole_jacobian(
     tangent, g_c ≡ 0 along e_c) to round-off, and rmatvec is JᵀF, at an
     iterate where rollers stick, slip near the disc's edge and slip far
     from it (the last take dĝ from their own rows)."""
-    from solver.contact.friction_disc import DiscSystem
-    from solver.contact.friction_system import FrictionSystem
-    from solver.contact.frictionless import condense_onto_contact
+    from solver.contact.friction.disc import DiscSystem
+    from solver.contact.friction.system import FrictionSystem
+    from solver.contact.frictionless.driver import condense_onto_contact
 
     problem = problems[part]
     geometry = contact_geometry(problem, "obstacle", rollers=True)

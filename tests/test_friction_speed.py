@@ -1,5 +1,5 @@
 """The condensed friction solve's reduced Newton systems
-(:mod:`solver.contact.friction_newton`) against the full Jacobian.
+(:mod:`solver.contact.friction.newton`) against the full Jacobian.
 
 Reference: the full Newton system J d = −Φ of the projection formulation
 (:meth:`FrictionSystem._jacobian`, sparse, solved densely here), which the
@@ -11,8 +11,9 @@ import numpy as np
 import pytest
 import scipy.sparse as sp
 
-from solver.contact import friction_newton, solve_friction
-from solver.contact.friction_system import FrictionSystem
+from solver.contact import solve_friction
+from solver.contact.friction import newton as friction_newton
+from solver.contact.friction.system import FrictionSystem
 from solver.problem import load_problem
 
 CASES = [(coulomb, method) for coulomb in ("lagged", "implicit")
@@ -108,7 +109,7 @@ def test_reduced_run_equals_full_run(exported, monkeypatch, method):
 def test_thesis_split_keeps_the_full_system(exported):
     """The reduction is of the projection form only: the thesis's split
     (110)/(111), condensed, still solves its full Newton systems."""
-    from solver.contact.frictionless import (condense_onto_contact,
+    from solver.contact.frictionless.driver import (condense_onto_contact,
                                              contact_geometry)
     problem = load_problem(exported(118)[0])
     geometry = contact_geometry(problem)

@@ -11,9 +11,9 @@ import time
 import numpy as np
 import pytest
 
-from solver.geometry.gap import (GapError, gap_along_normals, gap_from_obstacle,
+from solver.geometry.curves import (GapError, gap_along_normals, gap_from_obstacle,
                         parameter_window)
-from solver.geometry.obstacle import ParametricCurve
+from solver.geometry.curves.parametric import ParametricCurve
 
 # Line x = 6 + 0.3 y, i.e. 6 + 0.3 y - x = 0; its unit normal towards +x
 # is (1, -0.3) / sqrt(1.09).
@@ -226,7 +226,7 @@ def test_thousand_points_fast():
 def test_sine_wave_obstacle_along_the_body_normal():
     """x = 5.2 + 0.05 sin(t), y = t seen along (1, 0) from (5, y): the gap is
     0.2 + 0.05 sin(y) exactly (analytic)."""
-    from solver.geometry.obstacle import ParametricCurve
+    from solver.geometry.curves.parametric import ParametricCurve
 
     curve = ParametricCurve("5.2 + 0.05*sin(t)", "t")
     ys = np.linspace(-9.5, 9.5, 39)

@@ -185,7 +185,7 @@ def test_errors_one_line_every_rank(problems, tmp_path):
 SCHUR_DRIVER = """
 import sys, numpy as np
 from solver import load_problem
-from solver.contact.candidates import NormalCondensation
+from solver.contact.strategies.candidates import NormalCondensation
 from solver.contact.geometry import contact_geometry
 from solver.mpi.engine import service, spmd
 from solver.mpi.factor import PetscFactor
@@ -224,7 +224,7 @@ def test_schur_mode_matches_serial(problems, tmp_path, n):
     u_i = K_ii⁻¹(b_i − K_ic u_c) equal SuperLU's; the old path (S from
     solves of 8 columns) agrees too. The second Schur set costs one new
     factorisation in the Schur mode, none with the solves."""
-    from solver.contact.candidates import NormalCondensation
+    from solver.contact.strategies.candidates import NormalCondensation
     from solver.contact.geometry import contact_geometry
     from solver.linalg import factorize
 

@@ -1,4 +1,4 @@
-"""solver.contact.nested: the coarse levels are the exact subset-constrained
+"""solver.contact.strategies.nested: the coarse levels are the exact subset-constrained
 problems, the prolongation is equilibrium, the nested start gives the full
 system's solution, and its iteration counts on the finest level do not grow
 with the mesh."""
@@ -9,9 +9,9 @@ import scipy.sparse.linalg as sla
 
 from solver import load_problem, solve_frictionless
 from solver.contact import contact_geometry
-from solver.contact import nested
-from solver.contact.frictionless import condense_onto_contact
-from solver.contact.nested import COARSEST, contact_levels, solve_nested
+from solver.contact.strategies import nested
+from solver.contact.frictionless.driver import condense_onto_contact
+from solver.contact.strategies.nested import COARSEST, contact_levels, solve_nested
 
 
 @pytest.fixture(scope="module")

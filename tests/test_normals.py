@@ -7,7 +7,7 @@ constant normal of a straight edge.
 import numpy as np
 import pytest
 
-from solver.geometry.normals import (boundary_normals, chord_parameters,
+from solver.geometry.curves.normals import (boundary_normals, chord_parameters,
                             outward_sign, spline_normals, spline_tangents)
 
 UNIT_SQUARE = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]])

@@ -5,7 +5,7 @@ import pytest
 import sympy
 
 from solver.errors import ExpressionError, ProblemError
-from solver.geometry.obstacle import ParametricCurve, parse_expression
+from solver.geometry.curves.parametric import ParametricCurve, parse_expression
 
 
 def test_thesis_parabola():

@@ -6,10 +6,10 @@ import pytest
 import scipy.linalg as sla
 
 from solver import load_problem, solve_frictionless
-from solver.contact.frictionless import (FrictionlessSystem,
+from solver.contact.frictionless.driver import (FrictionlessSystem,
                                          condense_onto_contact,
                                          contact_geometry)
-from solver.geometry.normals import outward_sign
+from solver.geometry.curves.normals import outward_sign
 from solver.linalg import available_backends
 from solver.linalg.base import Factor
 from solver.linalg.threads import _libraries, single_blas_thread
@@ -103,7 +103,7 @@ def test_normal_complement_direction_equals_unreduced(exported, method):
 
 def test_reduced_direction_singular_row():
     """A row with w_a = w_b = 0 makes J singular: no direction."""
-    from solver.contact.frictionless_newton import CondensedJacobian
+    from solver.contact.frictionless.newton import CondensedJacobian
     import scipy.sparse as sp
 
     S = np.array([[2.0, -1.0], [-1.0, 2.0]])
@@ -165,7 +165,7 @@ def test_outward_sign_restricted_to_chain_triangles():
     for chain in (bottom, bottom[::-1], top, top[::-1]):
         assert outward_sign(nodes, cells, chain) == \
             _outward_sign_all_sides(nodes, cells, chain)
-    from solver.geometry.normals import GeometryError
+    from solver.geometry.curves.normals import GeometryError
 
     with pytest.raises(GeometryError, match="not a boundary edge"):
         outward_sign(nodes, cells, np.array([nx + 1, nx + 2]))  # interior

@@ -9,8 +9,8 @@ import pytest
 from conftest import MESHES, solve_block
 from solver.contact import contact_geometry, solve_frictionless
 from solver.errors import ProblemError
-from solver.geometry.gap import gap_along_normals, gap_from_obstacle
-from solver.geometry.polyline import PolylineCurve
+from solver.geometry.curves import gap_along_normals, gap_from_obstacle
+from solver.geometry.curves.polyline import PolylineCurve
 from solver.problem import load_problem, save_problem
 from test_qp_crosscheck import clarabel_solution
 

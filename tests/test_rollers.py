@@ -33,7 +33,7 @@ from tet_elasticity import box, mesh_problem, rectangle, stiffness  # noqa: E402
 from solver.contact import (contact_geometry, solve_friction,  # noqa: E402
                             solve_frictionless)
 from solver.contact.geometry import ROLLER_TOLERANCE, rotation  # noqa: E402
-from solver.geometry.obstacle import ParametricCurve  # noqa: E402
+from solver.geometry.curves.parametric import ParametricCurve  # noqa: E402
 
 KAPPA, DZ = 0.25, 0.05  # obstacle curvature, top displacement
 
@@ -585,7 +585,7 @@ def test_roller_friction_jacobian_matches_finite_differences(part, coulomb):
     an iterate with stick and slip nodes, rollers among both (away from
     the kinks); the shapes: one tangential equilibrium row per free
     tangent, a projection row per tangent (g_c ≡ 0 at e_c)."""
-    from solver.contact.friction_system import FrictionSystem
+    from solver.contact.friction.system import FrictionSystem
 
     problem = block_3d(part, n=2, nz=1)
     geometry = contact_geometry(problem, "obstacle", rollers=True)

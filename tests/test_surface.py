@@ -14,8 +14,8 @@ import pytest
 from scipy.optimize import minimize
 
 from solver.errors import ProblemError, SolverError
-from solver.geometry import surface_search
-from solver.geometry.surface import GapError, surface_from_spec
+from solver.geometry.surfaces import search as surface_search
+from solver.geometry.surfaces import GapError, surface_from_spec
 
 R = 2.0
 PARABOLOID = f"(x**2 + y**2)/(2*{R})"
@@ -260,7 +260,7 @@ def test_no_points_and_broadcast_direction():
 def test_module_example_runs():
     import doctest
 
-    import solver.geometry.surface as module
+    import solver.geometry.surfaces as module
 
     assert doctest.testmod(module).failed == 0
 

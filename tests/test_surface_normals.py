@@ -1,5 +1,5 @@
 """Nodal normals of a triangulated contact surface
-(solver/geometry/surface_normals.py, surface_jets.py).
+(solver/geometry/surfaces/normals.py, surface_jets.py).
 
 References: the exact radial normal of the unit sphere (triangulated by a
 refined, jittered icosahedron), the exact normal of a plane, and the
@@ -13,7 +13,7 @@ import pytest
 from scipy.spatial import Delaunay
 
 from solver.errors import GeometryError, ProblemError
-from solver.geometry.surface_normals import surface_normals
+from solver.geometry.surfaces.normals import surface_normals
 
 T = (1 + 5 ** 0.5) / 2
 ICOSAHEDRON = np.array([[-1, T, 0], [1, T, 0], [-1, -T, 0], [1, -T, 0],

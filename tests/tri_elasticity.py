@@ -239,7 +239,7 @@ def thesis_block(mesh="block_454.mesh"):
     import meshio
 
     from conftest import MESHES
-    from solver.geometry.obstacle import ParametricCurve
+    from solver.geometry.curves.parametric import ParametricCurve
 
     m = meshio.read(MESHES / mesh)
     nodes = np.asarray(m.points[:, :2], float)

@@ -1,7 +1,7 @@
 """Contact systems built on the finite element data of a problem file."""
 
-from .friction import COULOMB, FORMULATIONS, FrictionSystem, solve_friction
-from .frictionless import (GAP_MODES, ContactGeometry, FrictionlessSystem,
+from .friction.driver import COULOMB, FORMULATIONS, FrictionSystem, solve_friction
+from .frictionless.driver import (GAP_MODES, ContactGeometry, FrictionlessSystem,
                            contact_geometry, solve_frictionless)
 from .two_body import solve_two_body
 

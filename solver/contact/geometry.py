@@ -143,7 +143,7 @@ def contact_geometry(problem, gap="obstacle", rollers=False):
     ``gap="obstacle"``: nearest obstacle point, ν = obstacle normal there
     (§2.1.1). ``gap="body"``: ν = the body's outward normal (2D: from a
     natural cubic spline through Γc, §2.1.3; 3D: nodal normals of the
-    contact triangles, :func:`solver.geometry.surface_normals`), gap along
+    contact triangles, :func:`solver.geometry.surfaces.normals`), gap along
     that line (§2.1.2). Discrete problems carry their gaps and normals;
     ``gap`` is ignored.
 
@@ -153,7 +153,7 @@ def contact_geometry(problem, gap="obstacle", rollers=False):
     components whose normal has no component along them (module
     docstring); :func:`solve_frictionless` asks for them, and
     :func:`solve_friction` in 3D (their friction traction then lives in
-    the free tangents only, :mod:`solver.contact.friction`).
+    the free tangents only, :mod:`solver.contact.friction.driver`).
     """
     constrained = problem.contact_dofs < 0
     eligible = ~constrained.all(axis=1) if rollers \
@@ -168,8 +168,8 @@ def contact_geometry(problem, gap="obstacle", rollers=False):
     if problem_dim(problem) == 3:
         s, normal, foot = _geometry_3d(problem, gap, nodes)
         return _frames(nodes, node_dofs, s, normal, foot, gap)
-    from ..geometry.gap import gap_along_normals, gap_from_obstacle
-    from ..geometry.normals import boundary_normals
+    from ..geometry.curves import gap_along_normals, gap_from_obstacle
+    from ..geometry.curves.normals import boundary_normals
 
     body = boundary_normals(problem.nodes, problem.cells,
                             problem.contact_nodes)[nodes]
@@ -192,7 +192,7 @@ def _geometry_3d(problem, gap, nodes):
     if gap == "obstacle":
         s, normal, foot = problem.obstacle.gap_along_obstacle_normal(points)
     else:
-        from ..geometry.surface_normals import surface_normals
+        from ..geometry.surfaces.normals import surface_normals
 
         normal = surface_normals(problem.nodes, problem.contact_faces,
                                  problem.contact_nodes)[nodes]
@@ -267,7 +267,7 @@ def rotate_stiffness(K, R, dofs):
     exactly symmetric; elsewhere K̂ is K itself. Equal to ½(RKRᵀ +
     (RKRᵀ)ᵀ) to rounding (tests/test_rotate_stiffness.py) in one pass over
     K: 0.13 s at 9.2·10⁵ DOFs, where two sparse products, a transpose and
-    a sum took 1.5 s (PETSc engine, :mod:`solver.contact.candidates`).
+    a sum took 1.5 s (PETSc engine, :mod:`solver.contact.strategies.candidates`).
     """
     K = sp.csr_matrix(K)
     n = K.shape[0]

@@ -178,8 +178,8 @@ def solve_two_body(problem, friction=None, variant="mortar", **options):
     surface, −λ_j n_j + g_t,j τ_j, ``covered``, ``mortar_D``,
     ``body`` and ``variant``; friction runs per step (first axis).
     """
-    from .friction import solve_friction
-    from .frictionless import solve_frictionless
+    from .friction.driver import solve_friction
+    from .frictionless.driver import solve_frictionless
 
     if "gap" in options:
         raise SolverError("two bodies: the gaps are the mortar's weighted "

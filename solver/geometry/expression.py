@@ -8,8 +8,8 @@ functions) and translated node by node into a SymPy expression, which gives
 exact derivatives; numerical evaluation goes through
 :func:`sympy.lambdify` of that expression only. Sizes, nesting depths and
 constants are bounded (the ``MAX_*`` limits), so a hostile file cannot
-exhaust memory or time here. Used by :mod:`solver.geometry.obstacle`
-(curves, thesis §4) and :mod:`solver.geometry.surface_expression`.
+exhaust memory or time here. Used by :mod:`solver.geometry.curves.parametric`
+(curves, thesis §4) and :mod:`solver.geometry.surfaces.expression`.
 """
 
 import ast
@@ -209,7 +209,7 @@ def parse_expression(text, variable="t"):
     variable : str or sequence of str
         The name of the curve parameter, or the names of several (a
         surface's ``("s", "t")`` or ``("x", "y")``,
-        :mod:`solver.geometry.surface_expression`); each becomes the real
+        :mod:`solver.geometry.surfaces.expression`); each becomes the real
         symbol ``sympy.Symbol(name, real=True)``.
 
     Returns

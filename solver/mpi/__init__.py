@@ -26,7 +26,7 @@ Design (docs/mpi.md):
   rotated K̂ = RKRᵀ in MUMPS's own Schur mode (:mod:`~solver.mpi.schur`,
   ctypes on libpetsc: S on the candidates' normal rows from the partial
   factorisation), the small NCP on rank 0, a distributed back-substitution
-  (the serial screening loop, :mod:`solver.contact.candidates`, runs on
+  (the serial screening loop, :mod:`solver.contact.strategies.candidates`, runs on
   it); or the semismooth Newton on the full system with each Newton system solved by KSP (MUMPS or CG + GAMG);
   friction through :func:`solver.contact.solve_friction` given the PETSc
   condensation (its ``condensation`` keyword). :mod:`~solver.mpi.snesvi` is PETSc's own SNESVI, a

@@ -1,16 +1,16 @@
 r"""Frictionless contact (67) on the PETSc engine.
 
 ``system="condensed"`` (default): the method of
-:mod:`solver.contact.candidates` with the linear algebra distributed. K is
+:mod:`solver.contact.strategies.candidates` with the linear algebra distributed. K is
 rotated into the node frames on rank 0 (K̂ = RKRᵀ, f̂ = Rf, sparse),
 factorised once by MUMPS on all ranks (:class:`~solver.mpi.factor.PetscFactor`),
 its Schur complement S on the candidates' normal rows by MUMPS's Schur
 mode (:mod:`~solver.mpi.schur`), the NCP S u_n = g̃ + λ ⟂ s − u_n ≥ 0 solved on
 rank 0 by the project's φ_min / φ_FB Newton (:func:`solver.ncp.solve_ncp`
-on :class:`~solver.contact.frictionless.FrictionlessSystem` of the normal
+on :class:`~solver.contact.frictionless.driver.FrictionlessSystem` of the normal
 line), and u = Rᵀ(w + K̂⁻¹Pᵀ S(u_n − w_c)) by one distributed solve. The
 screening rounds are the serial solver's own loop
-(:func:`~solver.contact.candidates.solve_on_candidates`, on
+(:func:`~solver.contact.strategies.candidates.solve_on_candidates`, on
 :class:`PetscNormalCondensation`); the iterates are those of
 ``solver.solve_frictionless(problem, candidates=True, start="free")``.
 
@@ -23,8 +23,8 @@ import time
 
 import numpy as np
 
-from ..contact.candidates import solve_on_candidates
-from ..contact.frictionless import STOPPING_TEST, _nodal_arrays
+from ..contact.strategies.candidates import solve_on_candidates
+from ..contact.frictionless.driver import STOPPING_TEST, _nodal_arrays
 from ..contact.geometry import (contact_geometry, contact_stiffness,
                                 rotate_stiffness, rotation)
 from ..contact.result import ContactResult
@@ -124,10 +124,10 @@ def solve_frictionless(problem, method="min", gap="obstacle", tol=1e-10,
 
 
 class PetscNormalCondensation:
-    """:class:`solver.contact.candidates.NormalCondensation`'s interface
+    """:class:`solver.contact.strategies.candidates.NormalCondensation`'s interface
     (``R``, ``normal_rows``, ``factorize(nodes)``, ``displacement(u_n)``)
     on one distributed MUMPS factor (:class:`PetscFactor`), so that the
-    serial screening rounds (:func:`~solver.contact.candidates.
+    serial screening rounds (:func:`~solver.contact.strategies.candidates.
     solve_on_candidates`) run unchanged. K̂ = RKRᵀ is built and scattered
     once (:meth:`rotated`); each
     round's candidate set is a new Schur-mode factorisation (``block``
@@ -180,7 +180,7 @@ class PetscNormalCondensation:
 
 def _on_candidates(svc, layout, problem, geometry, method, tol, max_iter,
                    gap_scale, stiffness, options, load_norm, margin, block):
-    """:func:`solver.contact.candidates.solve_on_candidates` on a
+    """:func:`solver.contact.strategies.candidates.solve_on_candidates` on a
     :class:`PetscNormalCondensation`."""
     condensation = PetscNormalCondensation(svc, layout, problem, geometry,
                                            block)

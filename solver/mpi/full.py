@@ -2,7 +2,7 @@ r"""The semismooth Newton on the full system (67), each Newton system by KSP.
 
 For candidate sets too large for a dense Schur complement. The Newton
 iteration is the project's (:func:`solver.ncp.solve_ncp` on rank 0, on
-:class:`~solver.contact.frictionless.FrictionlessSystem`, the iterates of
+:class:`~solver.contact.frictionless.driver.FrictionlessSystem`, the iterates of
 the serial ``condense=False``); its Newton systems J d = −Φ are solved on
 all ranks through the structured-Jacobian hook of :mod:`solver.ncp.newton`
 (``combine`` → ``direction``). In the node frames, v = Rd (R orthogonal),
@@ -19,7 +19,7 @@ the rigid-body modes (rotated into the node frames) as near-null space
 import numpy as np
 import scipy.sparse as sp
 
-from ..contact.frictionless import FrictionlessSystem
+from ..contact.frictionless.driver import FrictionlessSystem
 from ..contact.geometry import rotate_stiffness
 from ..linalg.base import PIVOT_RTOL
 from ..ncp import solve_ncp

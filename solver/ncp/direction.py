@@ -1,7 +1,7 @@
 r"""The Newton direction: J d = −Φ by SuperLU for a sparse J, by LAPACK
 for a dense one (a system condensed onto Γc: at most the size of its Schur
 complement), or by a structured Jacobian's own ``direction``
-(:mod:`solver.contact.friction_newton`); None when J is singular."""
+(:mod:`solver.contact.friction.newton`); None when J is singular."""
 
 import warnings
 

@@ -37,7 +37,7 @@ LAPACK directly. The iterations run with one OpenBLAS thread
 systems: an object with ``JA``, ``JB`` (for rule (31)) and ``combine(w_a,
 w_b)``, which returns the Jacobian [JE; diag(w_a)JA + diag(w_b)JB] as an
 object with ``direction(F)`` (d with J d = −F, or None if J is singular)
-and ``rmatvec(F)`` (JᵀF); see :mod:`solver.contact.friction_newton`.
+and ``rmatvec(F)`` (JᵀF); see :mod:`solver.contact.friction.newton`.
 
 References
 ----------

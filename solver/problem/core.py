@@ -7,8 +7,8 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..errors import ProblemError
-from ..geometry.obstacle import ParametricCurve, check_interval
-from ..geometry.polyline import PolylineCurve
+from ..geometry.curves.parametric import ParametricCurve, check_interval
+from ..geometry.curves.polyline import PolylineCurve
 from .checks import check_positive_definite
 from .format import FORMAT_VERSION
 from .surface_spec import surface_spec_text
@@ -27,7 +27,7 @@ class ContactProblem:
 
     In 2D ``obstacle`` is a curve (:class:`ParametricCurve` or
     :class:`PolylineCurve`); in 3D the surface of
-    ``solver.geometry.surface.surface_from_spec`` (or its spec dict, see
+    ``solver.geometry.surfaces.surface_from_spec`` (or its spec dict, see
     :mod:`solver.problem.surface_spec`) and ``contact_faces`` holds the
     contact triangles.
 
@@ -146,7 +146,7 @@ class ContactProblem:
 
     def set_search_interval(self, t0, t1):
         """Search the obstacle parameter for the gaps in ``[t0, t1]``
-        (``--search-interval``; see :func:`solver.geometry.gap.parameter_window`).
+        (``--search-interval``; see :func:`solver.geometry.curves.parameter_window`).
 
         Raises
         ------

@@ -154,7 +154,7 @@ KEYS = {
                          "3D mesh kind only (required there): the rigid "
                          "obstacle as a JSON surface spec, kind plane, "
                          "sphere, graph or parametric (docs/npz-format.md, "
-                         "solver.geometry.surface)"),
+                         "solver.geometry.surfaces)"),
     "body": ("two-body", "int", "(n_nodes,)",
              "body id (0 … B−1, each used) of every node; the bodies share "
              "no node and no triangle, so K is block-diagonal. Absent = one "
@@ -219,7 +219,7 @@ META_REQUIRED = {"mesh": ("E", "nu", "plane", "load", "mesh"),
 # the number of nodes from ``nodes``), and these are bounded here.
 
 #: Most characters of a text key (the obstacle expressions are limited
-#: further, to 1000, by :mod:`solver.geometry.obstacle`).
+#: further, to 1000, by :mod:`solver.geometry.curves.parametric`).
 MAX_TEXT = 1_000_000
 
 #: Deepest nesting of lists and objects in the ``meta`` JSON.

@@ -10,7 +10,7 @@ within :data:`COORDINATE_LIMIT`, a body at least :data:`RESOLUTION` times
 as large as its distance from the origin (a body of size 20 shifted by
 1e17 has no two distinct node positions left), a contact boundary of at
 least two nodes, no two consecutive contact nodes at one point, no
-zero-area triangle on Γc (:func:`solver.geometry.normals.boundary_normals`).
+zero-area triangle on Γc (:func:`solver.geometry.curves.normals.boundary_normals`).
 Failures raise :class:`~solver.errors.ProblemError` naming the key and the
 nodes. A two-body file (``mortar_slave``, format version 4) has no obstacle
 and its slave chain is checked by :mod:`solver.problem.two_body`.
@@ -20,9 +20,9 @@ import numpy as np
 
 from ..errors import GeometryError, ProblemError
 from ..geometry.mesh import is_boundary_chain
-from ..geometry.normals import boundary_normals
-from ..geometry.obstacle import ParametricCurve
-from ..geometry.polyline import PolylineCurve
+from ..geometry.curves.normals import boundary_normals
+from ..geometry.curves.parametric import ParametricCurve
+from ..geometry.curves.polyline import PolylineCurve
 from .checks import check_array, check_range, fail
 from .format import ONLY_2D, TWO_BODY
 from .geometry3d import validate_solid

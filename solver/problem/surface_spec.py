@@ -4,13 +4,13 @@ The spec names a rigid obstacle surface (``{"kind": "plane", "point": ...,
 "normal": ...}``, ``sphere``, ``graph``, ``parametric``; the fields are in
 ``docs/npz-format.md``). It is parsed with the bounded JSON reader of
 :mod:`.meta` and turned into a surface object by
-:func:`solver.geometry.surface.surface_from_spec`.
+:func:`solver.geometry.surfaces.surface_from_spec`.
 """
 
 import json
 
 from ..errors import ProblemError
-from ..geometry.surface import surface_from_spec
+from ..geometry.surfaces import surface_from_spec
 from .checks import fail
 from .meta import parse_json
 

@@ -20,7 +20,7 @@ import scipy.sparse.linalg as sla
 
 from solver.contact import (contact_geometry, solve_friction,
                             solve_frictionless)
-from solver.contact.frictionless import ContactGeometry
+from solver.contact.frictionless.driver import ContactGeometry
 from solver.ncp import solve_ncp
 from solver.problem import ContactProblem, load_problem
 
@@ -415,7 +415,7 @@ def test_wrong_answer_fails_verification(block, system, monkeypatch):
     """x shifted by 1e-3 of its size after a converged solve (the stopping
     test passed on the true x): status 6, the history kept, the failed
     checks named with their values."""
-    import solver.contact.frictionless as module
+    import solver.contact.frictionless.driver as module
 
     perturbed(monkeypatch, module, lambda x: 1e-3 * np.abs(x).max())
     result = solve_frictionless(block, "min", **SYSTEMS[system])
@@ -427,7 +427,7 @@ def test_wrong_answer_fails_verification(block, system, monkeypatch):
 
 
 def test_wrong_friction_step_fails_verification(bar_problem, monkeypatch):
-    import solver.contact.friction_steps as module  # its solve_ncp
+    import solver.contact.friction.steps as module  # its solve_ncp
 
     perturbed(monkeypatch, module, lambda x: 1e-3 * np.abs(x).max())
     result = solve_friction(bar_problem, 0.5, steps=100,

@@ -19,10 +19,10 @@ from fault_tools import assert_one_error_line, run_cli
 from solver.contact import contact_geometry
 from solver.errors import GeometryError, ProblemError, SolverError
 from solver.examples import two_dof_bar
-from solver.geometry.gap import GapError, gap_from_obstacle
-from solver.geometry.normals import boundary_normals, outward_sign, spline_tangents
-from solver.geometry.obstacle import ParametricCurve
-from solver.geometry.polyline import PolylineCurve
+from solver.geometry.curves import GapError, gap_from_obstacle
+from solver.geometry.curves.normals import boundary_normals, outward_sign, spline_tangents
+from solver.geometry.curves.parametric import ParametricCurve
+from solver.geometry.curves.polyline import PolylineCurve
 from solver.problem import ContactProblem, load_problem, save_problem
 
 

@@ -20,7 +20,7 @@ import pytest
 from fault_tools import run_cli
 from solver.contact import contact_geometry
 from solver.errors import InitialPenetrationWarning
-from solver.geometry.gap import GapError
+from solver.geometry.curves import GapError
 from solver.problem import load_problem, save_problem
 
 

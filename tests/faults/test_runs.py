@@ -282,7 +282,7 @@ def test_progress_lines_without_a_terminal(block, tmp_path):
 
 
 def test_load_path_with_too_many_steps(block, tmp_path, capsys):
-    from solver.contact.steps import MAX_LOAD_STEPS
+    from solver.contact.friction.stream import MAX_LOAD_STEPS
     from solver.problem import load_problem
 
     problem = load_problem(block)

@@ -1,0 +1,294 @@
+r"""Coulomb friction by load steps (thesis §5-§6, (88)-(111)).
+
+The load is applied in κc steps, f_κ = κ/κc · f. Each step solves for the
+increment Δu (u = u_{κ−1} + Δu) and the friction traction g_t at the free
+contact nodes, starting from the previous step's solution.
+
+Which Coulomb bound (errata of (104))
+-------------------------------------
+The thesis's row 3 balances the tangential nodal force with M g_t (so g_t is
+a traction), while its friction bound f_c p uses p of (104), a nodal *force*
+(and signed). We compare like with like, per node as the thesis intends
+("neglecting neighbours", (104)): the tangential row uses the lumped
+boundary matrix D = diag(Σ_j M_ij) (the length of Γc belonging to node i),
+and p is the non-negative lumped contact pressure p_i = λ_i / D_ii. Then
+|g_t,i| ≤ f_c p_i is the same as |t_i| ≤ f_c λ_i for the nodal friction force
+t_i = D_ii g_t,i: Coulomb's law on nodal forces. For the 2-DOF bar D = M = 1.
+
+Formulations
+------------
+``"thesis"`` (110)/(111): unknowns x = [Δu; g_t; Δu_t⁺; Δu_t⁻] with
+
+.. math::
+    X(RKu − f_κ R) = 0, \quad Z(RKu − f_κ R) − D g_t = 0, \quad
+    ZRΔu − Δu_t^+ + Δu_t^- = 0 \ (106), \\
+    λ = −Y(RKu − f_κ R) \perp s − YRu, \quad
+    Δu_t^- \perp f_c p − g_t \ (98), \quad Δu_t^+ \perp f_c p + g_t \ (101),
+
+(X drops the tangential and normal rows of contact nodes, Z keeps the
+tangential ones (77)). Where p = 0 (a node out of contact) the last two
+pairs only give g_t = 0 and leave the split Δu_t± non-unique: J is singular
+there, and φ_FB falls back to gradient steps (errata).
+
+``"projection"`` (beyond the thesis): unknowns x = [Δu; g_t], the split is
+replaced by the semismooth projection (Alart & Curnier 1991; the
+primal-dual active set form of Hüeber, Stadler & Wohlmuth 2008)
+
+.. math::  g_t = \mathrm{proj}_{[−f_c p,\, f_c p]}(g_t − c_t\, ZRΔu),
+
+which is non-degenerate: p = 0 gives g_t = 0 and Δu_t is left to the
+tangential equilibrium row. c_t > 0 only changes the Newton path.
+
+In 3D (any d) g_t ∈ R^{d−1} per node, in the tangent basis
+``geometry.tangents``, and the clip becomes the projection onto the disc
+|g_t| ≤ f_c p (Alart & Curnier 1991; Hüeber, Stadler & Wohlmuth 2008):
+``friction_traction`` is then (Nc, d − 1). The thesis's split is 2D-only
+(it splits a scalar slip) and is refused there, and with roller nodes. The
+reduced Newton of :mod:`.newton` is 2D-only: in 3D each Newton
+step of the condensed system is solved with the tractions eliminated
+(:mod:`.disc`), by default on the candidate nodes only
+(:mod:`solver.contact.strategies.friction_candidates`; ``candidates=False``: every DOF of the free
+contact nodes); the full system takes a sparse LU of its whole Jacobian.
+
+Rollers (symmetry planes, :mod:`~solver.contact.geometry`): at a contact
+node with u_c = 0 along the plane normal e_c and ν in the plane, the row
+along e_c is a support reaction, not friction: the projection form keeps
+g_t,c ≡ 0 there (w_c = 0, so g − P(w) gives it) and drops that tangential
+equilibrium row, so that the Coulomb set is the disc cut to the free
+tangents (an interval with one free tangent). This is exact for loads
+symmetric about the plane: the whole model's friction traction has no
+component across the plane there (mirror symmetry).
+
+``coulomb="lagged"`` uses p = p_{κ−1} of the previous step (thesis: Coulomb
+as a sequence of Tresca problems); ``coulomb="implicit"`` uses the current
+step's p(u) (no one-step lag), with its derivative in the Jacobian.
+
+References
+----------
+P. Alart, A. Curnier: A mixed formulation for frictional contact problems
+prone to Newton like solution methods. CMAME 92 (1991) 353-375.
+S. Hüeber, G. Stadler, B. Wohlmuth: A primal-dual active set algorithm for
+three-dimensional contact problems with Coulomb friction. SIAM J. Sci.
+Comput. 30 (2008) 572-596.
+"""
+
+import time
+from types import SimpleNamespace
+
+import numpy as np
+
+from ...errors import SolverError
+from .stream import MAX_LOAD_STEPS, StepStream
+from ..strategies.friction_candidates import friction_on_candidates, use_candidates
+from .steps import GAP_WEIGHT, load_step, make_result, setup
+from .system import (COULOMB, FORMULATIONS, FrictionSystem,
+                              check_geometry)
+from ..frictionless.driver import contact_geometry, contact_stiffness
+from ..geometry import problem_dim
+
+__all__ = ["FORMULATIONS", "COULOMB", "FrictionSystem", "solve_friction"]
+
+
+def solve_friction(problem, friction, steps=None, formulation="projection",
+                   coulomb="lagged", method="fb", gap="obstacle", tol=1e-10,
+                   max_iter=100, gap_scale=None, options=None, progress=None,
+                   geometry=None, condense=None, on_step=None,
+                   keep_steps=True, backend="auto", rollers=None,
+                   candidates=None, margin=None, condensation=None):
+    r"""Quasi-static Coulomb friction in load steps (thesis §5, (110)/(111)).
+
+    Parameters
+    ----------
+    problem : ContactProblem
+    friction : float
+        Coefficient of friction f_c ≥ 0.
+    steps : int, optional
+        Number of load steps κc; step κ applies κ/κc · f (default 100).
+        A problem with a ``load_path`` follows its stages instead (their
+        steps, loads and friction multipliers); ``steps`` must then be None.
+    formulation : {"projection", "thesis"}
+        The projection form (see module; in 3D onto the Coulomb disc), the
+        default, or the thesis's split (110)/(111), which reproduces Table 2
+        (2D only: SolverError in 3D). The split is singular where p = 0; with
+        φ_FB it stalls at load step 28 of 100 on the thesis's own 1878-cell
+        block at f_c = 0.3 (tests/test_friction_default.py), hence not the
+        default.
+    coulomb : {"lagged", "implicit"}
+        Friction bound from the previous step's pressure (thesis) or from
+        the current one.
+    method : {"fb", "min"}
+        Newton method of each step (the thesis used φ_FB only).
+    gap : {"obstacle", "body"}
+        As in :func:`solve_frictionless`.
+    tol, max_iter, options
+        Per step, as in :func:`solve_frictionless`: the stopping test is
+        relative, ‖[E; min(A, k̄B)]‖₂ (force units, :meth:`FrictionSystem.
+        error`) ≤ tol·max(‖f‖₂, ‖f_κ‖₂, ‖λ⁺‖₂), with f the full load and
+        f_κ the step's, so the verdict does not depend on units (nor, on
+        the condensed system, the iterates); every converged step is then
+        verified (:func:`~solver.contact.verify.verify_contact`: finite,
+        penetration, λ ≥ 0, complementarity, Coulomb bound |t| ≤ f_c λ on
+        nodal forces, equilibrium of the system solved), and the last one
+        also against the original K and f when condensed. A step that
+        fails verification ends the run like one that does not converge
+        (its record says ``verified`` False, status 6).
+    gap_scale : float, optional
+        c of the gap rows, as in :func:`solve_frictionless`: default 1 (the
+        thesis) on the full system, :data:`GAP_WEIGHT`·k̄ on the condensed
+        one (every row of Φ then in force units, so that its iterates do
+        not depend on the units).
+    progress : callable, optional
+        ``progress(step_record)`` after every completed step.
+    on_step : callable, optional
+        ``on_step(fields)`` once per completed step, in order, with that
+        step's arrays (the per-step keys listed under Returns, without the
+        first axis). On the condensed system the displacements of up to 32
+        steps are recovered in one batched solve, so calls may lag the
+        steps by up to 32; an exception (KeyboardInterrupt included) still
+        delivers every completed step before it propagates.
+    keep_steps : bool
+        Keep the per-step arrays in the result (default). False keeps only
+        the records, so that memory does not grow with the number of steps
+        (stream them with ``on_step`` instead).
+    geometry : ContactGeometry, optional
+    condense : bool or None
+        True: factorise K once and solve every step's system condensed
+        exactly onto Γc (as in :func:`solve_frictionless`; the projection
+        form's Newton systems are then solved reduced to the free
+        components or to the contact constraints,
+        :mod:`~solver.contact.friction.newton`); False: the
+        system in all unknowns, one sparse LU per iteration (faithful mode;
+        the iteration counts of Table 2). None (default): True for the
+        projection formulation, False for the thesis's: its split is
+        degenerate where p = 0 and its Newton path depends on the merit
+        function; condensed (interior equilibrium always exact) it needs
+        about twice the iterations and failed on the 118 block at f_c =
+        0.05 (the same solution where both converge).
+    backend : {"auto", "superlu", "pardiso", "cholmod"}
+        Sparse direct solver of the condensed system, as in
+        :func:`solve_frictionless`: one factorisation and its Schur
+        complement serve every load step and Newton iteration.
+    rollers : bool or None
+        Whether contact nodes on symmetry planes (a Dirichlet component
+        along which ν has none, :mod:`~solver.contact.geometry`) take part
+        in contact and friction, as in :func:`solve_frictionless`: their
+        friction traction lives in the free tangents only (module
+        docstring). None (default): True in 3D, False in 2D (the thesis's
+        runs: a roller is a support, λ = 0; the thesis's split refuses
+        rollers). Ignored when ``geometry`` is given.
+    candidates : bool, optional
+        Condense onto the d DOFs of candidate nodes only, enlarged until
+        no other node penetrates (:mod:`solver.contact.strategies.friction_candidates`; result keys
+        ``condensation`` "candidates" and ``candidates``). Default: True
+        in 3D with the condensed projection form.
+    margin : float, optional
+        The candidates' round-0 gap margin δ₀, as in
+        :func:`solve_frictionless`.
+    condensation : :class:`~solver.linalg.Condensation`, optional
+        K already condensed onto ``geometry.free_dofs()`` (its ``S``,
+        ``load``, ``displacement``), used instead of factorising K with
+        ``backend`` (the PETSc engine passes its distributed one).
+
+    Returns
+    -------
+    OptimizeResult
+        ``success``, ``message``, ``steps_completed``, ``failed_step``
+        (None or κ), totals ``njev``, ``nfev``, ``nit``, ``time``; per step
+        (arrays, first axis = completed steps): ``load_factor``,
+        ``displacement`` (nodal), ``u`` (reduced), ``contact_force`` λ,
+        ``contact_pressure`` (lumped λ/D, ≥ 0), ``contact_pressure_consistent``
+        (M⁻¹λ, thesis (87)), ``friction_traction`` g_t ((Nc,) per step in
+        2D, (Nc, d − 1) in the tangent basis ``geometry.tangents`` in 3D;
+        so is ``tangential_displacement``),
+        ``friction_bound`` f_c p used in the step (p_{κ−1} if lagged),
+        ``tangential_displacement``, ``in_contact``, ``stick``, ``slip``
+        (over all nodes of Γc; supports are never in contact), and
+        ``records``: a list of dicts (κ, converged, verified, status, njev,
+        nfev, nit, n_contact, n_stick, n_slip, error, relative (the
+        stopping measure over its scale), message); per contact node
+        (steps share them): ``gap`` s and ``normal`` ν (NaN at supports);
+        ``verification`` (the worst of every completed step's checks, plus
+        the last step's against the original K and f: keys as in
+        :func:`solve_frictionless`, with ``friction_bound_violation``) and
+        ``stopping`` (that of the step with the largest relative measure,
+        with its ``step``); ``linear_solver`` (the backend that factorised
+        K).
+
+    Raises
+    ------
+    SolverError
+        For a negative or non-finite ``friction``, a bad ``steps``, an
+        unknown formulation; :class:`~solver.errors.ProblemError` if K is
+        not positive definite or a normal line misses the obstacle (as in
+        :func:`solve_frictionless`). A load step that does not converge
+        ends the run without raising: see ``success`` and ``failed_step``.
+    """
+    _check_arguments(problem, friction, steps)
+    path = problem.load_steps(steps)
+    steps = problem.n_load_steps(steps)
+    start = time.perf_counter()
+    if rollers is None:  # 3D: rollers (the projection takes them)
+        rollers = problem_dim(problem) == 3
+    if geometry is None:
+        geometry = contact_geometry(problem, gap, rollers=rollers)
+    if use_candidates(candidates, condense, formulation, geometry.dim):
+        check_geometry(geometry, formulation)
+        if gap_scale is None:
+            gap_scale = GAP_WEIGHT * contact_stiffness(problem.K, geometry)
+        keywords = dict(
+            steps=None if problem.load_path is not None else steps,
+            formulation=formulation, coulomb=coulomb, method=method, tol=tol,
+            max_iter=max_iter, options=options, gap_scale=gap_scale,
+            progress=progress, on_step=on_step, keep_steps=keep_steps,
+            backend=backend)
+        return friction_on_candidates(solve_friction, problem, friction,
+                                      geometry, margin, keywords)
+    if formulation in FORMULATIONS:  # an unknown one: FrictionSystem says
+        check_geometry(geometry, formulation)
+    if steps > MAX_LOAD_STEPS:
+        raise SolverError(f"{steps} load steps: at most {MAX_LOAD_STEPS} are "
+                          "supported")
+    shared = setup(problem, geometry, friction, formulation, coulomb, method,
+                   tol, options, gap_scale, condense, backend, condensation)
+    stream = StepStream(problem, shared.condensation, on_step, keep_steps,
+                        steps)
+    run = SimpleNamespace(records=[], failed=None, checks=[], stoppings=[],
+                          last=None, totals=dict(njev=0, nfev=0, nit=0),
+                          message="all load steps converged")
+    state = SimpleNamespace(u=np.zeros(shared.system.n),  # u, or u on Γc
+                            w=np.zeros(problem.n_dofs),  # K⁻¹f of step κ−1
+                            p=np.zeros(shared.system.m),
+                            g=np.zeros(shared.system.mt))
+    try:
+        for kappa, (load, factor, prescribed, stage) in enumerate(path, 1):
+            if not load_step(shared, state, run, stream, kappa, steps, load,
+                             friction * factor, prescribed, stage, method,
+                             tol, max_iter):
+                break
+            if progress is not None:
+                progress(run.records[-1])
+    finally:  # also on KeyboardInterrupt: deliver every completed step
+        stream.flush()
+    return make_result(problem, geometry, shared, run, stream, steps,
+                       friction, formulation, coulomb, method, tol, start)
+
+
+def _check_arguments(problem, friction, steps):
+    """SolverError for a bad friction coefficient or number of steps."""
+    if not _is_real(friction) or not np.isfinite(friction) or friction < 0:
+        raise SolverError(f"friction coefficient must be >= 0 and finite, "
+                          f"got {friction!r}")
+    if steps is not None and problem.load_path is not None:
+        raise SolverError(f"the problem defines a load path of "
+                          f"{int(problem.load_path_steps.sum())} steps in "
+                          f"{len(problem.load_path)} stages; do not give "
+                          "the number of steps")
+    if steps is not None and (not _is_real(steps) or not np.isfinite(steps)
+                              or int(steps) != steps or steps < 1):
+        raise SolverError(f"number of load steps must be a positive "
+                          f"integer, got {steps!r}")
+
+
+def _is_real(value):
+    return isinstance(value, (int, float, np.integer, np.floating)) \
+        and not isinstance(value, bool)

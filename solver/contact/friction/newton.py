@@ -1,0 +1,283 @@
+r"""The Newton system of a condensed friction step, solved on the free
+components only (projection formulation; :mod:`solver.contact.friction.driver`).
+
+On the system condensed onto Γc (K → S, dense 2m×2m) the Jacobian of the
+projection formulation, in the rotated displacement v = RΔu (R of (58)-(60),
+orthogonal) and the scaled traction ĝ = g_t/c_t, has the rows
+
+.. math::
+    T_{t,:}\,dv − D c_t\,dĝ = −E_2, \qquad
+    \text{stick: } c_t\,dv_{t,i} = −E_{3,i}, \quad
+    \text{slip: } c_t\,dĝ_i ∓ f_c a_i/D_i\,T_{n_i,:}dv = −E_{3,i}, \\
+    −w_{a,i} T_{n_i,:}dv − w_{b,i}\,c\,dv_{n,i} = −Φ_i,
+
+with T = R S Rᵀ, (w_a, w_b) the weights of the NCP function's row
+(:func:`solver.ncp.functions.derivative_weights`) and a_i = [λ_i > 0] (only
+with the implicit bound; lagged: no T_n term in the slip rows). A sticking
+node fixes its dv_t, a node whose normal row is a pure gap row (w_a = 0:
+φ_min's "in contact", the thesis's B row) fixes its dv_n, and ĝ follows from
+one row per node (slip: its own row; stick: the tangential row). What is
+left is the exact block elimination
+
+.. math:: M_{FF}\, dv_F = h_F − M_{FK}\, dv_K
+
+on the free components F = {dv_t of sliding nodes} ∪ {dv_n of nodes whose
+normal row has w_a ≠ 0}, where M's rows are T_{t_i,:} ± f_c a_i T_{n_i,:}
+(slip) and T_{n_i,:} + (w_b/w_a) c e_{n_i} (normal rows divided by −w_a). For
+the lagged bound M_FF is a principal submatrix of T plus a non-negative
+diagonal (w_a, w_b ≤ 0 for φ_FB, (30)): symmetric positive definite, so it
+is factorised by Cholesky; otherwise by LU.
+
+Usually few nodes touch Γ₂ and F is most of Γc. The same system is then
+solved in the forces q = T dv (:meth:`_Combined._dual`): a free row fixes
+q_j (or ties it to dv_j, φ_FB), dv = C q with the flexibility C = T⁻¹
+(once per run), and what is left is a system on the contact constraints
+(fixed components K, plus φ_FB's mixed normal rows), of size 40-70 against
+|F| ≈ 580 on the 1.2·10⁵-DOF block (m = 312). Whichever is smaller is
+solved (with the implicit bound only for f_c ≤ :data:`DUAL_MAX_FRICTION`:
+100 load steps there, f_c = 0.3, cost 9.2 floors through M_FF, an LU of
+order ≈ 580 per iteration). Nothing larger than S is formed, no 3m×3m matrix is factorised,
+and an unchanged reduced matrix reuses its factorisation (rare in
+practice: the contact set moves from step to step). The direction is that
+of the full Newton system J d = −Φ up to round-off (tests: backward error
+≤ 2e-15, and 2e-12 for φ_FB with the implicit bound through C); J is
+singular exactly when the reduced matrix is (the eliminated pivots c_t, 1,
+w_b c and D c_t are non-zero).
+
+This is the primal-dual active set structure of Hüeber, Stadler & Wohlmuth
+(2008), applied to the condensed system.
+"""
+
+import warnings
+
+import numpy as np
+import scipy.linalg as sla
+
+__all__ = ["ReducedJacobian", "DUAL", "DUAL_MAX_FRICTION"]
+
+#: Solve through the flexibility (:meth:`_Combined._dual`) when its system
+#: is the smaller one (and, with the implicit bound, f_c ≤
+#: :data:`DUAL_MAX_FRICTION`); False: always the primal M_FF (tests).
+DUAL = True
+
+#: The implicit bound's slip rows q_t,i + k_i q_n,i = h_t,i (|k_i| = f_c)
+#: put q_t,i = h_t,i − k_i q_n,i into the dual system: the error of the
+#: computed q_n,i (through the explicit C = T⁻¹, ~cond(T)·eps) reaches q_t,i
+#: times f_c. Up to f_c = 1 that is no worse than the lagged bound's dual
+#: form; with f_c = 10⁶ (454 block) it stalled at a relative residual of
+#: 2e-10 where the primal form converges, so larger f_c solve M_FF.
+DUAL_MAX_FRICTION = 1.0
+
+
+class ReducedJacobian:
+    """The structured Jacobian that :func:`solver.ncp.solve_ncp` accepts
+    from ``jac``: ``JA``, ``JB`` (for φ_FB's rule (31)) and
+    :meth:`combine` (the Newton system with the NCP function's weights).
+
+    Built by :meth:`FrictionSystem.jacobian
+    <solver.contact.friction.system.FrictionSystem.jacobian>` at the
+    iterate ``x`` with the step's quantities there: ``stick`` and ``upper``
+    masks of the projection, ``active`` (a_i, None if lagged)."""
+
+    def __init__(self, system, x, stick, upper, active):
+        self.system, self.x, self.stick, self.upper = system, x, stick, upper
+        self.active = active
+        self.JA, self.JB = system._JA, system._JB
+
+    def combine(self, wa, wb):
+        """The Newton system for the row weights (w_a, w_b)."""
+        return _Combined(self, np.asarray(wa, float), np.asarray(wb, float))
+
+
+class _Combined:
+    """J = [JE; diag(w_a)JA + diag(w_b)JB] of a :class:`ReducedJacobian`:
+    :meth:`direction` solves J d = −Φ, :meth:`rmatvec` gives JᵀΦ."""
+
+    def __init__(self, jac, wa, wb):
+        self.jac, self.wa, self.wb = jac, wa, wb
+
+    def _coefficients(self):
+        """Per node: the slip rows' T_n factor (∓f_c a_i, 0 if lagged)."""
+        jac, s = self.jac, self.jac.system
+        if jac.active is None:
+            return None
+        sign = np.where(jac.upper, -1.0, 1.0) * (~jac.stick)
+        return sign * (-s.friction) * jac.active  # row: sign·db, db/D·D
+
+    def rmatvec(self, F):
+        """JᵀF in the unknowns x = [Δu; ĝ] (∇ψ of φ_FB, (28))."""
+        jac, s = self.jac, self.jac.system
+        m, c_t = s.m, s.c_t
+        F2, F3, Fc = F[:m], F[m:2 * m], F[2 * m:]
+        stick = jac.stick
+        T_t, T_n = _row_blocks(s)
+        gv = F2 @ T_t - (self.wa * Fc) @ T_n
+        gv[s.t_rows] += c_t * np.where(stick, F3, 0.0)
+        gv[s.n_rows] -= s.gap_scale * self.wb * Fc
+        k = self._coefficients()
+        if k is not None:  # slip rows' db term: k_i/D_i · T_{n_i,:}
+            gv += (k / s.lumped * F3) @ T_n
+        gg = -s.lumped * c_t * F2 + c_t * np.where(stick, 0.0, F3)
+        return np.concatenate([s.RT @ gv, gg])
+
+    def direction(self, F):
+        """d with J d = −F, or None if J is (numerically) singular."""
+        jac, s = self.jac, self.jac.system
+        m, c_t, c, T, D = s.m, s.c_t, s.gap_scale, s.T, s.lumped
+        t, nr = s.t_rows, s.n_rows
+        F2, F3, Fc = F[:m], F[m:2 * m], F[2 * m:]
+        stick, wa, wb = jac.stick, self.wa, self.wb
+        slip, free_n = ~stick, wa != 0.0
+        k = self._coefficients()
+        v = np.zeros(2 * m)  # dv: the fixed components first
+        v[t[stick]] = -F3[stick] / c_t
+        v[nr[~free_n]] = -Fc[~free_n] / (-wb[~free_n] * c)
+        rows_t, rows_n = t[slip], nr[free_n]
+        free = np.concatenate([rows_t, rows_n])
+        if free.size:
+            ht = -F2[slip] - D[slip] * F3[slip]
+            ratio = wb[free_n] / wa[free_n]
+            hn = Fc[free_n] / wa[free_n]
+            fixed = np.ones(2 * m, bool)
+            fixed[free] = False
+            # the implicit bound's slip rows carry f_c: through the
+            # explicit flexibility C their round-off grows with f_c
+            # (:data:`DUAL_MAX_FRICTION`)
+            if DUAL and (k is None or s.friction <= DUAL_MAX_FRICTION) \
+                    and np.count_nonzero(fixed) \
+                    + np.count_nonzero(ratio) < free.size:
+                solved = self._dual(v, free, fixed, ht, hn, c * ratio, k,
+                                    slip, free_n)
+            else:
+                solved = self._primal(v, free, ht, hn, ratio, k, slip)
+            if solved is None:
+                return None
+            v[free] = solved
+        dg = np.empty(m)
+        Tv = T @ v if (k is not None and slip.any()) or stick.any() \
+            else None
+        dg[slip] = -F3[slip] / c_t
+        if k is not None and slip.any():
+            dg[slip] -= k[slip] / D[slip] * Tv[nr[slip]] / c_t
+        dg[stick] = (Tv[t[stick]] + F2[stick]) / (D[stick] * c_t) \
+            if stick.any() else 0.0
+        d = np.concatenate([s.RT @ v, dg])
+        return d if np.all(np.isfinite(d)) else None
+
+    def _primal(self, v, free, ht, hn, ratio, k, slip):
+        """dv_F from M_FF dv_F = h_F − M_FK dv_K (module docstring)."""
+        s = self.jac.system
+        T, nr, c = s.T, s.n_rows, s.gap_scale
+        Mt = T[free[:len(ht)]]
+        if k is not None:
+            Mt = Mt + k[slip][:, None] * T[nr[slip]]
+        M = np.vstack([Mt, T[free[len(ht):]]])
+        h = np.concatenate([ht, hn]) - M @ v
+        A = M[:, free]
+        diagonal = len(ht) + np.arange(len(hn))
+        A[diagonal, diagonal] += c * ratio
+        return s._reduced_solve(A, h, k is None, "primal")
+
+    def _dual(self, v, free, fixed, ht, hn, rho, k, slip, free_n):
+        r"""dv_F through the forces q = T dv and the flexibility C = T⁻¹
+        (the Neumann-to-Dirichlet map, made once per run), dv = C q.
+
+        A free row gives q_j = h_j (a slip row: q_{t_i} + k_i q_{n_i} =
+        h_{t_i} with the implicit bound) or, a normal row with a diagonal
+        term ρ_j = c w_b/w_a > 0 (φ_FB), q_j + ρ_j dv_j = h_j. The unknowns
+        are then the forces q_U on U = K ∪ {j : ρ_j > 0}, K the fixed
+        components, from the symmetric positive definite system
+
+        .. math:: (C_{UU} + \mathrm{diag}(0_K, 1/ρ))\, q_U
+                  = [dv_K; h/ρ] − C_{UQ}\, h_Q
+
+        (Q: the other free rows), with −C_{U t_i} k_i added to the column
+        of q_{n_i} for the slip rows that the implicit bound couples to an
+        unknown q_{n_i} (then unsymmetric). Its size |U| is the number of
+        contact constraints (plus φ_FB's mixed rows) instead of |F|.
+        Returns dv_F."""
+        s = self.jac.system
+        m, nr = s.m, s.n_rows
+        n_t = len(ht)
+        mixed = np.zeros(free.size, bool)
+        mixed[n_t:] = rho != 0.0
+        U = np.concatenate([np.flatnonzero(fixed), free[mixed]])
+        h = np.concatenate([ht, hn])
+        q = np.zeros(2 * m)
+        q[free[~mixed]] = h[~mixed]  # q_Q; q_U follows
+        kc = coupled = None
+        if k is not None:  # q_t,i + k_i q_n,i = ht_i at sliding nodes
+            known_n = np.zeros(m, bool)
+            known_n[free_n] = ~mixed[n_t:]
+            slip_nodes = np.flatnonzero(slip)
+            q_n = np.zeros(m)
+            q_n[free_n] = hn
+            ks = k[slip]
+            q[free[:n_t]] -= np.where(known_n[slip], ks * q_n[slip], 0.0)
+            coupled = np.flatnonzero(~known_n[slip] & (ks != 0.0))
+            if coupled.size:
+                columns = np.searchsorted(np.sort(U),
+                                          nr[slip_nodes[coupled]])
+                kc = ks[coupled]
+        order = np.argsort(U)
+        U = U[order]  # sorted: coupled columns found by searchsorted
+        C = s.flexibility()
+        CU = C[U]
+        A = CU[:, U]
+        rhs = -(CU @ q)
+        on_fixed = fixed[U]
+        rhs[on_fixed] += v[U[on_fixed]]
+        # mixed rows ρ_j C_j q + q_j = h_j, scaled symmetrically by
+        # √ρ_j (unknowns q_j/√ρ_j): unit diagonal terms, no 1/ρ
+        root = np.ones(len(U))
+        rho_full = np.zeros(2 * m)
+        rho_full[free[mixed]] = rho[mixed[n_t:]]
+        h_full = np.zeros(2 * m)
+        h_full[free] = h
+        rows = ~on_fixed
+        root[rows] = np.sqrt(rho_full[U[rows]])
+        if kc is not None:
+            A[:, columns] -= CU[:, free[coupled]] * kc
+        A *= root[:, None]
+        A *= root
+        rhs *= root
+        rhs[rows] += h_full[U[rows]] / root[rows]
+        diagonal = np.flatnonzero(rows)
+        A[diagonal, diagonal] += 1.0
+        qU = s._reduced_solve(A, rhs, kc is None, "dual")
+        if qU is None:
+            return None
+        qU = qU * root
+        q[U] = qU
+        if kc is not None:
+            q[free[coupled]] -= kc * qU[columns]
+        return (C @ q)[free]
+
+
+def _row_blocks(system):
+    """(T_t, T_n): T's tangential and normal rows, copied once per system
+    (T is fixed; gathering them cost 0.7 ms per gradient at 1.2e5 DOFs)."""
+    blocks = getattr(system, "_row_blocks", None)
+    if blocks is None or blocks[0] is not system.T:
+        blocks = (system.T, np.ascontiguousarray(system.T[system.t_rows]),
+                  np.ascontiguousarray(system.T[system.n_rows]))
+        system._row_blocks = blocks
+    return blocks[1], blocks[2]
+
+
+def factorize(A, symmetric):
+    """Cholesky of A if ``symmetric`` and it is positive definite, else LU;
+    None if A is (numerically) singular. Returns a solve callable."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", sla.LinAlgWarning)
+        if symmetric:
+            try:
+                factor = sla.cho_factor(A, check_finite=False)
+                return lambda b: sla.cho_solve(factor, b,
+                                               check_finite=False)
+            except np.linalg.LinAlgError:
+                pass
+        lu, piv = sla.lu_factor(A, check_finite=False)
+        if not np.all(np.diagonal(lu)):
+            return None
+        return lambda b: sla.lu_solve((lu, piv), b, check_finite=False)

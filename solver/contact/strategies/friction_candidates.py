@@ -1,0 +1,327 @@
+r"""Coulomb friction condensed onto the candidate nodes (issue 18, part 6).
+
+The condensed friction run (:mod:`solver.contact.friction.driver`) works on the
+Schur complement S of K on every DOF of Γc: in 3D a dense (3Nc)² matrix
+(Nc = 10³-10⁴ on a refined surface), whose Newton systems cost (5Nc)³. A
+node that never touches carries no force (λ = 0, so the Coulomb disc
+f_c p has radius 0 and t = 0), so only the d DOFs of the nodes that can
+touch need to stay: the *candidates*. The run here is the same run
+(:func:`~solver.contact.friction.driver.solve_friction`, condensed, projection
+form) on the geometry of the candidates only, S of size 3m, m ≪ Nc.
+
+Choosing them (the rule of :mod:`solver.contact.strategies.candidates`):
+
+1. Screening at the final load: the frictionless problem (67) at the last
+   load of the path, on the normal candidates (:func:`solve_frictionless`,
+   one factorisation of K̂ with one unknown per node), gives every node's
+   remaining gap s − u_n and its contact set. The first friction
+   candidates are that contact set and :data:`RINGS` rings of its
+   neighbours along the contact triangles (the default when the problem
+   has them), or the nodes with s − u_n ≤ δ (``margin``; default without
+   triangles :data:`RING_FRACTION` of its range); the initial-gap rule of
+   :func:`initial_candidates` if the screening has no contact. The
+   neighbour rings follow the mesh: on the Hertz sphere the gap rule took
+   2.6× the nodes in contact at a/h 16 (670 for 257; the Newton systems
+   cost the cube of that), two rings 1.4× (no enlargement needed at
+   a/h 16 or 32).
+2. The load steps on the candidates (K factorised with their 3m DOFs last,
+   :func:`~solver.contact.frictionless.driver.condense_onto_contact`), each
+   step's non-candidates checked as the step is delivered: s − u_n ≥
+   −tol_v·F/k̄ (:mod:`solver.contact.verify`). A penetration enlarges the
+   set (:func:`enlarge_candidates`: every node with s − u_n ≤ the deepest
+   penetration) and the run restarts.
+
+Roller nodes (symmetry planes, :mod:`~solver.contact.geometry`) are
+candidates like any other node: the run on the candidates' geometry keeps
+their frames, and their friction lives in the free tangent(s) as in the
+run on every contact DOF (:mod:`solver.contact.friction.driver`, :mod:`solver.contact.friction.disc`); a
+non-candidate roller's tangential displacement is read on its own DOFs
+(its constrained component is 0).
+
+The Newton systems of a step have 5m unknowns (3m displacements, 2m
+tractions) and are dense (S is): :func:`solver.ncp.solve_ncp` factorises
+them by LAPACK, (5m)³/3 flops, instead of (5Nc)³/3 on every contact DOF.
+
+Exactness. A step whose non-candidates all keep s − u_n ≥ 0 (to the
+tolerance) solves the full problem's step: at a non-candidate λ = 0,
+t = 0 and the Coulomb radius f_c p is 0 (p, lagged or implicit, is 0 there:
+the node was never in contact), so its contact and Coulomb conditions
+hold; the candidates satisfy theirs by the solve, and the condensation
+onto them is exact for forces acting on them only. If every step passes,
+the whole path is the full problem's (each step from the same previous
+state). If step κ fails, the run **restarts from the first step** with the
+larger set: friction is path-dependent, and restarting gives the new
+candidates the same history (the zero state) as the full problem, so the
+new run is exact by the same argument without transplanting a state from
+one condensation to another. Steps 1 … κ − 1 of the failed run were
+already exact (the check is per step); the restart repeats them (≤ the
+run's Newton cost again) and those already delivered to ``on_step`` are
+not delivered twice. The check sees a step when it is delivered (the
+condensed run recovers displacements in batches of
+:data:`~solver.contact.friction.stream.BATCH`), so a failure may be found up to a
+batch late; that costs time, not exactness. The screening at the final
+load makes a restart rare (none in the Hertz runs of benchmarks/
+README.md). After :data:`~solver.contact.strategies.candidates.MAX_ROUNDS` rounds the
+last run takes every node (today's path: exact without a check).
+
+References
+----------
+P. Wriggers, *Computational Contact Mechanics*, 2nd ed., Springer 2006,
+§6.2.2 (condensation) and its chapter on contact search (a global
+screening with a margin, then the exact local check). S. Hüeber, G.
+Stadler, B. Wohlmuth, SIAM J. Sci. Comput. 30 (2008) 572-596 (3D Coulomb
+friction by the projection onto the disc).
+"""
+
+import time
+
+import numpy as np
+import scipy.sparse as sp
+
+from ...errors import SolverError
+from ...linalg import resolve
+from ...ncp import stable_norm
+from .candidates import MAX_ROUNDS, enlarge_candidates, initial_candidates
+from ..frictionless.driver import contact_stiffness, solve_frictionless
+from ..verify import (force_scale, verification_tolerance, verify_contact,
+                     worst_verification)
+
+__all__ = ["RING_FRACTION", "RINGS", "use_candidates", "remaining_gap",
+           "first_candidates", "surface_adjacency", "friction_on_candidates"]
+
+
+class _Penetration(Exception):
+    """A non-candidate penetrates after load step ``step``."""
+
+    def __init__(self, step, remaining, length):
+        super().__init__(step)
+        self.step, self.remaining, self.length = step, remaining, length
+
+
+def use_candidates(candidates, condense, formulation, dim):
+    """Whether to run friction on candidates (default: 3D, condensed,
+    projection form; roller nodes included); SolverError (one line) if
+    asked where it cannot."""
+    if candidates is None:
+        return dim == 3 and condense is not False \
+            and formulation == "projection"
+    if candidates and (condense is False or formulation != "projection"):
+        raise SolverError("friction on candidate nodes needs the condensed "
+                          "projection formulation (condense=True, "
+                          "formulation=\"projection\")")
+    return bool(candidates)
+
+
+def remaining_gap(geometry, u):
+    """s − u_n at every node of ``geometry`` for reduced u (its component
+    DOFs ``node_dofs``; −1, a Dirichlet component, reads 0)."""
+    padded = np.append(np.asarray(u, float), 0.0)
+    return geometry.gap - np.einsum("ij,ij->i", geometry.normal,
+                                    padded[geometry.node_dofs])
+
+
+#: Default ring of the friction candidates: nodes whose frictionless
+#: remaining gap is at most this fraction of its range over Γc.
+RING_FRACTION = 0.01
+
+
+#: Rings of contact-surface neighbours around the screening's contact set
+#: in the first friction candidates (module docstring).
+RINGS = 2
+
+
+def first_candidates(remaining, margin=None, contact=None, adjacency=None):
+    """The first friction candidates (positions) from the frictionless
+    remaining gaps s − u_n at the final load, and δ: with ``margin`` None,
+    ``contact`` (bool, the screening's contact set) and ``adjacency``
+    (:func:`surface_adjacency`), that set and :data:`RINGS` rings of its
+    neighbours (δ: the largest s − u_n among them); else those with
+    s − u_n ≤ δ (``margin``, default :data:`RING_FRACTION` of the range)."""
+    if margin is None and adjacency is not None and contact is not None \
+            and np.any(contact):
+        chosen = np.asarray(contact, bool)
+        for _ in range(RINGS):
+            chosen = chosen | (adjacency @ chosen.astype(float) > 0)
+        nodes = np.flatnonzero(chosen)
+        return nodes, float(np.max(remaining[nodes]))
+    if margin is None:
+        margin = RING_FRACTION * float(np.ptp(remaining)) if len(remaining) \
+            else 0.0
+    return np.flatnonzero(remaining <= margin), float(margin)
+
+
+def surface_adjacency(problem, geometry):
+    """Sparse (Nca, Nca) adjacency of ``geometry``'s nodes along the
+    edges of the contact triangles ``problem.contact_faces`` (node ids),
+    or None if the problem has none (2D, discrete)."""
+    faces = getattr(problem, "contact_faces", None)
+    if faces is None or not len(faces):
+        return None
+    faces = np.asarray(faces)
+    ids = np.asarray(problem.contact_nodes)[geometry.index]
+    lookup = np.full(max(int(faces.max()), int(ids.max(initial=0))) + 1, -1)
+    lookup[ids] = np.arange(len(ids))
+    a, b = lookup[faces], lookup[np.roll(faces, -1, axis=1)]
+    a, b = a.ravel(), b.ravel()
+    keep = (a >= 0) & (b >= 0)  # supports are not in the geometry
+    a, b = a[keep], b[keep]
+    n = len(ids)
+    return sp.csr_matrix((np.ones(2 * len(a)), (np.concatenate([a, b]),
+                                                np.concatenate([b, a]))),
+                         shape=(n, n))
+
+
+def friction_on_candidates(solve, problem, friction, geometry, margin,
+                           kwargs):
+    """:func:`~solver.contact.friction.driver.solve_friction` (passed as
+    ``solve``) on the candidates of ``geometry`` (module docstring).
+
+    ``kwargs`` are solve_friction's other arguments (``gap_scale`` set:
+    that of the whole Γc, so that the Newton iterates are those of the run
+    on every contact DOF). Returns its result with the fields of every node
+    of Γc (non-candidates: λ = 0, t = 0; their tangential displacement and
+    gap, normal filled in), ``verification`` including every node's gap,
+    ``condensation`` "candidates" and ``candidates``: ``margin`` δ₀,
+    ``rounds`` (per round: ``stage`` "screening" or "steps",
+    ``n_candidates``, ``penetrating`` (non-candidates), ``step`` (the step
+    that failed the check, or None), ``time``), ``n_candidates`` (final),
+    ``enlarged``.
+    """
+    start = time.perf_counter()
+    kwargs = dict(kwargs)
+    on_step, progress = kwargs.pop("on_step"), kwargs.pop("progress")
+    keep = kwargs.get("keep_steps", True)
+    backend = resolve(kwargs.get("backend", "auto"))
+    tol = kwargs.get("tol", 1e-10)
+    tol_v = verification_tolerance(tol)
+    stiffness = contact_stiffness(problem.K, geometry)
+    load_norm = stable_norm(problem.f)
+    final = problem.f if problem.load_path is None else problem.load_path[-1]
+    everyone = np.arange(len(geometry.gap))
+    rounds = []
+    clock = time.perf_counter()
+    screen = solve_frictionless(  # step 1: the final load, no friction
+        problem, kwargs.get("method", "fb"), geometry=geometry, tol=tol,
+        max_iter=kwargs.get("max_iter", 100), backend=backend,
+        condense=True, candidates=True, gap_scale=kwargs["gap_scale"],
+        options=kwargs.get("options"))
+    nodes, delta = first_candidates(
+        remaining_gap(geometry, screen.u), margin,
+        screen.in_contact[geometry.index], surface_adjacency(
+            problem, geometry)) if screen.success else ((), 0.0)
+    if not len(nodes):  # no contact at the final load: the gaps alone
+        nodes, delta = initial_candidates(geometry.gap)
+    rounds.append(dict(stage="screening", n_candidates=len(nodes),
+                       step=None, penetrating=0,
+                       time=time.perf_counter() - clock))
+
+    def grow(remaining, length, step, clock):
+        """The next set after a penetration at ``step`` (every node once
+        the rounds are spent); records the round."""
+        outside = np.setdiff1d(everyone, nodes)
+        rounds.append(dict(stage="steps", n_candidates=len(nodes), step=step,
+                           penetrating=int(np.count_nonzero(
+                               remaining[outside] < -length)),
+                           time=time.perf_counter() - clock))
+        if len(rounds) >= MAX_ROUNDS:
+            return everyone
+        return enlarge_candidates(nodes, remaining, length)
+
+    sent, reported, last = [0], [0], {}
+
+    def check(fields):
+        """on_step of the run: the non-candidates' gaps, then delivery."""
+        last["count"] = last.get("count", 0) + 1
+        lam = fields["contact_force"][geometry.index]
+        remaining = remaining_gap(geometry, fields["u"])
+        length = tol_v * force_scale(load_norm, lam) / stiffness
+        outside = np.setdiff1d(everyone, nodes)
+        if np.any(remaining[outside] < -length):
+            raise _Penetration(last["count"], remaining, length)
+        last["fields"] = fields
+        if last["count"] > sent[0]:
+            sent[0] = last["count"]
+            if on_step is not None:
+                on_step(_fill(fields, geometry, outside))
+
+    def report(record):
+        if record["step"] > reported[0]:
+            reported[0] = record["step"]
+            if progress is not None:
+                progress(record)
+
+    while True:
+        clock = time.perf_counter()
+        last.clear()
+        try:
+            result = solve(problem, friction, geometry=geometry.subset(nodes),
+                           condense=True, candidates=False, on_step=check,
+                           progress=report, **kwargs)
+        except _Penetration as failure:
+            nodes = grow(failure.remaining, failure.length, failure.step,
+                         clock)
+            continue
+        rounds.append(dict(stage="steps", n_candidates=len(nodes), step=None,
+                           penetrating=0, time=time.perf_counter() - clock))
+        break
+    _complete(result, problem, geometry, nodes, last.get("fields"), final,
+              stiffness, tol_v, keep)
+    result.update(condensation="candidates", time=time.perf_counter() - start,
+                  candidates=dict(margin=delta, rounds=rounds,
+                                  n_candidates=len(nodes),
+                                  enlarged=sum(r["penetrating"] > 0
+                                               for r in rounds)))
+    return result
+
+
+def _tangential(geometry, outside, u):
+    """Tangential displacements (…, k, d − 1) of the nodes ``outside`` for
+    reduced u (…, Ñ): the tangents on the node's own DOFs ``node_dofs``
+    (a roller's Dirichlet component reads 0, so its e_c component is 0, as
+    :meth:`FrictionSystem.tangential` gives)."""
+    u = np.asarray(u, float)
+    padded = np.concatenate([u, np.zeros(u.shape[:-1] + (1,))], axis=-1)
+    return np.einsum("ikj,...ij->...ik", geometry.tangents[outside],
+                     padded[..., geometry.node_dofs[outside]])
+
+
+def _fill(fields, geometry, outside):
+    """A step's fields with the non-candidates' tangential displacement
+    (NaN in the run on the candidates' geometry), in place."""
+    ut = fields["tangential_displacement"]
+    ut[geometry.index[outside]] = _tangential(geometry, outside,
+                                              fields["u"]).reshape(
+        (len(outside),) + ut.shape[1:])
+    return fields
+
+
+def _complete(result, problem, geometry, nodes, fields, final, stiffness,
+              tol_v, keep):
+    """Every node's gap, normal (and kept tangential displacements) in
+    ``result``; its verification merged with the last step's check on
+    every node of Γc against the original K and f."""
+    outside = np.setdiff1d(np.arange(len(geometry.gap)), nodes)
+    result.gap[geometry.index] = geometry.gap
+    result.normal[geometry.index] = geometry.normal
+    if keep and result.steps_completed:
+        ut = result.tangential_displacement
+        ut[:, geometry.index[outside]] = _tangential(
+            geometry, outside, result.u).reshape(
+            (len(ut), len(outside)) + ut.shape[2:])
+    if fields is None or not result.success:
+        return
+    index = geometry.index
+    lumped = np.asarray(problem.M.sum(axis=1)).ravel()[index]
+    t = fields["friction_traction"][index]
+    t = lumped * t if t.ndim == 1 else lumped[:, None] * t
+    check = verify_contact(problem.K, final, fields["u"], geometry.node_dofs,
+                           geometry.normal, geometry.gap,
+                           fields["contact_force"][index], stiffness, tol_v,
+                           t, lumped * fields["friction_bound"][index],
+                           geometry.tangents)
+    result.verification = worst_verification([result.verification, check],
+                                             tol_v)
+    if not check["passed"]:
+        result.update(success=False, message=(
+            "the last load step fails verification on every node of Γc: "
+            + ", ".join(check["failed"])))

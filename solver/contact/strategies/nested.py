@@ -1,0 +1,230 @@
+r"""Nested iteration on Γc: a coarse-to-fine start for the condensed system.
+
+From the cold start λ = 0 (u = K⁻¹f) every penetrating node looks active.
+On the condensed frictionless system, Newton with φ_min is the primal-dual
+active set method, and it releases only part of that excess per iteration,
+so its count grows like log Nc (10 Jacobians at 1.2·10⁵ DOFs, 11 at
+9·10⁵). Nested iteration (full multigrid's start; Hüeber and Wohlmuth use it
+for their active set contact solver) removes that growth: solve the same
+contact problem with constraints at every other node of Γc, then at every
+other of those, …, down to a handful of nodes; solve the coarsest from cold
+and each finer level from the one below it. Each level then starts with
+the active set of the coarser one and needs a fixed number of iterations
+(measured: φ_min 1-2 Jacobians per level, φ_FB 5-8), and a level of m nodes
+costs O(m³), so all coarser levels together cost less than one more
+iteration on the finest.
+
+The coarse problems are exact, not a coarser mesh: level ℓ + 1 keeps the
+nodes ``keep`` of level ℓ and condenses the others (r) out of its Schur
+complement with no contact force on them,
+
+.. math:: S_{ℓ+1} = S_{kk} − S_{kr} S_{rr}^{-1} S_{rk}, \qquad
+          w_{ℓ+1} = (w_ℓ)_k,
+
+where w = K⁻¹f is the unconstrained displacement (so the condensed load is
+g̃ = S w). A level's solution u_k is prolonged to level ℓ by that same
+equilibrium: u_r = w_r − S_{rr}^{-1}S_{rk}(u_k − w_k), the exact fine
+displacement of the coarse solution, whose forces act at the kept nodes
+only. Level ℓ's system is (67) with K → S_ℓ, f → S_ℓ w_ℓ.
+
+Units matter here: from such a start only a few nodes change, and φ_min's
+line search compares ‖Φ‖ before and after. With the thesis's B = s − YRu
+(c = 1) the gap rows are lengths and the force rows dwarf them, so the
+search rejects good steps; the nested solve therefore scales the gap rows
+by the contact stiffness k̄ (force units, :func:`contact_stiffness`) unless
+told otherwise. The solution is the same for every c.
+
+Dimension: the arithmetic works for any d (d DOFs per node), but the
+coarsening keeps every other node *in the order of Γc*, which is the
+order along the boundary curve in 2D and means nothing on a 3D contact
+surface (``problem.contact_nodes`` has no order there). 3D therefore uses
+the free start (:func:`solver.contact.solve_frictionless`); a spatial
+coarsening (one node per cell of ever coarser grids) would be the 3D
+counterpart, not built.
+
+References
+----------
+S. Hüeber, B. Wohlmuth: A primal-dual active set strategy for non-linear
+multibody contact problems. Comput. Methods Appl. Mech. Engrg. 194 (2005)
+3147-3166.
+M. Hintermüller, K. Ito, K. Kunisch: The primal-dual active set strategy as
+a semismooth Newton method. SIAM J. Optim. 13 (2002) 865-888.
+"""
+
+import time
+
+import numpy as np
+import scipy.linalg as sla
+
+from ...linalg.threads import single_blas_thread
+from ...ncp import solve_ncp
+from ..frictionless.driver import FrictionlessSystem
+
+__all__ = ["COARSEST", "ContactLevel", "contact_levels", "solve_nested"]
+
+#: Coarsening stops when a level has at most this many contact nodes.
+COARSEST = 8
+
+
+class ContactLevel:
+    """One level of the hierarchy: the condensed problem on a node subset.
+
+    Attributes
+    ----------
+    nodes : (m,) int
+        The level's nodes, as positions in the finest level's node list.
+    S : (dm, dm) float
+        Schur complement of K on the level's DOFs (the d DOFs of node i →
+        d·i, …, d·i + d − 1; d = 2 in use; node by node, fewer at a
+        roller).
+    w : (dm,) float
+        The unconstrained displacement K⁻¹f at those DOFs.
+    geometry : ContactGeometry
+        Gaps and normals at the level's nodes, renumbered to its DOFs.
+    keep : (m,) bool or None
+        Which of this level's nodes the next coarser level keeps (None on
+        the coarsest).
+    X : (dm − dm', dm') float or None
+        S_rr⁻¹S_rk: prolongation of a coarser level's u to the dropped DOFs.
+    """
+
+    def __init__(self, nodes, S, w, geometry):
+        self.nodes, self.S, self.w, self.geometry = nodes, S, w, geometry
+        self.keep = self.X = None
+
+    def prolong(self, u_coarse):
+        """This level's u from the next coarser level's u: the kept DOFs
+        take it, the others follow from equilibrium without contact force."""
+        kept = self.keep[_owner(self.geometry)]
+        u = np.empty(len(self.w))
+        u[kept] = u_coarse
+        u[~kept] = self.w[~kept] - self.X @ (u_coarse - self.w[kept])
+        return u
+
+
+def _subset(geometry, nodes):
+    """``geometry`` (of the finest level, local DOFs) at ``nodes``,
+    renumbered to the level's DOFs."""
+    return geometry.subset(nodes).compact()
+
+
+def _owner(geometry):
+    """The node of each condensed DOF (d per node; fewer at a roller)."""
+    counts = (geometry.node_dofs >= 0).sum(axis=1)
+    return np.repeat(np.arange(len(counts)), counts)
+
+
+def contact_levels(S, w, geometry, coarsest=COARSEST):
+    """The hierarchy, finest first: level 0 is (S, w, geometry) itself, each
+    next level keeps every other node along Γc (and the last one) until at
+    most ``coarsest`` nodes remain.
+
+    Parameters
+    ----------
+    S : (dm, dm) dense array
+        Schur complement of K on the free contact DOFs
+        (:class:`solver.linalg.Condensation`).
+    w : (dm,) array
+        K⁻¹f at those DOFs.
+    geometry : ContactGeometry
+        Renumbered to the condensed DOFs (:func:`condense_onto_contact`).
+    """
+    m = len(geometry.gap)
+    levels = [ContactLevel(np.arange(m), S, np.asarray(w, float), geometry)]
+    with single_blas_thread():  # dense, at most the size of S
+        while len(levels[-1].nodes) > coarsest:
+            levels.append(_coarsen(levels[-1], geometry))
+    return levels
+
+
+def _coarsen(level, geometry):
+    """The next coarser level of ``level`` (sets its ``keep`` and X)."""
+    keep = np.zeros(len(level.nodes), dtype=bool)
+    keep[::2] = keep[-1] = True
+    kept = keep[_owner(level.geometry)]
+    k, r = np.flatnonzero(kept), np.flatnonzero(~kept)
+    S_rk = level.S[np.ix_(r, k)]
+    level.keep = keep
+    level.X = sla.cho_solve(sla.cho_factor(level.S[np.ix_(r, r)]), S_rk)
+    S_k = level.S[np.ix_(k, k)] - S_rk.T @ level.X
+    nodes = level.nodes[keep]
+    return ContactLevel(nodes, 0.5 * (S_k + S_k.T), level.w[k],
+                        _subset(geometry, nodes))
+
+
+def solve_nested(levels, method="min", tol=1e-10, max_iter=100,
+                 gap_scale=1.0, stiffness=1.0, options=None, load_norm=None):
+    """Solve the condensed frictionless system level by level, coarsest
+    (from λ = 0) to finest (from the prolonged coarser solution).
+
+    ``tol`` is relative, as in :func:`solve_frictionless`: error ≤ tol·F
+    with :meth:`FrictionlessSystem.error` and the force scale F =
+    max(‖f‖₂, ‖λ⁺‖₂) of :meth:`FrictionlessSystem.scale`, ‖f‖₂ =
+    ``load_norm`` (the problem's load; default: that of the finest level's
+    condensed load) on every level. Every level checks that its residual
+    and iterate are finite (status 4 otherwise, as for any NCP solve).
+    ``max_iter`` bounds the iterations of all levels together: once spent,
+    the last iterate is prolonged to the finest level and reported there as
+    not converged (status 1). A coarse level that stops for another reason
+    is dropped: the next level starts from λ = 0 again. If λ = 0 already
+    solves the finest level (no penetration, or no load), no coarse level
+    runs.
+
+    Returns
+    -------
+    (OptimizeResult, FrictionlessSystem)
+        The finest level's NCP result and system. ``nit``, ``njev`` and
+        ``nfev`` count every level, and ``history`` holds every level's
+        iterations in order, with ``history["level"]`` the number of
+        contact nodes of the level of each iteration; ``levels`` lists,
+        coarsest first, dicts with ``n_nodes``, ``nit``, ``njev``,
+        ``nfev``, ``success`` and ``time`` for each level that ran.
+    """
+    fine = levels[0]
+    fine_system = _system(fine, gap_scale, stiffness, load_norm)
+    load_norm = fine_system.load_norm
+    start = time.perf_counter()
+    probe = solve_ncp(fine_system.residual, fine_system.jacobian, fine.w,
+                      method=method, tol=tol, max_iter=0, options=options,
+                      error=fine_system.error, scale=fine_system.scale)
+    if probe.success or probe.status == 4:  # solved, or overflow at λ = 0
+        probe.history["level"] = []
+        probe.update(levels=[dict(
+            n_nodes=len(fine.nodes), nit=0, njev=0, nfev=probe.nfev,
+            success=bool(probe.success), time=time.perf_counter() - start)])
+        return probe, fine_system
+    u, report, budget = None, [], max_iter
+    totals, history = dict(nit=0, njev=0, nfev=probe.nfev), {}
+    for depth in range(len(levels) - 1, -1, -1):
+        level = levels[depth]
+        x0 = level.w if u is None else level.prolong(u)
+        if depth and not budget:  # out of iterations: carry the iterate up
+            u = x0
+            continue
+        start = time.perf_counter()
+        system = fine_system if depth == 0 else _system(
+            level, gap_scale, stiffness, load_norm)
+        result = solve_ncp(system.residual, system.jacobian, x0,
+                           method=method, tol=tol, max_iter=budget,
+                           options=options, error=system.error,
+                           scale=system.scale)
+        budget -= result.nit
+        u = result.x if result.success or result.status == 1 else None
+        for key in totals:
+            totals[key] += result[key]
+        for key, values in result.history.items():
+            history.setdefault(key, []).extend(values)
+        history.setdefault("level", []).extend([len(level.nodes)] *
+                                               result.nit)
+        report.append(dict(n_nodes=len(level.nodes), nit=result.nit,
+                           njev=result.njev, nfev=result.nfev,
+                           success=bool(result.success),
+                           time=time.perf_counter() - start))
+    result.update(totals, history=history, levels=report)
+    return result, system
+
+
+def _system(level, gap_scale, stiffness, load_norm=None):
+    """(67) on a level: K → S_ℓ, f → S_ℓ w_ℓ."""
+    return FrictionlessSystem(level.S, level.S @ level.w, level.geometry,
+                              gap_scale, stiffness, load_norm)

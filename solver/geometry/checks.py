@@ -1,0 +1,94 @@
+r"""Checks and messages of the gap search (thesis §2.1): the node arrays,
+the normals (normalised as in (7)), the one-line :class:`GapError`, and the
+initial-penetration warning.
+
+Used by :mod:`solver.geometry.curves.closest` and
+:mod:`solver.geometry.curves.rays`; part of :mod:`solver.geometry.curves`.
+"""
+
+import warnings
+
+import numpy as np
+
+from ..errors import GeometryError, InitialPenetrationWarning
+
+__all__ = ["GapError", "warn_penetration"]
+
+
+class GapError(GeometryError):
+    """No sensible gap for a contact node (input error).
+
+    Raised when the normal line of a contact node misses the obstacle, meets
+    it at a grazing angle, or the nearest obstacle point is an end of the
+    obstacle. The message is one line and names the node and its
+    coordinates, e.g. ``"the normal line of contact node 3 at (5, -10)
+    misses the obstacle: ..."``.
+    """
+
+
+
+def _as_floats(values, name):
+    try:
+        return np.asarray(values, dtype=float)
+    except (TypeError, ValueError) as exc:
+        raise GapError(f"{name} must be real numbers ({exc})") from None
+
+
+def _as_points(points):
+    points = _as_floats(points, "points")
+    if points.ndim != 2 or points.shape[1] != 2:
+        raise GapError(f"points must have shape (n, 2), got {points.shape}")
+    if not np.isfinite(points).all():
+        raise GapError("points must be finite")
+    return points
+
+
+def _as_unit(normals, n):
+    """Normalise body normals (7), broadcast to (n, 2)."""
+    normals = _as_floats(normals, "normals")
+    if normals.shape not in ((2,), (n, 2)):
+        raise GapError(
+            f"normals must have shape (2,) or ({n}, 2), got {normals.shape}")
+    normals = np.broadcast_to(normals, (n, 2))
+    length = np.hypot(normals[:, 0], normals[:, 1])[:, None]
+    if not (np.isfinite(length) & (length > 0)).all():
+        raise GapError("normals must be finite and non-zero")
+    return normals / length
+
+
+def _fail(bad, points, node_ids, reason):
+    """Raise GapError about the first node flagged in ``bad``."""
+    where = np.flatnonzero(bad)
+    i = int(where[0])
+    label = i if node_ids is None else node_ids[i]
+    x, y = points[i]
+    more = f" (and {len(where) - 1} more nodes)" if len(where) > 1 else ""
+    raise GapError(
+        f"the normal line of contact node {label} at ({x:g}, {y:g}) misses "
+        f"the obstacle: {reason(i)}{more}")
+
+
+
+def warn_penetration(gap, points, node_ids=None):
+    """Warn (:class:`~solver.errors.InitialPenetrationWarning`) if the
+    obstacle penetrates the undeformed body: gaps s < 0 beyond round-off
+    (1e-12 of the coordinates' magnitude), naming the first nodes, their
+    count and the deepest penetration."""
+    scale = float(np.abs(points).max(initial=0.0))
+    deep = gap < -1e-12 * max(scale, float(np.ptp(points, axis=0).max(
+        initial=0.0)), 1e-300)
+    if not deep.any():
+        return
+    where = np.flatnonzero(deep)
+    labels = where if node_ids is None else np.asarray(node_ids)[where]
+    worst = int(where[np.argmin(gap[where])])
+    label = worst if node_ids is None else node_ids[worst]
+    names = ", ".join(str(v) for v in labels[:5]) \
+        + (", ..." if len(where) > 5 else "")
+    warnings.warn(
+        f"the obstacle penetrates the undeformed body at {len(where)} "
+        f"contact node{'s' if len(where) > 1 else ''} ({names}); deepest "
+        f"{-gap[worst]:.3g} at node {label} ({points[worst, 0]:g}, "
+        f"{points[worst, 1]:g}): initial gaps s < 0, the contact "
+        "conditions will push these nodes out",
+        InitialPenetrationWarning, stacklevel=3)

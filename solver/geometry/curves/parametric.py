@@ -1,0 +1,135 @@
+r"""Rigid parametric obstacles :math:`\Gamma_o(t) = (x(t), y(t))`.
+
+The thesis (§4) describes its obstacle by two expressions in a parameter *t*,
+
+.. math::  \Gamma_o(t) = [\,5.05 + 0.005\,t^2,\; t\,],
+
+and needs the curve and its derivative to compute gaps and normals (§2.1,
+(1)-(7)). Here the two expressions are given as text (they travel inside the
+``.npz`` problem file), parsed **without** :func:`eval`: the text is parsed by
+:func:`ast.parse` and every node is checked against a whitelist (numbers, the
+variable ``t``, the constants ``pi`` and ``e``, ``+ - * / **``, unary signs and
+a fixed set of elementary functions). The checked tree is translated node by
+node into a SymPy expression, which gives exact derivatives; numerical
+evaluation goes through :func:`sympy.lambdify` of that expression only.
+
+Example
+-------
+>>> curve = ParametricCurve("5.05 + 0.005*t**2", "t")
+>>> curve.point(0.0)
+array([5.05, 0.  ])
+>>> curve.derivative(2.0)
+array([0.02, 1.  ])
+"""
+
+import math
+
+import numpy as np
+import sympy
+
+from ...errors import ExpressionError
+from ..expression import (ALLOWED_CONSTANTS, ALLOWED_FUNCTIONS,  # noqa: F401
+                         MAX_DERIVATIVE_NODES, _numeric, _size,
+                         parse_expression)
+
+__all__ = ["ALLOWED_FUNCTIONS", "ALLOWED_CONSTANTS", "parse_expression",
+           "check_interval", "ParametricCurve"]
+
+
+def check_interval(name, interval):
+    """``(t0, t1)`` as floats with t0 < t1 both finite, else
+    :class:`~solver.errors.ExpressionError` naming ``name``."""
+    try:
+        t0, t1 = (float(v) for v in interval)
+    except (TypeError, ValueError, OverflowError):
+        raise ExpressionError(f"{name}: need two numbers t0 < t1, got "
+                              f"{interval!r}"[:200]) from None
+    if not (math.isfinite(t0) and math.isfinite(t1) and t0 < t1):
+        raise ExpressionError(f"{name}: need finite t0 < t1, got "
+                              f"({t0:g}, {t1:g})")
+    return (t0, t1)
+
+
+class ParametricCurve:
+    r"""A rigid obstacle :math:`\Gamma_o(t) = (x(t), y(t))`, thesis §4.
+
+    Parameters
+    ----------
+    x, y : str
+        Expressions in ``t`` for the two coordinates (see
+        :func:`parse_expression` for what is allowed).
+    t_range : (float, float) or None
+        Admissible parameter interval ``[t0, t1]``; ``None`` means the whole
+        real line.
+    search_interval : (float, float) or None
+        Interval of *t* searched for the gaps (intersected with
+        ``t_range``); ``None``: found from the body's extent
+        (:func:`solver.geometry.curves.parameter_window`).
+
+    Attributes
+    ----------
+    x_text, y_text : str
+        The expressions as given (stored back into problem files verbatim).
+    x_expr, y_expr : sympy.Expr
+        The parsed expressions.
+    """
+
+    def __init__(self, x, y, t_range=None, search_interval=None):
+        self.x_text, self.y_text = x, y
+        self.x_expr = parse_expression(x)
+        self.y_expr = parse_expression(y)
+        if t_range is not None:
+            t_range = check_interval("t_range", t_range)
+        self.t_range = t_range
+        self.search_interval = None if search_interval is None \
+            else check_interval("search interval", search_interval)
+        symbol = self._symbol = sympy.Symbol("t", real=True)
+        # t must appear (SymPy has already cancelled 0*t, t - t); a curve
+        # that is constant only after simplification, sin(t)**2 + cos(t)**2,
+        # has no tangent, which the gap computation reports. (SymPy's
+        # is_constant() would simplify, which can take minutes.)
+        if not (self.x_expr.free_symbols or self.y_expr.free_symbols):
+            raise ExpressionError(
+                f"obstacle ({x!r}, {y!r}) does not depend on t: it is a "
+                "point, not a curve")
+        first = []
+        for text, e in ((x, self.x_expr), (y, self.y_expr)):
+            d = sympy.diff(e, symbol)
+            if _size(d, MAX_DERIVATIVE_NODES) > MAX_DERIVATIVE_NODES:
+                raise ExpressionError(
+                    f"{text!r}: too complex (its derivative has more than "
+                    f"{MAX_DERIVATIVE_NODES} terms)")
+            first.append(d)
+        self._derivatives = [[self.x_expr, self.y_expr], first, None]
+        self._functions = [[_numeric(d, symbol) for d in pair]
+                           for pair in self._derivatives[:2]] + [None]
+
+    def _evaluate(self, t, order):
+        if self._functions[order] is None:  # Γo'' only on demand
+            self._derivatives[order] = [sympy.diff(d, self._symbol)
+                                        for d in self._derivatives[order - 1]]
+            self._functions[order] = [_numeric(d, self._symbol)
+                                      for d in self._derivatives[order]]
+        fx, fy = self._functions[order]
+        return np.stack([fx(t), fy(t)], axis=-1)
+
+    def point(self, t):
+        r""":math:`\Gamma_o(t)`, shape ``t.shape + (2,)``."""
+        return self._evaluate(t, 0)
+
+    def derivative(self, t):
+        r"""Tangent :math:`\Gamma_o'(t)` (exact), shape ``t.shape + (2,)``."""
+        return self._evaluate(t, 1)
+
+    def second_derivative(self, t):
+        r""":math:`\Gamma_o''(t)` (exact), shape ``t.shape + (2,)``.
+
+        Differentiated on the first call (the solver does not need it)."""
+        return self._evaluate(t, 2)
+
+    def __repr__(self):
+        rng = "" if self.t_range is None else f", t_range={self.t_range}"
+        if self.search_interval is not None:
+            rng += f", search_interval={self.search_interval}"
+        return (f"ParametricCurve(x={self.x_text!r}, y={self.y_text!r}"
+                f"{rng})")

@@ -1,0 +1,90 @@
+r"""Piecewise linear rigid obstacles given as points.
+
+A polyline Γo through points P_0, …, P_n is parametrised by arc length t
+(t_0 = 0 at P_0), so it offers the interface of
+:class:`solver.geometry.curves.parametric.ParametricCurve` (``point``, ``derivative``,
+``second_derivative``, ``t_range``) and the gap functions of
+:mod:`solver.geometry.curves` work with it unchanged. The tangent jumps at the inner
+vertices (kinks); there ``derivative`` returns the tangent of the segment
+that starts at the vertex. A nearest point that falls on a kink has no
+unique normal: :func:`solver.geometry.curves.gap_from_obstacle` then reports the node
+(the normal line "misses" the obstacle's smooth part), while
+:func:`solver.geometry.curves.gap_along_normals` (normals from the body) is well
+defined everywhere.
+"""
+
+import numpy as np
+
+from ...errors import ExpressionError
+from .parametric import check_interval
+
+__all__ = ["PolylineCurve"]
+
+
+class PolylineCurve:
+    """A polyline obstacle, parametrised by arc length.
+
+    Parameters
+    ----------
+    points : (n + 1, 2) array_like
+        Vertices, n ≥ 1 segments of positive length.
+    search_interval : (float, float) or None
+        Arc-length interval searched for the gaps (default: all of it).
+
+    Attributes
+    ----------
+    points : (n + 1, 2) float array
+    t_range : (0.0, L)
+        L = total length.
+    """
+
+    def __init__(self, points, search_interval=None):
+        points = np.asarray(points, dtype=float)
+        if points.ndim != 2 or points.shape[1] != 2 or len(points) < 2:
+            raise ExpressionError(f"obstacle_points: need an (n, 2) array "
+                                  f"with n >= 2, got shape {points.shape}")
+        if not np.isfinite(points).all():
+            raise ExpressionError("obstacle_points: NaN or infinite "
+                                  "coordinates")
+        lengths = np.hypot(*np.diff(points, axis=0).T)
+        if (lengths <= 0).any():
+            i = int(np.argmax(lengths <= 0))
+            raise ExpressionError(f"obstacle_points: points {i} and {i + 1} "
+                                  "coincide (zero-length segment)")
+        self.points = points
+        self._t = np.r_[0.0, np.cumsum(lengths)]
+        self._tangents = np.diff(points, axis=0) / lengths[:, None]
+        self.t_range = (0.0, float(self._t[-1]))
+        self.search_interval = None if search_interval is None \
+            else check_interval("search interval", search_interval)
+
+    @property
+    def kinks(self):
+        """Arc-length parameters of the inner vertices."""
+        return self._t[1:-1].copy()
+
+    def _segment(self, t):
+        t = np.asarray(t, dtype=float)
+        index = np.clip(np.searchsorted(self._t, t, side="right") - 1, 0,
+                        len(self._tangents) - 1)
+        return t, index
+
+    def point(self, t):
+        """Γo(t), shape ``t.shape + (2,)`` (linear extrapolation beyond the
+        ends, which the gap search never uses: ``t_range`` is finite)."""
+        t, i = self._segment(t)
+        return self.points[i] + (t - self._t[i])[..., None] * self._tangents[i]
+
+    def derivative(self, t):
+        """Unit tangent of the segment containing t."""
+        t, i = self._segment(t)
+        return self._tangents[i]
+
+    def second_derivative(self, t):
+        """Zero (straight segments)."""
+        t = np.asarray(t, dtype=float)
+        return np.zeros(t.shape + (2,))
+
+    def __repr__(self):
+        return f"PolylineCurve({len(self.points)} points, length " \
+               f"{self.t_range[1]:g})"

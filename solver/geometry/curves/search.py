@@ -1,0 +1,153 @@
+r"""The vectorised one-dimensional search behind the gaps (thesis §2.1).
+
+Both gap problems of :mod:`solver.geometry.curves` are one-dimensional in the
+obstacle parameter *t*. The parameter is sampled on a window
+(:func:`parameter_window`), a scalar function of *t* is evaluated at all
+samples for all nodes at once, every sign change between consecutive samples
+gives a bracket, all brackets of all nodes are refined together by
+Chandrupatla's bracketing root finder
+(:func:`scipy.optimize.elementwise.find_root`, to machine precision), and
+per node the best root is chosen (:func:`_first_per_owner`).
+"""
+
+import numpy as np
+from scipy.optimize.elementwise import find_root
+
+from ...errors import ExpressionError
+from ..checks import GapError, _as_points, _as_unit
+from .parametric import check_interval
+from .window import fit_window, start_window
+
+__all__ = ["parameter_window", "DEFAULT_SAMPLES", "MIN_COSINE"]
+
+#: Default number of samples of the curve parameter in the search window.
+DEFAULT_SAMPLES = 2049
+
+#: Smallest accepted :math:`|\nu_o \cdot n|` between the obstacle normal at
+#: the found point and the body normal; below it the normal line meets the
+#: obstacle at a grazing angle (or runs along it) and the gap is meaningless.
+MIN_COSINE = 1e-3
+
+# Values of the searched functions handled per chunk (bounds the memory to
+# a few tens of MB whatever the number of nodes).
+_CHUNK = 2 ** 20
+
+
+def parameter_window(points, curve, window=None, samples=DEFAULT_SAMPLES):
+    r"""The interval of the obstacle parameter *t* that is searched.
+
+    Parameters
+    ----------
+    points : (n, 2) array
+        The contact nodes.
+    curve : ParametricCurve or PolylineCurve
+        The obstacle.
+    window : (float, float), optional
+        Explicit interval ``(t0, t1)``; default ``curve.search_interval``
+        (set by the problem file's ``obstacle_search_interval`` or
+        ``--search-interval``). Intersected with ``curve.t_range`` if the
+        curve has one.
+    samples : int
+        Samples per window while fitting it.
+
+    Returns
+    -------
+    (t0, t1) : (float, float)
+        The window.
+    ends : (bool, bool)
+        Whether ``t0`` / ``t1`` are true ends of the obstacle (ends of
+        ``curve.t_range``) rather than ends of an artificial window.
+
+    Notes
+    -----
+    Without an explicit interval the window is fitted to the body's extent
+    (:func:`solver.geometry.curves.window.fit_window`), starting from ``t_range`` or, for
+    an unbounded curve, from :math:`[-L, L]`,
+    :math:`L = 2 \max_i |B_i - \Gamma_o(0)| + 1`: it does not depend on how
+    fast the parametrisation runs. When a normal line of the body meets the
+    obstacle far from the body, pass an interval.
+    """
+    points = np.asarray(points, dtype=float)
+    t_range = curve.t_range
+    if window is None:
+        window = getattr(curve, "search_interval", None)
+    if window is None:
+        if t_range is not None:
+            start, fixed = t_range, (True, True)
+        else:
+            start, fixed = start_window(points, curve), (False, False)
+        if not len(points):
+            return tuple(start), fixed
+        t0, t1 = fit_window(points, curve, tuple(start), fixed,
+                            len(_samples(start, samples)))
+        ends = (False, False) if t_range is None else \
+            (t0 <= t_range[0], t1 >= t_range[1])
+        return (float(t0), float(t1)), ends
+    try:
+        t0, t1 = check_interval("search interval", window)
+    except ExpressionError as exc:  # the same check, as a gap error
+        raise GapError(str(exc)) from None
+    ends = (False, False)
+    if t_range is not None:
+        ends = (t0 <= t_range[0], t1 >= t_range[1])
+        t0, t1 = max(t0, t_range[0]), min(t1, t_range[1])
+        if t0 >= t1:
+            raise GapError(
+                f"search interval {tuple(window)} does not overlap the "
+                f"obstacle's t_range {t_range}")
+    return (t0, t1), ends
+
+
+
+def _setup(points, vectors, curve, window, samples):
+    """Checked points, unit vectors (one per point), the window (t0, t1),
+    its parameter samples and whether it reaches the curve's ends."""
+    points = _as_points(points)
+    vectors = _as_unit(vectors, len(points))
+    if not len(points):
+        return points, vectors, (None, None), None, None
+    window, curve_ends = parameter_window(points, curve, window, samples)
+    return points, vectors, window, _samples(window, samples), curve_ends
+
+
+def _samples(window, samples):
+    samples = int(samples)
+    if samples < 3:
+        raise GapError(f"samples must be at least 3, got {samples}")
+    return np.linspace(window[0], window[1], samples)
+
+
+def _refine(function, lower, upper, args):
+    """Roots of ``function(t, *args)`` in the brackets, all at once.
+
+    Returns the roots and a mask of the brackets that converged.
+    """
+    if len(lower) == 0:
+        return lower.copy(), np.ones(0, dtype=bool)
+    with np.errstate(all="ignore"):
+        result = find_root(function, (lower, upper), args=args)
+    return np.asarray(result.x), np.asarray(result.success)
+
+
+def _first_per_owner(owner, key, n):
+    """Index of the candidate with the smallest ``key`` for every owner.
+
+    Returns an (n,) int array, -1 for owners without candidates.
+    """
+    best = np.full(n, -1, dtype=np.int64)
+    if len(owner):
+        order = np.lexsort((key, owner))
+        sorted_owner = owner[order]
+        first = np.r_[True, sorted_owner[1:] != sorted_owner[:-1]]
+        best[sorted_owner[first]] = order[first]
+    return best
+
+
+def _obstacle_normals(curve, t):
+    """Unit normals of the obstacle at ``t`` (and the tangent lengths)."""
+    tangent = curve.derivative(t)
+    length = np.linalg.norm(tangent, axis=-1)
+    with np.errstate(all="ignore"):
+        normal = np.stack([tangent[..., 1], -tangent[..., 0]], axis=-1) \
+            / length[..., None]
+    return normal, length

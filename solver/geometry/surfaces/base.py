@@ -1,0 +1,158 @@
+r"""The interface every rigid obstacle surface keeps, and the checks of the
+fields of a surface spec (:mod:`solver.geometry.surfaces` is the front).
+
+Conventions (the 3D contract; as in 2D, thesis §2.1 with the errata of the
+digest): the obstacle's **outward** normal *n* points out of the obstacle,
+towards the body; the contact direction ν returned by the gap functions
+points from the body towards the obstacle, :math:`\nu = -n` at the foot
+point; a gap is positive while the body point lies outside the obstacle.
+"""
+
+import math
+
+import numpy as np
+
+from ...errors import ProblemError
+from ..curves import GapError
+
+__all__ = ["Surface", "GapError", "spec_fields", "spec_vector",
+           "spec_number", "as_points", "as_directions", "fail"]
+
+
+def spec_fields(spec, kind, required, optional=()):
+    """Check that ``spec`` has exactly the fields of its kind."""
+    known = {"kind", *required, *optional}
+    for key in spec:
+        if key not in known:
+            raise ProblemError(
+                f"surface {key}: unknown field for a {kind} (expected: "
+                f"{', '.join(sorted(known - {'kind'}))})")
+    for key in required:
+        if key not in spec:
+            raise ProblemError(f"surface {key}: missing (a {kind} needs "
+                               f"{', '.join(required)})")
+
+
+def spec_vector(spec, field, length=3):
+    """``spec[field]`` as a finite float vector of ``length`` entries."""
+    value = spec[field]
+    try:
+        array = np.array(value, dtype=float)
+    except (TypeError, ValueError, OverflowError):
+        array = None
+    if array is None or array.shape != (length,) or \
+            not np.isfinite(array).all():
+        raise ProblemError(f"surface {field}: need {length} finite numbers, "
+                           f"got {value!r}"[:200])
+    return array
+
+
+def spec_number(spec, field):
+    """``spec[field]`` as a finite float."""
+    value = spec[field]
+    try:
+        number = float(value)
+    except (TypeError, ValueError, OverflowError):
+        number = math.nan
+    if isinstance(value, bool) or not math.isfinite(number):
+        raise ProblemError(f"surface {field}: need a finite number, got "
+                           f"{value!r}"[:200])
+    return number
+
+
+def as_points(points, name="points"):
+    """``points`` as a finite (m, 3) float array (GapError otherwise)."""
+    points = np.asarray(points, dtype=float)
+    if points.ndim != 2 or points.shape[1] != 3:
+        raise GapError(f"{name} must have shape (m, 3), got {points.shape}")
+    if not np.isfinite(points).all():
+        raise GapError(f"{name} must be finite")
+    return points
+
+
+def as_directions(directions, m):
+    """Unit (m, 3) directions (GapError for a wrong shape or zero)."""
+    d = np.asarray(directions, dtype=float)
+    d = np.broadcast_to(as_points(d.reshape(-1, 3) if d.shape == (3,) else d,
+                                  "directions"), (m, 3))
+    length = np.linalg.norm(d, axis=1)
+    if not (length > 0).all():
+        raise GapError("directions must be non-zero")
+    return d / length[:, None]
+
+
+def fail(bad, points, what, error=GapError):
+    """Raise ``error`` about the nodes flagged in ``bad``: their count and
+    the first one's coordinates."""
+    bad = np.flatnonzero(bad)
+    x, y, z = points[bad[0]]
+    raise error(f"{what} for {len(bad)} of {len(points)} contact nodes "
+                f"(the first, index {bad[0]}, at ({x:g}, {y:g}, {z:g}))")
+
+
+class Surface:
+    """A rigid obstacle surface in 3D (abstract).
+
+    Subclasses set :attr:`kind` and implement :meth:`spec`,
+    :meth:`gap_along_obstacle_normal` and :meth:`gap_along_rays`.
+    """
+
+    kind = None
+
+    def spec(self):
+        """The JSON-serialisable spec this surface was made from."""
+        raise NotImplementedError
+
+    def gap_along_obstacle_normal(self, points):
+        r"""Gaps measured from the obstacle (3D §2.1.1): the closest point.
+
+        Parameters
+        ----------
+        points : (m, 3) array
+            Body points (the undeformed contact nodes).
+
+        Returns
+        -------
+        gap : (m,) array
+            Signed distance to the closest point, :math:`(x - q)\cdot n(q)`,
+            positive outside the obstacle.
+        nu : (m, 3) array
+            Unit contact direction from the body towards the obstacle,
+            :math:`-n(q)`.
+        foot : (m, 3) array
+            The closest points *q*.
+        """
+        raise NotImplementedError
+
+    def gap_along_rays(self, points, directions):
+        r"""Gaps measured from the body (3D §2.1.2): :math:`x + \tau d` on
+        the surface, the intersection of smallest :math:`|\tau|` as in 2D
+        (exactly for the plane and the sphere; for graph and parametric
+        surfaces the one Newton reaches from the closest point, which is
+        that one unless the surface folds back within the gap).
+
+        Parameters
+        ----------
+        points : (m, 3) array
+        directions : (m, 3) or (3,) array
+            The body's outward normals (normalised here).
+
+        Returns
+        -------
+        gap : (m,) array
+            τ: positive when the obstacle lies ahead along *d*.
+        foot : (m, 3) array
+            The intersection points.
+
+        Raises
+        ------
+        GapError
+            (a :class:`~solver.errors.SolverError`) naming the number of
+            nodes whose ray misses the surface or grazes it.
+        """
+        raise NotImplementedError
+
+    def __repr__(self):
+        fields = ", ".join(f"{k}={v!r}" for k, v in self.spec().items()
+                           if k != "kind")
+        return f"{type(self).__name__}({fields})"

@@ -1,0 +1,110 @@
+r"""A surface map :math:`c(s, t) = (x(s,t), y(s,t), z(s,t))` from three
+expressions, with exact first and second derivatives.
+
+The expressions are parsed by the obstacle parser
+(:func:`solver.geometry.curves.parametric.parse_expression`, whitelisted AST, no
+:func:`eval`) in two variables; SymPy differentiates them exactly and
+:func:`sympy.lambdify` makes NumPy functions of both. A graph
+:math:`z = h(x, y)` is the map :math:`c(x, y) = (x, y, h(x, y))` with the
+parameters named ``x`` and ``y``.
+
+The closest-point Newton (:mod:`.search`) needs
+:math:`c, c_s, c_t` and :math:`c_{ss}, c_{st}, c_{tt}`; all six are
+differentiated once, here, and evaluated together for many parameter pairs.
+"""
+
+import numpy as np
+import sympy
+
+from ...errors import ExpressionError
+from ..expression import MAX_DERIVATIVE_NODES, _size, parse_expression
+
+__all__ = ["SurfaceMap"]
+
+
+def _lambdify(expr, symbols):
+    """A NumPy function of (s, t) that broadcasts constants."""
+    function = sympy.lambdify(symbols, expr, modules="numpy")
+
+    def evaluate(s, t):
+        with np.errstate(all="ignore"):
+            value = np.asarray(function(s, t), dtype=float)
+        return np.broadcast_to(value, np.broadcast(s, t).shape)
+
+    return evaluate
+
+
+class SurfaceMap:
+    r"""The map :math:`c(s, t)` and its derivatives up to order two.
+
+    Parameters
+    ----------
+    texts : (str, str, str)
+        Expressions of the three coordinates.
+    variables : (str, str)
+        Names of the two parameters, ``("s", "t")`` or ``("x", "y")``.
+    fields : (str, str, str)
+        Names of the spec fields holding ``texts``, for error messages.
+
+    Raises
+    ------
+    ExpressionError
+        One line naming the field: a bad expression, a derivative too
+        large, or a map that does not depend on both parameters (a curve
+        or a point, not a surface).
+    """
+
+    def __init__(self, texts, variables=("s", "t"), fields=("x", "y", "z")):
+        symbols = [sympy.Symbol(v, real=True) for v in variables]
+        exprs = []
+        for field, text in zip(fields, texts):
+            try:
+                exprs.append(parse_expression(text, variables))
+            except ExpressionError as exc:
+                raise ExpressionError(f"surface {field}: {exc}") from None
+        free = set().union(*(e.free_symbols for e in exprs))
+        for v, sym in zip(variables, symbols):
+            if sym not in free:
+                raise ExpressionError(
+                    f"surface {'/'.join(fields)}: the map does not depend "
+                    f"on {v}: it is a curve or a point, not a surface")
+        derivatives = {(0, 0): exprs}
+        for key, parent, sym in (((1, 0), (0, 0), 0), ((0, 1), (0, 0), 1),
+                                 ((2, 0), (1, 0), 0), ((1, 1), (1, 0), 1),
+                                 ((0, 2), (0, 1), 1)):
+            derivatives[key] = [sympy.diff(e, symbols[sym])
+                                for e in derivatives[parent]]
+            for field, d in zip(fields, derivatives[key]):
+                if _size(d, MAX_DERIVATIVE_NODES) > MAX_DERIVATIVE_NODES:
+                    raise ExpressionError(
+                        f"surface {field}: too complex (a derivative has "
+                        f"more than {MAX_DERIVATIVE_NODES} terms)")
+        self.variables = tuple(variables)
+        self.exprs = exprs
+        self._functions = {key: [_lambdify(e, symbols) for e in value]
+                           for key, value in derivatives.items()}
+
+    def _stack(self, key, s, t):
+        return np.stack([f(s, t) for f in self._functions[key]], axis=-1)
+
+    def point(self, s, t):
+        r""":math:`c(s, t)`, shape ``broadcast(s, t).shape + (3,)``."""
+        return self._stack((0, 0), s, t)
+
+    def first(self, s, t):
+        r""":math:`(c_s, c_t)` (exact), each of shape ``... + (3,)``."""
+        return self._stack((1, 0), s, t), self._stack((0, 1), s, t)
+
+    def second(self, s, t):
+        r""":math:`(c_{ss}, c_{st}, c_{tt})` (exact)."""
+        return (self._stack((2, 0), s, t), self._stack((1, 1), s, t),
+                self._stack((0, 2), s, t))
+
+    def normal(self, s, t):
+        r"""Unit normal :math:`c_s \times c_t / |c_s \times c_t|` (NaN
+        where the map is singular) and :math:`|c_s \times c_t|`."""
+        cs, ct = self.first(s, t)
+        cross = np.cross(cs, ct)
+        length = np.linalg.norm(cross, axis=-1)
+        with np.errstate(all="ignore"):
+            return cross / length[..., None], length
