@@ -1,5 +1,5 @@
 """``python -m solver two_body.npz``: the two-body job of the command line
-(solver.jobs.two_body) on files written here (tests/tri_elasticity.py)."""
+(solver.cli.jobs.two_body) on files written here (tests/tri_elasticity.py)."""
 
 import json
 

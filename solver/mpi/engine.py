@@ -99,13 +99,13 @@ def engine_summary(svc, layout, extra):
 
 def main(args):
     """``python -m solver ... --engine petsc`` on every rank: rank 0 runs
-    the serial command line (:func:`solver.runner.run`, whose jobs call the
+    the serial command line (:func:`solver.cli.run.run`, whose jobs call the
     petsc solvers), the others serve it; every rank returns rank 0's exit
     code."""
     svc = service()
     if not svc.root:
         return svc.serve()
-    from ..runner import run
+    from ..cli.run import run
 
     code = 1
     try:

@@ -1,5 +1,5 @@
 """The command line's solve calls on the petsc engine: the serial jobs of
-:mod:`solver.jobs` call these in place of :func:`solver.contact.
+:mod:`solver.cli.jobs` call these in place of :func:`solver.contact.
 solve_frictionless` and :func:`solver.contact.solve_friction` (same keyword
 arguments; ``--system``, ``--start`` and ``--ksp`` translated)."""
 

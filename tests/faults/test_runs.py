@@ -288,7 +288,7 @@ def test_load_path_with_too_many_steps(block, tmp_path, capsys):
     problem = load_problem(block)
     problem.load_path_steps = np.array([2 ** 62, 2 ** 62])  # int64 wraps
     problem.load_path = [problem.f, problem.f]
-    from solver.jobs import friction
+    from solver.cli.jobs import friction
 
     class Args:
         steps, friction, method = None, 0.3, "min"

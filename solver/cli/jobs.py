@@ -1,13 +1,13 @@
 """The two jobs of the command line: a frictionless solve and a friction
 run, each checking its inputs before it makes the output folder, then
 solving, writing the outputs and printing the summary (called by
-:func:`solver.runner.run`, which maps every outcome to an exit code)."""
+:func:`solver.cli.run.run`, which maps every outcome to an exit code)."""
 
 import os
 import sys
 import time
 
-from .runner import EXIT_NOT_CONVERGED, EXIT_OK
+from .run import EXIT_NOT_CONVERGED, EXIT_OK
 
 __all__ = ["frictionless", "friction", "two_body", "default_outdir"]
 
@@ -35,8 +35,8 @@ def _geometry(args, problem):
     """Every input error that can be found before solving: the linear
     solver installed, K positive definite on the full system, gaps and
     normals (GapError)."""
-    from .contact import contact_geometry
-    from .linalg import resolve
+    from ..contact import contact_geometry
+    from ..linalg import resolve
 
     resolve(args.linear_solver)  # not installed: SolverError, exit 2
     if _condense(args) is False and _engine(args) == "serial":
@@ -44,7 +44,7 @@ def _geometry(args, problem):
         # petsc engine's on all ranks: a serial one took 19 s at 9.2·10⁵)
     # contact nodes on symmetry planes (rollers) take part in contact; 2D
     # friction runs (the thesis's) keep them supports, as solve_friction
-    from .contact.geometry import problem_dim
+    from ..contact.geometry import problem_dim
 
     return contact_geometry(problem, args.gap, rollers=args.friction is None
                             or problem_dim(problem) == 3)
@@ -66,13 +66,13 @@ def frictionless(args, problem, open_folder, emit, write_summary):
     if getattr(problem, "is_mortar", False):
         return two_body(args, problem, open_folder, emit, write_summary)
     args.gap = getattr(args, "gap", None) or "obstacle"
-    from .contact import solve_frictionless
-    from .output import summary_of, write_result, write_vtk
+    from ..contact import solve_frictionless
+    from ..output import summary_of, write_result, write_vtk
 
     if _engine(args) == "petsc":
-        from .mpi.jobs import solvers
+        from ..mpi.jobs import solvers
         solve_frictionless = solvers(args)[0]
-    from .output.report import format_result
+    from ..output.report import format_result
 
     args.method = args.method or "min"
     geometry = _geometry(args, problem)
@@ -106,10 +106,10 @@ def _figures(folder, problem, result):
     3D the convergence and the pressure against the radius, with Hertz's
     profile when the problem's meta names R, E and nu (a Hertz export)."""
     if getattr(problem, "dim", 2) == 2:
-        from .output.figures import write_figures
+        from ..output.figures import write_figures
 
         return write_figures(folder, problem, result)
-    from .output.figures3d import write_figures3d
+    from ..output.figures3d import write_figures3d
 
     center = (problem.meta or {}).get("contact_center")
     return write_figures3d(folder, problem, result,
@@ -121,7 +121,7 @@ def _hertz_reference(problem, result):
     solve (×4 for a quarter model), or (None, None) without R, E, nu."""
     import numpy as np
 
-    from .verification import hertz_point_contact
+    from ..verification import hertz_point_contact
 
     meta = problem.meta or {}
     if not all(isinstance(meta.get(k), (int, float)) for k in ("R", "E",
@@ -172,15 +172,15 @@ def friction(args, problem, open_folder, emit, write_summary):
     """Load steps with Coulomb friction; every completed step is written at
     once (steps/*.vtu and scratch arrays), result.npz at the end, also when
     the run stops early."""
-    from .contact import solve_friction
-    from .contact.friction.stream import MAX_LOAD_STEPS
+    from ..contact import solve_friction
+    from ..contact.friction.stream import MAX_LOAD_STEPS
 
     if _engine(args) == "petsc":
-        from .mpi.jobs import solvers
+        from ..mpi.jobs import solvers
         solve_friction = solvers(args)[1]
-    from .errors import SolverError
-    from .output import StepWriter, friction_summary_of
-    from .output.report import format_friction_result
+    from ..errors import SolverError
+    from ..output import StepWriter, friction_summary_of
+    from ..output.report import format_friction_result
 
     if getattr(problem, "is_mortar", False):
         return two_body(args, problem, open_folder, emit, write_summary)
@@ -212,7 +212,7 @@ def friction(args, problem, open_folder, emit, write_summary):
     if "engine" in result:
         summary["engine"] = result["engine"]
     if args.plots and result.steps_completed:
-        from .output.friction_figures import write_friction_figures
+        from ..output.friction_figures import write_friction_figures
 
         steps = _load_steps(folder, result)
         for path in write_friction_figures(folder.path, problem,
@@ -275,12 +275,12 @@ def two_body(args, problem, open_folder, emit, write_summary):
     frictionless or with ``--friction``: summary.json, result.npz,
     result.vtu (cell data ``body``), ``--plots`` interface.png and
     bodies.png. Options of a rigid obstacle (``--gap``) are refused."""
-    from .contact.two_body import solve_two_body
-    from .errors import SolverError
-    from .linalg import resolve
-    from .output import friction_summary_of, summary_of
-    from .output.report import format_friction_result, format_result
-    from .output.two_body import (write_two_body_figures,
+    from ..contact.two_body import solve_two_body
+    from ..errors import SolverError
+    from ..linalg import resolve
+    from ..output import friction_summary_of, summary_of
+    from ..output.report import format_friction_result, format_result
+    from ..output.two_body import (write_two_body_figures,
                                   write_two_body_result, write_two_body_vtk)
 
     if getattr(args, "gap", None) is not None:

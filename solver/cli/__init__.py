@@ -1,7 +1,7 @@
 """Command line interface: ``python -m solver PROBLEM.npz [options]``.
 
 A thin layer over the library: it parses and checks the arguments, then
-:mod:`solver.runner` solves and writes the outputs. Nothing it does ends in
+:mod:`solver.cli.run` solves and writes the outputs. Nothing it does ends in
 a traceback (``--debug`` shows one); each outcome has its exit code:
 
 ==== ==================================================================
@@ -24,9 +24,9 @@ code meaning
 
 import argparse
 
-from . import __version__
-from .problem import FORMAT_VERSION
-from .runner import (EXIT_CODES_TEXT, EXIT_INPUT, MAX_ITER, MAX_STEPS,
+from .. import __version__
+from ..problem import FORMAT_VERSION
+from .run import (EXIT_CODES_TEXT, EXIT_INPUT, MAX_ITER, MAX_STEPS,
                      MIN_TOL, run)
 
 
@@ -250,7 +250,7 @@ def main(argv=None):
 
 def _petsc(parser, args):
     """``--engine petsc``: every rank runs this (solver.mpi.engine)."""
-    from . import mpi
+    from .. import mpi
 
     reason = mpi.missing()
     if reason:
@@ -264,6 +264,6 @@ def _petsc(parser, args):
     if args.ksp == "gamg" and args.system != "full":
         parser.error("--ksp gamg solves the full system's Newton steps: add "
                      "--system full")
-    from .mpi.engine import main as petsc_main
+    from ..mpi.engine import main as petsc_main
 
     return petsc_main(args)

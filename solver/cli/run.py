@@ -18,8 +18,8 @@ import sys
 import traceback
 import warnings
 
-from .errors import SolverError
-from .output.folder import OutputFolder
+from ..errors import SolverError
+from ..output.folder import OutputFolder
 
 __all__ = ["run", "Interrupted", "EXIT_OK", "EXIT_INTERNAL", "EXIT_INPUT",
            "EXIT_NOT_CONVERGED", "EXIT_OUTPUT", "EXIT_PIPE", "MAX_STEPS",
@@ -73,7 +73,7 @@ def _setup(args):
     warnings.showwarning = _show_warning
     if not args.verbose:
         warnings.filterwarnings("ignore")
-        from . import errors
+        from .. import errors
 
         if hasattr(errors, "SolverWarning"):  # ours: always shown
             warnings.filterwarnings("always", category=errors.SolverWarning)
@@ -203,7 +203,7 @@ def _finish(state, status, message, remove=False):
 
 
 def _write_summary(folder, summary):
-    from .output.files import write_summary
+    from ..output.files import write_summary
 
     path = folder.file("summary.json")
     summary["files"] = sorted(  # written completely (not cut short)
@@ -213,7 +213,7 @@ def _write_summary(folder, summary):
 
 
 def _run(args, state):
-    from .problem import load_problem
+    from ..problem import load_problem
 
     _check_input_file(args.problem)
     problem = load_problem(args.problem)
@@ -224,7 +224,7 @@ def _run(args, state):
         if args.json:
             emit(json.dumps(info, indent=2, allow_nan=False))
         else:
-            from .output.report import format_summary
+            from ..output.report import format_summary
 
             emit(format_summary(info))
         return EXIT_OK
