@@ -69,8 +69,8 @@ def floor(problem, backend):
 
 
 def schur(problem, backend):
-    from solver.contact.frictionless.driver import (condense_onto_contact,
-                                             contact_geometry)
+    from solver.contact import contact_geometry
+    from solver.contact.strategies.reduction import condense_onto_contact
     geometry = contact_geometry(problem, "obstacle")
     get_backend(backend)
     with Clock() as clock:

@@ -71,10 +71,11 @@ def _petsc(path, mode):
         clock = time.perf_counter()
         if mode == "gamg":
             return _gamg(problem, clock)
-        from solver.mpi.frictionless import solve_frictionless
+        from solver import solve
+        from solver.mpi.engine import PetscEngine
 
-        result = solve_frictionless(problem, method="min",
-                                    schur_block=SCHUR_MODES[mode])
+        result = solve(problem, method="min",
+                       engine=PetscEngine(schur_block=SCHUR_MODES[mode]))
         seconds = time.perf_counter() - clock
         per_rank = result.engine["per_rank"]
         return dict(time=seconds, njev=int(result.njev), nit=int(result.nit),

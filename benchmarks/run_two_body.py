@@ -57,7 +57,7 @@ def measure_stage(path, stage, backend):
     """One stage in this process (``--measure``): a dict for the JSON."""
     from measure import Clock, floor
     from solver import load_problem
-    from solver.contact.two_body import solve_two_body
+    from solver import solve_two_body
     from solver.linalg import get_backend
 
     problem = load_problem(path)

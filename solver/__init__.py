@@ -8,41 +8,48 @@ imports SfePy.
 
 Public API
 ----------
+solve
+    Every contact problem (:mod:`solver.front`): 2D or 3D, a rigid
+    obstacle or two elastic bodies, frictionless (thesis (67)) or Coulomb
+    friction in load steps (§5), on the serial or the PETSc engine.
+    ``solve_frictionless``, ``solve_friction`` and ``solve_two_body`` are
+    the same front under their earlier names.
+ContactResult
+    What :func:`solve` returns (a ``scipy.optimize.OptimizeResult``).
 load_problem, save_problem, ContactProblem, FORMAT_VERSION
     The ``.npz`` problem format (:mod:`solver.problem`).
 ParametricCurve, parse_expression
-    Rigid obstacles given by safe expressions in t (:mod:`solver.geometry.curves.parametric`).
+    Rigid obstacles given by safe expressions in t
+    (:mod:`solver.geometry.curves.parametric`).
 two_dof_bar
     The thesis's §6 two-DOF bar system (:mod:`solver.examples`).
-solve_frictionless, contact_geometry
-    Frictionless contact, thesis (67) (:mod:`solver.contact`), condensed
-    onto Γc with a nested start (:mod:`solver.contact.strategies.nested`) or in all
-    unknowns as in the thesis.
-solve_friction
-    Coulomb friction by load steps, thesis (110)/(111) and a projection
-    formulation (:mod:`solver.contact.friction.driver`).
-solve_ncp
-    Semismooth Newton methods for mixed NCPs, FE-free (:mod:`solver.ncp`).
-Factorization, Condensation, nested_dissection
-    One LDLᵀ factorisation of K per solve, condensation onto Γc
-    (:mod:`solver.linalg`).
+contact_geometry
+    Gaps and per-node frames of a problem (:mod:`solver.contact.geometry`).
+solve_ncp, DEFAULT_OPTIONS
+    Semismooth Newton methods for mixed NCPs, FE-free (:mod:`solver.ncp`),
+    and their default options.
+support_table
+    What works where: the combinations :func:`solve` refuses.
 SolverError, ProblemError, ExpressionError, GapError
-    Errors caused by bad input (:mod:`solver.errors`, :mod:`solver.geometry.curves`).
+    Errors caused by bad input (:mod:`solver.errors`).
 """
 
 from .errors import ExpressionError, ProblemError, SolverError
 from .geometry.curves import GapError
-from .contact import contact_geometry, solve_friction, solve_frictionless
+from .contact import ContactResult, contact_geometry
 from .examples import two_dof_bar
-from .ncp import solve_ncp
+from .front import (solve, solve_friction, solve_frictionless,
+                    solve_two_body, support_table)
+from .ncp import DEFAULT_OPTIONS, solve_ncp
 from .geometry.curves.parametric import ParametricCurve, parse_expression
 from .problem import (FORMAT_VERSION, ContactProblem, load_problem,
                       save_problem)
 
 __version__ = "0.1.0"
 
-__all__ = ["FORMAT_VERSION", "ContactProblem", "load_problem",
-           "save_problem", "ParametricCurve", "parse_expression",
-           "two_dof_bar", "solve_frictionless", "solve_friction", "contact_geometry",
-           "solve_ncp", "SolverError", "ProblemError", "ExpressionError", "GapError",
-           "__version__"]
+__all__ = ["solve", "ContactResult", "FORMAT_VERSION", "ContactProblem",
+           "load_problem", "save_problem", "ParametricCurve",
+           "parse_expression", "two_dof_bar", "solve_frictionless",
+           "solve_friction", "solve_two_body", "contact_geometry",
+           "solve_ncp", "DEFAULT_OPTIONS", "support_table", "SolverError",
+           "ProblemError", "ExpressionError", "GapError", "__version__"]

@@ -4,7 +4,8 @@ Each function runs our solvers on given problems and returns rows (dicts)
 with the thesis's numbers beside ours; nothing here prints or plots.
 """
 
-from .contact import contact_geometry, solve_friction, solve_frictionless
+from .contact import contact_geometry
+from .front import solve_friction, solve_frictionless
 
 import numpy as np
 

@@ -1,17 +1,15 @@
-"""The ``condensation=`` keywords that let the PETSc engine (solver/mpi)
-run the serial loops on its own factorisation (task MPI20B's clean-ups):
-:func:`solver.contact.strategies.candidates.solve_on_candidates` and
-:func:`solver.contact.solve_friction` use the object given, and give the
-answer of their default path (the reference: the same call without it)."""
+"""The engine interface (solver/contact/engine.py): the drivers and
+strategies take their linear algebra from the engine given to
+:func:`solver.solve` (as the PETSc engine's condensations do), and give
+the answer of the default engine (the reference: the same call on it)."""
 
 import numpy as np
 
-from solver import load_problem, solve_friction, solve_frictionless
-from solver.contact.strategies.candidates import NormalCondensation, solve_on_candidates
-from solver.contact.geometry import contact_geometry, contact_stiffness
-from solver.contact.verify import unit_free_options
+from solver import load_problem, solve, solve_frictionless
+from solver.contact import SerialEngine
+from solver.contact.geometry import contact_geometry
+from solver.contact.strategies.candidates import NormalCondensation
 from solver.linalg.condensation import Condensation
-from solver.ncp import stable_norm
 
 
 class CountingNormal(NormalCondensation):
@@ -30,32 +28,47 @@ class CountingCondensation(Condensation):
         return super().load(f)
 
 
-def test_candidates_loop_uses_given_condensation(exported):
+class CountingEngine(SerialEngine):
+    """A serial engine whose condensations count their use."""
+
+    name = "counting"
+
+    def __init__(self, backend):
+        super().__init__(backend)
+        self.made = []
+
+    def condensation(self, problem, dofs):
+        made = CountingCondensation(problem, dofs, self.backend)
+        self.made.append(made)
+        return made
+
+    def normal_condensation(self, problem, geometry):
+        made = CountingNormal(problem, geometry, self.backend)
+        self.made.append(made)
+        return made
+
+
+def test_candidates_loop_uses_the_engine(exported):
     problem = load_problem(exported(454)[0])
-    geometry = contact_geometry(problem, "obstacle")
-    stiffness = contact_stiffness(problem.K, geometry)
-    load_norm = stable_norm(problem.f)
-    options = unit_free_options("min", None, load_norm, stiffness,
-                                geometry.gap)
-    given = CountingNormal(problem, geometry, "superlu")
-    result, u, lam, un, screening = solve_on_candidates(
-        problem, geometry, "min", 1e-10, 100, None, stiffness, stiffness,
-        options, load_norm, "superlu", condensation=given)
-    reference = solve_frictionless(problem, method="min", candidates=True,
-                                   start="free", backend="superlu")
-    assert given.calls == len(screening["rounds"]) >= 1
+    engine = CountingEngine("superlu")
+    result = solve(problem, method="min", candidates=True, engine=engine)
+    reference = solve(problem, method="min", candidates=True,
+                      start="free", backend="superlu")
+    (given,) = engine.made
+    assert given.calls == len(result.candidates["rounds"]) >= 1
     assert result.njev == reference.njev
-    assert np.abs(u - reference.u).max() <= 1e-10 * np.abs(reference.u).max()
+    assert np.abs(result.u - reference.u).max() <= \
+        1e-10 * np.abs(reference.u).max()
 
 
-def test_friction_uses_given_condensation(exported):
+def test_friction_uses_the_engine(exported):
     problem = load_problem(exported(118)[0])
-    geometry = contact_geometry(problem, "obstacle", rollers=False)
-    given = CountingCondensation(problem, geometry.free_dofs(), "superlu")
-    options = dict(steps=5, formulation="projection", method="fb",
-                   geometry=geometry)
-    result = solve_friction(problem, 0.3, condensation=given, **options)
-    reference = solve_friction(problem, 0.3, backend="superlu", **options)
+    engine = CountingEngine("superlu")
+    options = dict(friction=0.3, steps=5, formulation="projection",
+                   method="fb")
+    result = solve(problem, engine=engine, **options)
+    reference = solve(problem, backend="superlu", **options)
+    (given,) = engine.made
     assert given.loads >= 1 and result.success
     assert result.njev == reference.njev
     scale = np.abs(reference.displacement).max()

@@ -21,7 +21,8 @@ sys.path.insert(0, str(Path(__file__).parent))
 from tet_elasticity import (box, extrude, mesh_problem, rectangle,  # noqa: E402
                             stiffness)
 from test_linalg_backends import require  # noqa: E402
-from solver.contact import ContactGeometry, solve_frictionless  # noqa: E402
+from solver import solve_frictionless  # noqa: E402
+from solver.contact import ContactGeometry
 from solver.contact.strategies.candidates import (enlarge_candidates,  # noqa: E402
                                        initial_candidates)
 from solver.contact.geometry import rotation  # noqa: E402

@@ -20,7 +20,8 @@ import scipy.sparse.linalg as sla
 
 from solver import ParametricCurve, load_problem
 from solver.cli import main
-from solver.contact import contact_geometry, solve_friction, solve_frictionless
+from solver import solve_friction, solve_frictionless
+from solver.contact import contact_geometry
 
 METHODS = ("min", "fb")
 GAPS = ("obstacle", "body")

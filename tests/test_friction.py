@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from conftest import THESIS_MESHES
-from solver.contact import solve_friction, solve_frictionless
+from solver import solve_friction, solve_frictionless
 from solver.errors import SolverError
 from solver.examples import two_dof_bar_closed_form as bar_closed_form
 from solver.problem import load_problem

@@ -22,8 +22,8 @@ sys.path.insert(0, str(Path(__file__).parent))
 
 from tet_elasticity import box, mesh_problem, stiffness  # noqa: E402
 from test_core3d import bottom_faces  # noqa: E402
-from solver.contact import (ContactGeometry, solve_friction,  # noqa: E402
-                            solve_frictionless)
+from solver import solve_friction, solve_frictionless
+from solver.contact import ContactGeometry
 from solver.errors import SolverError  # noqa: E402
 
 
@@ -143,8 +143,8 @@ def test_zero_friction_is_frictionless(method):
 
 def test_thesis_formulation_refused_in_3d():
     problem, geometry, _, _ = dragged_block(0.0, 0.01)
-    with pytest.raises(SolverError, match="2D-only.*--formulation "
-                       "projection") as info:
+    with pytest.raises(SolverError, match="2D-only.*formulation="
+                       "'projection'") as info:
         solve_friction(problem, 0.3, formulation="thesis",
                        geometry=geometry)
     assert "\n" not in str(info.value)

@@ -20,9 +20,11 @@ sys.path.insert(0, str(Path(__file__).parent))
 
 from tet_elasticity import box, mesh_problem, stiffness  # noqa: E402
 from test_core3d import bottom_faces, dome_block  # noqa: E402
-from solver.contact import ContactGeometry, solve_friction  # noqa: E402
+from solver import solve_friction  # noqa: E402
+from solver.contact import ContactGeometry
 from solver.contact.strategies.friction_candidates import (  # noqa: E402
-    first_candidates, remaining_gap, use_candidates)
+    first_candidates, remaining_gap)
+from solver.front.cases import DEFAULTS, Case, resolve  # noqa: E402
 from solver.errors import SolverError  # noqa: E402
 
 FIELDS = ("u", "displacement", "contact_force", "friction_traction",
@@ -185,12 +187,18 @@ def test_rules_and_refusals(dome):
     np.testing.assert_allclose(remaining_gap(geometry, u),
                                geometry.gap - 0.01 * np.abs(
                                    geometry.normal[:, 2]))
-    assert use_candidates(None, None, "projection", 3)
-    assert not use_candidates(None, None, "projection", 2)  # 2D unchanged
-    assert not use_candidates(None, False, "projection", 3)
-    with pytest.raises(SolverError, match="condensed projection"):
-        use_candidates(True, False, "projection", 3)
-    with pytest.raises(SolverError, match="condensed projection"):
+
+    def candidates(dim, **options):
+        case = Case(dim, "rigid", "friction", "serial")
+        return resolve(case, dict(DEFAULTS, friction=0.3,
+                                  **options))["candidates"]
+
+    assert candidates(3)
+    assert not candidates(2)  # 2D unchanged
+    assert not candidates(3, system="full")
+    with pytest.raises(SolverError, match="candidates are a condensation"):
+        candidates(3, system="full", candidates=True)
+    with pytest.raises(SolverError, match="candidates are a condensation"):
         solve_friction(problem, 0.3, geometry=geometry, candidates=True,
                        condense=False, formulation="projection")
 
@@ -205,7 +213,7 @@ def test_disc_direction_solves_the_whole_jacobian(dome, coulomb):
 
     from solver.contact.friction.disc import DiscSystem
     from solver.contact.friction.system import FrictionSystem
-    from solver.contact.frictionless.driver import condense_onto_contact
+    from solver.contact.strategies.reduction import condense_onto_contact
 
     problem, geometry = dome
     condensation, local = condense_onto_contact(problem, geometry, "superlu")

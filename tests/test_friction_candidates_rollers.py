@@ -31,7 +31,8 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 from test_friction_candidates import assert_same_run  # noqa: E402
 from test_rollers import FC, dragged_3d  # noqa: E402
-from solver.contact import contact_geometry, solve_friction  # noqa: E402
+from solver import solve_friction  # noqa: E402
+from solver.contact import contact_geometry
 
 RUN = dict(formulation="projection", tol=1e-13)
 
@@ -103,7 +104,7 @@ def test_disc_direction_with_rollers_solves_the_whole_jacobian(
     from it (the last take dĝ from their own rows)."""
     from solver.contact.friction.disc import DiscSystem
     from solver.contact.friction.system import FrictionSystem
-    from solver.contact.frictionless.driver import condense_onto_contact
+    from solver.contact.strategies.reduction import condense_onto_contact
 
     problem = problems[part]
     geometry = contact_geometry(problem, "obstacle", rollers=True)

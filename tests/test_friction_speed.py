@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 import scipy.sparse as sp
 
-from solver.contact import solve_friction
+from solver import solve_friction
 from solver.contact.friction import newton as friction_newton
 from solver.contact.friction.system import FrictionSystem
 from solver.problem import load_problem
@@ -109,8 +109,8 @@ def test_reduced_run_equals_full_run(exported, monkeypatch, method):
 def test_thesis_split_keeps_the_full_system(exported):
     """The reduction is of the projection form only: the thesis's split
     (110)/(111), condensed, still solves its full Newton systems."""
-    from solver.contact.frictionless.driver import (condense_onto_contact,
-                                             contact_geometry)
+    from solver.contact import contact_geometry
+    from solver.contact.strategies.reduction import condense_onto_contact
     problem = load_problem(exported(118)[0])
     geometry = contact_geometry(problem)
     condensation, local = condense_onto_contact(problem, geometry)

@@ -10,7 +10,8 @@ import pytest
 import scipy.optimize as so
 
 from conftest import THESIS_MESHES
-from solver.contact import contact_geometry, solve_frictionless
+from solver import solve_frictionless
+from solver.contact import contact_geometry
 from solver.problem import load_problem
 
 METHODS = ("min", "fb")

@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 from conftest import ROOT
-from solver.contact import solve_frictionless
+from solver import solve_frictionless
 from solver.problem import load_problem
 from solver.studies3d import hertz_sphere_row
 from test_export3d import SPHERE, export_module

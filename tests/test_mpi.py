@@ -51,7 +51,9 @@ CASES = {  # name -> API call on the engine
 DRIVER = """
 import json, sys, numpy as np
 from solver import load_problem
-from solver.mpi import solve_frictionless, solve_friction
+import functools, solver
+solve_frictionless = functools.partial(solver.solve_frictionless, engine="petsc")
+solve_friction = functools.partial(solver.solve_friction, engine="petsc")
 from solver.mpi.engine import spmd
 from solver.mpi.snesvi import solve_snesvi
 

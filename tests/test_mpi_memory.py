@@ -92,7 +92,8 @@ HOLD_DRIVER = """
 import gc, json, sys
 import scipy.sparse as sp
 from solver import load_problem
-from solver.mpi import solve_frictionless
+import functools, solver
+solve_frictionless = functools.partial(solver.solve_frictionless, engine="petsc")
 from solver.mpi.engine import service, spmd
 from solver.mpi.service import HANDLERS
 

@@ -10,7 +10,7 @@ import scipy.sparse.linalg as sla
 from solver import load_problem, solve_frictionless
 from solver.contact import contact_geometry
 from solver.contact.strategies import nested
-from solver.contact.frictionless.driver import condense_onto_contact
+from solver.contact.strategies.reduction import condense_onto_contact
 from solver.contact.strategies.nested import COARSEST, contact_levels, solve_nested
 
 

@@ -6,9 +6,9 @@ import pytest
 import scipy.linalg as sla
 
 from solver import load_problem, solve_frictionless
-from solver.contact.frictionless.driver import (FrictionlessSystem,
-                                         condense_onto_contact,
-                                         contact_geometry)
+from solver.contact import FrictionlessSystem
+from solver.contact import contact_geometry
+from solver.contact.strategies.reduction import condense_onto_contact
 from solver.geometry.curves.normals import outward_sign
 from solver.linalg import available_backends
 from solver.linalg.base import Factor

@@ -7,7 +7,8 @@ import numpy as np
 import pytest
 
 from conftest import MESHES, solve_block
-from solver.contact import contact_geometry, solve_frictionless
+from solver import solve_frictionless
+from solver.contact import contact_geometry
 from solver.errors import ProblemError
 from solver.geometry.curves import gap_along_normals, gap_from_obstacle
 from solver.geometry.curves.polyline import PolylineCurve

@@ -9,7 +9,8 @@ import pytest
 import scipy.sparse as sp
 
 from conftest import MESHES, THESIS_MESHES, solve_block
-from solver.contact import contact_geometry, solve_frictionless
+from solver import solve_frictionless
+from solver.contact import contact_geometry
 from solver.problem import load_problem
 
 

@@ -30,8 +30,8 @@ import pytest
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from tet_elasticity import box, mesh_problem, rectangle, stiffness  # noqa: E402
 
-from solver.contact import (contact_geometry, solve_friction,  # noqa: E402
-                            solve_frictionless)
+from solver import solve_friction, solve_frictionless
+from solver.contact import contact_geometry
 from solver.contact.geometry import ROLLER_TOLERANCE, rotation  # noqa: E402
 from solver.geometry.curves.parametric import ParametricCurve  # noqa: E402
 
@@ -553,9 +553,9 @@ def test_rollers_false_is_the_old_answer_3d():
 
 def test_half_friction_matches_the_whole_2d():
     """2D, through the parabola: pressed with friction in 4 steps, the
-    half model (rollers=True: the axis node's only tangent is
-    constrained, g ≡ 0 there) against the whole one; 2D's default keeps
-    rollers as supports (the thesis's runs) and the split refuses them."""
+    half model (rollers=True, the default: the axis node's only tangent
+    is constrained, g ≡ 0 there) against the whole one; rollers=False
+    makes the axis node a support, and the split refuses rollers."""
     from solver.errors import SolverError
 
     kwargs = dict(formulation="projection", method="min", tol=1e-13,
@@ -570,7 +570,9 @@ def test_half_friction_matches_the_whole_2d():
     assert result.in_contact[-1][on_axis].item()
     assert result.friction_traction[-1][on_axis].item() == 0.0
     default = solve_friction(part, FC, **kwargs)
-    assert default.contact_force[-1][on_axis].item() == 0.0
+    assert np.array_equal(default.u, result.u)
+    support = solve_friction(part, FC, rollers=False, **kwargs)
+    assert support.contact_force[-1][on_axis].item() == 0.0
     with pytest.raises(SolverError, match="split formulation does not "
                        "take roller") as info:
         solve_friction(part, FC, steps=4, rollers=True, formulation="thesis")

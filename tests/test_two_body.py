@@ -11,8 +11,8 @@ import numpy as np
 import pytest
 import scipy.sparse as sp
 
-from solver.contact.two_body import (equivalent_problem, interface_coupling,
-                                     solve_two_body)
+from solver import solve_two_body
+from solver.contact.two_body import equivalent_problem, interface_coupling
 from tri_elasticity import stacked_blocks, top_reaction, uniform_pressure
 
 MATERIALS = ((1.0, 0.3), (3.0, 0.2))

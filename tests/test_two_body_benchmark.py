@@ -12,7 +12,7 @@ import pytest
 
 from conftest import ROOT
 from solver import load_problem
-from solver.contact.two_body import solve_two_body
+from solver import solve_two_body
 from solver.linalg import available_backends
 
 pytest.importorskip("sfepy")

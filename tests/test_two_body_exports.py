@@ -10,8 +10,8 @@ equilibrium); the rigid solver of the thesis block (``gap="body"``)."""
 import numpy as np
 import pytest
 
-from solver.contact import solve_frictionless
-from solver.contact.two_body import solve_two_body
+from solver import solve_frictionless
+from solver import solve_two_body
 from test_export_two_body import export
 
 

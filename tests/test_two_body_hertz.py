@@ -15,7 +15,7 @@ q* = f_c λ − |g_t| (Cattaneo: q* ∝ √(1 − x²/c²) on |x| < c, 0 outside
 
 import numpy as np
 
-from solver.contact.two_body import solve_two_body
+from solver import solve_two_body
 from tri_elasticity import hertz_cylinders, top_reaction, two_cylinders
 
 

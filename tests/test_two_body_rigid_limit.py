@@ -16,8 +16,8 @@ instead, another constraint (1 % apart in u, not shrinking with h)."""
 import numpy as np
 import pytest
 
-from solver.contact import solve_frictionless
-from solver.contact.two_body import solve_two_body
+from solver import solve_frictionless
+from solver import solve_two_body
 from tri_elasticity import block_on_parabola_body, thesis_block
 
 

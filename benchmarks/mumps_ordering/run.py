@@ -92,7 +92,8 @@ def pivot_positions(order, dim, schur):
 def worker(path, mode, hook):
     from solver import load_problem
     from solver.mpi.engine import service, spmd
-    from solver.mpi.frictionless import solve_frictionless
+    from solver import solve
+    from solver.mpi import factor  # noqa: F401 - registers the factor command
     from solver.mpi.layout import Layout
     from solver.mpi.service import HANDLERS, command
 
@@ -145,7 +146,7 @@ def worker(path, mode, hook):
                 return call(name, payload, local)
             svc.call = with_order
         ordering = time.perf_counter() - clock
-        result = solve_frictionless(problem, method="min")
+        result = solve(problem, method="min", engine="petsc")
         seconds = time.perf_counter() - clock
         per_rank = result.engine["per_rank"]
         return dict(time=seconds, ordering=ordering, njev=int(result.njev),

@@ -136,14 +136,14 @@ def build_parser():
                                "(default 100; a problem with a load path "
                                "uses its own stages and steps)")
     friction.add_argument("--formulation", choices=("projection", "thesis"),
-                          default="projection",
+                          default=None,
                           help="projection: g_t = proj(g_t - c du_t), "
                                "non-degenerate, 2D and 3D; thesis: the split "
                                "tangential increment of (110)/(111), as in "
                                "Table 2 (2D only; singular where p = 0, it "
                                "fails on fine meshes) (default projection)")
     friction.add_argument("--coulomb", choices=("lagged", "implicit"),
-                          default="lagged",
+                          default=None,
                           help="friction bound from the previous step's "
                                "normal force (thesis) or the current one's "
                                "(default lagged)")
@@ -154,7 +154,7 @@ def build_parser():
                         help="petsc: the same solves with PETSc (MUMPS, "
                              "KSP) on the MPI ranks of mpiexec -n N; "
                              "default serial")
-    engine.add_argument("--ksp", choices=("mumps", "gamg"), default="mumps",
+    engine.add_argument("--ksp", choices=("mumps", "gamg"), default=None,
                         help="with --engine petsc --system full: each Newton "
                              "system by MUMPS or by CG + GAMG (rigid-body "
                              "near-null space); default mumps")
@@ -230,40 +230,28 @@ def _bounded_int(largest):
 
 
 def main(argv=None):
-    """Run the command line; return the exit code."""
+    """Run the command line; return the exit code. Under ``mpiexec`` with
+    ``--engine petsc`` every rank calls it: rank 0 runs the command line,
+    the others serve the engine's work (:func:`solver.mpi.engine.spmd`)."""
     parser = build_parser()
     args = parser.parse_args(argv)
-    if args.start is not None and args.friction is not None:
-        parser.error("--start applies to frictionless solves only (friction "
-                     "steps start from the previous step)")
-    if args.start == "nested" and args.system == "full":
-        parser.error("--start nested needs the condensed system, not "
-                     "--system full")
     if args.json and not args.info:
         parser.error("--json goes with --info")
     if args.engine == "petsc":
-        return _petsc(parser, args)
-    if args.ksp != "mumps":
-        parser.error("--ksp goes with --engine petsc")
+        from .. import mpi
+
+        reason = mpi.missing()
+        if reason:
+            parser.error(reason)
+        from ..mpi.engine import service
+
+        svc = service()
+        if not svc.root:
+            return svc.serve()  # rank 0's exit code
+        code = 1
+        try:
+            code = run(args)
+        finally:
+            svc.stop(code)
+        return code
     return run(args)
-
-
-def _petsc(parser, args):
-    """``--engine petsc``: every rank runs this (solver.mpi.engine)."""
-    from .. import mpi
-
-    reason = mpi.missing()
-    if reason:
-        parser.error(reason)
-    if args.linear_solver != "auto":
-        parser.error("--linear-solver chooses the serial engine's solver; "
-                     "the petsc engine factorises with MUMPS")
-    if args.start == "nested":
-        parser.error("--start nested runs on the serial engine; the petsc "
-                     "engine starts from no contact force (--start free)")
-    if args.ksp == "gamg" and args.system != "full":
-        parser.error("--ksp gamg solves the full system's Newton steps: add "
-                     "--system full")
-    from ..mpi.engine import main as petsc_main
-
-    return petsc_main(args)

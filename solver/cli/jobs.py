@@ -1,137 +1,91 @@
-"""The two jobs of the command line: a frictionless solve and a friction
-run, each checking its inputs before it makes the output folder, then
-solving, writing the outputs and printing the summary (called by
-:func:`solver.cli.run.run`, which maps every outcome to an exit code)."""
+"""The solve job of the command line: the parsed arguments become the
+options of :func:`solver.solve`, checked (:func:`solver.front.prepare`)
+before the output folder is made; then solve, write the outputs
+(:func:`solver.output.write_all`) and print the summary. Called by
+:func:`solver.cli.run.run`, which maps every outcome to an exit code."""
 
 import os
+import re
 import sys
 import time
 
+from ..errors import SolverError
 from .run import EXIT_NOT_CONVERGED, EXIT_OK
 
-__all__ = ["frictionless", "friction", "two_body", "default_outdir"]
+__all__ = ["solve_job", "options_of", "default_outdir", "Progress"]
+
+#: Options of solve() by their command-line names, where they differ.
+FLAGS = {"backend": "--linear-solver", "search_interval": "--search-interval",
+         "max_iter": "--max-iter", "gap_scale": "--gap-scale"}
 
 
-def default_outdir(args, problem):
-    """PROBLEM-METHOD-GAP (or the friction options) beside the problem."""
+def options_of(args):
+    """The :func:`solver.solve` options of the parsed ``args`` (those left
+    at their defaults are not passed, so that the front can tell what was
+    given)."""
+    options = dict(
+        friction=args.friction, method=args.method, system=args.system,
+        start=args.start, formulation=args.formulation, coulomb=args.coulomb,
+        steps=args.steps, gap=args.gap, backend=args.linear_solver,
+        engine=None if args.engine == "serial" else args.engine,
+        ksp=args.ksp, tol=args.tol, max_iter=args.max_iter,
+        gap_scale=args.gap_scale,
+        search_interval=(None if args.search_interval is None
+                         else tuple(args.search_interval)))
+    return options
+
+
+def _command_line_message(message):
+    """A refusal of the front in the command line's words: every
+    ``option=value`` of solve()'s becomes ``--option value``."""
+    from ..front.cases import DEFAULTS
+
+    def flag(match):
+        name, value = match.group(1), match.group(2).strip("'")
+        if name not in DEFAULTS:
+            return match.group(0)
+        return f"{FLAGS.get(name, '--' + name.replace('_', '-'))} {value}"
+    return re.sub(r"\b(\w+)=(\([^)]*\)|'[^']*'|[^\s,;)]+)", flag, message)
+
+
+def default_outdir(args, plan):
+    """PROBLEM-METHOD-GAP (frictionless) or PROBLEM-fcF-STEPS-FORMULATION-
+    COULOMB-METHOD (friction) beside the problem, then every other option
+    given on the command line that changes the run (system, start, linear
+    solver, engine, …), so that different runs write different folders."""
+    s, case = plan.settings, plan.case
     stem = os.path.splitext(args.problem)[0]
-    gap = args.gap if problem.kind == "mesh" else "given"
-    if getattr(problem, "is_mortar", False):
-        gap = "mortar"
-    if args.friction is not None:
-        steps = "path" if problem.load_path is not None else \
-            f"{args.steps or 100}steps"
-        return (f"{stem}-fc{args.friction:g}-{steps}-"
-                f"{args.formulation}-{args.coulomb}-{args.method}")
-    return f"{stem}-{args.method}-{gap}"
-
-
-def _condense(args):
-    """``condense`` of the solvers from ``--system`` (None = auto)."""
-    return {"auto": None, "condensed": True, "full": False}[args.system]
-
-
-def _geometry(args, problem):
-    """Every input error that can be found before solving: the linear
-    solver installed, K positive definite on the full system, gaps and
-    normals (GapError)."""
-    from ..contact import contact_geometry
-    from ..linalg import resolve
-
-    resolve(args.linear_solver)  # not installed: SolverError, exit 2
-    if _condense(args) is False and _engine(args) == "serial":
-        problem.check_stiffness()  # else by the solve's factorisation (the
-        # petsc engine's on all ranks: a serial one took 19 s at 9.2·10⁵)
-    # contact nodes on symmetry planes (rollers) take part in contact; 2D
-    # friction runs (the thesis's) keep them supports, as solve_friction
-    from ..contact.geometry import problem_dim
-
-    return contact_geometry(problem, args.gap, rollers=args.friction is None
-                            or problem_dim(problem) == 3)
-
-
-def _engine(args):
-    """"serial" or "petsc" (``--engine``; solver.mpi)."""
-    return getattr(args, "engine", "serial")
+    gap = {"rigid": s["gap"], "two-body": "mortar",
+           "discrete": "given"}[case.bodies]
+    if plan.friction is not None:
+        steps = "path" if plan.problem.load_path is not None else \
+            f"{s['steps'] or 100}steps"
+        name = (f"{stem}-fc{plan.friction:g}-{steps}-{s['formulation']}-"
+                f"{s['coulomb']}-{s['method']}")
+        if case.bodies != "rigid":
+            name += f"-{gap}"
+    else:
+        name = f"{stem}-{s['method']}-{gap}"
+    extras = [("system", args.system != "auto", args.system),
+              ("start", args.start is not None, args.start),
+              ("solver", args.linear_solver != "auto", args.linear_solver),
+              ("engine", args.engine != "serial", args.engine),
+              ("ksp", args.ksp is not None, args.ksp),
+              ("tol", args.tol != 1e-10, f"tol{args.tol:g}"),
+              ("iter", args.max_iter != 100, f"maxiter{args.max_iter}"),
+              ("scale", args.gap_scale is not None,
+               f"c{args.gap_scale:g}" if args.gap_scale else ""),
+              ("search", args.search_interval is not None, "search")]
+    for _, given, text in extras:
+        if given:
+            name += f"-{text}"
+    return name
 
 
 def _failure_line(message, nit, history, tail=""):
     values = ", ".join(f"{r:.3e}" for r in history)
     return (f"error: {message} after {nit} iterations; residual history "
             f"||Phi||: [{values}]{tail}")
-
-
-def frictionless(args, problem, open_folder, emit, write_summary):
-    """Solve (67), write summary.json, result.npz, result.vtu, figures."""
-    if getattr(problem, "is_mortar", False):
-        return two_body(args, problem, open_folder, emit, write_summary)
-    args.gap = getattr(args, "gap", None) or "obstacle"
-    from ..contact import solve_frictionless
-    from ..output import summary_of, write_result, write_vtk
-
-    if _engine(args) == "petsc":
-        from ..mpi.jobs import solvers
-        solve_frictionless = solvers(args)[0]
-    from ..output.report import format_result
-
-    args.method = args.method or "min"
-    geometry = _geometry(args, problem)
-    folder = open_folder(args.outdir or default_outdir(args, problem))
-    result = solve_frictionless(problem, method=args.method, gap=args.gap,
-                                tol=args.tol, max_iter=args.max_iter,
-                                gap_scale=args.gap_scale, geometry=geometry,
-                                condense=_condense(args), start=args.start,
-                                backend=args.linear_solver)
-    summary = summary_of(result, problem, tol=args.tol,
-                         max_iter=args.max_iter)
-    if "engine" in result:
-        summary["engine"] = result["engine"]
-    write_result(folder.file("result.npz"), result, problem)
-    if problem.kind == "mesh":
-        write_vtk(folder.file("result.vtu"), result, problem)
-    if args.plots:
-        for path in _figures(folder.path, problem, result).values():
-            folder.file(os.path.basename(path))
-    write_summary(summary)
-    emit(format_result(summary, folder.path))
-    if not result.success:
-        print(_failure_line(result.message, result.nit,
-                            summary["residual_history"]), file=sys.stderr)
-        return EXIT_NOT_CONVERGED
-    return EXIT_OK
-
-
-def _figures(folder, problem, result):
-    """``--plots`` of a frictionless solve: the thesis's figures in 2D; in
-    3D the convergence and the pressure against the radius, with Hertz's
-    profile when the problem's meta names R, E and nu (a Hertz export)."""
-    if getattr(problem, "dim", 2) == 2:
-        from ..output.figures import write_figures
-
-        return write_figures(folder, problem, result)
-    from ..output.figures3d import write_figures3d
-
-    center = (problem.meta or {}).get("contact_center")
-    return write_figures3d(folder, problem, result,
-                           *_hertz_reference(problem, result), center=center)
-
-
-def _hertz_reference(problem, result):
-    """(a, p0) of Hertz's point contact for the total contact force of the
-    solve (×4 for a quarter model), or (None, None) without R, E, nu."""
-    import numpy as np
-
-    from ..verification import hertz_point_contact
-
-    meta = problem.meta or {}
-    if not all(isinstance(meta.get(k), (int, float)) for k in ("R", "E",
-                                                                 "nu")):
-        return None, None
-    force = np.nansum(np.asarray(result.contact_force, float))
-    if force <= 0:
-        return None, None
-    return hertz_point_contact(force * (4 if meta.get("quarter") else 1),
-                               meta["R"], meta["E"], meta["nu"])
 
 
 class Progress:
@@ -168,181 +122,49 @@ class Progress:
             self.bar.close()
 
 
-def friction(args, problem, open_folder, emit, write_summary):
-    """Load steps with Coulomb friction; every completed step is written at
-    once (steps/*.vtu and scratch arrays), result.npz at the end, also when
-    the run stops early."""
-    from ..contact import solve_friction
-    from ..contact.friction.stream import MAX_LOAD_STEPS
-
-    if _engine(args) == "petsc":
-        from ..mpi.jobs import solvers
-        solve_friction = solvers(args)[1]
-    from ..errors import SolverError
-    from ..output import StepWriter, friction_summary_of
-    from ..output.report import format_friction_result
-
-    if getattr(problem, "is_mortar", False):
-        return two_body(args, problem, open_folder, emit, write_summary)
-    args.method = args.method or "fb"
-    total = problem.n_load_steps(args.steps)
-    if total > MAX_LOAD_STEPS:
-        raise SolverError(f"the load path has {total} load steps; at most "
-                          f"{MAX_LOAD_STEPS} are supported")
-    args.gap = getattr(args, "gap", None) or "obstacle"
-    geometry = _geometry(args, problem)
-    folder = open_folder(args.outdir or default_outdir(args, problem))
-    writer = StepWriter(folder, problem, total)
-    progress = Progress(total)
-    result = None
-    try:
-        result = solve_friction(
-            problem, args.friction, steps=args.steps,
-            formulation=args.formulation, coulomb=args.coulomb,
-            method=args.method, gap=args.gap, tol=args.tol,
-            max_iter=args.max_iter, gap_scale=args.gap_scale,
-            progress=progress, geometry=geometry, condense=_condense(args),
-            on_step=writer, keep_steps=False, backend=args.linear_solver)
-    finally:
-        progress.close()
-        folder.extra = {"steps_completed": writer.count}
-        _finish_steps(writer, problem, geometry, result)
-    summary = friction_summary_of(result, problem, tol=args.tol,
-                                  max_iter=args.max_iter)
-    if "engine" in result:
-        summary["engine"] = result["engine"]
-    if args.plots and result.steps_completed:
-        from ..output.friction_figures import write_friction_figures
-
-        steps = _load_steps(folder, result)
-        for path in write_friction_figures(folder.path, problem,
-                                           steps).values():
-            folder.file(os.path.basename(path))
-    write_summary(summary)
-    emit(format_friction_result(summary, folder.path))
-    if not result.success:
-        failed = result.records[-1]
-        print(_failure_line(result.message, failed["nit"],
-                            failed["residual_history"],
-                            f"; {result.steps_completed} completed steps "
-                            f"kept in {folder.path}/"), file=sys.stderr)
-        return EXIT_NOT_CONVERGED
-    return EXIT_OK
-
-
-def _finish_steps(writer, problem, geometry, result):
-    """result.npz and result.pvd of the completed steps (also after an
-    interrupt, when ``result`` is None)."""
-    import numpy as np
-
-    nc = problem.n_contact
-    normal = np.full((nc, geometry.normal.shape[1]), np.nan)
-    normal[geometry.index] = geometry.normal
-    gap = np.full(nc, np.nan)
-    gap[geometry.index] = geometry.gap
-    records = [] if result is None else result.records
-    extra = dict(
-        contact_nodes=(problem.contact_nodes if problem.kind == "mesh"
-                       else np.arange(nc)),
-        gap=gap, normal=normal,
-        step_njev=np.array([r["njev"] for r in records[:writer.count]],
-                           dtype=np.int64),
-        step_nfev=np.array([r["nfev"] for r in records[:writer.count]],
-                           dtype=np.int64),
-        converged=np.array(result is not None and bool(result.success)),
-        steps_completed=np.array(writer.count))
-    if writer.count == 0:
-        writer.close()
-        return
-    writer.finish(extra)
-
-
-def _load_steps(folder, result):
-    """The written result.npz with the run's settings, for the figures."""
-    import numpy as np
-    from scipy.optimize import OptimizeResult
-
-    with np.load(os.path.join(folder.path, "result.npz")) as data:
-        steps = OptimizeResult({key: data[key] for key in data.files})
-    steps.update({key: result[key] for key in (
-        "steps", "friction", "formulation", "coulomb", "method",
-        "steps_completed", "records")})
-    return steps
-
-
-def two_body(args, problem, open_folder, emit, write_summary):
-    """Two elastic bodies (dual mortar, :mod:`solver.contact.two_body`),
-    frictionless or with ``--friction``: summary.json, result.npz,
-    result.vtu (cell data ``body``), ``--plots`` interface.png and
-    bodies.png. Options of a rigid obstacle (``--gap``) are refused."""
-    from ..contact.two_body import solve_two_body
-    from ..errors import SolverError
-    from ..linalg import resolve
-    from ..output import friction_summary_of, summary_of
+def solve_job(args, problem, open_folder, emit, write_summary):
+    """Check, solve, write summary.json, result.npz, result.vtu (friction:
+    result.pvd and steps/), figures; print the summary."""
+    from ..front import prepare
+    from ..output import StepOutputs, write_all
     from ..output.report import format_friction_result, format_result
-    from ..output.two_body import (write_two_body_figures,
-                                  write_two_body_result, write_two_body_vtk)
 
-    if getattr(args, "gap", None) is not None:
-        raise SolverError("--gap applies to a rigid obstacle; two bodies "
-                          "use the mortar's weighted gaps")
-    friction = args.friction is not None
-    args.method = args.method or ("fb" if friction else "min")
-    resolve(args.linear_solver)  # not installed: SolverError, exit 2
-    options = dict(method=args.method, tol=args.tol, max_iter=args.max_iter,
-                   gap_scale=args.gap_scale, condense=_condense(args),
-                   backend=args.linear_solver)
-    if friction:
-        options.update(steps=args.steps, formulation=args.formulation,
-                       coulomb=args.coulomb)
+    try:
+        plan = prepare(problem, **options_of(args))
+    except SolverError as exc:
+        raise type(exc)(_command_line_message(str(exc))) from None
+    folder = open_folder(args.outdir or default_outdir(args, plan))
+    result = None
+    if plan.friction is None:
+        result = plan.run()
     else:
-        options.update(start=args.start)
-    folder = open_folder(args.outdir or default_outdir(args, problem))
-    if friction:
+        outputs = StepOutputs(folder, problem,
+                              problem.n_load_steps(args.steps))
         progress = Progress(problem.n_load_steps(args.steps))
         try:
-            result = solve_two_body(problem, friction=args.friction,
-                                    progress=progress, **options)
+            result = plan.run(progress=progress, on_step=outputs,
+                              keep_steps=False)
         finally:
             progress.close()
-        summary = friction_summary_of(result, problem, tol=args.tol,
-                                      max_iter=args.max_iter)
-    else:
-        result = solve_two_body(problem, **options)
-        summary = summary_of(result, problem, tol=args.tol,
-                             max_iter=args.max_iter)
-    summary.update(_interface_summary(problem, result))
-    write_two_body_result(folder.file("result.npz"), result, problem)
-    if friction and not result.steps_completed:
-        pass  # nothing to draw
-    else:
-        write_two_body_vtk(folder.file("result.vtu"), result, problem)
-        if args.plots:
-            for path in write_two_body_figures(folder.path, problem,
-                                               result).values():
-                folder.file(os.path.basename(path))
+            folder.extra = {"steps_completed": outputs.count}
+            outputs.finish(plan.geometry, result)
+    summary = write_all(folder, problem, result, plots=args.plots,
+                        tol=args.tol, max_iter=args.max_iter)
     write_summary(summary)
-    emit((format_friction_result if friction else format_result)(
-        summary, folder.path))
+    emit((format_result if plan.friction is None else
+          format_friction_result)(summary, folder.path))
     if not result.success:
-        print(f"error: {result.message}", file=sys.stderr)
+        if plan.friction is None:
+            line = _failure_line(result.message, result.nit,
+                                 summary["residual_history"])
+        elif result.records and "residual_history" in result.records[-1]:
+            failed = result.records[-1]
+            line = _failure_line(result.message, failed["nit"],
+                                 failed["residual_history"],
+                                 f"; {result.steps_completed} completed "
+                                 f"steps kept in {folder.path}/")
+        else:
+            line = f"error: {result.message}"
+        print(line, file=sys.stderr)
         return EXIT_NOT_CONVERGED
     return EXIT_OK
-
-
-def _interface_summary(problem, result):
-    """The interface's figures for summary.json (last step of friction)."""
-    import numpy as np
-
-    pressure = np.asarray(result.contact_pressure)
-    pressure = pressure[-1] if pressure.ndim == 2 else pressure
-    D = np.asarray(result.mortar_D)
-    meta = problem.meta or {}
-    return {"coupling": result.variant,
-            "bodies": meta.get("bodies"),
-            "slave_body": meta.get("slave_body"),
-            "master_body": meta.get("master_body"),
-            "slave_nodes": int(len(D)),
-            "slave_nodes_covered": int(np.sum(result.covered)),
-            "interface_normal_force": float(D @ pressure),
-            "max_interface_pressure": float(pressure.max(initial=0.0))}

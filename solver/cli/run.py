@@ -217,8 +217,6 @@ def _run(args, state):
 
     _check_input_file(args.problem)
     problem = load_problem(args.problem)
-    if args.search_interval is not None:
-        problem.set_search_interval(*args.search_interval)
     if args.info:
         info = problem.summary()
         if args.json:
@@ -228,10 +226,9 @@ def _run(args, state):
 
             emit(format_summary(info))
         return EXIT_OK
-    from . import jobs
+    from .jobs import solve_job
 
-    job = jobs.friction if args.friction is not None else jobs.frictionless
-    return job(args, problem, lambda outdir: _open_folder(
+    return solve_job(args, problem, lambda outdir: _open_folder(
         args, problem, state, outdir), emit, lambda summary: _write_summary(
         state["folder"], summary))
 

@@ -1,10 +1,26 @@
-"""Contact systems built on the finite element data of a problem file."""
+"""Contact systems built on the finite element data of a problem file.
 
-from .friction.driver import COULOMB, FORMULATIONS, FrictionSystem, solve_friction
-from .frictionless.driver import (GAP_MODES, ContactGeometry, FrictionlessSystem,
-                           contact_geometry, solve_frictionless)
-from .two_body import solve_two_body
+Dimension-free: the geometry layer hands over per-node frames and gaps
+(:mod:`.geometry`), the drivers run the project's semismooth Newton on the
+frictionless system (:mod:`.frictionless`) or on the load steps of Coulomb
+friction (:mod:`.friction`), on a reduction chosen by a strategy
+(:mod:`.strategies`: full or condensed system, nested start, candidate
+screening) with the linear algebra of an engine (:mod:`.engine`); every
+answer is verified (:mod:`.verify`). Two bodies become a nodewise problem
+by a change of variables (:mod:`.two_body`). The public front is
+:func:`solver.solve`.
+"""
 
-__all__ = ["GAP_MODES", "ContactGeometry", "FrictionlessSystem",
-           "contact_geometry", "solve_frictionless", "FORMULATIONS",
-           "COULOMB", "FrictionSystem", "solve_friction", "solve_two_body"]
+from .engine import SerialEngine
+from .friction.driver import COULOMB, FORMULATIONS, run_friction
+from .friction.system import FrictionSystem
+from .frictionless.driver import run_frictionless
+from .frictionless.system import FrictionlessSystem
+from .geometry import GAP_MODES, ContactGeometry, contact_geometry
+from .result import ContactResult
+from .two_body import TwoBodyMap
+
+__all__ = ["SerialEngine", "GAP_MODES", "ContactGeometry",
+           "contact_geometry", "FrictionlessSystem", "FrictionSystem",
+           "run_frictionless", "run_friction", "FORMULATIONS", "COULOMB",
+           "ContactResult", "TwoBodyMap"]

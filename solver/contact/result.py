@@ -1,11 +1,18 @@
-"""The result objects of the contact solvers: ``OptimizeResult``s (a dict
-with attribute access, as every SciPy solver returns) with a short repr
-that names what was solved and how it ended, never the arrays."""
+"""The result of every contact solve: an ``OptimizeResult`` (a dict with
+attribute access, as every SciPy solver returns) with a short repr that
+names what was solved and how it ended, never the arrays.
+
+One type for every case (scipy.optimize's rule: one result type whatever
+the method): a frictionless solve has the NCP's counts and the fields of
+the answer; a friction run has ``friction``, per-step arrays (first axis =
+completed step) and ``records``; a two-body solve adds the interface's
+fields. ``list(result)`` shows the keys.
+"""
 
 import numpy as np
 from scipy.optimize import OptimizeResult
 
-__all__ = ["ContactResult", "FrictionResult"]
+__all__ = ["ContactResult"]
 
 
 def _counts(result):
@@ -14,29 +21,21 @@ def _counts(result):
 
 
 class ContactResult(OptimizeResult):
-    """Result of :func:`solver.contact.solve_frictionless`."""
+    """Result of :func:`solver.solve` (every case)."""
 
     def __repr__(self):
+        state = "converged" if self.get("success") else "NOT converged"
+        if self.get("friction") is not None:
+            return (f"<ContactResult f_c={self.get('friction')}, "
+                    f"{self.get('formulation')} formulation, "
+                    f"{self.get('coulomb')} bound, {self.get('method')} "
+                    f"method, {self.get('steps_completed')}/"
+                    f"{self.get('steps')} steps, {state}, {_counts(self)}>")
         n = self.get("in_contact")
         contact = "?" if n is None else f"{int(np.sum(n))}/{len(n)}"
-        return (f"<ContactResult {self.get('method')} method, "
-                f"{'converged' if self.get('success') else 'NOT converged'}"
+        return (f"<ContactResult {self.get('method')} method, {state}"
                 f" (status {self.get('status')}), {_counts(self)}, "
                 f"{contact} contact nodes in contact, "
                 f"{'condensed' if self.get('condensed') else 'full'} system>")
-
-    __str__ = __repr__
-
-
-class FrictionResult(OptimizeResult):
-    """Result of :func:`solver.contact.solve_friction`."""
-
-    def __repr__(self):
-        return (f"<FrictionResult f_c={self.get('friction')}, "
-                f"{self.get('formulation')} formulation, "
-                f"{self.get('coulomb')} bound, {self.get('method')} method, "
-                f"{self.get('steps_completed')}/{self.get('steps')} steps, "
-                f"{'converged' if self.get('success') else 'NOT converged'}"
-                f", {_counts(self)}>")
 
     __str__ = __repr__

@@ -39,7 +39,7 @@ from ..geometry.mortar import mortar_coupling, node_to_segment
 from ..problem import ContactProblem
 
 __all__ = ["VARIANTS", "interface_coupling", "equivalent_problem",
-           "interface_stiffness", "solve_two_body"]
+           "interface_stiffness", "TwoBodyMap"]
 
 #: Couplings: the dual mortar, and node-to-segment (patch-test foil).
 VARIANTS = {"mortar": mortar_coupling, "node-to-segment": node_to_segment}
@@ -164,53 +164,83 @@ def _node_graph(problem, extra):
     return problem.nodes, edges, problem.dof_map
 
 
-def solve_two_body(problem, friction=None, variant="mortar", **options):
-    """Solve a mortar problem (``problem.is_mortar``) frictionless
-    (:func:`~solver.contact.solve_frictionless`) or, given ``friction``
-    f_c, in load steps (:func:`~solver.contact.solve_friction`), with
-    ``options`` passed on (method, tol, condense, start, formulation,
-    coulomb, steps, backend …; no ``gap``: the gaps are the mortar's).
+class TwoBodyMap:
+    """A two-body problem as the nodewise problem in v (module
+    docstring), and the way back to u.
 
-    Returns the solver's result mapped back to u (module docstring):
-    ``u`` (reduced, over both bodies), ``displacement`` (nodal), ``v``
-    (the solved variables), per slave node ``contact_pressure`` λ_j ≥ 0
-    (the dual multiplier, z_j / D_jj), ``traction`` (Nc, 2) on the slave
-    surface, −λ_j n_j + g_t,j τ_j, ``covered``, ``mortar_D``,
-    ``body`` and ``variant``; friction runs per step (first axis).
+    Attributes: ``problem`` (the two-body problem), ``equivalent`` (the
+    discrete problem in v that the drivers solve), ``T_inv`` (u = T⁻¹v),
+    ``covered`` (slave nodes that take part), ``coupling`` (the mortar
+    coupling: D, M, normals, weighted gaps).
     """
-    from .friction.driver import solve_friction
-    from .frictionless.driver import solve_frictionless
 
-    if "gap" in options:
-        raise SolverError("two bodies: the gaps are the mortar's weighted "
-                          "gaps; the gap option applies to a rigid obstacle")
-    coupling = interface_coupling(problem, variant)
-    equivalent, T_inv, covered = equivalent_problem(
-        problem, coupling, friction=friction is not None)
-    if friction is None:
-        result = solve_frictionless(equivalent, **options)
-        u = T_inv @ result.u
-        displacement = problem.full_displacement(u)
-    else:
-        result = solve_friction(equivalent, friction, **options)
-        u = np.asarray(T_inv @ np.atleast_2d(result.u).T).T
-        prescribed = [p for _, _, p, _ in
-                      problem.load_steps(options.get("steps"))]
-        displacement = np.array([problem.full_displacement(x, p)
-                                 for x, p in zip(u, prescribed)])
-    n = coupling.normal
-    tangent = np.column_stack([-n[:, 1], n[:, 0]])
-    pressure = np.asarray(result.contact_pressure)
-    traction = -pressure[..., None] * n
-    if friction is not None:
-        traction = traction + np.asarray(result.friction_traction)[
-            ..., None] * tangent
-    result.update(v=result.u, u=u, displacement=displacement,
-                  traction=traction, covered=covered, mortar_D=coupling.D,
-                  body=_body(problem), variant=coupling.variant,
-                  gap_mode="mortar" if variant == "mortar" else variant,
-                  weighted_gap=coupling.gap)
-    return result
+    def __init__(self, problem, variant="mortar", friction=False):
+        self.problem, self.variant = problem, variant
+        self.coupling = interface_coupling(problem, variant)
+        self.equivalent, self.T_inv, self.covered = equivalent_problem(
+            problem, self.coupling, friction=friction)
+        n = self.coupling.normal
+        self.tangent = np.column_stack([-n[:, 1], n[:, 0]])
+
+    def _traction(self, pressure, friction_traction=None):
+        """−λ_j n_j + g_t,j τ_j on the slave surface (…, Nc, 2)."""
+        traction = -np.asarray(pressure)[..., None] * self.coupling.normal
+        if friction_traction is not None:
+            traction = traction + np.asarray(friction_traction)[
+                ..., None] * self.tangent
+        return traction
+
+    def step_fields(self, prescribed):
+        """A wrapper of a friction run's ``on_step`` callback that hands
+        it each step's fields in u (``u``, ``displacement`` over both
+        bodies, ``v``, ``traction``); ``prescribed`` iterates over the
+        Dirichlet values of every step in order
+        (:meth:`ContactProblem.load_steps`)."""
+        prescribed = iter(prescribed)
+
+        def convert(fields):
+            v = fields["u"]
+            u = self.T_inv @ v
+            fields.update(
+                v=v, u=u, traction=self._traction(
+                    fields["contact_pressure"],
+                    fields["friction_traction"]),
+                displacement=self.problem.full_displacement(
+                    u, next(prescribed)))
+            return fields
+        return convert
+
+    def result(self, result, friction=None, steps=None):
+        """The drivers' ``result`` on the equivalent problem mapped back to
+        u: ``u`` (reduced, over both bodies), ``displacement`` (nodal),
+        ``v`` (the solved variables), per slave node ``contact_pressure``
+        λ_j ≥ 0 (the dual multiplier, z_j / D_jj), ``traction`` (Nc, 2) on
+        the slave surface, −λ_j n_j + g_t,j τ_j, ``covered``, ``mortar_D``,
+        ``body``, ``variant`` and ``weighted_gap``; friction runs per step
+        (first axis)."""
+        problem = self.problem
+        extra = dict(covered=self.covered, mortar_D=self.coupling.D,
+                     body=_body(problem), variant=self.coupling.variant,
+                     gap_mode=("mortar" if self.variant == "mortar"
+                               else self.variant),
+                     weighted_gap=self.coupling.gap)
+        if friction is not None and "u" not in result:  # steps not kept
+            result.update(extra)
+            return result
+        if friction is None:
+            u = self.T_inv @ result.u
+            displacement = problem.full_displacement(u)
+            traction = self._traction(result.contact_pressure)
+        else:
+            u = np.asarray(self.T_inv @ np.atleast_2d(result.u).T).T
+            prescribed = [p for _, _, p, _ in problem.load_steps(steps)]
+            displacement = np.array([problem.full_displacement(x, p)
+                                     for x, p in zip(u, prescribed)])
+            traction = self._traction(result.contact_pressure,
+                                      result.friction_traction)
+        result.update(v=result.u, u=u, displacement=displacement,
+                      traction=traction, **extra)
+        return result
 
 
 def _body(problem):

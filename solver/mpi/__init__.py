@@ -21,20 +21,18 @@ Design (docs/mpi.md):
   size = dimension: every node of the mesh keeps its ``dim`` rows (a
   Dirichlet DOF becomes an identity row), so a node's DOFs, and a contact
   node's normal row, live on one rank.
-* **Methods** (:mod:`~solver.mpi.frictionless`, :mod:`~solver.mpi.full`,
-  :mod:`~solver.mpi.friction`): one distributed MUMPS factorisation of the
-  rotated K̂ = RKRᵀ in MUMPS's own Schur mode (:mod:`~solver.mpi.schur`,
-  ctypes on libpetsc: S on the candidates' normal rows from the partial
-  factorisation), the small NCP on rank 0, a distributed back-substitution
-  (the serial screening loop, :mod:`solver.contact.strategies.candidates`, runs on
-  it); or the semismooth Newton on the full system with each Newton system solved by KSP (MUMPS or CG + GAMG);
-  friction through :func:`solver.contact.solve_friction` given the PETSc
-  condensation (its ``condensation`` keyword). :mod:`~solver.mpi.snesvi` is PETSc's own SNESVI, a
-  cross-check.
+* **The engine is a backend** (:class:`~solver.mpi.engine.PetscEngine`):
+  the serial drivers of :mod:`solver.contact` run unchanged and ask it for
+  their linear algebra — one distributed MUMPS factorisation of K (or of
+  the rotated K̂ = RKRᵀ) in MUMPS's own Schur mode per condensation
+  (:mod:`~solver.mpi.condensation`, :mod:`~solver.mpi.schur`, ctypes on
+  libpetsc), or, on the full system, every Newton system solved by KSP
+  (MUMPS or CG + GAMG, :mod:`~solver.mpi.full`). :func:`solver.solve`
+  with ``engine="petsc"`` chooses it. :mod:`~solver.mpi.snesvi` is
+  PETSc's own SNESVI, a cross-check.
 """
 
-__all__ = ["available", "missing", "solve_frictionless", "solve_friction",
-           "EXTRA"]
+__all__ = ["available", "missing", "EXTRA"]
 
 #: The pip extra that installs the engine's Python packages.
 EXTRA = "petsc"
@@ -55,17 +53,3 @@ def missing():
 def available():
     """Whether the petsc engine can run here."""
     return missing() is None
-
-
-def solve_frictionless(problem, **options):
-    """:func:`solver.mpi.frictionless.solve_frictionless` (lazy import)."""
-    from .frictionless import solve_frictionless as solve
-
-    return solve(problem, **options)
-
-
-def solve_friction(problem, friction, **options):
-    """:func:`solver.mpi.friction.solve_friction` (lazy import)."""
-    from .friction import solve_friction as solve
-
-    return solve(problem, friction, **options)

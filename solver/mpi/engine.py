@@ -1,9 +1,17 @@
-"""Entry points of the engine: the shared service, :func:`spmd` for API
-users and :func:`main` for ``python -m solver ... --engine petsc``."""
+"""The PETSc engine (:class:`PetscEngine`: the linear algebra of the serial
+drivers on the ranks of ``mpiexec``), the shared service, and
+:func:`spmd`, which every rank calls (rank 0 runs the solve, the others
+serve it; the command line does the same in :func:`solver.cli.main`)."""
 
 import sys
 
-__all__ = ["service", "spmd", "main", "engine_summary", "restore_malloc"]
+from ..errors import SolverError
+
+__all__ = ["PetscEngine", "KSPS", "service", "spmd", "engine_summary",
+           "check_problem", "restore_malloc"]
+
+#: Solvers of the full system's Newton systems (``ksp=``).
+KSPS = ("mumps", "gamg")
 
 _SERVICE = []
 
@@ -97,20 +105,108 @@ def engine_summary(svc, layout, extra):
     return dict(name="petsc", ranks=svc.size, per_rank=per_rank, **extra)
 
 
-def main(args):
-    """``python -m solver ... --engine petsc`` on every rank: rank 0 runs
-    the serial command line (:func:`solver.cli.run.run`, whose jobs call the
-    petsc solvers), the others serve it; every rank returns rank 0's exit
-    code."""
-    svc = service()
-    if not svc.root:
-        return svc.serve()
-    from ..cli.run import run
+def check_problem(problem):
+    """SolverError unless the engine can partition ``problem`` (a mesh)."""
+    if problem.kind != "mesh":
+        raise SolverError("the petsc engine partitions a mesh by nodes: a "
+                          "discrete problem (no mesh) runs on the serial "
+                          "engine")
 
-    code = 1
-    try:
-        code = run(args)
-    finally:
-        svc.stop(code)
-    return code
 
+class PetscEngine:
+    """The engine (:mod:`solver.contact.engine`) on the ranks of
+    ``mpiexec``: K partitioned by nodes (:class:`~solver.mpi.layout.
+    Layout`), one distributed MUMPS factorisation in its Schur mode per
+    condensation (:mod:`~solver.mpi.condensation`), or, on the full system,
+    every Newton system solved by KSP (``ksp``: MUMPS or CG + GAMG,
+    :mod:`~solver.mpi.full`). Make it on rank 0 inside :func:`spmd`.
+    ``schur_block``: None (MUMPS's Schur mode) or k (S from k columns of
+    K̂⁻¹ at a time, :mod:`~solver.mpi.factor`)."""
+
+    name = "petsc"
+
+    def __init__(self, ksp="mumps", schur_block=None):
+        if ksp not in KSPS:
+            raise SolverError(f"ksp must be one of {KSPS}, got {ksp!r}")
+        self.ksp, self.schur_block = ksp, schur_block
+        self.linear_solver = "petsc-mumps"
+        self.svc = service()
+        self.layout, self.problem = None, None
+        self.made, self.full = [], False
+
+    def _layout(self, problem):
+        """The partition of ``problem``'s nodes, sent to every rank once."""
+        from .layout import Layout
+
+        check_problem(problem)
+        if self.problem is not problem:
+            self.svc.mark("start")
+            self.layout, self.problem = Layout(problem, self.svc.size), \
+                problem
+            self.svc.call("layout", self.layout.ranges())
+        return self.layout
+
+    def condensation(self, problem, dofs):
+        """K condensed onto ``dofs`` (:class:`~solver.mpi.condensation.
+        PetscCondensation`)."""
+        from .condensation import PetscCondensation
+
+        made = PetscCondensation(self.svc, self._layout(problem), problem,
+                                 dofs)
+        self.made.append(("dofs", made))
+        return made
+
+    def normal_condensation(self, problem, geometry):
+        """K̂ condensed onto candidate normal DOFs (:class:`~solver.mpi.
+        condensation.PetscNormalCondensation`)."""
+        from .condensation import PetscNormalCondensation
+
+        made = PetscNormalCondensation(self.svc, self._layout(problem),
+                                       problem, geometry, self.schur_block)
+        self.made.append(("normal", made))
+        return made
+
+    def full_jacobian(self, system, problem, geometry):
+        """The full system's Jacobian, its Newton systems solved by KSP on
+        all ranks (:func:`~solver.mpi.full.full_jacobian`)."""
+        from .full import full_jacobian
+
+        self.full = True
+        return full_jacobian(self.svc, self._layout(problem), problem,
+                             geometry, system, self.ksp)
+
+    def full_linear_solver(self):
+        """What solves the full system's Newton steps."""
+        return f"petsc-{self.ksp}"
+
+    def summary(self):
+        """The ``engine`` entry of a result: ranks, per-rank rows,
+        nonzeros, contact DOFs or candidates owned, peak memory and
+        command times (:func:`engine_summary`)."""
+        import numpy as np
+
+        extra, owned = {}, {}
+        if self.full:
+            from .full import ksp_statistics
+
+            extra.update(system="full", ksp=self.ksp,
+                         **ksp_statistics(self.svc, self.ksp))
+        else:
+            extra.update(system="condensed", ksp="mumps")
+        for kind, made in self.made:
+            if kind == "normal":
+                rows = self.layout.red_to_pad[made.normal_rows]
+                owned["contact_nodes_owned"] = rows
+                if made.nodes is not None:
+                    owned["candidates_owned"] = rows[
+                        made.nodes]
+                extra.update(schur="mumps" if self.schur_block is None
+                             else "solves", schur_block=self.schur_block,
+                             factorizations=made.factor.factorizations
+                             if made.factor is not None else 0)
+            else:
+                owned["contact_dofs_owned"] = self.layout.red_to_pad[
+                    made.dofs]
+                extra.update(schur="mumps", solves=made.n_solves)
+        extra["owned"] = {k: np.asarray(v) for k, v in owned.items()}
+        return engine_summary(self.svc, self.layout, extra)

@@ -19,14 +19,12 @@ the rigid-body modes (rotated into the node frames) as near-null space
 import numpy as np
 import scipy.sparse as sp
 
-from ..contact.frictionless.driver import FrictionlessSystem
 from ..contact.geometry import rotate_stiffness
 from ..linalg.base import PIVOT_RTOL
-from ..ncp import solve_ncp
 from .layout import gather_vector, scatter_matrix, scatter_vector
 from .service import EngineError, command
 
-__all__ = ["solve_full", "rigid_modes", "CG_RTOL"]
+__all__ = ["full_jacobian", "ksp_statistics", "rigid_modes", "CG_RTOL"]
 
 #: Relative residual of a CG + GAMG Newton solve.
 CG_RTOL = 1e-12
@@ -104,11 +102,12 @@ class _Owner:
         self.service, self.layout, self.system = service, layout, system
 
 
-def solve_full(service, layout, problem, geometry, method, tol, max_iter,
-               gap_scale, stiffness, options, load_norm, ksp):
-    """(result, u, λ, u_n, engine extra) of the full-system Newton."""
-    system = FrictionlessSystem(problem.K, problem.f, geometry, gap_scale,
-                                stiffness, load_norm)
+def full_jacobian(service, layout, problem, geometry, system, ksp):
+    """The Jacobian callable of the full-system Newton on ``system`` (a
+    :class:`~solver.contact.frictionless.system.FrictionlessSystem` on
+    problem.K) whose Newton systems KSP solves on all ranks, after K̂ is
+    scattered and checked (positive definite, as the serial engine's
+    check)."""
     R = system.R
     if abs(sp.linalg.norm(R @ R.T - sp.identity(R.shape[0]))) > 1e-12:
         raise EngineError("the full system on the petsc engine needs "
@@ -122,17 +121,16 @@ def solve_full(service, layout, problem, geometry, method, tol, max_iter,
     service.call("check_spd" if ksp == "mumps" else "check_spd_cg",
                  dict(key="newton"))
     owner = _Owner(service, layout, system)
-    result = solve_ncp(system.residual, lambda x: _Jacobian(owner),
-                       np.zeros(problem.n_dofs), method=method, tol=tol,
-                       max_iter=max_iter, options=options,
-                       error=system.error, scale=system.scale)
-    result.levels = []
+    return lambda x: _Jacobian(owner)
+
+
+def ksp_statistics(service, ksp):
+    """The engine's record of the full-system Newton solves: the Krylov
+    iterations of each, their number and the CG solves that fell back to
+    MUMPS."""
     its = service.call("ksp_iterations")
-    u = result.x
-    return (result, u, system.contact_force(u),
-            system.normal_displacement(u),
-            dict(ksp_iterations=its, newton_solves=len(its),
-                 ksp_fallbacks=its.count(0) if ksp == "gamg" else 0))
+    return dict(ksp_iterations=its, newton_solves=len(its),
+                ksp_fallbacks=its.count(0) if ksp == "gamg" else 0)
 
 
 @command("newton_setup")

@@ -37,7 +37,7 @@ def solve_snesvi(problem, gap="obstacle", geometry=None, rtol=1e-12,
                  kind="vinewtonrsls"):
     """(u, iterations) of SNESVI (call on rank 0 inside
     :func:`~solver.mpi.engine.spmd`); u is the reduced displacement."""
-    from .frictionless import check_problem
+    from .engine import check_problem
 
     check_problem(problem)
     svc = service()

@@ -62,13 +62,23 @@ def step_mesh(problem, fields):
     """meshio.Mesh of one friction load step (``fields`` of the step)."""
     import meshio
 
-    data = {"u": _vectors(fields["displacement"], len(problem.nodes))}
+    n = len(problem.nodes)
+    data = {"u": _vectors(fields["displacement"], n)}
     for name, fill, dtype in (("contact_pressure", 0.0, float),
                               ("friction_traction", 0.0, float),
                               ("in_contact", 0, np.int32),
                               ("stick", 0, np.int32), ("slip", 0, np.int32)):
         data[name] = _on_nodes(problem, fields[name], fill, dtype)
-    return meshio.Mesh(_points(problem), _cells(problem), point_data=data)
+    cell_data = None
+    if getattr(problem, "is_mortar", False):  # two bodies: the body,
+        # the interface traction
+        body = np.asarray(problem.body)
+        data["body"] = body
+        data["traction"] = _vectors(_on_nodes(problem, fields["traction"]),
+                                    n)
+        cell_data = {"body": [body[problem.cells[:, 0]]]}
+    return meshio.Mesh(_points(problem), _cells(problem), point_data=data,
+                       cell_data=cell_data)
 
 
 def write_vtk(path, result, problem):

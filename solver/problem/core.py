@@ -220,6 +220,13 @@ class ContactProblem:
             self._checked = self.K
         return self
 
+    def mark_stiffness_checked(self):
+        """Record that K (this K object) was found positive definite by a
+        factorisation made elsewhere (a condensation's), so that
+        :meth:`check_stiffness` does not factorise it again."""
+        self._checked = self.K
+        return self
+
     def n_load_steps(self, steps=None):
         """Number of load steps: of the ``load_path``, else ``steps``
         (default 100)."""

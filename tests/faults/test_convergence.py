@@ -18,9 +18,9 @@ import pytest
 import scipy.sparse as sp
 import scipy.sparse.linalg as sla
 
-from solver.contact import (contact_geometry, solve_friction,
-                            solve_frictionless)
-from solver.contact.frictionless.driver import ContactGeometry
+from solver import solve_friction, solve_frictionless
+from solver.contact import contact_geometry
+from solver.contact import ContactGeometry
 from solver.ncp import solve_ncp
 from solver.problem import ContactProblem, load_problem
 

@@ -138,8 +138,9 @@ def test_bad_search_interval(block, tmp_path, capsys, argv, phrase):
 def test_search_interval_of_a_discrete_problem(tmp_path, capsys):
     path = save_problem(tmp_path / "bar.npz", two_dof_bar())
     assert_one_error_line(*run_cli([path, "--search-interval", "0", "1"],
-                                   capsys), "a discrete problem has no "
-                                            "obstacle")
+                                   capsys), "--search-interval (0.0, 1.0) "
+                                            "is not supported for 2D, "
+                                            "discrete")
 
 
 # --------------------------------------------------------------------------

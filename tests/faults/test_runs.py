@@ -259,7 +259,7 @@ def test_internal_error_is_one_line(block, tmp_path, capsys, monkeypatch):
     def broken(*args, **kwargs):
         raise RuntimeError("simulated bug")
 
-    monkeypatch.setattr(solver.contact, "solve_frictionless", broken)
+    monkeypatch.setattr(solver.contact, "run_frictionless", broken)
     out = tmp_path / "bug"
     assert main([block, "-o", str(out)]) == 1
     err = capsys.readouterr().err.splitlines()
@@ -288,10 +288,7 @@ def test_load_path_with_too_many_steps(block, tmp_path, capsys):
     problem = load_problem(block)
     problem.load_path_steps = np.array([2 ** 62, 2 ** 62])  # int64 wraps
     problem.load_path = [problem.f, problem.f]
-    from solver.cli.jobs import friction
-
-    class Args:
-        steps, friction, method = None, 0.3, "min"
+    from solver import solve
 
     with pytest.raises(Exception, match=f"at most {MAX_LOAD_STEPS}"):
-        friction(Args, problem, None, None, None)
+        solve(problem, friction=0.3, method="min")

@@ -62,7 +62,8 @@ import scipy.linalg as sla
 import scipy.sparse as sp
 
 from ...linalg.threads import blas_threads_for
-from .system import FrictionSystem, _block_diagonal
+from .projection import block_diagonal, disc_derivative
+from .system import FrictionSystem
 
 __all__ = ["DiscSystem", "DiscJacobian", "condensed_system"]
 
@@ -148,19 +149,10 @@ class DiscJacobian:
         r = s._force(du)
         b, db = s.bound(r)
         ct = self.ct = np.broadcast_to(s.c_t, (s.mt,))
-        w = s._slide(g, du).reshape(m, k)
-        size = np.linalg.norm(w, axis=1)
-        stick = size < b
-        ratio = np.where(stick, 1.0, np.divide(
-            b, size, out=np.zeros(m), where=size > 0))
-        hat = np.divide(w, size[:, None], out=np.zeros_like(w),
-                        where=size[:, None] > 0)
-        slip_hat = np.where(stick[:, None], 0.0, hat)
-        self.P = ratio[:, None, None] * (np.eye(k) - slip_hat[:, :, None]
-                                         * slip_hat[:, None, :])
-        if s.rollers:  # w_c ≡ 0: ∂P/∂w loses the e_c columns
-            self.P *= s.t_free.reshape(m, 1, k)
-        Pu = (_block_diagonal(self.P) @ s.R_t).toarray()  # R_t sparse
+        self.P, stick, ratio, slip_hat = disc_derivative(
+            s._slide(g, du).reshape(m, k), b,
+            s.t_free if s.rollers else None)
+        Pu = (block_diagonal(self.P) @ s.R_t).toarray()  # R_t sparse
         Pu *= ct[:, None]
         if db is not None:  # −ŵ ∂b/∂Δu at slip nodes
             Pu -= slip_hat.reshape(-1, 1) * np.repeat(np.asarray(
@@ -170,7 +162,7 @@ class DiscJacobian:
         # (I − P_w)⁻¹ = (I − ŵŵᵀ)/(1 − ratio) + ŵŵᵀ: exact where b = 0
         # (ĝ stays 0 at f_c = 0 or out of contact, not round-off of S).
         self.own = ~stick & (ratio <= 0.5)
-        outer = hat[self.own, :, None] * hat[self.own, None, :]
+        outer = slip_hat[self.own, :, None] * slip_hat[self.own, None, :]
         self.inverse = (np.eye(k) - outer) / (1 - ratio[self.own, None,
                                                         None]) + outer
         if s.rollers:  # a roller's I − P_w (e_c columns dropped) directly

@@ -78,28 +78,32 @@ from types import SimpleNamespace
 import numpy as np
 
 from ...errors import SolverError
-from .stream import MAX_LOAD_STEPS, StepStream
-from ..strategies.friction_candidates import friction_on_candidates, use_candidates
+from ..geometry import contact_stiffness
+from ..strategies.reduction import reduction
 from .steps import GAP_WEIGHT, load_step, make_result, setup
-from .system import (COULOMB, FORMULATIONS, FrictionSystem,
-                              check_geometry)
-from ..frictionless.driver import contact_geometry, contact_stiffness
-from ..geometry import problem_dim
+from .stream import MAX_LOAD_STEPS, StepStream
+from .system import COULOMB, FORMULATIONS, check_geometry
 
-__all__ = ["FORMULATIONS", "COULOMB", "FrictionSystem", "solve_friction"]
+__all__ = ["FORMULATIONS", "COULOMB", "run_friction", "check_friction"]
 
 
-def solve_friction(problem, friction, steps=None, formulation="projection",
-                   coulomb="lagged", method="fb", gap="obstacle", tol=1e-10,
-                   max_iter=100, gap_scale=None, options=None, progress=None,
-                   geometry=None, condense=None, on_step=None,
-                   keep_steps=True, backend="auto", rollers=None,
-                   candidates=None, margin=None, condensation=None):
+def run_friction(problem, geometry, engine, friction, steps=None,
+                 formulation="projection", coulomb="lagged", method="fb",
+                 tol=1e-10, max_iter=100, gap_scale=None, options=None,
+                 progress=None, condense=True, on_step=None,
+                 keep_steps=True, candidates=False, margin=None):
     r"""Quasi-static Coulomb friction in load steps (thesis §5, (110)/(111)).
+
+    The driver behind :func:`solver.solve` with ``friction``; every option
+    arrives resolved and checked (:mod:`solver.front`).
 
     Parameters
     ----------
     problem : ContactProblem
+    geometry : ContactGeometry
+        Gaps and frames of the contact nodes that take part.
+    engine
+        Does the linear algebra (:mod:`solver.contact.engine`).
     friction : float
         Coefficient of friction f_c ≥ 0.
     steps : int, optional
@@ -107,25 +111,19 @@ def solve_friction(problem, friction, steps=None, formulation="projection",
         A problem with a ``load_path`` follows its stages instead (their
         steps, loads and friction multipliers); ``steps`` must then be None.
     formulation : {"projection", "thesis"}
-        The projection form (see module; in 3D onto the Coulomb disc), the
-        default, or the thesis's split (110)/(111), which reproduces Table 2
-        (2D only: SolverError in 3D). The split is singular where p = 0; with
-        φ_FB it stalls at load step 28 of 100 on the thesis's own 1878-cell
-        block at f_c = 0.3 (tests/test_friction_default.py), hence not the
-        default.
+        The projection form (see module; in 3D onto the Coulomb disc) or
+        the thesis's split (110)/(111), which reproduces Table 2 (2D only).
     coulomb : {"lagged", "implicit"}
         Friction bound from the previous step's pressure (thesis) or from
         the current one.
     method : {"fb", "min"}
         Newton method of each step (the thesis used φ_FB only).
-    gap : {"obstacle", "body"}
-        As in :func:`solve_frictionless`.
     tol, max_iter, options
-        Per step, as in :func:`solve_frictionless`: the stopping test is
-        relative, ‖[E; min(A, k̄B)]‖₂ (force units, :meth:`FrictionSystem.
-        error`) ≤ tol·max(‖f‖₂, ‖f_κ‖₂, ‖λ⁺‖₂), with f the full load and
-        f_κ the step's, so the verdict does not depend on units (nor, on
-        the condensed system, the iterates); every converged step is then
+        Per step: the stopping test is relative, ‖[E; min(A, k̄B)]‖₂
+        (force units, :meth:`FrictionSystem.error`) ≤
+        tol·max(‖f‖₂, ‖f_κ‖₂, ‖λ⁺‖₂), with f the full load and f_κ the
+        step's, so the verdict does not depend on units (nor, on the
+        condensed system, the iterates); every converged step is then
         verified (:func:`~solver.contact.verify.verify_contact`: finite,
         penetration, λ ≥ 0, complementarity, Coulomb bound |t| ≤ f_c λ on
         nodal forces, equilibrium of the system solved), and the last one
@@ -133,12 +131,18 @@ def solve_friction(problem, friction, steps=None, formulation="projection",
         fails verification ends the run like one that does not converge
         (its record says ``verified`` False, status 6).
     gap_scale : float, optional
-        c of the gap rows, as in :func:`solve_frictionless`: default 1 (the
-        thesis) on the full system, :data:`GAP_WEIGHT`·k̄ on the condensed
-        one (every row of Φ then in force units, so that its iterates do
-        not depend on the units).
+        c of the gap rows: default 1 (the thesis) on the full system,
+        :data:`GAP_WEIGHT`·k̄ on the condensed one (every row of Φ then in
+        force units, so that its iterates do not depend on the units).
     progress : callable, optional
         ``progress(step_record)`` after every completed step.
+    condense : bool
+        True: factorise K once and solve every step's system condensed
+        exactly onto Γc (the projection form's Newton systems then reduced
+        to the free components or to the contact constraints,
+        :mod:`~solver.contact.friction.newton`); False: the system in all
+        unknowns, one sparse LU per iteration (faithful mode; the
+        iteration counts of Table 2).
     on_step : callable, optional
         ``on_step(fields)`` once per completed step, in order, with that
         step's arrays (the per-step keys listed under Returns, without the
@@ -150,48 +154,17 @@ def solve_friction(problem, friction, steps=None, formulation="projection",
         Keep the per-step arrays in the result (default). False keeps only
         the records, so that memory does not grow with the number of steps
         (stream them with ``on_step`` instead).
-    geometry : ContactGeometry, optional
-    condense : bool or None
-        True: factorise K once and solve every step's system condensed
-        exactly onto Γc (as in :func:`solve_frictionless`; the projection
-        form's Newton systems are then solved reduced to the free
-        components or to the contact constraints,
-        :mod:`~solver.contact.friction.newton`); False: the
-        system in all unknowns, one sparse LU per iteration (faithful mode;
-        the iteration counts of Table 2). None (default): True for the
-        projection formulation, False for the thesis's: its split is
-        degenerate where p = 0 and its Newton path depends on the merit
-        function; condensed (interior equilibrium always exact) it needs
-        about twice the iterations and failed on the 118 block at f_c =
-        0.05 (the same solution where both converge).
-    backend : {"auto", "superlu", "pardiso", "cholmod"}
-        Sparse direct solver of the condensed system, as in
-        :func:`solve_frictionless`: one factorisation and its Schur
-        complement serve every load step and Newton iteration.
-    rollers : bool or None
-        Whether contact nodes on symmetry planes (a Dirichlet component
-        along which ν has none, :mod:`~solver.contact.geometry`) take part
-        in contact and friction, as in :func:`solve_frictionless`: their
-        friction traction lives in the free tangents only (module
-        docstring). None (default): True in 3D, False in 2D (the thesis's
-        runs: a roller is a support, λ = 0; the thesis's split refuses
-        rollers). Ignored when ``geometry`` is given.
-    candidates : bool, optional
+    candidates : bool
         Condense onto the d DOFs of candidate nodes only, enlarged until
-        no other node penetrates (:mod:`solver.contact.strategies.friction_candidates`; result keys
-        ``condensation`` "candidates" and ``candidates``). Default: True
-        in 3D with the condensed projection form.
+        no other node penetrates
+        (:mod:`~solver.contact.strategies.friction_candidates`; result keys
+        ``condensation`` "candidates" and ``candidates``).
     margin : float, optional
-        The candidates' round-0 gap margin δ₀, as in
-        :func:`solve_frictionless`.
-    condensation : :class:`~solver.linalg.Condensation`, optional
-        K already condensed onto ``geometry.free_dofs()`` (its ``S``,
-        ``load``, ``displacement``), used instead of factorising K with
-        ``backend`` (the PETSc engine passes its distributed one).
+        The candidates' round-0 gap margin δ₀.
 
     Returns
     -------
-    OptimizeResult
+    ContactResult
         ``success``, ``message``, ``steps_completed``, ``failed_step``
         (None or κ), totals ``njev``, ``nfev``, ``nit``, ``time``; per step
         (arrays, first axis = completed steps): ``load_factor``,
@@ -208,50 +181,32 @@ def solve_friction(problem, friction, steps=None, formulation="projection",
         stopping measure over its scale), message); per contact node
         (steps share them): ``gap`` s and ``normal`` ν (NaN at supports);
         ``verification`` (the worst of every completed step's checks, plus
-        the last step's against the original K and f: keys as in
-        :func:`solve_frictionless`, with ``friction_bound_violation``) and
-        ``stopping`` (that of the step with the largest relative measure,
-        with its ``step``); ``linear_solver`` (the backend that factorised
-        K).
-
-    Raises
-    ------
-    SolverError
-        For a negative or non-finite ``friction``, a bad ``steps``, an
-        unknown formulation; :class:`~solver.errors.ProblemError` if K is
-        not positive definite or a normal line misses the obstacle (as in
-        :func:`solve_frictionless`). A load step that does not converge
-        ends the run without raising: see ``success`` and ``failed_step``.
+        the last step's against the original K and f) and ``stopping``
+        (that of the step with the largest relative measure, with its
+        ``step``); ``linear_solver`` (what factorised K).
     """
-    _check_arguments(problem, friction, steps)
     path = problem.load_steps(steps)
     steps = problem.n_load_steps(steps)
     start = time.perf_counter()
-    if rollers is None:  # 3D: rollers (the projection takes them)
-        rollers = problem_dim(problem) == 3
-    if geometry is None:
-        geometry = contact_geometry(problem, gap, rollers=rollers)
-    if use_candidates(candidates, condense, formulation, geometry.dim):
-        check_geometry(geometry, formulation)
+    if candidates:
+        from ..strategies.friction_candidates import friction_on_candidates
+
         if gap_scale is None:
             gap_scale = GAP_WEIGHT * contact_stiffness(problem.K, geometry)
         keywords = dict(
             steps=None if problem.load_path is not None else steps,
             formulation=formulation, coulomb=coulomb, method=method, tol=tol,
             max_iter=max_iter, options=options, gap_scale=gap_scale,
-            progress=progress, on_step=on_step, keep_steps=keep_steps,
-            backend=backend)
-        return friction_on_candidates(solve_friction, problem, friction,
-                                      geometry, margin, keywords)
-    if formulation in FORMULATIONS:  # an unknown one: FrictionSystem says
-        check_geometry(geometry, formulation)
+            progress=progress, on_step=on_step, keep_steps=keep_steps)
+        return friction_on_candidates(run_friction, problem, friction,
+                                      geometry, engine, margin, keywords)
     if steps > MAX_LOAD_STEPS:
         raise SolverError(f"{steps} load steps: at most {MAX_LOAD_STEPS} are "
                           "supported")
-    shared = setup(problem, geometry, friction, formulation, coulomb, method,
-                   tol, options, gap_scale, condense, backend, condensation)
-    stream = StepStream(problem, shared.condensation, on_step, keep_steps,
-                        steps)
+    space = reduction(problem, geometry, engine, condense)
+    shared = setup(problem, geometry, space, friction, formulation, coulomb,
+                   method, tol, options, gap_scale)
+    stream = StepStream(problem, space, on_step, keep_steps, steps)
     run = SimpleNamespace(records=[], failed=None, checks=[], stoppings=[],
                           last=None, totals=dict(njev=0, nfev=0, nit=0),
                           message="all load steps converged")
@@ -273,7 +228,7 @@ def solve_friction(problem, friction, steps=None, formulation="projection",
                        friction, formulation, coulomb, method, tol, start)
 
 
-def _check_arguments(problem, friction, steps):
+def check_friction(problem, friction, steps):
     """SolverError for a bad friction coefficient or number of steps."""
     if not _is_real(friction) or not np.isfinite(friction) or friction < 0:
         raise SolverError(f"friction coefficient must be >= 0 and finite, "
@@ -287,6 +242,10 @@ def _check_arguments(problem, friction, steps):
                               or int(steps) != steps or steps < 1):
         raise SolverError(f"number of load steps must be a positive "
                           f"integer, got {steps!r}")
+    total = problem.n_load_steps(steps)
+    if total > MAX_LOAD_STEPS:
+        raise SolverError(f"the load path has {total} load steps; at most "
+                          f"{MAX_LOAD_STEPS} are supported")
 
 
 def _is_real(value):

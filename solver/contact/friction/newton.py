@@ -48,10 +48,7 @@ This is the primal-dual active set structure of Hüeber, Stadler & Wohlmuth
 (2008), applied to the condensed system.
 """
 
-import warnings
-
 import numpy as np
-import scipy.linalg as sla
 
 __all__ = ["ReducedJacobian", "DUAL", "DUAL_MAX_FRICTION"]
 
@@ -263,21 +260,3 @@ def _row_blocks(system):
                   np.ascontiguousarray(system.T[system.n_rows]))
         system._row_blocks = blocks
     return blocks[1], blocks[2]
-
-
-def factorize(A, symmetric):
-    """Cholesky of A if ``symmetric`` and it is positive definite, else LU;
-    None if A is (numerically) singular. Returns a solve callable."""
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", sla.LinAlgWarning)
-        if symmetric:
-            try:
-                factor = sla.cho_factor(A, check_finite=False)
-                return lambda b: sla.cho_solve(factor, b,
-                                               check_finite=False)
-            except np.linalg.LinAlgError:
-                pass
-        lu, piv = sla.lu_factor(A, check_finite=False)
-        if not np.all(np.diagonal(lu)):
-            return None
-        return lambda b: sla.lu_solve((lu, piv), b, check_finite=False)

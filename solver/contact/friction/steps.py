@@ -7,7 +7,7 @@ with one factorisation of K or the full one; D, M and the scales);
 (:func:`~solver.ncp.solve_ncp`), verifies it
 (:func:`~solver.contact.verify.verify_contact`), records it and hands its
 fields to the :class:`~.stream.StepStream`; :func:`make_result` makes the
-:class:`~solver.contact.result.FrictionResult`, after checking the last step against the
+:class:`~solver.contact.result.ContactResult`, after checking the last step against the
 original K and f.
 """
 
@@ -17,12 +17,11 @@ from types import SimpleNamespace
 import numpy as np
 import scipy.sparse.linalg as sla
 
-from ...linalg import resolve
 from ...ncp import MESSAGES, solve_ncp, stable_norm
-from ..result import FrictionResult
+from ..result import ContactResult
 from .disc import condensed_system
 from .system import FrictionSystem
-from ..frictionless.driver import condense_onto_contact, contact_stiffness
+from ..geometry import contact_stiffness
 from ..verify import (describe_failure, force_scale, unit_free_options,
                      verification_tolerance, verify_contact,
                      worst_verification)
@@ -75,15 +74,15 @@ def _nodal(lumped, g):
     return lumped[:, None] * np.reshape(g, (len(lumped), -1))
 
 
-def _final_check(problem, geometry, stiffness, tol_v, condensation, last,
+def _final_check(problem, geometry, stiffness, tol_v, space, last,
                  checks):
     """The worst of the steps' checks, merged with the last completed
     step's check against the original K and f (condensed: u recovered by
     one solve with K; the full system's steps were checked with K
     already)."""
-    if condensation is not None and last is not None:
+    if space.condensed and last is not None:
         _, u_c, w, f_step, lam, t, bound, _ = last
-        u = condensation.displacement(u_c, w)
+        u = space.displacement(u_c, w)
         checks = checks + [verify_contact(
             problem.K, f_step, u, geometry.node_dofs, geometry.normal,
             geometry.gap, lam, stiffness, tol_v, t, bound,
@@ -91,46 +90,35 @@ def _final_check(problem, geometry, stiffness, tol_v, condensation, last,
     return worst_verification(checks, tol_v)
 
 
-def setup(problem, geometry, friction, formulation, coulomb, method, tol,
-          options, gap_scale, condense, backend, condensation):
-    """What every load step shares: the system (condensed onto Γc with one
-    factorisation of K, or the full one), its scales and tolerances, the
-    lumped boundary matrix D and a factorisation of M (for M⁻¹λ, (87)).
-    ``condensation`` is None on the full system."""
+def setup(problem, geometry, space, friction, formulation, coulomb, method,
+          tol, options, gap_scale):
+    """What every load step shares: the system on the reduction ``space``
+    (:mod:`~solver.contact.strategies.reduction`: condensed onto Γc with
+    one factorisation of K, or the full one), its scales and tolerances,
+    the lumped boundary matrix D and a factorisation of M (for M⁻¹λ,
+    (87))."""
     lumped_all = np.asarray(problem.M.sum(axis=1)).ravel()
     lumped = lumped_all[geometry.index]
     stiffness = contact_stiffness(problem.K, geometry)
-    if condense is None:
-        condense = formulation != "thesis"
-    linear_solver = resolve(backend)  # unknown or not installed: raises
-    if not condense:  # K checked by SuperLU, Newton steps by SciPy's LU
-        linear_solver = "superlu"
     if gap_scale is None:  # ∝ k̄: Φ's rows all in force units
-        gap_scale = GAP_WEIGHT * stiffness if condense else 1.0
+        gap_scale = GAP_WEIGHT * stiffness if space.condensed else 1.0
     reference_norm = stable_norm(problem.f)
-    if condense:  # φ_FB's (26) unit-free, as in solve_frictionless
+    if space.condensed:  # φ_FB's (26) unit-free, as frictionless
         options = unit_free_options(method, options, reference_norm,
                                     stiffness, geometry.gap)
-        if condensation is None:
-            condensation, local = condense_onto_contact(problem, geometry,
-                                                        linear_solver)
-        else:
-            local = geometry.compact()
-        system = condensed_system(geometry.dim, formulation)(
-            condensation.S, condensation.load(problem.f)[0], local, lumped,
-            friction, formulation, coulomb, gap_scale, stiffness)
+        kind = condensed_system(geometry.dim, formulation)
     else:
-        problem.check_stiffness()  # singular / indefinite K: input error
-        condensation = None
-        system = FrictionSystem(problem.K, problem.f, geometry, lumped,
-                                friction, formulation, coulomb, gap_scale,
-                                stiffness)
+        kind = FrictionSystem
+    system = kind(space.K, space.load(problem.f)[0], space.geometry, lumped,
+                  friction, formulation, coulomb, gap_scale, stiffness)
+    jacobian = space.jacobian(system)
     return SimpleNamespace(
-        system=system, condensation=condensation, condensed=bool(condense),
-        linear_solver=linear_solver, options=options, lumped=lumped,
-        mass=sla.splu(problem.M.tocsc()), stiffness=stiffness,
-        reference_norm=reference_norm, tol_v=verification_tolerance(tol),
-        geometry=geometry, coulomb=coulomb, n_contact=problem.n_contact)
+        system=system, space=space, jacobian=jacobian,
+        condensed=space.condensed, linear_solver=space.linear_solver,
+        options=options, lumped=lumped, mass=sla.splu(problem.M.tocsc()),
+        stiffness=stiffness, reference_norm=reference_norm,
+        tol_v=verification_tolerance(tol), geometry=geometry,
+        coulomb=coulomb, n_contact=problem.n_contact)
 
 
 def load_step(shared, state, run, stream, kappa, steps, load,
@@ -138,18 +126,18 @@ def load_step(shared, state, run, stream, kappa, steps, load,
     """Solve and verify load step κ from ``state`` (u, w, p, g of step
     κ−1, updated here), append its record to ``run`` and its fields to
     ``stream``. False when it did not converge or failed verification."""
-    system, condensation = shared.system, shared.condensation
+    system, space = shared.system, shared.space
     f_step = load
     step_norm = max(shared.reference_norm, stable_norm(load))
-    du, w = None, None
-    if condensation is not None:
-        load, w = condensation.load(load)
+    du = None
+    load, w = space.load(load)
+    if w is not None:
         # Start with the contact forces of the previous step, as the full
         # system's Δu = 0 does: Γc moves as the unconstrained body.
-        du = (w - state.w)[condensation.dofs]
+        du = space.restrict(w - state.w)
     x0 = system.initial_guess(state.g, du)
     system.set_step(state.u, load, state.p, step_friction, step_norm)
-    result = solve_ncp(system.residual, system.jacobian, x0, method=method,
+    result = solve_ncp(system.residual, shared.jacobian, x0, method=method,
                        tol=tol, max_iter=max_iter, options=shared.options,
                        error=system.error, scale=system.scale)
     result.stopping.update(test=STOPPING_TEST, step=kappa)
@@ -242,11 +230,11 @@ def _on_contact_nodes(shared, fields, load_factor, stage):
 
 def make_result(problem, geometry, shared, run, stream, steps, friction,
                 formulation, coulomb, method, tol, start):
-    """The FrictionResult: the final verification against the original K
+    """The ContactResult of the run: the final verification against the original K
     and f (a failure there fails the last step), the worst stopping
     measure, the delivered per-step arrays, gaps and normals over Γc."""
     verification = _final_check(problem, geometry, shared.stiffness,
-                                shared.tol_v, shared.condensation, run.last,
+                                shared.tol_v, shared.space, run.last,
                                 run.checks)
     failed, message = run.failed, run.message
     if failed is None and not verification["passed"]:
@@ -267,7 +255,7 @@ def make_result(problem, geometry, shared, run, stream, steps, friction,
     normal[idx] = geometry.normal
     gap_all = np.full(nc, np.nan)
     gap_all[idx] = geometry.gap
-    return FrictionResult(
+    return ContactResult(
         success=failed is None, message=message, failed_step=failed,
         steps=int(steps), steps_completed=stream.count,
         friction=float(friction), formulation=formulation, coulomb=coulomb,

@@ -35,9 +35,9 @@ class StepStream:
     """Collects completed steps, recovers their displacements and delivers
     them, in order, to ``on_step`` (and to :meth:`arrays` if ``keep``)."""
 
-    def __init__(self, problem, condensation, on_step=None, keep=True,
+    def __init__(self, problem, space, on_step=None, keep=True,
                  total=None):
-        self.problem, self.condensation = problem, condensation
+        self.problem, self.space = problem, space
         self.on_step, self.keep = on_step, keep
         self.pending, self.count = [], 0
         self.total = total  # number of steps of the run, if known
@@ -45,9 +45,10 @@ class StepStream:
 
     def add(self, fields, u, w, prescribed):
         """A converged step: its Γc fields, u (reduced, or on Γc with ``w`` =
-        K⁻¹f of the step when condensed) and its Dirichlet values."""
+        K⁻¹f of the step when the reduction ``space`` is condensed) and its
+        Dirichlet values."""
         self.pending.append((fields, np.array(u, copy=True), w, prescribed))
-        if self.condensation is None or len(self.pending) >= BATCH:
+        if not self.space.condensed or len(self.pending) >= BATCH:
             self.flush()
 
     def flush(self):
@@ -55,10 +56,10 @@ class StepStream:
         pending, self.pending = self.pending, []
         if not pending:
             return
-        if self.condensation is None:
+        if not self.space.condensed:
             columns = [entry[1] for entry in pending]
         else:
-            U = self.condensation.displacement(
+            U = self.space.displacement(
                 np.column_stack([entry[1] for entry in pending]),
                 np.column_stack([entry[2] for entry in pending]))
             columns = list(U.T)

@@ -11,12 +11,13 @@ import scipy.sparse as sp
 
 from ...errors import SolverError
 from ...ncp import stable_norm
-from .newton import ReducedJacobian, factorize
-from ..frictionless.driver import contact_stiffness, rotation
+from ...linalg.dense import factorize
+from .newton import ReducedJacobian
+from .projection import block_diagonal, disc_derivative, project_disc
+from ..geometry import contact_stiffness, rotation
 from ..verify import force_scale
 
-__all__ = ["FORMULATIONS", "COULOMB", "FrictionSystem", "check_geometry",
-           "project_disc"]
+__all__ = ["FORMULATIONS", "COULOMB", "FrictionSystem", "check_geometry"]
 
 FORMULATIONS = ("thesis", "projection")
 COULOMB = ("lagged", "implicit")
@@ -322,26 +323,16 @@ class FrictionSystem:
         Curnier 1991; Hüeber, Stadler & Wohlmuth 2008). In 2D this is the
         clip's Jacobian (I − ŵŵᵀ = 0, ŵ = ±1). At a roller w_c ≡ 0
         (:meth:`_slide`): the e_c column of ∂P/∂w drops, the row of g_c is
-        g_c itself."""
+        g_c itself (:func:`~.projection.disc_derivative`)."""
         k, m = self.dim - 1, self.m
-        w = self._slide(g, du).reshape(m, k)
-        size = np.linalg.norm(w, axis=1)
-        stick = size < b
-        ratio = np.where(stick, 1.0, np.divide(
-            b, size, out=np.zeros(m), where=size > 0))
-        hat = np.divide(w, size[:, None], out=np.zeros_like(w),
-                        where=size[:, None] > 0)
-        # ∂P/∂w per node: ratio·(I − ŵŵᵀ), ŵŵᵀ dropped at stick nodes
-        P = ratio[:, None, None] * (np.eye(k) - np.where(
-            stick[:, None, None], 0.0, hat[:, :, None] * hat[:, None, :]))
-        blocks = _block_diagonal(P)
+        P, stick, _, slip_hat = disc_derivative(
+            self._slide(g, du).reshape(m, k), b,
+            self.t_free if self.rollers else None)
+        blocks = block_diagonal(P)
         rows_du = blocks @ (self.c_t * self._Rt)
         if db is not None:  # −∂P/∂b db = −ŵ db at slip nodes
-            slip_hat = np.where(stick[:, None], 0.0, hat).ravel()
-            rows_du = rows_du - sp.diags(slip_hat) @ sp.csr_matrix(
+            rows_du = rows_du - sp.diags(slip_hat.ravel()) @ sp.csr_matrix(
                 db[np.repeat(np.arange(m), k)])
-        if self.rollers:  # w_c ≡ 0: ∂P/∂g loses the e_c columns
-            blocks = blocks @ sp.diags(self.t_free.astype(float))
         J3 = sp.hstack([rows_du, sp.identity(m * k) - blocks],
                        format="csr")
         return sp.vstack([self._JE_fixed, J3], format="csr"), self._JA, \
@@ -400,21 +391,3 @@ class FrictionSystem:
                 x[self.n + self.m:self.n + 2 * self.m] = np.maximum(dut, 0)
                 x[self.n + 2 * self.m:] = np.maximum(-dut, 0)
         return x
-
-
-def project_disc(w, b, k):
-    """P(w) onto the disc (ball) |·| ≤ b of R^k, per node: w flat (m·k,)
-    node by node, b (m,); w·min(1, b/|w|)."""
-    w = np.reshape(w, (len(b), k))
-    size = np.linalg.norm(w, axis=1)
-    ratio = np.minimum(1.0, np.divide(b, size, out=np.ones_like(size),
-                                      where=size > b))
-    return (w * ratio[:, None]).ravel()
-
-
-def _block_diagonal(P):
-    """Sparse block diagonal of the (m, k, k) blocks P."""
-    m, k, _ = P.shape
-    rows = np.repeat(np.arange(m * k).reshape(m, k), k, axis=1).ravel()
-    cols = np.tile(np.arange(m * k).reshape(m, k), (1, k)).ravel()
-    return sp.csr_matrix((P.ravel(), (rows, cols)), shape=(m * k, m * k))

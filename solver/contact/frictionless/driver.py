@@ -64,91 +64,39 @@ import time
 import numpy as np
 import scipy.sparse.linalg as sla
 
-from ...errors import SolverError
-from ...linalg import Condensation, resolve
 from ...ncp import MESSAGES, solve_ncp, stable_norm
-from .system import FrictionlessSystem
-from ..geometry import (GAP_MODES, ContactGeometry, contact_geometry,
-                       contact_stiffness, rotation)
+from ..geometry import contact_stiffness
 from ..result import ContactResult
+from ..strategies.reduction import reduction
 from ..verify import (describe_failure, force_scale, unit_free_options,
-                     verification_tolerance, verify_contact)
+                      verification_tolerance, verify_contact)
+from .system import FrictionlessSystem
 
-__all__ = ["GAP_MODES", "ContactGeometry", "contact_geometry",
-           "condense_onto_contact", "FrictionlessSystem",
-           "solve_frictionless", "STARTS", "rotation", "contact_stiffness"]
+__all__ = ["run_frictionless", "STOPPING_TEST", "nodal_arrays"]
 
-
-def condense_onto_contact(problem, geometry, backend="auto"):
-    """Factorise K once per K with the free contact DOFs last
-    (:meth:`solver.linalg.Condensation.of`, which also checks that K is
-    positive definite) and renumber ``geometry`` to the condensed DOFs
-    (the d DOFs of contact node i → d·i, …, d·i + d − 1; a roller's free
-    DOFs only, :meth:`ContactGeometry.compact`), with the linear solver
-    ``backend``. Returns (condensation, geometry).
-    """
-    condensation = Condensation.of(problem, geometry.free_dofs(), backend)
-    problem._checked = problem.K  # the factorisation checked K's pivots
-    return condensation, geometry.compact()
-
-
-#: The stopping test of :func:`solve_frictionless`, as reported.
+#: The stopping test of the frictionless solve, as reported.
 STOPPING_TEST = ("‖[E; min(λ, k̄(s − u_n))]‖₂ ≤ tol·max(‖f‖₂, ‖λ⁺‖₂)")
 
-#: Starts of :func:`solve_frictionless` (when no x0 is given).
-STARTS = ("nested", "free")
 
-
-def _start_mode(start, x0, condense, nested=True):
-    """The start actually used: "nested", "free", "x0" or "zero".
-    ``nested``: whether the nested start is possible (2D, condensed onto
-    all of Γc); else "free" is the default and "nested" refused."""
-    if start is not None and start not in STARTS:
-        raise SolverError(f"start must be one of {STARTS}, got {start!r}")
-    if x0 is not None:
-        if start is not None:
-            raise SolverError("give either x0 or start, not both")
-        return "x0"
-    if not condense:
-        if start == "nested":
-            raise SolverError("the nested start needs the condensed system "
-                              "(condense=True)")
-        return "zero"
-    if not nested:
-        if start == "nested":
-            raise SolverError("the nested start coarsens along the ordered "
-                              "2D curve Γc: use start='free' in 3D and with "
-                              "candidates=True")
-        return "free"
-    return start or "nested"
-
-
-def _use_candidates(candidates, condense, dim):
-    """Whether to condense onto the candidates' normal DOFs (default: in
-    3D, condensed)."""
-    if candidates is None:
-        return condense and dim == 3
-    if candidates and not condense:
-        raise SolverError("candidates=True needs the condensed system "
-                          "(condense=True)")
-    return bool(candidates)
-
-
-def solve_frictionless(problem, method="min", gap="obstacle", tol=1e-10,
-                       max_iter=100, x0=None, gap_scale=None, options=None,
-                       geometry=None, condense=None, start=None,
-                       backend="auto", candidates=None, margin=None,
-                       rollers=True):
+def run_frictionless(problem, geometry, engine, method="min", tol=1e-10,
+                     max_iter=100, x0=None, gap_scale=None, options=None,
+                     condense=True, start="nested", candidates=False,
+                     margin=None):
     r"""Solve the frictionless contact problem (67) by semismooth Newton.
+
+    The driver behind :func:`solver.solve` for frictionless contact; every
+    option arrives resolved and checked (:mod:`solver.front`).
 
     Parameters
     ----------
     problem : ContactProblem
+    geometry : ContactGeometry
+        Gaps and frames of the contact nodes that take part
+        (:func:`~solver.contact.geometry.contact_geometry`).
+    engine
+        Does the linear algebra (:mod:`solver.contact.engine`).
     method : {"min", "fb"}
         φ_min damped Newton (§2.2.1) or Fischer–Burmeister (§2.2.2).
-    gap : {"obstacle", "body"}
-        Gap and normals from the obstacle (§2.1.1) or from the body's spline
-        normals (§2.1.2-2.1.3). Ignored for discrete problems.
     tol : float
         Relative tolerance, independent of units: stop when
         ‖[E; min(λ, k̄(s − u_n))]‖₂ ≤ tol·F with the force scale
@@ -158,63 +106,41 @@ def solve_frictionless(problem, method="min", gap="obstacle", tol=1e-10,
         verdict; the condensed and nested solves (c = k̄) also take the
         same iterates. The full system's thesis choice c = 1 compares a
         force with a length in φ(λ, c(s − u_n)), so its Newton path (not
-        its verdict or answer) depends on the units. The methods iterate
-        on their own Φ (gap rows scaled by ``gap_scale``). A converged
-        answer is then verified (see Returns).
+        its verdict or answer) depends on the units. A converged answer is
+        then verified (see Returns).
     max_iter : int
         Maximum number of Newton iterations (all levels of a nested start
-        together).
+        and all rounds of candidates together).
     x0 : (Ñ,) array, optional
-        Starting displacement (read on Γc only when condensed). Default:
-        see ``start``.
+        Starting displacement (``start="x0"``; read on the condensed DOFs
+        only when condensed).
     gap_scale : float, optional
         c in B = c(s − YRu), see :class:`FrictionlessSystem`. Default: 1 on
         the full system (the thesis), the contact stiffness k̄ (gaps in force
-        units, see :mod:`solver.contact.strategies.nested`) on the condensed one.
+        units, see :mod:`solver.contact.strategies.nested`) condensed.
     options : dict, optional
         Method options of :func:`solver.ncp.solve_ncp`.
-    geometry : ContactGeometry, optional
-        Precomputed gaps and normals (else :func:`contact_geometry`).
-    condense : bool or None
-        True (default; None means True): factorise K once, with the contact
-        DOFs last, and iterate on the same system (67) condensed exactly
-        onto Γc (K → its
-        Schur complement S, f → g̃; :class:`solver.linalg.Condensation`):
-        a solve costs about one factorisation of K. The start u = x0 is then
-        read on Γc only (the other DOFs are in equilibrium throughout).
-        False: the thesis's system in all Ñ unknowns with one sparse LU of
-        the Jacobian per iteration (faithful mode; its iteration counts are
-        those of Table 1).
-    start : {"nested", "free"}, optional
-        Start when ``x0`` is not given. Condensed in 2D: "nested" (default)
-        solves the problem on ever coarser subsets of Γc first
-        (:func:`solver.contact.strategies.nested.solve_nested`); "free" starts from no
-        contact force, u = K⁻¹f. In 3D and with ``candidates=True`` only
-        "free" (the default there; "nested" raises). The full system
-        always starts from the thesis's u = 0.
-    backend : {"auto", "superlu", "pardiso", "cholmod"}
-        Sparse direct solver of the condensed system
-        (:mod:`solver.linalg`; "auto": the fastest installed). The full
-        system's Newton steps are general sparse LUs (SciPy) whatever it
-        is.
-    candidates : bool, optional
+    condense : bool
+        True: factorise K once, with the contact DOFs last, and iterate on
+        the same system (67) condensed exactly onto Γc
+        (:class:`~solver.contact.strategies.reduction.CondensedSystem`): a
+        solve costs about one factorisation of K. False: the thesis's
+        system in all Ñ unknowns, one sparse LU of the Jacobian per
+        iteration (faithful mode; the iteration counts of Table 1).
+    start : {"nested", "free", "x0", "zero"}
+        "nested": the nested start on ever coarser subsets of Γc
+        (:func:`solver.contact.strategies.nested.solve_nested`); "free":
+        no contact force, u = K⁻¹f; "x0": from ``x0``; "zero": the
+        thesis's u = 0 (the full system).
+    candidates : bool
         Condense onto the normal DOFs of candidate nodes only
-        (:mod:`solver.contact.strategies.candidates`). Default: True in 3D when
-        condensed, False in 2D (the (x, y) condensation onto all of Γc).
+        (:mod:`solver.contact.strategies.candidates`).
     margin : float, optional
-        The candidates' round-0 screening margin δ₀, a length: nodes with
-        initial gap s_i ≤ δ₀ (default: every free contact node in 2D,
-        :func:`~solver.contact.strategies.candidates.initial_candidates`'s screening
-        in 3D). Too small a margin costs refactorisations, never accuracy.
-    rollers : bool
-        Whether contact nodes with Dirichlet components orthogonal to ν
-        (symmetry planes) take part in contact (default) or are supports
-        (:func:`contact_geometry`; the thesis's blocks have none). Ignored
-        when ``geometry`` is given: that geometry decides.
+        The candidates' round-0 screening margin δ₀, a length.
 
     Returns
     -------
-    OptimizeResult
+    ContactResult
         The NCP result (``success``, ``status``, ``message``, ``nit``,
         ``njev``, ``nfev``, ``history``, ``residual``) plus ``u`` (reduced),
         ``displacement`` (nodal, (n_nodes, d); for a discrete problem the
@@ -230,95 +156,64 @@ def solve_frictionless(problem, method="min", gap="obstacle", tol=1e-10,
         ``n_contact``, ``gap_mode``, ``gap_scale`` (c used), ``condensed``,
         ``condensation`` ("contact": every DOF of Γc; "normal candidates";
         "none": the full system), ``candidates`` (None, or the screening
-        dict of :func:`~solver.contact.strategies.candidates.solve_on_candidates`:
-        ``margin``, ``rounds``, ``n_candidates``, ``enlarged``,
-        ``exhausted``),
-        ``start`` ("nested", "free", "zero" or "x0"), ``levels`` (per-level
-        counts of a nested start, coarsest first, else []; ``nit``,
-        ``njev`` and ``nfev`` then count all levels), ``geometry_time``,
-        ``time``, ``linear_solver`` (the backend that factorised K);
-        ``stopping`` (dict: ``test``, the formula; ``tol``;
-        ``scale``, F at the answer; ``absolute``, the measure at the
-        answer; ``relative`` = absolute / F) and ``verification`` (dict of
-        :func:`~solver.contact.verify.verify_contact`: ``passed``,
-        ``finite``, ``max_penetration``, ``min_multiplier``,
-        ``complementarity``, ``equilibrium``, ``force_scale``,
-        ``length_scale``, ``tolerances``, ``failed``). An answer that meets
-        the stopping test but fails verification is reported with
-        ``success`` False and ``status`` 6, its history kept.
-
-    Raises
-    ------
-    SolverError
-        If ``start`` is unknown, given together with ``x0``, or "nested"
-        on the full system, in 3D or with candidates; or candidates=True
-        with condense=False.
-    ProblemError
-        If K is not positive definite (checked once per K by one sparse
-        factorisation, :meth:`ContactProblem.check_stiffness`), or a
-        normal line misses the obstacle
-        (:class:`~solver.geometry.curves.GapError`). A solve that does not
-        converge raises nothing: see ``success`` and ``status``.
+        dict of :func:`~solver.contact.strategies.candidates.
+        solve_on_candidates`), ``start``, ``levels`` (per-level counts of a
+        nested start, coarsest first, else []; ``nit``, ``njev`` and
+        ``nfev`` then count all levels), ``time``, ``linear_solver`` (what
+        factorised K); ``stopping`` (dict: ``test``, the formula; ``tol``;
+        ``scale``, F at the answer; ``absolute``; ``relative``) and
+        ``verification`` (dict of :func:`~solver.contact.verify.
+        verify_contact`). An answer that meets the stopping test but fails
+        verification is reported with ``success`` False and ``status`` 6,
+        its history kept.
     """
     clock = time.perf_counter()
-    if geometry is None:
-        geometry = contact_geometry(problem, gap, rollers=rollers)
-    geometry_time = time.perf_counter() - clock
     load_norm = stable_norm(problem.f)
     stiffness = contact_stiffness(problem.K, geometry)
-    condense = condense is None or bool(condense)
-    by_candidates = _use_candidates(candidates, condense, geometry.dim)
-    start = _start_mode(start, x0, condense,
-                        geometry.dim == 2 and not by_candidates)
-    linear_solver = resolve(backend)  # unknown or not installed: raises
-    if not condense:  # K checked by SuperLU, Newton steps by SciPy's LU
-        linear_solver = "superlu"
     if gap_scale is None:
         gap_scale = stiffness if condense else 1.0
     if condense:  # c = k̄ and (26) unit-free: iterates independent of units
         options = unit_free_options(method, options, load_norm, stiffness,
                                     geometry.gap)
     screening = None
-    if by_candidates:
+    if candidates:
         from ..strategies.candidates import solve_on_candidates
 
         result, u, lam_free, un_free, screening = solve_on_candidates(
             problem, geometry, method, tol, max_iter, x0, gap_scale,
-            stiffness, options, load_norm, linear_solver, margin)
-    elif condense:
-        condensation, local = condense_onto_contact(problem, geometry,
-                                                    linear_solver)
-        g, w = condensation.load(problem.f)
-        w_c = w[condensation.dofs]
+            stiffness, options, load_norm, margin,
+            engine.normal_condensation(problem, geometry))
+        linear_solver, name = engine.linear_solver, "normal candidates"
+    else:
+        space = reduction(problem, geometry, engine, condense)
+        linear_solver, name = space.linear_solver, space.name
+        f, w = space.load(problem.f)
         if start == "nested":
             from ..strategies.nested import contact_levels, solve_nested
 
             result, system = solve_nested(
-                contact_levels(condensation.S, w_c, local), method,
-                tol, max_iter, gap_scale, stiffness, options, load_norm)
+                contact_levels(space.K, w[space.dofs], space.geometry),
+                method, tol, max_iter, gap_scale, stiffness, options,
+                load_norm)
         else:
-            system = FrictionlessSystem(condensation.S, g, local, gap_scale,
-                                        stiffness, load_norm)
+            system = FrictionlessSystem(space.K, f, space.geometry,
+                                        gap_scale, stiffness, load_norm)
             # "free": no contact force, as the thesis's u = 0 has λ = 0 on
             # Γc; condensed, λ = 0 is the unconstrained solution w = K⁻¹f.
-            x0 = w_c if x0 is None else np.asarray(x0, float)[
-                condensation.dofs]
-    else:
-        x0 = np.zeros(problem.n_dofs) if x0 is None else \
-            np.asarray(x0, float)
-        problem.check_stiffness()  # singular / indefinite K: input error
-        system = FrictionlessSystem(problem.K, problem.f, geometry,
-                                    gap_scale, stiffness, load_norm)
-    if not by_candidates:
-        if start != "nested":
-            result = solve_ncp(system.residual, system.jacobian, x0,
-                               method=method, tol=tol, max_iter=max_iter,
-                               options=options, error=system.error,
-                               scale=system.scale)
+            if start == "x0":
+                start_x = space.restrict(x0)
+            elif start == "free":
+                start_x = space.restrict(w)
+            else:
+                start_x = np.zeros(problem.n_dofs)
+            result = solve_ncp(system.residual, space.jacobian(system),
+                               start_x, method=method, tol=tol,
+                               max_iter=max_iter, options=options,
+                               error=system.error, scale=system.scale)
             result.levels = []
         lam_free = system.contact_force(result.x)
         un_free = system.normal_displacement(result.x)
-        u = condensation.displacement(result.x, w) if condense else result.x
+        u = space.displacement(result.x, w)
     result.stopping["test"] = STOPPING_TEST
     result.x = u
     verification = verify_contact(
@@ -331,19 +226,17 @@ def solve_frictionless(problem, method="min", gap="obstacle", tol=1e-10,
             result.message += (f" (the candidates still grew after "
                                f"{len(screening['rounds'])} rounds: give a "
                                "larger margin)")
-    result.update(_nodal_arrays(problem, geometry, u, lam_free, un_free,
-                                load_norm))
+    result.update(nodal_arrays(problem, geometry, u, lam_free, un_free,
+                               load_norm))
     result.update(
         gap_mode=geometry.mode, gap_scale=float(gap_scale),
-        geometry_time=geometry_time, condensed=bool(condense),
-        condensation=("normal candidates" if by_candidates else
-                      "contact" if condense else "none"),
-        candidates=screening, start=start, linear_solver=linear_solver,
+        condensed=bool(condense), condensation=name, candidates=screening,
+        start=start, linear_solver=linear_solver,
         verification=verification, time=time.perf_counter() - clock)
     return ContactResult(result)
 
 
-def _nodal_arrays(problem, geometry, u, lam_free, un_free, load_norm):
+def nodal_arrays(problem, geometry, u, lam_free, un_free, load_norm):
     """The result's arrays over every node of Γc (NaN / 0 at supports)."""
     nc, d = problem.n_contact, geometry.dim
     lam = np.zeros(nc)

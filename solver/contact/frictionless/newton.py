@@ -51,7 +51,7 @@ import warnings
 import numpy as np
 import scipy.linalg as sla
 
-from ..friction.newton import factorize
+from ...linalg.dense import factorize
 
 __all__ = ["CondensedJacobian"]
 

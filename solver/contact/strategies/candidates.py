@@ -171,8 +171,8 @@ class NormalCondensation:
 
 
 def solve_on_candidates(problem, geometry, method, tol, max_iter, x0,
-                        gap_scale, stiffness, options, load_norm, backend,
-                        margin=None, condensation=None):
+                        gap_scale, stiffness, options, load_norm, margin,
+                        condensation):
     """Solve (67) condensed onto the candidates' normal DOFs, enlarging
     the candidates until no other node penetrates (module docstring).
 
@@ -180,9 +180,10 @@ def solve_on_candidates(problem, geometry, method, tol, max_iter, x0,
     candidates; the default is the free start λ = 0 (u_n = w_c). Each
     later round starts from the previous round's normal displacements.
     ``max_iter`` bounds the iterations of all rounds together.
-    ``condensation``: an object with :class:`NormalCondensation`'s
-    ``R``, ``normal_rows``, ``factorize`` and ``displacement`` (default:
-    a NormalCondensation on ``backend``; the PETSc engine passes its own).
+    ``condensation``: the engine's condensation onto candidate normal
+    DOFs (:meth:`solver.contact.engine.SerialEngine.normal_condensation`:
+    a :class:`NormalCondensation`, or the PETSc engine's), with its
+    ``R``, ``normal_rows``, ``factorize`` and ``displacement``.
 
     Returns
     -------
@@ -200,11 +201,9 @@ def solve_on_candidates(problem, geometry, method, tol, max_iter, x0,
     import time
 
     from ...ncp import solve_ncp
-    from ..frictionless.driver import FrictionlessSystem
+    from ..frictionless.system import FrictionlessSystem
     from ..verify import force_scale, verification_tolerance
 
-    if condensation is None:
-        condensation = NormalCondensation(problem, geometry, backend)
     if margin is None and geometry.dim == 2:
         margin = np.inf  # every free node of the curve Γc (docstring)
     nodes, delta = initial_candidates(geometry.gap, margin)
@@ -217,7 +216,7 @@ def solve_on_candidates(problem, geometry, method, tol, max_iter, x0,
     for k in range(MAX_ROUNDS):
         clock = time.perf_counter()
         S, g, w_c = condensation.factorize(nodes)
-        problem._checked = problem.K  # its pivots were checked (round 0)
+        problem.mark_stiffness_checked()  # by round 0's factorisation
         factorize_time = time.perf_counter() - clock
         system = FrictionlessSystem(S, g, normal_line(geometry, nodes),
                                     gap_scale, stiffness, load_norm)

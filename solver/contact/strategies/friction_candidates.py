@@ -12,7 +12,7 @@ form) on the geometry of the candidates only, S of size 3m, m ≪ Nc.
 Choosing them (the rule of :mod:`solver.contact.strategies.candidates`):
 
 1. Screening at the final load: the frictionless problem (67) at the last
-   load of the path, on the normal candidates (:func:`solve_frictionless`,
+   load of the path, on the normal candidates (:func:`~solver.contact.frictionless.driver.run_frictionless`,
    one factorisation of K̂ with one unknown per node), gives every node's
    remaining gap s − u_n and its contact set. The first friction
    candidates are that contact set and :data:`RINGS` rings of its
@@ -78,11 +78,10 @@ import time
 import numpy as np
 import scipy.sparse as sp
 
-from ...errors import SolverError
-from ...linalg import resolve
 from ...ncp import stable_norm
+from ..frictionless.driver import run_frictionless
+from ..geometry import contact_stiffness
 from .candidates import MAX_ROUNDS, enlarge_candidates, initial_candidates
-from ..frictionless.driver import contact_stiffness, solve_frictionless
 from ..verify import (force_scale, verification_tolerance, verify_contact,
                      worst_verification)
 
@@ -96,20 +95,6 @@ class _Penetration(Exception):
     def __init__(self, step, remaining, length):
         super().__init__(step)
         self.step, self.remaining, self.length = step, remaining, length
-
-
-def use_candidates(candidates, condense, formulation, dim):
-    """Whether to run friction on candidates (default: 3D, condensed,
-    projection form; roller nodes included); SolverError (one line) if
-    asked where it cannot."""
-    if candidates is None:
-        return dim == 3 and condense is not False \
-            and formulation == "projection"
-    if candidates and (condense is False or formulation != "projection"):
-        raise SolverError("friction on candidate nodes needs the condensed "
-                          "projection formulation (condense=True, "
-                          "formulation=\"projection\")")
-    return bool(candidates)
 
 
 def remaining_gap(geometry, u):
@@ -171,12 +156,13 @@ def surface_adjacency(problem, geometry):
                          shape=(n, n))
 
 
-def friction_on_candidates(solve, problem, friction, geometry, margin,
-                           kwargs):
-    """:func:`~solver.contact.friction.driver.solve_friction` (passed as
-    ``solve``) on the candidates of ``geometry`` (module docstring).
+def friction_on_candidates(solve, problem, friction, geometry, engine,
+                           margin, kwargs):
+    """The friction driver (:func:`~solver.contact.friction.driver.
+    run_friction`, passed as ``solve``) on the candidates of ``geometry``
+    (module docstring), with ``engine``'s linear algebra.
 
-    ``kwargs`` are solve_friction's other arguments (``gap_scale`` set:
+    ``kwargs`` are the driver's other arguments (``gap_scale`` set:
     that of the whole Γc, so that the Newton iterates are those of the run
     on every contact DOF). Returns its result with the fields of every node
     of Γc (non-candidates: λ = 0, t = 0; their tangential displacement and
@@ -191,7 +177,6 @@ def friction_on_candidates(solve, problem, friction, geometry, margin,
     kwargs = dict(kwargs)
     on_step, progress = kwargs.pop("on_step"), kwargs.pop("progress")
     keep = kwargs.get("keep_steps", True)
-    backend = resolve(kwargs.get("backend", "auto"))
     tol = kwargs.get("tol", 1e-10)
     tol_v = verification_tolerance(tol)
     stiffness = contact_stiffness(problem.K, geometry)
@@ -200,11 +185,11 @@ def friction_on_candidates(solve, problem, friction, geometry, margin,
     everyone = np.arange(len(geometry.gap))
     rounds = []
     clock = time.perf_counter()
-    screen = solve_frictionless(  # step 1: the final load, no friction
-        problem, kwargs.get("method", "fb"), geometry=geometry, tol=tol,
-        max_iter=kwargs.get("max_iter", 100), backend=backend,
-        condense=True, candidates=True, gap_scale=kwargs["gap_scale"],
-        options=kwargs.get("options"))
+    screen = run_frictionless(  # step 1: the final load, no friction
+        problem, geometry, engine, kwargs.get("method", "fb"),
+        tol=tol, max_iter=kwargs.get("max_iter", 100),
+        gap_scale=kwargs["gap_scale"], options=kwargs.get("options"),
+        condense=True, start="free", candidates=True)
     nodes, delta = first_candidates(
         remaining_gap(geometry, screen.u), margin,
         screen.in_contact[geometry.index], surface_adjacency(
@@ -254,7 +239,7 @@ def friction_on_candidates(solve, problem, friction, geometry, margin,
         clock = time.perf_counter()
         last.clear()
         try:
-            result = solve(problem, friction, geometry=geometry.subset(nodes),
+            result = solve(problem, geometry.subset(nodes), engine, friction,
                            condense=True, candidates=False, on_step=check,
                            progress=report, **kwargs)
         except _Penetration as failure:

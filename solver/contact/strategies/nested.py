@@ -58,7 +58,7 @@ import scipy.linalg as sla
 
 from ...linalg.threads import single_blas_thread
 from ...ncp import solve_ncp
-from ..frictionless.driver import FrictionlessSystem
+from ..frictionless.system import FrictionlessSystem
 
 __all__ = ["COARSEST", "ContactLevel", "contact_levels", "solve_nested"]
 

@@ -1,0 +1,70 @@
+r"""The engine: who does the linear algebra of a contact solve.
+
+The drivers (:mod:`.frictionless.driver`, :mod:`.friction.driver`) and the
+strategies (:mod:`.strategies`) never factorise K themselves: they ask an
+*engine* for what they need, the way a qpsolvers-style front hands a
+problem to a backend. An engine has
+
+* ``name`` ("serial", "petsc") and ``linear_solver`` (what factorises K,
+  recorded in the result);
+* :meth:`~SerialEngine.condensation` — K condensed onto a set of DOFs (S,
+  the condensed load, the back-substitution;
+  :class:`solver.linalg.Condensation`'s interface);
+* :meth:`~SerialEngine.normal_condensation` — K̂ = RKRᵀ condensed onto the
+  normal DOFs of candidate nodes, one factorisation per candidate set
+  (:class:`~.strategies.candidates.NormalCondensation`'s interface);
+* :meth:`~SerialEngine.full_jacobian` — the Jacobian callable of the full
+  system's Newton (the system's own, whose Newton steps SciPy's sparse LU
+  solves, or one whose Newton systems another engine solves), after
+  checking that K is positive definite;
+* :meth:`~SerialEngine.summary` — what the engine reports (None here).
+
+:class:`SerialEngine` runs in this process on one of the
+:mod:`solver.linalg` backends; :class:`solver.mpi.engine.PetscEngine` on
+the ranks of ``mpiexec``. Nothing else in the contact code knows which.
+"""
+
+from ..linalg import Condensation, resolve
+
+__all__ = ["SerialEngine"]
+
+
+class SerialEngine:
+    """The linear algebra in this process, on the sparse direct solver
+    ``backend`` ("auto": :func:`solver.linalg.resolve`)."""
+
+    name = "serial"
+
+    def __init__(self, backend="auto"):
+        self.backend = resolve(backend)  # not installed: SolverError
+        self.linear_solver = self.backend
+
+    def condensation(self, problem, dofs):
+        """K of ``problem`` condensed onto ``dofs`` (made once per K, DOF
+        set and backend: :meth:`solver.linalg.Condensation.of`); the
+        factorisation checks that K is positive definite."""
+        condensation = Condensation.of(problem, dofs, self.backend)
+        problem.mark_stiffness_checked()  # by that factorisation
+        return condensation
+
+    def normal_condensation(self, problem, geometry):
+        """K̂ = RKRᵀ for condensations onto candidate normal DOFs."""
+        from .strategies.candidates import NormalCondensation
+
+        return NormalCondensation(problem, geometry, self.backend)
+
+    def full_jacobian(self, system, problem, geometry):
+        """The full system's Jacobian: the system's own (each Newton step
+        one sparse LU by SciPy), after the check that K is positive
+        definite (one factorisation, :meth:`ContactProblem.check_stiffness
+        <solver.problem.ContactProblem.check_stiffness>`)."""
+        problem.check_stiffness()
+        return system.jacobian
+
+    def full_linear_solver(self):
+        """What solves the full system's Newton steps."""
+        return "superlu"
+
+    def summary(self):
+        """Nothing to report beyond ``linear_solver``."""
+        return None

@@ -1,0 +1,104 @@
+r"""The space Newton iterates in: the full system or K condensed onto Γc.
+
+Both drivers (frictionless and friction) build their system on a
+*reduction* and never ask which one it is:
+
+* :class:`FullSystem` — the thesis's system in all Ñ unknowns (67),
+  (110)/(111); its Newton steps are solved by the engine's full-system
+  solver (SciPy's sparse LU in process).
+* :class:`CondensedSystem` — K condensed exactly onto the free DOFs of
+  the contact nodes, K → S, f → g̃ (:class:`solver.linalg.Condensation`,
+  Wriggers 2006, §6.2.2): the same system on the dense S, from one
+  factorisation of K by the engine.
+
+A reduction gives the matrix and geometry of the system (``K``,
+``geometry``), maps a load onto it (:meth:`~CondensedSystem.load`: the
+load of the system and what :meth:`~CondensedSystem.displacement` needs to
+recover u), restricts a displacement to its unknowns
+(:meth:`~CondensedSystem.restrict`) and hands out the Jacobian callable of
+a system built on it (:meth:`~CondensedSystem.jacobian`). The candidate
+screening (:mod:`.candidates`, :mod:`.friction_candidates`) runs the
+drivers on condensations onto subsets of the nodes; the nested start
+(:mod:`.nested`) iterates on coarser condensations of S.
+"""
+
+import numpy as np
+
+__all__ = ["FullSystem", "CondensedSystem", "reduction", "condense_onto_contact"]
+
+
+class FullSystem:
+    """The system in all unknowns of ``problem`` (nothing condensed)."""
+
+    name = "none"
+    condensed = False
+
+    def __init__(self, problem, geometry, engine):
+        self.problem, self.geometry, self.engine = problem, geometry, engine
+        self.K = problem.K
+        self.linear_solver = engine.full_linear_solver()
+
+    def load(self, f):
+        """(f, None): the system takes the load as it is."""
+        return f, None
+
+    def restrict(self, u):
+        """The unknowns of a reduced displacement u: all of it."""
+        return np.asarray(u, float)
+
+    def displacement(self, x, w=None):
+        """u from the system's unknowns: x itself."""
+        return x
+
+    def jacobian(self, system):
+        """The engine's Jacobian of ``system`` (K checked first)."""
+        return self.engine.full_jacobian(system, self.problem, self.geometry)
+
+
+class CondensedSystem:
+    """K condensed onto the free DOFs of ``geometry``'s nodes, factorised
+    once by ``engine``; ``geometry`` renumbered to the condensed DOFs."""
+
+    name = "contact"
+    condensed = True
+
+    def __init__(self, problem, geometry, engine):
+        self.condensation = engine.condensation(problem,
+                                                geometry.free_dofs())
+        self.K = self.condensation.S
+        self.geometry = geometry.compact()
+        self.dofs = self.condensation.dofs
+        self.linear_solver = engine.linear_solver
+
+    def load(self, f):
+        """(g̃, w): the condensed load and w = K⁻¹f."""
+        return self.condensation.load(f)
+
+    def restrict(self, u):
+        """u on the condensed DOFs."""
+        return np.asarray(u, float)[self.dofs]
+
+    def displacement(self, x, w):
+        """u from the condensed unknowns x and w = K⁻¹f (one
+        back-substitution; x, w may hold several columns)."""
+        return self.condensation.displacement(x, w)
+
+    def jacobian(self, system):
+        """The system's own Jacobian (dense, LAPACK)."""
+        return system.jacobian
+
+
+def reduction(problem, geometry, engine, condensed):
+    """:class:`CondensedSystem` if ``condensed``, else :class:`FullSystem`."""
+    return (CondensedSystem if condensed else FullSystem)(problem, geometry,
+                                                          engine)
+
+
+def condense_onto_contact(problem, geometry, backend="auto"):
+    """(condensation, geometry renumbered to the condensed DOFs) of K onto
+    the free DOFs of ``geometry``'s nodes with the serial engine's
+    ``backend`` (:class:`CondensedSystem`)."""
+    from ..engine import SerialEngine
+
+    space = CondensedSystem(problem, geometry, SerialEngine(backend))
+    return space.condensation, space.geometry

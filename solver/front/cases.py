@@ -1,0 +1,328 @@
+r"""What :func:`solver.solve` accepts where: the cases, the options and the
+rules that refuse a combination. One table, three readers: the front
+checks every call against it (an option that does not apply is an error
+naming what does, never silently ignored), the README's "What works
+where" table is printed from it (:func:`support_table`), and the
+combination test (``tests/test_combinations.py``) enumerates it.
+
+A *case* is what the problem and the two choices that change the physics
+or the machine make: the dimension (2, 3), the bodies ("rigid": one body
+against a rigid obstacle, "two-body": two elastic bodies by dual mortar,
+"discrete": gaps and normals given, no mesh), the contact
+("frictionless", "friction") and the engine ("serial", "petsc").
+"""
+
+from dataclasses import dataclass
+
+from ..contact import COULOMB, FORMULATIONS, GAP_MODES
+from ..errors import SolverError
+from ..linalg import BACKENDS
+
+__all__ = ["Case", "Rule", "RULES", "DEFAULTS", "METHODS", "SYSTEMS",
+           "STARTS", "ENGINES", "KSPS", "VARIANTS", "case_of", "given_options",
+           "resolve", "check_geometry_rules", "support_table"]
+
+METHODS = ("min", "fb")
+SYSTEMS = ("auto", "condensed", "full")
+STARTS = ("nested", "free")
+ENGINES = ("serial", "petsc")
+KSPS = ("mumps", "gamg")
+VARIANTS = ("mortar", "node-to-segment")
+
+#: Every option of :func:`solver.solve` and its default. An option counts
+#: as *given* when it differs from its default.
+DEFAULTS = dict(
+    friction=None, method=None, system="auto", start=None, formulation=None,
+    coulomb=None, steps=None, gap=None, backend="auto", engine=None,
+    ksp=None, tol=1e-10, max_iter=100, gap_scale=None, search_interval=None,
+    candidates=None, margin=None, rollers=None, x0=None, variant=None,
+    options=None, geometry=None, progress=None, on_step=None,
+    keep_steps=True)
+
+#: Options of friction runs only, and of frictionless solves only.
+FRICTION_ONLY = ("formulation", "coulomb", "steps", "progress", "on_step",
+                 "keep_steps")
+FRICTIONLESS_ONLY = ("start", "x0")
+
+
+@dataclass(frozen=True)
+class Case:
+    """dim, bodies ("rigid", "two-body", "discrete"), contact
+    ("frictionless", "friction") and engine ("serial", "petsc")."""
+
+    dim: int
+    bodies: str
+    contact: str
+    engine: str
+
+    def __str__(self):
+        return (f"{self.dim}D, {self.bodies}, {self.contact}, "
+                f"{self.engine} engine")
+
+
+def case_of(problem, friction, engine):
+    """The :class:`Case` of a call."""
+    bodies = ("two-body" if problem.is_mortar else
+              "rigid" if problem.kind == "mesh" else "discrete")
+    name = engine if isinstance(engine, str) or engine is None \
+        else engine.name
+    return Case(problem.dim, bodies,
+                "frictionless" if friction is None else "friction",
+                name or "serial")
+
+
+def given_options(options):
+    """The names of the options that differ from their defaults."""
+    given = set()
+    for name, value in options.items():
+        default = DEFAULTS[name]
+        if value is None and default is None:
+            continue
+        if isinstance(value, str) or value is None or isinstance(
+                value, bool) or isinstance(default, (str, bool)):
+            if value != default:
+                given.add(name)
+        else:
+            given.add(name)
+    return given
+
+
+@dataclass(frozen=True)
+class Rule:
+    """A combination that is refused: ``option`` given (or resolved) where
+    ``applies(case, settings)`` holds; ``where`` says it in words (the
+    README's table), ``reason`` is the one-line error."""
+
+    option: str
+    where: str
+    reason: str
+    applies: object
+
+    def message(self, case, settings):
+        """The error: the option, the case, the reason."""
+        return (f"{self.option}={_shown(settings, self.option)} is not "
+                f"supported for {case}: {self.reason}")
+
+
+def _shown(settings, name):
+    value = settings.get(name)
+    return repr(value) if isinstance(value, str) or value is None \
+        else type(value).__name__ if callable(value) else repr(value)
+
+
+def _friction_only(name):
+    return Rule(name, "frictionless solves",
+                "it applies to friction runs (give friction=f_c)",
+                lambda c, s, g: name in g and c.contact == "frictionless")
+
+
+def _frictionless_only(name):
+    return Rule(name, "friction runs",
+                "it applies to frictionless solves (each load step starts "
+                "from the previous one)",
+                lambda c, s, g: name in g and c.contact == "friction")
+
+
+#: The refused combinations, checked in order (the first that applies is
+#: reported).
+RULES = tuple(
+    [_friction_only(n) for n in FRICTION_ONLY]
+    + [_frictionless_only(n) for n in FRICTIONLESS_ONLY]
+    + [
+        Rule("gap", "two bodies, discrete problems",
+             "gap chooses how the gaps to a rigid obstacle are found; this "
+             "problem's gaps are given (no mesh) or the mortar's weighted "
+             "gaps (two bodies)",
+             lambda c, s, g: "gap" in g and c.bodies != "rigid"),
+        Rule("search_interval", "3D, two bodies, discrete problems",
+             "it searches the parameter t of a 2D obstacle curve",
+             lambda c, s, g: "search_interval" in g
+             and (c.bodies != "rigid" or c.dim != 2)),
+        Rule("variant", "one body", "it chooses the coupling of two bodies",
+             lambda c, s, g: "variant" in g and c.bodies != "two-body"),
+        Rule("engine", "two bodies, discrete problems",
+             "the petsc engine partitions one meshed body against a rigid "
+             "obstacle; this runs on the serial engine",
+             lambda c, s, g: c.engine == "petsc" and c.bodies != "rigid"),
+        Rule("bodies", "two bodies in 3D",
+             "the dual mortar is built for 2D interfaces only",
+             lambda c, s, g: c.bodies == "two-body" and c.dim == 3),
+        Rule("formulation", "3D",
+             "the thesis's split formulation (Δu_t⁺, Δu_t⁻) is 2D-only; "
+             "use formulation='projection'",
+             lambda c, s, g: s["formulation"] == "thesis" and c.dim == 3),
+        Rule("start", "the full system",
+             "the nested start needs the condensed system",
+             lambda c, s, g: s["start"] == "nested" and not s["condense"]),
+        Rule("start", "3D",
+             "the nested start coarsens along the ordered 2D curve Γc; 3D "
+             "starts free",
+             lambda c, s, g: s["start"] == "nested" and c.dim == 3),
+        Rule("start", "candidates=True",
+             "the nested start condenses onto every DOF of Γc, not onto "
+             "candidates",
+             lambda c, s, g: s["start"] == "nested" and s["candidates"]),
+        Rule("x0", "start given", "give either x0 or start",
+             lambda c, s, g: "x0" in g and "start" in g),
+        Rule("candidates", "the full system",
+             "the candidates are a condensation (system='condensed')",
+             lambda c, s, g: s["candidates"] and not s["condense"]),
+        Rule("candidates", "the thesis's friction formulation",
+             "friction on candidates needs formulation='projection'",
+             lambda c, s, g: s["candidates"] and c.contact == "friction"
+             and s["formulation"] == "thesis"),
+        Rule("margin", "without candidates",
+             "it is the candidates' screening margin (candidates=True)",
+             lambda c, s, g: "margin" in g and not s["candidates"]),
+        Rule("backend", "the full system",
+             "the full system's Newton steps are solved by SciPy's sparse "
+             "LU (backend='superlu' or backend='auto'); the other backends "
+             "factorise K for the condensed system",
+             lambda c, s, g: not s["condense"] and c.engine == "serial"
+             and s["backend"] not in ("auto", "superlu")),
+        Rule("backend", "the petsc engine",
+             "the petsc engine factorises with MUMPS; backend chooses the "
+             "serial engine's solver",
+             lambda c, s, g: c.engine == "petsc"
+             and s["backend"] != "auto"),
+        Rule("ksp", "the serial engine, the condensed system",
+             "it solves the petsc engine's full-system Newton steps "
+             "(engine='petsc', system='full')",
+             lambda c, s, g: "ksp" in g and (c.engine != "petsc"
+                                             or s["condense"])),
+        Rule("system", "friction on the petsc engine",
+             "friction on the full system (the thesis's formulation runs "
+             "there) has no distributed Newton solve: use the condensed "
+             "projection formulation or the serial engine",
+             lambda c, s, g: c.engine == "petsc" and c.contact == "friction"
+             and not s["condense"]),
+    ])
+
+
+def _choice(name, value, allowed):
+    if value not in allowed:
+        raise SolverError(f"{name} must be one of {allowed}, got {value!r}")
+
+
+def resolve(case, options):
+    """The settings of a call: every option checked against its values
+    and :data:`RULES`, the defaults of the case filled in.
+
+    Returns a dict with the options plus ``condense`` (bool),
+    ``candidates`` (bool), ``start`` ("nested", "free", "x0", "zero" or
+    None with friction), ``rollers`` (bool), ``gap`` (a mode, or None).
+    Raises :class:`SolverError` (one line) for a bad value or a refused
+    combination."""
+    given = given_options(options)
+    s = dict(options)
+    friction = case.contact == "friction"
+    s["method"] = s["method"] or ("fb" if friction else "min")
+    _choice("method", s["method"], METHODS)
+    _choice("system", s["system"], SYSTEMS)
+    if s["start"] is not None:
+        _choice("start", s["start"], STARTS)
+    s["formulation"] = s["formulation"] or "projection"
+    _choice("formulation", s["formulation"], FORMULATIONS)
+    s["coulomb"] = s["coulomb"] or "lagged"
+    _choice("coulomb", s["coulomb"], COULOMB)
+    if s["gap"] is not None:
+        _choice("gap", s["gap"], GAP_MODES)
+    if case.bodies == "rigid":
+        s["gap"] = s["gap"] or "obstacle"
+    _choice("backend", s["backend"], ("auto",) + BACKENDS)
+    if s["ksp"] is not None:
+        _choice("ksp", s["ksp"], KSPS)
+    if s["variant"] is not None:
+        _choice("variant", s["variant"], VARIANTS)
+    if s["rollers"] is not None and not isinstance(s["rollers"], bool):
+        raise SolverError(f"rollers must be True or False, got "
+                          f"{s['rollers']!r}")
+    _check_numbers(s)
+    thesis = friction and s["formulation"] == "thesis"
+    s["condense"] = {"auto": not thesis, "condensed": True,
+                     "full": False}[s["system"]]
+    if s["candidates"] is None:
+        s["candidates"] = s["condense"] and (
+            (case.dim == 3 and not thesis) if friction
+            else (case.dim == 3 or case.engine == "petsc"))
+    s["candidates"] = bool(s["candidates"])
+    if not friction:
+        if s["x0"] is not None and s["start"] is None:
+            s["start"] = "x0"
+        elif not s["condense"]:
+            s["start"] = s["start"] or "zero"
+        elif s["start"] is None:
+            s["start"] = "nested" if case.dim == 2 \
+                and not s["candidates"] else "free"
+    if s["rollers"] is None:
+        s["rollers"] = True
+    geometry = s["geometry"]
+    if geometry is not None:  # it decided gap and rollers: no contradiction
+        if "gap" in given and s["gap"] != geometry.mode:
+            raise SolverError(f"gap={s['gap']!r} contradicts the geometry "
+                              f"given (gaps from {geometry.mode!r})")
+        if "rollers" in given and not s["rollers"] \
+                and geometry.has_rollers:
+            raise SolverError("rollers=False contradicts the geometry "
+                              "given (it has roller nodes)")
+    for rule in RULES:
+        if rule.applies(case, s, given):
+            raise SolverError(rule.message(case, s))
+    if case.engine == "petsc" and not s["condense"]:
+        s["ksp"] = s["ksp"] or "mumps"
+    return s
+
+
+def _check_numbers(s):
+    """SolverError for a tolerance, iteration count or scale that is not a
+    number in its range."""
+    import math
+
+    tol, max_iter = s["tol"], s["max_iter"]
+    if not isinstance(tol, (int, float)) or isinstance(tol, bool) \
+            or not 0 < tol < 1 or not math.isfinite(tol):
+        raise SolverError(f"tol must be a number in (0, 1), got {tol!r}")
+    if isinstance(max_iter, bool) or not isinstance(max_iter, int) \
+            and not (hasattr(max_iter, "__index__")) or max_iter < 0:
+        raise SolverError(f"max_iter must be an integer >= 0, got "
+                          f"{max_iter!r}")
+    scale = s["gap_scale"]
+    if scale is not None and not (isinstance(scale, (int, float))
+                                  and math.isfinite(scale) and scale > 0):
+        raise SolverError(f"gap_scale must be positive and finite, got "
+                          f"{scale!r}")
+
+
+def check_geometry_rules(case, settings, geometry):
+    """The refusals that need the contact geometry (SolverError): roller
+    nodes with the thesis's split formulation, and with the petsc
+    engine's full system (its node frames must be orthogonal)."""
+    rollers = int(geometry.rollers.sum())
+    if not rollers:
+        return
+    if case.contact == "friction" and settings["formulation"] == "thesis":
+        raise SolverError(
+            f"formulation='thesis' is not supported for {case}: the split "
+            f"formulation does not take roller nodes ({rollers} contact "
+            "nodes with a Dirichlet component on a symmetry plane); use "
+            "formulation='projection', or rollers=False to make them "
+            "supports")
+    if case.engine == "petsc" and not settings["condense"]:
+        raise SolverError(
+            f"system='full' is not supported for {case}: the petsc "
+            f"engine's full system needs orthogonal node frames, and "
+            f"{rollers} contact nodes are rollers; use the condensed "
+            "system")
+
+
+def support_table():
+    """The README's "What works where": one Markdown row per rule."""
+    rows = ["| option | refused for | why |", "|---|---|---|"]
+    for rule in RULES:
+        rows.append(f"| `{rule.option}` | {rule.where} | {rule.reason} |")
+    rows.append("| `formulation='thesis'` | roller nodes (symmetry planes) "
+                "| the split formulation has no row to drop for a "
+                "roller's constrained tangent |")
+    rows.append("| `system='full'`, petsc engine | roller nodes | its node "
+                "frames must be orthogonal |")
+    return "\n".join(rows)

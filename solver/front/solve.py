@@ -1,0 +1,278 @@
+r"""The one front: :func:`solve` for every contact problem.
+
+As ``scipy.optimize.minimize`` dispatches on ``method=``, :func:`solve`
+dispatches on the problem (2D or 3D; one body against a rigid obstacle,
+two elastic bodies, or given gaps) and the options (frictionless or
+Coulomb friction; the serial or the PETSc engine). Every option is checked
+against the table of :mod:`solver.front.cases` first: one that does not
+apply to the case is refused with a one-line :class:`~solver.errors.
+SolverError` naming the option, the case and the reason, never silently
+ignored. Then the front builds the contact geometry, the engine and, for
+two bodies, the nodewise problem in the mortar's variables, and hands
+them to a driver (:func:`solver.contact.run_frictionless`,
+:func:`solver.contact.run_friction`).
+"""
+
+import time
+
+from ..contact import SerialEngine, TwoBodyMap, contact_geometry
+from ..contact.friction.driver import check_friction
+from ..errors import SolverError
+from .cases import DEFAULTS, case_of, check_geometry_rules, resolve
+
+__all__ = ["solve", "prepare", "Plan", "solve_frictionless",
+           "solve_friction", "solve_two_body", "make_engine"]
+
+
+def solve(problem, *, friction=None, method=None, system="auto", start=None,
+          formulation=None, coulomb=None, steps=None, gap=None,
+          backend="auto", engine=None, ksp=None, tol=1e-10, max_iter=100,
+          gap_scale=None, search_interval=None, candidates=None,
+          margin=None, rollers=None, x0=None, variant=None, options=None,
+          geometry=None, progress=None, on_step=None, keep_steps=True):
+    r"""Solve a contact problem by semismooth Newton (thesis §2.2).
+
+    Parameters
+    ----------
+    problem : ContactProblem
+        From :func:`solver.load_problem`: one body against a rigid
+        obstacle (2D curve or 3D surface), two elastic bodies (2D, dual
+        mortar), or a discrete problem with given gaps (the §6 bar).
+    friction : float, optional
+        The coefficient of friction f_c ≥ 0: Coulomb friction in load
+        steps (thesis §5). Without it the problem is frictionless (67).
+    method : {"min", "fb"}
+        Damped Newton with φ_min (§2.2.1) or the Fischer–Burmeister method
+        (§2.2.2). Default "min" frictionless, "fb" with friction.
+    system : {"auto", "condensed", "full"}
+        "condensed": factorise K once and iterate on the system condensed
+        exactly onto Γc; "full": the thesis's system in all unknowns, one
+        sparse LU per Newton iteration (the iteration counts of Tables 1
+        and 2). "auto": condensed, but full for the thesis's friction
+        formulation.
+    start : {"nested", "free"}, frictionless only
+        "nested" (the 2D default when condensed onto Γc): solve on ever
+        coarser subsets of Γc first; "free": from no contact force,
+        u = K⁻¹f. The full system starts from the thesis's u = 0.
+    formulation : {"projection", "thesis"}, friction only
+        The projection onto the Coulomb set (default; 2D and 3D) or the
+        thesis's split (110)/(111) (2D).
+    coulomb : {"lagged", "implicit"}, friction only
+        The friction bound from the previous step's normal force (the
+        thesis, default) or from the current one.
+    steps : int, friction only
+        Load steps (default 100); a problem with a load path uses its own.
+    gap : {"obstacle", "body"}, rigid obstacle only
+        Gaps and normals from the obstacle (§2.1.1, default) or along the
+        body's normals (§2.1.2-2.1.3).
+    backend : {"auto", "superlu", "pardiso", "cholmod"}
+        The serial engine's sparse direct solver (:mod:`solver.linalg`).
+    engine : {"serial", "petsc"} or an engine object, optional
+        "petsc": the PETSc engine on the ranks of ``mpiexec`` (call inside
+        :func:`solver.mpi.engine.spmd`; docs/mpi.md).
+    ksp : {"mumps", "gamg"}, petsc engine with the full system only
+        Each Newton system by MUMPS or by CG + GAMG.
+    tol : float
+        Relative tolerance of the stopping test (units-free; see
+        :mod:`solver.contact.verify`). Default 1e-10.
+    max_iter : int
+        Newton iterations at most (per load step with friction; all levels
+        and rounds of a frictionless solve together).
+    gap_scale : float, optional
+        c in the gap rows c(s − u_n): the same solution, another Newton
+        path.
+    search_interval : (t0, t1), 2D rigid obstacle only
+        The obstacle parameter interval searched for the gaps (sets it on
+        ``problem``'s obstacle).
+    candidates : bool, optional
+        Condense onto the contact nodes that can touch only (default: in
+        3D, and on the petsc engine without friction), enlarged until no
+        other node penetrates.
+    margin : float, optional
+        The candidates' screening margin, a length.
+    rollers : bool, optional
+        Whether contact nodes with Dirichlet components (symmetry planes)
+        take part in contact as rollers (default True), or are supports.
+    x0 : array, optional, frictionless only
+        Starting displacement.
+    variant : {"mortar", "node-to-segment"}, two bodies only
+        The interface coupling (default the dual mortar).
+    options : dict, optional
+        Options of the Newton method (:func:`solver.ncp.solve_ncp`).
+    geometry : ContactGeometry, optional
+        Precomputed gaps and frames (:func:`solver.contact.
+        contact_geometry`).
+    progress, on_step : callable, optional, friction only
+        Called with each completed step's record, and with its fields.
+    keep_steps : bool, friction only
+        Keep the per-step arrays in the result (default True).
+
+    Returns
+    -------
+    ContactResult
+        ``success``, ``status``, ``message``, counts (``nit``, ``njev``,
+        ``nfev``), the answer (``u``, ``displacement``, ``contact_force``,
+        ``contact_pressure``, …; per load step with friction), its
+        ``verification`` and ``stopping`` test, and what ran
+        (``linear_solver``, ``condensation``, ``start``, ``engine``).
+
+    Raises
+    ------
+    SolverError
+        For an option that does not apply to the problem or a bad value
+        (one line naming it); :class:`~solver.errors.ProblemError` if K
+        is not positive definite or the geometry cannot be built. A solve
+        that does not converge raises nothing: see ``success``.
+    """
+    given = dict(locals())
+    given.pop("problem")
+    return prepare(problem, **given).run()
+
+
+class Plan:
+    """A checked call of :func:`solve`, ready to run (:func:`prepare`).
+
+    Attributes: ``problem``, ``case`` (:class:`~solver.front.cases.Case`),
+    ``settings`` (every option resolved), ``engine``, ``geometry`` (of the
+    problem the driver solves: for two bodies the nodewise problem in the
+    mortar's variables, ``mapping``), ``friction``.
+    """
+
+    def __init__(self, problem, case, settings, engine, geometry, mapping,
+                 target, clock):
+        self.problem, self.case, self.settings = problem, case, settings
+        self.engine, self.geometry, self.mapping = engine, geometry, mapping
+        self.target, self.friction = target, settings["friction"]
+        self._clock, self.geometry_time = clock, time.perf_counter() - clock
+
+    def run(self, progress=None, on_step=None, keep_steps=None):
+        """Solve; ``progress``, ``on_step`` and ``keep_steps`` (friction
+        only) replace those given to :func:`prepare`."""
+        s = dict(self.settings)
+        for name, value in (("progress", progress), ("on_step", on_step),
+                            ("keep_steps", keep_steps)):
+            if value is not None:
+                if self.friction is None:
+                    raise SolverError(f"{name} applies to friction runs")
+                s[name] = value
+        clock = time.perf_counter()
+        common = dict(method=s["method"], tol=s["tol"],
+                      max_iter=s["max_iter"], gap_scale=s["gap_scale"],
+                      options=s["options"], condense=s["condense"],
+                      candidates=s["candidates"], margin=s["margin"])
+        if self.friction is None:
+            from ..contact import run_frictionless
+
+            result = run_frictionless(self.target, self.geometry,
+                                      self.engine, x0=s["x0"],
+                                      start=s["start"], **common)
+        else:
+            from ..contact import run_friction
+
+            on_step = s["on_step"]
+            if self.mapping is not None and on_step is not None:
+                on_step = _chain(self.mapping.step_fields(
+                    p for _, _, p, _ in self.problem.load_steps(
+                        s["steps"])), on_step)
+            result = run_friction(
+                self.target, self.geometry, self.engine, self.friction,
+                steps=s["steps"], formulation=s["formulation"],
+                coulomb=s["coulomb"], progress=s["progress"],
+                on_step=on_step, keep_steps=s["keep_steps"], **common)
+        if self.mapping is not None:
+            result = self.mapping.result(result, self.friction, s["steps"])
+        summary = self.engine.summary()
+        if summary is not None:
+            result["engine"] = summary
+        result.update(geometry_time=self.geometry_time,
+                      time=self.geometry_time + time.perf_counter() - clock)
+        return result
+
+
+def prepare(problem, **options):
+    """Check a call of :func:`solve` (same arguments) and make what it
+    needs before any solving: the case and its settings, the engine, the
+    contact geometry (which may refuse the problem), and on the serial
+    engine's full system the check that K is positive definite. Every
+    input error surfaces here; :meth:`Plan.run` then solves."""
+    clock = time.perf_counter()
+    given = dict(DEFAULTS)
+    unknown = set(options) - set(DEFAULTS)
+    if unknown:
+        raise SolverError(f"unknown option(s) {sorted(unknown)}: "
+                          f"solve takes {sorted(DEFAULTS)}")
+    given.update(options)
+    friction = given["friction"]
+    case = case_of(problem, friction, given["engine"])
+    settings = resolve(case, given)
+    if friction is not None:
+        check_friction(problem, friction, given["steps"])
+    engine = make_engine(given["engine"], settings)
+    mapping, target = None, problem
+    if case.bodies == "two-body":
+        mapping = TwoBodyMap(problem, given["variant"] or "mortar",
+                             friction=friction is not None)
+        target = mapping.equivalent
+    if given["search_interval"] is not None:
+        problem.set_search_interval(*given["search_interval"])
+    geometry = given["geometry"]
+    if geometry is None:
+        geometry = contact_geometry(target, settings["gap"],
+                                    rollers=settings["rollers"])
+    check_geometry_rules(case, settings, geometry)
+    if not settings["condense"] and case.engine == "serial":
+        target.check_stiffness()  # before anything is written
+    return Plan(problem, case, settings, engine, geometry, mapping, target,
+                clock)
+
+
+def _chain(first, then):
+    return lambda fields: then(first(fields))
+
+
+def make_engine(engine, settings):
+    """The engine object of ``engine`` ("serial", "petsc", None or an
+    engine object)."""
+    if engine is None or engine == "serial":
+        return SerialEngine(settings["backend"])
+    if engine == "petsc":
+        from .. import mpi
+
+        reason = mpi.missing()
+        if reason:
+            raise SolverError(reason)
+        from ..mpi.engine import PetscEngine
+
+        return PetscEngine(settings["ksp"] or "mumps")
+    if isinstance(engine, str):
+        raise SolverError(f"engine must be one of ('serial', 'petsc') or an "
+                          f"engine object, got {engine!r}")
+    return engine
+
+
+def _compatible(problem, condense=None, **options):
+    """The old keyword ``condense`` (True/False/None) as ``system``."""
+    if condense is not None:
+        options["system"] = "condensed" if condense else "full"
+    return options
+
+
+def solve_frictionless(problem, method="min", gap=None, tol=1e-10,
+                       max_iter=100, **options):
+    """Frictionless contact: :func:`solve` without ``friction`` (kept for
+    compatibility; ``condense=True``/``False`` is ``system=``)."""
+    return solve(problem, method=method, gap=gap, tol=tol,
+                 max_iter=max_iter, **_compatible(problem, **options))
+
+
+def solve_friction(problem, friction, steps=None, **options):
+    """Coulomb friction in load steps: :func:`solve` with ``friction``
+    (kept for compatibility; ``condense=`` is ``system=``)."""
+    return solve(problem, friction=friction, steps=steps,
+                 **_compatible(problem, **options))
+
+
+def solve_two_body(problem, friction=None, variant="mortar", **options):
+    """Two elastic bodies: :func:`solve` (kept for compatibility)."""
+    return solve(problem, friction=friction, variant=variant,
+                 **_compatible(problem, **options))

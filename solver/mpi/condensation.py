@@ -1,0 +1,87 @@
+r"""The PETSc engine's condensations: the serial drivers' interfaces on
+one distributed MUMPS factorisation (:class:`~solver.mpi.factor.
+PetscFactor`, in MUMPS's Schur mode).
+
+:class:`PetscCondensation` is :class:`solver.linalg.Condensation` (K
+condensed onto the DOFs of Γc: S, the condensed load, the
+back-substitution) on it; :class:`PetscNormalCondensation` is
+:class:`solver.contact.strategies.candidates.NormalCondensation` (K̂ =
+RKRᵀ condensed onto candidate normal DOFs, one factorisation per
+candidate set) on it, K̂ scattered once for every candidate set. The
+serial drivers and strategies run unchanged on them
+(:class:`~solver.mpi.engine.PetscEngine` hands them out).
+"""
+
+import numpy as np
+
+from ..contact.geometry import rotate_stiffness, rotation
+from ..linalg import Condensation
+from .factor import SCHUR_BLOCK, PetscFactor
+
+__all__ = ["PetscCondensation", "PetscNormalCondensation"]
+
+
+class PetscCondensation(Condensation):
+    """:class:`~solver.linalg.Condensation` of ``problem.K`` onto
+    ``dofs`` whose factorisation is a :class:`PetscFactor` (all ranks);
+    ``load`` and ``displacement`` are Condensation's own."""
+
+    def __init__(self, svc, layout, problem, dofs):  # noqa: D107
+        dofs = np.asarray(dofs, np.int64).ravel()
+        super().__init__(problem, dofs, "petsc-mumps",
+                         PetscFactor(svc, layout, problem.K, dofs))
+
+
+class PetscNormalCondensation:
+    """:class:`solver.contact.strategies.candidates.NormalCondensation`'s interface
+    (``R``, ``normal_rows``, ``factorize(nodes)``, ``displacement(u_n)``)
+    on one distributed MUMPS factor (:class:`PetscFactor`), so that the
+    serial screening rounds (:func:`~solver.contact.strategies.candidates.
+    solve_on_candidates`) run unchanged. K̂ = RKRᵀ is built and scattered
+    once (:meth:`rotated`); each
+    round's candidate set is a new Schur-mode factorisation (``block``
+    None) or only new solves (``block`` = k)."""
+
+    def __init__(self, svc, layout, problem, geometry, block=SCHUR_BLOCK):
+        self.svc, self.layout, self.block = svc, layout, block
+        self.R = rotation(problem.n_dofs, geometry)[0]
+        self.problem = problem
+        self.f = self.R @ problem.f
+        self.normal_rows = geometry.dofs[:, -1]
+        self.free_dofs = geometry.free_dofs()
+        self.factor, self.nodes = None, None
+
+    def rotated(self):
+        """K̂ = RKRᵀ (:func:`~solver.contact.geometry.rotate_stiffness`;
+        built when scattered: rank 0 holds it only while padding, not
+        under MUMPS's factor)."""
+        K = rotate_stiffness(self.problem.K, self.R, self.free_dofs)
+        self.svc.mark("rotate")
+        return K
+
+    def factorize(self, nodes):
+        """(S, g̃, w_c) on the normal rows c of ``nodes``, w = K̂⁻¹f̂: g̃ from
+        one interior solve of the Schur-mode factor and w_c = S⁻¹g̃ (w
+        itself is never formed: :meth:`displacement` back-substitutes with
+        f̂, one interior solve, where u = w + K̂⁻¹Pᵀ S(u_n − w_c) took two
+        more)."""
+        self.nodes = np.asarray(nodes, np.int64)
+        c = self.normal_rows[self.nodes]
+        if self.factor is None:
+            self.factor = PetscFactor(self.svc, self.layout, self.rotated,
+                                      c, block=self.block)
+        else:
+            self.factor.schur(c)
+        S = self.factor.S
+        if not len(c):
+            self.w = self.factor.solve(self.f)
+            return S, np.zeros(0), np.zeros(0)
+        g = self.factor.condensed_rhs(self.f)
+        return S, g, self.factor.solve_schur(g)
+
+    def displacement(self, u_n):
+        """(u, u_n at every free contact node): one back-substitution."""
+        c = self.normal_rows[self.nodes]
+        u_hat = self.w if not len(c) else self.factor.back_substitute(
+            self.f, np.asarray(u_n, float))
+        return self.R.T @ u_hat, u_hat[self.normal_rows]
