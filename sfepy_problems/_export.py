@@ -1,10 +1,13 @@
 r"""Shared export of SfePy problems to the contact solver's ``.npz`` format.
 
 Used by the problem files in this folder (``block_obstacle.py``,
-``hertz_cylinder.py``, ``cattaneo_mindlin.py``) from their
-``post_process_hook_final``, from their ``define()`` (:func:`set_verbosity`)
-and when they are run as scripts (:func:`main`). The leading underscore marks
-it as a helper, not a problem file for ``sfepy-run``.
+``hertz_cylinder.py``, ...) from their ``post_process_hook_final``, from
+their ``define()`` (:func:`set_verbosity`) and when they are run as
+scripts (:func:`main`); they load this file by path. The leading
+underscore marks it as a helper, not a problem file for ``sfepy-run``.
+Installed (``pip install .``), its public names are
+:mod:`sfepy_problems.export`, which problem files elsewhere import
+(``docs/own-problem.md``).
 
 **Quiet by default.** An export prints one line, ``exported N DOFs, Nc
 contact nodes -> PATH`` (and errors). SfePy's messages (the problem set-up,
