@@ -9,7 +9,7 @@ A problem file outside this repository writes the contact solver's
         export.export_contact_problem(
             pb, variables, 'ring.npz',
             stiffness='dw_lin_elastic.i.Omega(solid.D, v, u)',
-            obstacle=...,
+            obstacle={'x': '2.001*cos(t)', 'y': '2.001*sin(t)'},
             meta={'E': 2e5, 'nu': 0.3, 'plane': 'strain', 'load': ...,
                   'mesh': 'ring.mesh'})
 

@@ -66,6 +66,6 @@ def test_installed_helper_imports_outside_the_repository(tmp_path):
     assert result.returncode == 0, result.stderr
     where, names, sfepy = result.stdout.splitlines()
     assert where == str(site / "sfepy_problems" / "export.py")
-    assert {"export_contact_problem", "set_verbosity",
+    assert {"export_contact_problem", "obstacle_curve", "set_verbosity",
             "main", "export_only", "NO_SOLVE"} <= set(names.split())
     assert sfepy == "False"
