@@ -153,7 +153,12 @@ def main(problem_file, argv=None):
     ``-o``, ...) plus ``-v``/``--verbose``, which shows SfePy's messages
     (it sets :data:`VERBOSE_ENV`). Without ``-v`` the run prints only the
     export line; the jax notice SfePy prints at its import is dropped.
-    Returns the exit code (errors raise, as in ``sfepy-run``).
+
+    Returns the exit code: 0, or 1 when the export fails. Then, without
+    ``-v``, one line ``FILE.py: error: ...`` goes to stderr instead of a
+    traceback (a missing mesh, a region that selects nothing, a hook's
+    ``ValueError``: almost always bad input); with ``-v`` the exception is
+    raised, as ``sfepy-run`` does.
     """
     argv = sys.argv[1:] if argv is None else list(argv)
     verbose = any(arg in ('-v', '--verbose') for arg in argv)
@@ -162,7 +167,15 @@ def main(problem_file, argv=None):
         os.environ[VERBOSE_ENV] = '1'
     sfepy_run = _import_sfepy_run(verbose)
     sys.argv = ['sfepy-run', os.path.abspath(problem_file)] + argv
-    return sfepy_run() or 0
+    try:
+        return sfepy_run() or 0
+    except Exception as exc:
+        if verbose:
+            raise
+        message = ' '.join(str(exc).split()) or type(exc).__name__
+        print(f'{os.path.basename(problem_file)}: error: {message} (-v shows '
+              'the traceback)', file=sys.stderr)
+        return 1
 
 
 def full_stiffness(pb, stiffness):
