@@ -32,7 +32,8 @@ from test_export_installed import install_copy
 GUIDE = (ROOT / "docs" / "own-problem.md").read_text()
 EXAMPLE = ROOT / "docs" / "own_problem"
 BLOCKS = re.findall(r"```bash\n(.*?)```", GUIDE, flags=re.S)
-RUN = next(b for b in BLOCKS if "python ring_mesh.py" in b)
+RUN = next(b for b in BLOCKS if "mkdir -p output/ring" in b)
+FINE = next(b for b in BLOCKS if "ring_fine.mesh" in b)
 SHOWN = re.search(r"```text\n(.*?)```", GUIDE, flags=re.S).group(1)
 
 
@@ -120,6 +121,54 @@ def test_contact_force_is_lames(run):
     assert force.sum() == pytest.approx(p * np.pi * b / 2, rel=0.01)
 
 
+def test_body_held_only_by_contact_is_refused(run, tmp_path):
+    """The guide's warning: without the mandrel and the y symmetry the
+    quarter ring can slide along y, held only by the bore; K is singular
+    and the solver refuses the file in one line, exit code 2."""
+    folder, env, _, _ = run
+    source = (folder / "ring.py").read_text()
+    floating = "".join(line for line in source.splitlines(keepends=True)
+                       if "'mandrel': (" not in line
+                       and "'symmetry_y': (" not in line)
+    assert len(floating.splitlines()) == len(source.splitlines()) - 2
+    (tmp_path / "floating.py").write_text(floating)
+    subprocess.run([sys.executable, "floating.py", "-d",
+                    f"mesh='{folder / 'ring.mesh'}', output='floating.npz'"],
+                   cwd=tmp_path, env=env, check=True, capture_output=True,
+                   timeout=300)
+    proc = subprocess.run([sys.executable, "-m", "solver", "floating.npz"],
+                          cwd=tmp_path, env=env, capture_output=True,
+                          text=True, timeout=300)
+    assert proc.returncode == 2
+    line, = proc.stderr.splitlines()
+    assert "K is not positive definite" in line
+    assert "K is not positive definite (exit code 2)" in " ".join(
+        GUIDE.replace("saying that ", "").split())
+
+
+def _force_error(printed):
+    """The relative difference check_ring.py prints, in %."""
+    return float(re.search(r"p × quarter arc [\d.]+: ([+-][\d.]+) %",
+                           printed)[1])
+
+
+def test_finer_mesh_is_closer(run):
+    """The guide's refinement block (run where the first block ended, in
+    output/ring/): twice the elements each way, and the difference of the
+    total force falls to about a quarter (linear elements: O(h²))."""
+    folder, env, printed, _ = run
+    mesh = defaults("ring_mesh.py", "ring_mesh")
+    assert f"--n-radial {2 * mesh['n_radial']} --n-arc {2 * mesh['n_arc']}" \
+        in FINE
+    proc = subprocess.run(["bash", "-e", "-c", FINE], cwd=folder, env=env,
+                          capture_output=True, text=True, timeout=600)
+    assert proc.returncode == 0, proc.stdout[-2000:] + proc.stderr[-2000:]
+    ratio = _force_error(proc.stdout) / _force_error(printed)
+    assert 0.2 < ratio < 0.33
+    assert "twice the elements each way, the difference in the total force " \
+        "falls to about a quarter" in " ".join(GUIDE.split())
+
+
 def test_prose_numbers(run):
     """The example's parameters are ring.py's defaults; the counts are
     computed from ring_mesh.py's defaults as the prose does; the quoted
@@ -150,5 +199,4 @@ def test_prose_numbers(run):
     assert f"the outer arc, {n_arc + 1} nodes" in prose
     printed = run[2]
     assert f"exported {dofs} DOFs, {n_arc + 1} contact nodes ->" in printed
-    error = re.search(r"p × quarter arc [\d.]+: \+([\d.]+) %", printed)[1]
-    assert f"Lamé's pressure to {error} %" in prose
+    assert f"Lamé's pressure to {abs(_force_error(printed)):.2f} %" in prose

@@ -1,5 +1,5 @@
-"""Every file a shell block of the README or of docs/ writes lies where
-.gitignore covers it (issue 34, part of point 24), so that pasting the
+"""Every file the shell blocks of the README or of a page in docs/ write
+lies where .gitignore covers it (issue 34, part of point 24), so that pasting the
 commands leaves ``git status`` clean.
 
 The paths are read from the commands (``-o``, ``--output``, ``--outdir``,
@@ -27,12 +27,11 @@ DOCUMENTS = ["README.md"] + sorted(
 QUIET = {"pip", "apt-get", ".", "source", "jupyter"}
 
 
-def blocks():
-    for name in DOCUMENTS:
-        text = (ROOT / name).read_text()
-        for i, block in enumerate(re.findall(r"```bash\n(.*?)```", text,
-                                             flags=re.S)):
-            yield pytest.param(block, id=f"{name}-{i}")
+def document_blocks(name):
+    """A document's bash blocks, joined in order: pasted one after the
+    other, they run in one shell (a ``cd`` in one holds for the next)."""
+    text = (ROOT / name).read_text()
+    return "\n".join(re.findall(r"```bash\n(.*?)```", text, flags=re.S))
 
 
 def commands(block):
@@ -132,7 +131,7 @@ def test_rules_find_the_outputs():
 
 
 @needs_git
-@pytest.mark.parametrize("block", blocks())
-def test_block_writes_only_ignored_paths(block):
-    paths = written(block)
+@pytest.mark.parametrize("name", DOCUMENTS)
+def test_blocks_write_only_ignored_paths(name):
+    paths = written(document_blocks(name))
     assert not paths or not unignored(paths), unignored(paths)
