@@ -12,7 +12,8 @@ import the helper from there with the repository out of reach.
 import shutil
 import subprocess
 import sys
-import tomllib
+
+import pytest
 
 from conftest import ROOT
 
@@ -22,6 +23,7 @@ def packages():
     them from pyproject.toml."""
     from setuptools import find_namespace_packages
 
+    tomllib = pytest.importorskip("tomllib", reason="Python >= 3.11")
     config = tomllib.loads((ROOT / "pyproject.toml").read_text())
     find = config["tool"]["setuptools"]["packages"]["find"]
     return find_namespace_packages(where=str(ROOT), include=find["include"],
