@@ -53,11 +53,11 @@ def main(argv=None):
             force = result["contact_force"]
             pressure = result["contact_pressure"]
             in_contact = result["in_contact"]
+        E, nu, a, b = meta["E"], meta["nu"], meta["a"], meta["b"]
+        gap, delta = meta["gap"], meta["delta"]
     except (OSError, KeyError, ValueError) as exc:
-        parser.exit(1, f"check_ring.py: error: {exc}\n")
-
-    E, nu, a, b = meta["E"], meta["nu"], meta["a"], meta["b"]
-    gap, delta = meta["gap"], meta["delta"]
+        parser.exit(1, f"check_ring.py: error: {exc!r} (a problem of ring.py "
+                       "and its solver output folder?)\n")
     p = lame_pressure(E, nu, a, b, gap, delta)
     total, expected = force.sum(), p * math.pi * b / 2
     error = total / expected - 1

@@ -82,9 +82,14 @@ def main(argv=None):
     parser.add_argument("-o", "--output", default="ring.mesh")
     args = parser.parse_args(argv)
     if not 0 < args.a < args.b or args.n_radial < 1 or args.n_arc < 1:
-        parser.error("need 0 < a < b and at least one element each way")
-    points, triangles = ring_mesh(args.a, args.b, args.n_radial, args.n_arc)
-    write_mesh(args.output, points, triangles)
+        parser.exit(2, "ring_mesh.py: error: need 0 < a < b and at least "
+                       "one element each way\n")
+    try:
+        points, triangles = ring_mesh(args.a, args.b, args.n_radial,
+                                      args.n_arc)
+        write_mesh(args.output, points, triangles)
+    except (ImportError, OSError) as exc:  # no gmsh; a folder missing
+        parser.exit(1, f"ring_mesh.py: error: {exc}\n")
     print(f"{args.output}: {len(points)} nodes, {len(triangles)} triangles")
     return 0
 
