@@ -50,8 +50,9 @@ sphere = _load("_contact_ssn_meshes_hertz_sphere", "hertz_sphere.py")
 def extrude(points, triangles, layers: int, thickness: float):
     """Extrude a 2D triangle mesh into tetrahedra; returns (points (N, 3),
     tets (M, 4)) with node ``k * n + i`` = 2D node i at layer height k."""
-    if layers < 1 or not thickness > 0:
-        raise ValueError("need layers >= 1 and thickness > 0")
+    if layers < 1 or not (np.isfinite(thickness) and thickness > 0):
+        raise ValueError(f"need layers >= 1 and a positive thickness, got "
+                         f"{layers} and {thickness}")
     n = len(points)
     z = np.linspace(0.0, thickness, layers + 1)
     nodes = np.column_stack([np.tile(points, (layers + 1, 1)),
@@ -66,18 +67,32 @@ def extrude(points, triangles, layers: int, thickness: float):
     return nodes, sphere.orient(nodes, np.concatenate(tets))
 
 
+class _Parser(argparse.ArgumentParser):
+    def error(self, message):  # one line instead of usage + message
+        self.exit(2, f"{self.prog}: error: {message}\n")
+
+
 def main(argv=None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser = _Parser(prog="block3d.py", description=__doc__.split("\n")[0])
     parser.add_argument("--base", type=int, default=454,
                         choices=generate.THESIS_COUNTS,
                         help="the 2D thesis mesh (triangles)")
-    parser.add_argument("--layers", type=int, default=5)
-    parser.add_argument("--thickness", type=float, default=10.0)
+    parser.add_argument("--layers", type=int, default=5,
+                        help="layers in z, at least 1 (default 5)")
+    parser.add_argument("--thickness", type=float, default=10.0,
+                        help="extent in z, any positive number (default 10)")
     parser.add_argument("-o", "--output", required=True)
     args = parser.parse_args(argv)
-    points, triangles = generate.base_mesh(args.base)
-    nodes, tets = extrude(points, triangles, args.layers, args.thickness)
-    sphere.write_mesh(args.output, nodes, tets)
+    try:
+        points, triangles = generate.base_mesh(args.base)
+        nodes, tets = extrude(points, triangles, args.layers, args.thickness)
+        sphere.write_mesh(args.output, nodes, tets)
+    except generate.GmshMissingError as exc:
+        print(f"{parser.prog}: error: {exc}", file=sys.stderr)
+        return 2
+    except (ValueError, RuntimeError, OSError) as exc:
+        print(f"{parser.prog}: error: {exc}", file=sys.stderr)
+        return 1
     print(f"wrote {args.output}: {len(nodes)} nodes, {len(tets)} "
           "tetrahedra")
     return 0

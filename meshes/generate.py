@@ -25,7 +25,8 @@ Sizes 1.06, 1.07, ..., 1.10 all give 454 triangles (1.05: 466, 1.11: 422);
 other counts; ``thesis_mesh`` checks the count and fails loudly if it differs.
 
 After meshing, the mesh is cleaned (``clean_mesh``): z is dropped, coordinates
-within 1e-9 of an edge of the block are put exactly on it, nodes not in any
+closer than 1e-9 to an edge of the block (``SNAP_TOL`` = 1e-10 times its
+half-height 10) are put exactly on it, nodes not in any
 triangle are removed and the rest are renumbered in gmsh's order, and every
 triangle is made counter-clockwise. Files are written in Medit ``.mesh``
 format (2D coordinates, triangles only, all reference ids 0) with meshio, and
@@ -35,9 +36,9 @@ coordinates, not by ids.
 Usage::
 
     python meshes/generate.py                        # the three thesis meshes
-    python meshes/generate.py --size 0.3 -o f.mesh   # finer mesh, MeshAdapt
-    python meshes/generate.py --size 0.3 --algorithm 6 -o f.mesh
-    python meshes/generate.py --refine 2 --base 1878 -o f.mesh
+    python meshes/generate.py --size 0.3 -o output/f.mesh   # finer, MeshAdapt
+    python meshes/generate.py --size 0.3 --algorithm 6 -o output/f.mesh
+    python meshes/generate.py --refine 2 --base 1878 -o output/f.mesh
         # each triangle of the committed 1878 mesh split into 4**2 (no gmsh needed)
 
 gmsh is needed only to generate meshes (``pip install gmsh``); it is imported
@@ -57,8 +58,9 @@ import numpy as np
 HALF_WIDTH = 5.0
 HALF_HEIGHT = 10.0
 
-#: Nodes closer than this to an edge of the block are put exactly on it.
-SNAP_TOL = 1e-9
+#: Nodes closer to an edge of the block than this times its largest
+#: half-size are put exactly on it (relative: round-off scales with size).
+SNAP_TOL = 1e-10
 
 #: gmsh 2D algorithms allowed on the command line (all give triangles).
 ALGORITHMS = {1: "MeshAdapt", 2: "Automatic", 5: "Delaunay", 6: "Frontal-Delaunay"}
@@ -186,20 +188,25 @@ def gmsh_mesh(
     return clean_mesh(points, triangles)
 
 
-def clean_mesh(points: np.ndarray, triangles: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def clean_mesh(points: np.ndarray, triangles: np.ndarray,
+               box: tuple[float, float] | None = (HALF_WIDTH, HALF_HEIGHT),
+               ) -> tuple[np.ndarray, np.ndarray]:
     """Return ``(points (N, 2) float64, triangles (M, 3) int64)`` ready to write.
 
-    Drops any z column, puts coordinates within ``SNAP_TOL`` of the block's
-    edges exactly on them, removes nodes used by no triangle (keeping the order
-    of the others), and makes every triangle counter-clockwise.
+    Drops any z column, puts coordinates within ``SNAP_TOL * max(box)`` of
+    the edges x = ±box[0], y = ±box[1] exactly on them (``box`` None: no
+    snapping, for other shapes), removes nodes used by no triangle (keeping
+    the order of the others), and makes every triangle counter-clockwise.
     """
     points = np.array(points, dtype=np.float64)[:, :2]
     triangles = np.array(triangles, dtype=np.int64).reshape(-1, 3)
 
-    for col, half in ((0, HALF_WIDTH), (1, HALF_HEIGHT)):
-        for edge in (-half, half):
-            near = np.abs(points[:, col] - edge) <= SNAP_TOL
-            points[near, col] = edge
+    if box is not None:
+        tol = SNAP_TOL * max(box)
+        for col, half in ((0, box[0]), (1, box[1])):
+            for edge in (-half, half):
+                near = np.abs(points[:, col] - edge) <= tol
+                points[near, col] = edge
     points += 0.0  # turn -0.0 into 0.0 so files never show "-0.0"
 
     used = np.unique(triangles)
@@ -273,7 +280,9 @@ def refine_uniform(points: np.ndarray, triangles: np.ndarray,
 
 
 def write_mesh(path, points: np.ndarray, triangles: np.ndarray) -> None:
-    """Write a 2D triangle mesh to a Medit ``.mesh`` file; all reference ids 0."""
+    """Write a 2D triangle mesh to a Medit ``.mesh`` file; all reference ids 0.
+    Missing folders of ``path`` are made (``-o output/fine.mesh`` in a fresh
+    checkout, where git ignores ``output/``)."""
     import meshio
 
     points = np.ascontiguousarray(points, dtype=np.float64)
@@ -288,6 +297,7 @@ def write_mesh(path, points: np.ndarray, triangles: np.ndarray) -> None:
         point_data={"medit:ref": np.zeros(len(points), dtype=np.int64)},
         cell_data={"medit:ref": [np.zeros(len(triangles), dtype=np.int64)]},
     )
+    Path(path).parent.mkdir(parents=True, exist_ok=True)
     meshio.write(str(path), mesh, file_format="medit")
 
 

@@ -1,12 +1,15 @@
 """Triangle mesh of the elastic half-cylinder of the Hertz line contact test.
 
-The body is the lower half of the unit disk, ``x**2 + y**2 <= R**2, y <= 0``
-(R = 1): a flat top edge on y = 0 and a circular arc below it, touching the
-rigid flat obstacle y = -R at the bottom point (0, -R). The contact zone is
-small (half-width a ~ 0.1 R for the default load), so the mesh is graded: a
-fine element size ``h_contact`` within ``DIST_FINE`` = 0.15 R of the bottom
-point, growing linearly to the coarse size ``h_far`` at ``DIST_COARSE`` =
-0.6 R from it (gmsh Distance + Threshold background field).
+The body is the lower half of the disk ``x**2 + y**2 <= R**2, y <= 0``
+(R = 1 by default, any R > 0 with ``--radius``): a flat top edge on y = 0
+and a circular arc below it, touching the rigid flat obstacle y = -R at the
+bottom point (0, -R). The contact zone is small (half-width a ~ 0.1 R for
+the default load), so the mesh is graded: a fine element size
+``h_contact`` (default 0.004 R) within ``DIST_FINE`` = 0.15 R of the bottom
+point, growing linearly to the coarse size ``h_far`` (default 0.1 R) at
+``DIST_COARSE`` = 0.6 R from it (gmsh Distance + Threshold background
+field). Every length and tolerance is relative to R, so a mesh of radius R
+is the R = 1 mesh scaled.
 
 The mesh is **symmetric** about x = 0: gmsh meshes the right quarter
 (x >= 0) and the left half is its mirror image, so the contact solution of a
@@ -18,8 +21,8 @@ symmetric load is symmetric node by node. The geometry has points at
   is exactly the arc of angle 2 asin(0.6) (|Γc| = 1.2870 R),
 * (0, -R): the first contact point.
 
-Boundary nodes lie on the arc to round-off (|r - R| < 1e-15) and exactly on
-y = 0 and x = 0 (snapped, see ``hertz_mesh``). Written as Medit ``.mesh``
+Boundary nodes lie on the arc to round-off (|r - R| < 1e-15 R) and exactly
+on y = 0 and x = 0 (snapped within 1e-12 R, see ``hertz_mesh``). Written as Medit ``.mesh``
 (2D coordinates, triangles only, reference ids 0) with ``write_mesh`` of
 ``meshes/generate.py``; select regions by coordinates.
 
@@ -49,6 +52,8 @@ Usage::
     python meshes/hertz.py --h-contact 0.002 -o /tmp/hertz_0.002.mesh
     python meshes/hertz.py --h-contact 0.004 --refine 2 -o /tmp/h.mesh
         # all sizes (h_contact and h_far) divided by 2
+    python meshes/hertz.py --radius 10 -o output/hertz_R10.mesh
+        # R = 10, sizes 0.004 R and 0.1 R
 
 gmsh is needed only here (``pip install gmsh``); it is imported when called.
 """
@@ -65,11 +70,11 @@ import numpy as np
 
 HERE = Path(__file__).resolve().parent
 
-#: Default fine element size at the contact point (R = 1): about 50 arc
-#: nodes in |x| < 0.1, the Hertz half-width of the default load.
+#: Default fine element size at the contact point, over R: about 50 arc
+#: nodes in |x| < 0.1 R, the Hertz half-width of the default load.
 H_CONTACT = 0.004
 
-#: Default coarse element size away from the contact zone.
+#: Default coarse element size away from the contact zone, over R.
 H_FAR = 0.1
 
 #: The element size is h_contact within DIST_FINE * R of (0, -R), grows
@@ -176,13 +181,14 @@ def _quarter(h_contact: float, h_far: float, radius: float,
     return points, triangles
 
 
-def hertz_mesh(h_contact: float = H_CONTACT, h_far: float = H_FAR,
+def hertz_mesh(h_contact: float | None = None, h_far: float | None = None,
                refine: float = 1.0, radius: float = 1.0,
                dist_fine: float = DIST_FINE, dist_coarse: float = DIST_COARSE):
     """Mesh the half-disk ``x**2 + y**2 <= radius**2, y <= 0`` with gmsh.
 
-    h_contact: element size near the contact point (0, -radius).
-    h_far: element size away from it.
+    h_contact: element size near the contact point (0, -radius); None:
+        ``H_CONTACT * radius``.
+    h_far: element size away from it; None: ``H_FAR * radius``.
     refine: both sizes are divided by ``refine`` (uniform refinement factor
         for convergence studies).
     radius: R.
@@ -195,8 +201,12 @@ def hertz_mesh(h_contact: float = H_CONTACT, h_far: float = H_FAR,
     shared). Node order: the quarter's nodes in gmsh order, then the mirror
     images of those with x > 0.
     """
+    if not (math.isfinite(radius) and radius > 0):
+        raise ValueError(f"radius must be a positive number, got {radius}")
+    h_contact = H_CONTACT * radius if h_contact is None else h_contact
+    h_far = H_FAR * radius if h_far is None else h_far
     for name, value in (("h_contact", h_contact), ("h_far", h_far),
-                        ("refine", refine), ("radius", radius),
+                        ("refine", refine),
                         ("dist_fine", dist_fine), ("dist_coarse", dist_coarse)):
         if not (math.isfinite(value) and value > 0):
             raise ValueError(f"{name} must be a positive number, got {value}")
@@ -209,11 +219,9 @@ def hertz_mesh(h_contact: float = H_CONTACT, h_far: float = H_FAR,
     points, triangles = _quarter(h_contact, h_far, radius, dist_fine, dist_coarse)
     # clean_mesh drops z, removes unused nodes (the arc centre is a geometry
     # point only if no triangle uses it; here it is the top-edge corner, so
-    # it stays) and orients triangles. Its snapping to the block's edges
-    # x = ±5, y = ±10 touches nothing here (|x|, |y| <= radius << 5).
-    if radius * (1 + 1e-6) >= min(generate.HALF_WIDTH, generate.HALF_HEIGHT):
-        raise ValueError("radius too large for generate.clean_mesh's snapping")
-    points, triangles = generate.clean_mesh(points, triangles)
+    # it stays) and orients triangles; box=None: no snapping to the block's
+    # edges, this shape snaps its own, relative to R, below.
+    points, triangles = generate.clean_mesh(points, triangles, box=None)
     for col in (0, 1):  # the symmetry axis x = 0 and the top edge y = 0
         near = np.abs(points[:, col]) <= SNAP_TOL * radius
         points[near, col] = 0.0
@@ -228,7 +236,7 @@ def hertz_mesh(h_contact: float = H_CONTACT, h_far: float = H_FAR,
     points = np.concatenate([points, mirrored])
     triangles = np.concatenate([triangles, image[triangles][:, ::-1]])
     points += 0.0  # no "-0.0" in files
-    return generate.clean_mesh(points, triangles)
+    return generate.clean_mesh(points, triangles, box=None)
 
 
 def arc_nodes(points: np.ndarray, radius: float = 1.0, tol: float = 1e-9) -> np.ndarray:
@@ -259,14 +267,14 @@ def _parser() -> argparse.ArgumentParser:
         description="Write a graded triangle mesh of the half-disk "
                     "x^2 + y^2 <= R^2, y <= 0 (Hertz line contact), "
                     "fine near the contact point (0, -R).")
-    parser.add_argument("--h-contact", type=_positive_float, default=H_CONTACT, metavar="H",
-                        help=f"element size near (0, -R) (default {H_CONTACT})")
-    parser.add_argument("--h-far", type=_positive_float, default=H_FAR, metavar="H",
-                        help=f"element size away from the contact zone (default {H_FAR})")
+    parser.add_argument("--h-contact", type=_positive_float, default=None, metavar="H",
+                        help=f"element size near (0, -R) (default {H_CONTACT} R)")
+    parser.add_argument("--h-far", type=_positive_float, default=None, metavar="H",
+                        help=f"element size away from the contact zone (default {H_FAR} R)")
     parser.add_argument("--refine", type=_positive_float, default=1.0, metavar="F",
                         help="divide both sizes by F (default 1)")
     parser.add_argument("--radius", type=_positive_float, default=1.0, metavar="R",
-                        help="radius R (default 1)")
+                        help="radius R, any positive number (default 1)")
     parser.add_argument("--dist-fine", type=_positive_float, default=DIST_FINE, metavar="D",
                         help=f"size h_contact within D*R of (0, -R) (default {DIST_FINE})")
     parser.add_argument("--dist-coarse", type=_positive_float, default=DIST_COARSE, metavar="D",

@@ -36,7 +36,9 @@ Cattaneo–Mindlin sphere, ``sfepy_problems/cattaneo_mindlin_sphere.py``,
 sheared along x).
 
 Nodes on the planes are snapped onto them (|x|, |y| < 1e-12 R → 0, z within
-1e-12 R of R → R) so that regions can be selected by coordinates. Written
+1e-12 R of R → R) so that regions can be selected by coordinates. Every
+size and tolerance is relative to R or a: any ``--radius`` gives the R = 1
+mesh scaled. Written
 as Medit ``.mesh`` (3D coordinates, tetrahedra only, reference ids 0).
 
 Usage::
@@ -134,18 +136,20 @@ def orient(points, tets):
     return tets
 
 
-def snap(points, planes):
-    """Put coordinates within SNAP_TOL · R of the given planes (axis,
-    value) exactly on them."""
+def snap(points, planes, radius=RADIUS):
+    """Put coordinates within SNAP_TOL · radius of the given planes (axis,
+    value) exactly on them (relative: gmsh's round-off grows with the
+    size)."""
     points = points.copy()
     for axis, value in planes:
-        near = np.abs(points[:, axis] - value) < SNAP_TOL * RADIUS
+        near = np.abs(points[:, axis] - value) < SNAP_TOL * radius
         points[near, axis] = value
     return points
 
 
 def write_mesh(path, points, tets) -> None:
-    """Medit ``.mesh`` of a tetrahedral mesh; all reference ids 0."""
+    """Medit ``.mesh`` of a tetrahedral mesh; all reference ids 0. Missing
+    folders of ``path`` are made."""
     import meshio
 
     mesh = meshio.Mesh(
@@ -153,13 +157,25 @@ def write_mesh(path, points, tets) -> None:
         [("tetra", np.ascontiguousarray(tets, dtype=np.int64))],
         point_data={"medit:ref": np.zeros(len(points), dtype=np.int64)},
         cell_data={"medit:ref": [np.zeros(len(tets), dtype=np.int64)]})
+    Path(path).parent.mkdir(parents=True, exist_ok=True)
     meshio.write(str(path), mesh, file_format="medit")
 
 
 def hertz_sphere_mesh(a_over_h: float, radius: float = RADIUS,
-                      a: float = A_TARGET * RADIUS, half: bool = False):
+                      a: float | None = None, half: bool = False):
     """Mesh the quarter sphere (``half``: the half y ≥ 0); returns
-    (points (N, 3), tets (M, 4))."""
+    (points (N, 3), tets (M, 4)). ``a``: the contact radius refined for
+    (default ``A_TARGET * radius``); every size is relative to it or to
+    the radius, so any radius > 0 gives the R = 1 mesh scaled."""
+    a = A_TARGET * radius if a is None else a
+    for name, value in (("a_over_h", a_over_h), ("radius", radius),
+                        ("a", a)):
+        if not (np.isfinite(value) and value > 0):
+            raise ValueError(f"{name} must be a positive number, got "
+                             f"{value}")
+    if not a < radius:
+        raise ValueError(f"a ({a:g}) must be less than the radius "
+                         f"({radius:g})")
     gmsh = _load_generate()._import_gmsh()
     own = not gmsh.isInitialized()
     if own:
@@ -173,8 +189,9 @@ def hertz_sphere_mesh(a_over_h: float, radius: float = RADIUS,
                          (2 if half else 1) * radius, radius, radius)
         occ.intersect([(3, ball)], [(3, box)])
         occ.synchronize()
-        tip = gmsh.model.getEntitiesInBoundingBox(
-            -1e-9, -1e-9, -1e-9, 1e-9, 1e-9, 1e-9, 0)
+        eps = 1e-9 * radius  # the contact point, the origin
+        tip = gmsh.model.getEntitiesInBoundingBox(-eps, -eps, -eps, eps, eps,
+                                                  eps, 0)
         if len(tip) != 1:
             raise RuntimeError("no geometry point at the contact point")
         field = gmsh.model.mesh.field
@@ -194,25 +211,51 @@ def hertz_sphere_mesh(a_over_h: float, radius: float = RADIUS,
             gmsh.finalize()
         else:
             gmsh.model.remove()
-    points = snap(points, ((0, 0.0), (1, 0.0), (2, radius))[half:])
+    points = snap(points, ((0, 0.0), (1, 0.0), (2, radius))[half:], radius)
     return points, orient(points, tets)
 
 
+class _Parser(argparse.ArgumentParser):
+    def error(self, message):  # one line instead of usage + message
+        self.exit(2, f"{self.prog}: error: {message}\n")
+
+
+def _positive(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not a number: {text!r}") from None
+    if not (np.isfinite(value) and value > 0):
+        raise argparse.ArgumentTypeError(f"must be a positive number, got "
+                                         f"{text}")
+    return value
+
+
 def main(argv=None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    parser.add_argument("--a-over-h", type=float, required=True,
+    parser = _Parser(prog="hertz_sphere.py",
+                     description=__doc__.split("\n")[0])
+    parser.add_argument("--a-over-h", type=_positive, required=True,
                         help="contact radius over the element size there")
-    parser.add_argument("--radius", type=float, default=RADIUS)
-    parser.add_argument("--a", type=float, default=None,
-                        help=f"contact radius (default {A_TARGET} R)")
+    parser.add_argument("--radius", type=_positive, default=RADIUS,
+                        help=f"sphere radius R, any positive number "
+                             f"(default {RADIUS:g})")
+    parser.add_argument("--a", type=_positive, default=None,
+                        help=f"contact radius, less than R (default "
+                             f"{A_TARGET} R)")
     parser.add_argument("--half", action="store_true",
                         help="the half y >= 0 (default: the quarter)")
     parser.add_argument("-o", "--output", required=True)
     args = parser.parse_args(argv)
-    a = A_TARGET * args.radius if args.a is None else args.a
-    points, tets = hertz_sphere_mesh(args.a_over_h, args.radius, a,
-                                     args.half)
-    write_mesh(args.output, points, tets)
+    try:
+        points, tets = hertz_sphere_mesh(args.a_over_h, args.radius, args.a,
+                                         args.half)
+        write_mesh(args.output, points, tets)
+    except _load_generate().GmshMissingError as exc:
+        print(f"{parser.prog}: error: {exc}", file=sys.stderr)
+        return 2
+    except (ValueError, RuntimeError, OSError) as exc:
+        print(f"{parser.prog}: error: {exc}", file=sys.stderr)
+        return 1
     print(f"wrote {args.output}: {len(points)} nodes, {len(tets)} "
           "tetrahedra")
     return 0

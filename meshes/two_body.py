@@ -18,9 +18,9 @@ in ``sfepy_problems/`` (``two_body_patch.py``, ``two_cylinders.py``,
     centred at (0, R1) (flat side y = R1 on top, body 1), the lower one of
     radius R2 centred at (0, −R2) (flat side y = −R2 at the bottom, body
     0). Each is ``meshes/hertz.py``'s graded half-disc (size ``--h1``,
-    ``--h2`` within 0.15 R of the contact point, growing to 0.1 R at
-    0.6 R; symmetric about x = 0), moved (and for the lower one
-    mirrored) into place.
+    ``--h2``, default 0.004 R1 and 0.006 R1, within 0.15 R of the contact
+    point, growing to 0.1 R at 0.6 R; symmetric about x = 0), moved (and
+    for the lower one mirrored) into place.
 ``block``
     The thesis block (``meshes/block_454.mesh``, body 0) and an elastic
     obstacle body (body 1) whose left side is the thesis parabola x =
@@ -79,7 +79,7 @@ CYLINDERS_IDENTICAL = HERE / "two_body_cylinders_identical.mesh"
 BLOCK = HERE / "two_body_block_454.mesh"
 
 #: The two cylinders (R1 upper, R2 lower) and their element sizes at the
-#: contact point: about 50 slave nodes within |x| < 0.1 R1.
+#: contact point over R1: about 50 slave nodes within |x| < 0.1 R1.
 R1, R2 = 1.0, 1.5
 H1, H2 = 0.004, 0.006
 
@@ -114,6 +114,7 @@ def write_bodies(path, points, triangles, group):
         [("triangle", np.ascontiguousarray(triangles, dtype=np.int64))],
         point_data={"medit:ref": np.zeros(len(points), dtype=np.int64)},
         cell_data={"medit:ref": [np.asarray(group, dtype=np.int64)]})
+    Path(path).parent.mkdir(parents=True, exist_ok=True)
     meshio.write(str(path), mesh, file_format="medit")
 
 
@@ -179,11 +180,14 @@ def _polygon(corners, divisions, h, fine=(), h_fine=None, dist=None):
         if own_session:
             gmsh.finalize()
     points = points[:, :2].copy()
-    # nodes of the straight edges exactly on them (gmsh leaves ~1e-16)
+    # nodes of the straight edges exactly on them (gmsh leaves round-off,
+    # ~1e-16 of the coordinates' size): within 1e-12 of the polygon's size
+    # or of the edge's coordinate, whichever is larger
+    size = np.ptp(np.asarray(corners, dtype=float), axis=0).max()
     for (x0, y0), (x1, y1) in zip(corners, np.roll(corners, -1, axis=0)):
         for col, a, b in ((0, x0, x1), (1, y0, y1)):
             if a == b:
-                near = np.abs(points[:, col] - a) <= 1e-12 * max(1, abs(a))
+                near = np.abs(points[:, col] - a) <= 1e-12 * max(size, abs(a))
                 points[near, col] = a
     for i, n in divisions.items():  # uniform divisions exactly uniform
         a = np.asarray(corners[i], dtype=float)
@@ -211,8 +215,12 @@ def patch_mesh(n_lower=5, n_upper=8, h=0.2, width=1.0, height=0.5):
     return join([lower, upper])
 
 
-def cylinders_mesh(r1=R1, r2=R2, h1=H1, h2=H2):
-    """The two half-discs (module doc): (points, triangles, group)."""
+def cylinders_mesh(r1=R1, r2=R2, h1=None, h2=None):
+    """The two half-discs (module doc): (points, triangles, group); the
+    sizes at the contact point ``h1``, ``h2`` default to ``H1 * r1``,
+    ``H2 * r1`` (any radii > 0 give the default mesh scaled)."""
+    h1 = H1 * r1 if h1 is None else h1
+    h2 = H2 * r1 if h2 is None else h2
     p1, t1 = hertz.hertz_mesh(h_contact=h1, h_far=0.1 * r1, radius=r1)
     p2, t2 = hertz.hertz_mesh(h_contact=h2, h_far=0.1 * r2, radius=r2)
     upper = p1 + np.array([0.0, r1])
@@ -270,10 +278,14 @@ def _parser() -> argparse.ArgumentParser:
     patch.add_argument("--h", type=_positive, default=0.2)
     patch.add_argument("-o", "--output", type=Path, default=PATCH)
     cyl = sub.add_parser("cylinders", help="two half-discs touching at 0")
-    cyl.add_argument("--r1", type=_positive, default=R1)
-    cyl.add_argument("--r2", type=_positive, default=R2)
-    cyl.add_argument("--h1", type=_positive, default=H1)
-    cyl.add_argument("--h2", type=_positive, default=H2)
+    cyl.add_argument("--r1", type=_positive, default=R1,
+                     help=f"upper radius, any positive number (default {R1:g})")
+    cyl.add_argument("--r2", type=_positive, default=R2,
+                     help=f"lower radius (default {R2:g})")
+    cyl.add_argument("--h1", type=_positive, default=None,
+                     help=f"upper size at the contact (default {H1} R1)")
+    cyl.add_argument("--h2", type=_positive, default=None,
+                     help=f"lower size at the contact (default {H2} R1)")
     cyl.add_argument("--identical", action="store_true",
                      help="R2 = R1 (two identical half-discs; h2 stays)")
     cyl.add_argument("-o", "--output", type=Path, default=None)

@@ -1,10 +1,13 @@
 r"""Shared export of SfePy problems to the contact solver's ``.npz`` format.
 
 Used by the problem files in this folder (``block_obstacle.py``,
-``hertz_cylinder.py``, ``cattaneo_mindlin.py``) from their
-``post_process_hook_final``, from their ``define()`` (:func:`set_verbosity`)
-and when they are run as scripts (:func:`main`). The leading underscore marks
-it as a helper, not a problem file for ``sfepy-run``.
+``hertz_cylinder.py``, ...) from their ``post_process_hook_final``, from
+their ``define()`` (:func:`set_verbosity`) and when they are run as
+scripts (:func:`main`); they load this file by path. The leading
+underscore marks it as a helper, not a problem file for ``sfepy-run``.
+Installed (``pip install .``), its public names are
+:mod:`sfepy_problems.export`, which problem files elsewhere import
+(``docs/own-problem.md``).
 
 **Quiet by default.** An export prints one line, ``exported N DOFs, Nc
 contact nodes -> PATH`` (and errors). SfePy's messages (the problem set-up,
@@ -71,8 +74,9 @@ import numpy as nm
 from solver.geometry.mesh import order_along_boundary
 from solver.problem import ContactProblem, save_problem
 
-__all__ = ['export_contact_problem', 'reduced_system', 'full_stiffness',
-           'stage_loads', 'contact_triangles', 'two_body_keys',
+__all__ = ['export_contact_problem', 'obstacle_curve', 'reduced_system',
+           'full_stiffness', 'stage_loads', 'contact_triangles',
+           'two_body_keys',
            'export_only', 'NO_SOLVE',
            'set_verbosity', 'main', 'VERBOSE_ENV']
 
@@ -149,7 +153,12 @@ def main(problem_file, argv=None):
     ``-o``, ...) plus ``-v``/``--verbose``, which shows SfePy's messages
     (it sets :data:`VERBOSE_ENV`). Without ``-v`` the run prints only the
     export line; the jax notice SfePy prints at its import is dropped.
-    Returns the exit code (errors raise, as in ``sfepy-run``).
+
+    Returns the exit code: 0, or 1 when the export fails. Then, without
+    ``-v``, one line ``FILE.py: error: ...`` goes to stderr instead of a
+    traceback (a missing mesh, a region that selects nothing, a hook's
+    ``ValueError``: almost always bad input); with ``-v`` the exception is
+    raised, as ``sfepy-run`` does.
     """
     argv = sys.argv[1:] if argv is None else list(argv)
     verbose = any(arg in ('-v', '--verbose') for arg in argv)
@@ -158,7 +167,15 @@ def main(problem_file, argv=None):
         os.environ[VERBOSE_ENV] = '1'
     sfepy_run = _import_sfepy_run(verbose)
     sys.argv = ['sfepy-run', os.path.abspath(problem_file)] + argv
-    return sfepy_run() or 0
+    try:
+        return sfepy_run() or 0
+    except Exception as exc:
+        if verbose:
+            raise
+        message = ' '.join(str(exc).split()) or type(exc).__name__
+        print(f'{os.path.basename(problem_file)}: error: {message} (-v shows '
+              'the traceback)', file=sys.stderr)
+        return 1
 
 
 def full_stiffness(pb, stiffness):
@@ -267,7 +284,14 @@ def export_contact_problem(pb, variables, filename, *, stiffness, load=None,
         The ``.npz`` to write.
     stiffness, load : str
         Terms for :func:`reduced_system`.
-    obstacle : ParametricCurve (2D) or surface spec dict / Surface (3D)
+    obstacle : dict, or the solver's obstacle object
+        2D: ``{'x': 'x(t)', 'y': 'y(t)'}``, a parametric curve in t
+        (optional ``'t_range'``, ``'search_interval'``: [t0, t1]), or
+        ``{'points': [[x0, y0], [x1, y1], ...]}``, a polyline
+        (:func:`obstacle_curve`); or a ``ParametricCurve`` /
+        ``PolylineCurve``. 3D: a surface spec dict (``{'kind': 'plane',
+        ...}``, ``docs/npz-format.md``) or a surface object. None with
+        ``mortar``.
     meta : dict
         Problem metadata (E, nu, plane, load, mesh, ...); the SfePy version
         is added to ``meta['versions']``.
@@ -327,6 +351,8 @@ def export_contact_problem(pb, variables, filename, *, stiffness, load=None,
                          active_only=False, verbose=False)
     M = M_full.tocsr()[contact_nodes][:, contact_nodes]
 
+    if mortar is None and dim == 2 and isinstance(obstacle, dict):
+        obstacle = obstacle_curve(obstacle)
     meta = dict(meta)
     meta['versions'] = dict(meta.get('versions', {}), sfepy=sfepy.__version__)
     extra = {} if load_path is None else stage_loads(pb, u, stiffness, load,
@@ -340,6 +366,37 @@ def export_contact_problem(pb, variables, filename, *, stiffness, load=None,
     print(f'exported {problem.n_dofs} DOFs, {problem.n_contact} contact '
           f'nodes -> {filename}')
     return problem
+
+
+def obstacle_curve(spec):
+    """The 2D obstacle of a spec dict: ``{'x': 'x(t)', 'y': 'y(t)'}``
+    (optional ``'t_range'``, ``'search_interval'``) as the solver's
+    ``ParametricCurve``, or ``{'points': [[x, y], ...]}`` (optional
+    ``'search_interval'``, in arc length) as its ``PolylineCurve``. The
+    expressions take what the ``.npz`` format takes
+    (``docs/npz-format.md``: arithmetic in t, sin, cos, sqrt, ...).
+    A dict keeps a problem file free of the solver's class names.
+
+    Raises
+    ------
+    ValueError
+        For a dict that is neither (naming the keys it has and may have).
+    """
+    from solver.geometry import ParametricCurve, PolylineCurve
+
+    keys = set(spec)
+    if keys >= {'x', 'y'} and keys <= {'x', 'y', 't_range',
+                                       'search_interval'}:
+        return ParametricCurve(spec['x'], spec['y'],
+                               t_range=spec.get('t_range'),
+                               search_interval=spec.get('search_interval'))
+    if keys >= {'points'} and keys <= {'points', 'search_interval'}:
+        return PolylineCurve(spec['points'],
+                             search_interval=spec.get('search_interval'))
+    raise ValueError(f'obstacle: a 2D obstacle is {{"x": ..., "y": ...}} '
+                     f'(optionally "t_range", "search_interval") or '
+                     f'{{"points": [...]}} (optionally "search_interval"), '
+                     f'got the keys {sorted(keys)}')
 
 
 def _segments(pb, region, cells, coors):
