@@ -65,6 +65,11 @@ def format_summary(info):
                   f"normals           {info['normal']}"]
     if "load" in meta:
         lines.append(f"load              {json.dumps(meta['load'])}")
+    if "refusals" in info:  # what a solve would refuse
+        verdict = ("passed" if not info["refusals"] else
+                   "a solve would refuse this problem (error below)")
+        lines.append(f"checks            {', '.join(info['checks'])}: "
+                     f"{verdict}")
     return "\n".join(lines)
 
 
