@@ -22,46 +22,21 @@ bottom z = 0 the contact surface above the plane z = −0.01. In 2D the
 """
 
 import json
-import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
 
-from fault_tools import run_cli
+from fault_tools import PLANE, run_cli, unit_cube
 from solver.contact import contact_geometry, solve_frictionless
 from solver.errors import ProblemError
 from solver.geometry.curves import GapError
 from solver.problem import load_problem
 
-sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
-from tet_elasticity import box, mesh_problem, stiffness  # noqa: E402
-
-PLANE = {"kind": "plane", "point": [0.0, 0.0, -0.01],
-         "normal": [0.0, 0.0, 1.0]}
-
 
 @pytest.fixture(scope="module")
 def cube():
     """The arrays of the pressed unit cube above PLANE (see the module)."""
-    n = (2, 2, 2)
-    nodes, tets = box(n)
-    z = nodes[:, 2]
-    prescribed = np.full(nodes.shape, np.nan)
-    top = np.isclose(z, 1.0)
-    prescribed[top] = 0.0
-    prescribed[top, 2] = -0.02
-    ids = np.arange(len(nodes)).reshape(tuple(m + 1 for m in n))
-    a, b = ids[:-1, :-1, 0].ravel(), ids[1:, :-1, 0].ravel()
-    c, d = ids[1:, 1:, 0].ravel(), ids[:-1, 1:, 0].ravel()
-    faces = np.concatenate([np.stack([a, c, b], 1), np.stack([a, d, c], 1)])
-    problem = mesh_problem(nodes, tets, stiffness(nodes, tets, 100.0, 0.3),
-                           prescribed, np.flatnonzero(np.isclose(z, 0.0)),
-                           faces)
-    problem.meta = {"E": 100.0, "nu": 0.3, "load": "top pressed by 0.02",
-                    "mesh": "unit cube, 48 tetrahedra"}
-    problem.obstacle, problem.contact_faces = PLANE, faces
-    return problem.validate().to_arrays()
+    return unit_cube()
 
 
 @pytest.fixture(scope="module")
