@@ -217,14 +217,18 @@ def _run(args, state):
 
     _check_input_file(args.problem)
     problem = load_problem(args.problem)
-    if args.info:
-        info = problem.summary()
+    if args.info:  # with what a solve would refuse: exit 2 then
+        if args.search_interval is not None:
+            problem.set_search_interval(*args.search_interval)
+        info = problem.summary(check=True, gap=args.gap)
         if args.json:
             emit(json.dumps(info, indent=2, allow_nan=False))
         else:
             from ..output.report import format_summary
 
             emit(format_summary(info))
+        if info["refusals"]:
+            raise SolverError("; ".join(info["refusals"]))
         return EXIT_OK
     from .jobs import solve_job
 

@@ -12,7 +12,21 @@ import numpy as np
 
 from ..errors import GeometryError, InitialPenetrationWarning
 
-__all__ = ["GapError", "warn_penetration"]
+__all__ = ["GapError", "warn_penetration", "COORDINATE_LIMIT",
+           "RESOLUTION"]
+
+#: Largest accepted |coordinate| of the geometry: the body's nodes
+#: (:mod:`solver.problem.geometry`) and the numbers that place an obstacle
+#: (a plane's point, a sphere's centre and radius, a polyline's vertices).
+#: Gaps, squared distances and the forces k·s of geometry beyond it
+#: overflow or underflow double precision.
+COORDINATE_LIMIT = 1e30
+
+#: Smallest accepted ratio of the body's size to its largest |coordinate|
+#: (below it the node positions keep fewer than 8 significant digits), and
+#: of the body's size to a sphere obstacle's radius (its gaps |x − c| − R
+#: carry an error of about ε·R).
+RESOLUTION = 1e-8
 
 
 class GapError(GeometryError):

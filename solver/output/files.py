@@ -2,23 +2,53 @@
 
 Every file is written to a temporary name in the output folder and renamed
 when complete, so an interrupted run never leaves a half-written file.
+
+``summary.json`` is strict JSON whatever the solve produced: the summary
+dicts (:func:`summary_of`, :func:`friction_summary_of`) hold plain numbers,
+which may be infinite or NaN when a legal but extreme problem overflows
+(a gap scale of 1e300, say), and :func:`write_summary` writes every
+non-finite float, at any depth (per-step records included), as the string
+``"inf"``, ``"-inf"`` or ``"nan"`` (:func:`json_ready`). A reader tells
+them from numbers by their type.
 """
 
 import json
+import math
 
 import numpy as np
 
 from .folder import atomic_path
 
 __all__ = ["write_summary", "write_result", "summary_of",
-           "friction_summary_of"]
+           "friction_summary_of", "json_ready"]
 
 
-def _json_safe(value):
-    """A float for JSON: finite values as they are, others as strings
-    ("inf", "nan"), so that summary.json is always valid JSON."""
-    value = float(value)
-    return value if np.isfinite(value) else str(value)
+def _number(value):
+    """A number of the summary as a Python float (possibly inf or NaN:
+    :func:`write_summary` writes those as strings)."""
+    return float(value)
+
+
+def json_ready(value):
+    """``value`` with every float made strict JSON: finite floats stay,
+    non-finite ones become the strings ``"inf"``, ``"-inf"``, ``"nan"``;
+    NumPy scalars and arrays become Python numbers and lists, tuples
+    lists; dicts and lists are converted at any depth (new objects: the
+    input is not modified)."""
+    if isinstance(value, dict):
+        return {key: json_ready(item) for key, item in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [json_ready(item) for item in value]
+    if isinstance(value, np.ndarray):
+        return json_ready(value.tolist())
+    if isinstance(value, (bool, np.bool_)):
+        return bool(value)
+    if isinstance(value, (int, np.integer)):
+        return int(value)
+    if isinstance(value, (float, np.floating)):
+        value = float(value)
+        return value if math.isfinite(value) else str(value)
+    return value
 
 
 def stopping_of(result, tol):
@@ -34,15 +64,16 @@ def stopping_of(result, tol):
         stopping = {"test": "error <= tol * scale", "tol": tol,
                     "scale": scale, "absolute": error,
                     "relative": error / scale}
-    return {key: (_json_safe(value) if isinstance(value, (float, int,
+    return {key: (_number(value) if isinstance(value, (float, int,
                   np.floating, np.integer)) and not isinstance(value, bool)
                   else value) for key, value in dict(stopping).items()}
 
 
 def verification_of(result):
-    """``result.verification`` (the checks of the answer), JSON-safe."""
+    """``result.verification`` (the checks of the answer), its numbers as
+    Python floats."""
     checks = dict(result.get("verification") or {})
-    return {key: (_json_safe(value) if isinstance(value, (float,
+    return {key: (_number(value) if isinstance(value, (float,
                   np.floating)) else value) for key, value in checks.items()}
 
 
@@ -66,12 +97,12 @@ def summary_of(result, problem, tol=None, **extra):
         "n_jacobian": int(result.njev),
         "n_residual": int(result.nfev),
         # ‖Φ‖ of the final iterate and the stopping test's measure of it
-        "residual": _json_safe(result.residual),
-        "error": _json_safe(result.error),
-        "complementarity": _json_safe(result.complementarity),
+        "residual": _number(result.residual),
+        "error": _number(result.error),
+        "complementarity": _number(result.complementarity),
         "n_contact_nodes": int(result.n_contact),
-        "max_contact_pressure": _json_safe(np.max(result.contact_pressure)),
-        "max_contact_force": _json_safe(np.max(result.contact_force)),
+        "max_contact_pressure": _number(np.max(result.contact_pressure)),
+        "max_contact_force": _number(np.max(result.contact_force)),
         "n_dof": int(problem.n_dofs),
         "n_contact_candidates": int(np.isfinite(result.gap).sum()),
         # 3D: the nodes condensed onto (normal unknowns), per round
@@ -85,8 +116,8 @@ def summary_of(result, problem, tol=None, **extra):
         "levels": [dict(level) for level in result.get("levels", [])],
         "wall_time": float(result.time),
         # ‖Φ‖ before each iteration and, last, of the final iterate
-        "residual_history": [_json_safe(r) for r in history["residual"]]
-        + [_json_safe(result.residual)],
+        "residual_history": [_number(r) for r in history["residual"]]
+        + [_number(result.residual)],
     }
     summary.update(extra, tol=tol)
     return summary
@@ -97,8 +128,8 @@ def _candidates_of(candidates):
     if not candidates:
         return None
     return {"n_candidates": int(candidates["n_candidates"]),
-            "margin": _json_safe(candidates["margin"]),
-            "rounds": [{key: (_json_safe(value) if isinstance(value, float)
+            "margin": _number(candidates["margin"]),
+            "rounds": [{key: (_number(value) if isinstance(value, float)
                               else value) for key, value in r.items()}
                        for r in candidates["rounds"]],
             "enlarged": int(candidates["enlarged"]),
@@ -106,11 +137,12 @@ def _candidates_of(candidates):
 
 
 def write_summary(path, summary):
-    """``summary.json``, written atomically; strict JSON (no NaN)."""
+    """``summary.json``, written atomically; strict JSON: non-finite floats
+    anywhere in ``summary`` are written as strings (:func:`json_ready`)."""
+    text = json.dumps(json_ready(summary), indent=2, allow_nan=False)
     with atomic_path(path) as tmp:
         with open(tmp, "w") as stream:
-            json.dump(summary, stream, indent=2, allow_nan=False)
-            stream.write("\n")
+            stream.write(text + "\n")
 
 
 def write_result(path, result, problem):

@@ -1,6 +1,12 @@
 """Readable text of the command line: the ``--info`` summary and the
 summaries of a frictionless solve and of a friction run (from the same
-dictionaries as ``summary.json``)."""
+dictionaries as ``summary.json``).
+
+A number in these dictionaries may be infinite or NaN (a legal problem
+whose solve overflows), or already the string ``"inf"``/``"nan"`` of
+``summary.json`` (a summary read back from disk): every number is
+formatted by :func:`_g` or :func:`_e`, which print either as it is.
+"""
 
 import json
 
@@ -17,35 +23,41 @@ def format_summary(info):
              f"{info['contact_nodes'] - info['contact_nodes_free']} "
              "supported)",
              f"K                 nnz {info['K_nnz']}, "
-             f"‖K‖_F = {info['K_norm_fro']:.6g}, "
-             f"max |K_ij| = {info['K_norm_max']:.6g}",
-             f"‖f‖               {info['f_norm']:.6g}",
-             f"sum of M          {info['M_sum']:.12g}"]
+             f"‖K‖_F = {_g(info['K_norm_fro'])}, "
+             f"max |K_ij| = {_g(info['K_norm_max'])}",
+             f"‖f‖               {_g(info['f_norm'])}",
+             f"sum of M          {_g(info['M_sum'], '.12g')}"]
     if info["kind"] == "mesh" and info.get("dim", 2) == 3:
         lines += [f"mesh              {meta.get('mesh')}: "
                   f"{info['tetrahedra']} tetrahedra, {info['nodes']} nodes, "
                   f"{info['contact_faces']} contact triangles",
-                  f"material          E = {meta['E']:g}, nu = {meta['nu']:g}",
+                  f"material          E = {_g(meta['E'], 'g')}, "
+                  f"nu = {_g(meta['nu'], 'g')}",
                   "obstacle          " + json.dumps(info["obstacle"],
                                                     sort_keys=True)]
     elif info["kind"] == "mesh" and "slave_segments" in info:  # two bodies
         lines += [f"mesh              {meta.get('mesh')}: "
                   f"{info['triangles']} triangles, {info['nodes']} nodes, "
                   f"{info['bodies']} bodies",
-                  *(f"body {i}            {b.get('name')}: E = {b['E']:g}, "
-                    f"nu = {b['nu']:g}" for i, b in enumerate(meta["bodies"])),
+                  *(f"body {i}            {b.get('name')}: "
+                    f"E = {_g(b['E'], 'g')}, nu = {_g(b['nu'], 'g')}"
+                    for i, b in enumerate(meta["bodies"])),
                   f"interface         {info['pairs']} pair(s), "
                   f"{info['slave_segments']} slave segments (body "
                   f"{meta['slave_body']}), {info['master_segments']} master "
                   f"segments (body {meta['master_body']})"]
     elif info["kind"] == "mesh":
-        x, y = info["obstacle"]
+        obstacle = info["obstacle"]  # [x(t), y(t)], or a polyline's repr
+        if isinstance(obstacle, (list, tuple)):
+            x, y = obstacle
+            obstacle = f"x(t) = {x}, y(t) = {y}"
         rng = info["obstacle_t_range"]
         lines += [f"mesh              {meta.get('mesh')}: "
                   f"{info['triangles']} triangles, {info['nodes']} nodes",
-                  f"material          E = {meta['E']:g}, nu = {meta['nu']:g},"
+                  f"material          E = {_g(meta['E'], 'g')}, "
+                  f"nu = {_g(meta['nu'], 'g')},"
                   f" plane {meta['plane']}",
-                  f"obstacle          x(t) = {x}, y(t) = {y}"
+                  f"obstacle          {obstacle}"
                   + ("" if rng is None else f", t in [{rng[0]}, {rng[1]}]")]
     else:
         lines += [f"description       {meta['description']}",
@@ -53,6 +65,11 @@ def format_summary(info):
                   f"normals           {info['normal']}"]
     if "load" in meta:
         lines.append(f"load              {json.dumps(meta['load'])}")
+    if "refusals" in info:  # what a solve would refuse
+        verdict = ("passed" if not info["refusals"] else
+                   "a solve would refuse this problem (error below)")
+        lines.append(f"checks            {', '.join(info['checks'])}: "
+                     f"{verdict}")
     return "\n".join(lines)
 
 
@@ -60,7 +77,8 @@ def format_friction_result(summary, outdir):
     """A readable summary of a friction run."""
     state = "converged" if summary["converged"] else "NOT CONVERGED"
     lines = [
-        f"f_c = {summary['friction']:g}, {summary['steps']} load steps, "
+        f"f_c = {_g(summary['friction'], 'g')}, {summary['steps']} load "
+        "steps, "
         f"{summary['formulation']} formulation, {summary['coulomb']} "
         f"normal force, {summary['method']} method: {state}",
         f"steps completed   {summary['steps_completed']} of "
@@ -75,9 +93,9 @@ def format_friction_result(summary, outdir):
             f"last step         {summary['final_n_contact']} nodes in "
             f"contact: {summary['final_n_stick']} stick, "
             f"{summary['final_n_slip']} slip; max pressure "
-            f"{summary['final_max_contact_pressure']:.6g}"]
+            f"{_g(summary['final_max_contact_pressure'])}"]
     lines += [f"reduced DOFs      {summary['n_dof']}",
-              f"wall time         {summary['wall_time']:.3f} s",
+              f"wall time         {_g(summary['wall_time'], '.3f')} s",
               f"outputs           {outdir}/"]
     return "\n".join(lines)
 
@@ -103,7 +121,14 @@ def _system_text(summary):
 
 def _e(value):
     """A number in %.3e, or as written ("inf", "nan")."""
-    return f"{value:.3e}" if isinstance(value, (int, float)) else str(value)
+    return _g(value, ".3e")
+
+
+def _g(value, spec=".6g"):
+    """A number in ``spec``, or anything else (``"inf"``, None) as text."""
+    if isinstance(value, (int, float)) and not isinstance(value, bool):
+        return format(value, spec)
+    return str(value)
 
 
 def stopping_text(summary):
@@ -121,8 +146,9 @@ def verification_text(summary):
     checks = summary.get("verification") or {}
     if not checks:
         return []
+    failed = checks.get("failed") or []
     state = "passed" if checks.get("passed") else (
-        "FAILED: " + ", ".join(checks.get("failed", [])))
+        "FAILED" + (": " + ", ".join(failed) if failed else ""))
     return [f"verification      {state}"]
 
 
@@ -146,9 +172,9 @@ def format_result(summary, outdir):
         f"contact nodes     {summary['n_contact_nodes']} in contact, of "
         f"{summary['n_contact_candidates']} contact nodes that can touch "
         "(not on a support)",
-        f"max pressure      {summary['max_contact_pressure']:.6g} "
+        f"max pressure      {_g(summary['max_contact_pressure'])} "
         "(lumped, lambda_i / D_ii)",
         f"reduced DOFs      {summary['n_dof']}",
-        f"wall time         {summary['wall_time']:.3f} s",
+        f"wall time         {_g(summary['wall_time'], '.3f')} s",
         f"outputs           {outdir}/"]
     return "\n".join(lines)

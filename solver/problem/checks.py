@@ -8,10 +8,10 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..errors import ProblemError
-from .format import SYMMETRY_RTOL
+from .format import LOAD_LIMIT, SYMMETRY_RTOL
 
 __all__ = ["fail", "check_array", "check_range", "csr", "check_norm",
-           "check_positive_definite"]
+           "check_load", "load_limit", "check_positive_definite"]
 
 
 def fail(key, message):
@@ -115,6 +115,45 @@ def check_norm(key, values, scale=None):
                           and np.isfinite(np.abs(values).sum())):
         fail(key, f"values up to {scale:.3g} overflow double precision "
                   "(rescale the units)")
+
+
+def _norms(rows):
+    """Euclidean norms of the rows of a 2D array, without overflow."""
+    top = np.abs(rows).max(axis=1, initial=0.0)
+    safe = np.where(top > 0, top, 1.0)
+    return top * np.linalg.norm(rows / safe[:, None], axis=1)
+
+
+def load_limit(K):
+    """The largest ‖f‖₂ accepted with the stiffness ``K``:
+    :data:`~solver.problem.format.LOAD_LIMIT` / max(k, 1/k), k = max|K_ij|
+    (why: :data:`~solver.problem.format.LOAD_LIMIT`)."""
+    k = float(np.abs(K.data).max(initial=0.0))
+    with np.errstate(divide="ignore", over="ignore"):
+        return LOAD_LIMIT / max(k, 1.0 / k), k
+
+
+def check_load(key, loads, K):
+    """Every load in ``loads`` (a vector, or one stage per row) within
+    :func:`load_limit` of ``K``; the message names the stage, the norm, the
+    largest entry and its DOF, and the limit."""
+    loads = np.asarray(loads, dtype=float)
+    rows = loads.reshape(-1, loads.shape[-1]) if loads.size else \
+        np.zeros((1, 0))
+    norms = _norms(rows)
+    limit, k = load_limit(K)
+    stage = int(np.argmax(norms))
+    if not norms[stage] > limit:
+        return
+    row = rows[stage]
+    dof = int(np.argmax(np.abs(row)))
+    where = f"stage {stage} has " if loads.ndim == 2 else ""
+    fail(key, f"{where}‖f‖₂ = {norms[stage]:.3g} (largest entry "
+              f"{row[dof]:.3g} at DOF {dof}), above {limit:.3g}, the "
+              f"largest load this K allows (‖f‖₂·max(k, 1/k) <= "
+              f"{LOAD_LIMIT:g} with k = max|K_ij| = {k:.3g}, so that the "
+              "squares of forces, K times forces and displacements fit in "
+              "double precision; rescale the units)")
 
 
 def check_positive_definite(A, name="K", order=None, backend="auto"):

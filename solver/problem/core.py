@@ -227,6 +227,18 @@ class ContactProblem:
         self._checked = self.K
         return self
 
+    def refusals(self, gap=None):
+        """What a solve would refuse (``--info``): one-line reasons, empty
+        if it would start; K not positive definite, the obstacle's gaps
+        not computable in the ``gap`` mode (default ``"obstacle"``). See
+        :mod:`solver.problem.refusals`.
+
+        Costs one sparse factorisation of K (remembered, as by
+        :meth:`check_stiffness`) and one gap search."""
+        from .refusals import refusals
+
+        return refusals(self, gap or "obstacle")
+
     def n_load_steps(self, steps=None):
         """Number of load steps: of the ``load_path``, else ``steps``
         (default 100)."""
@@ -286,10 +298,14 @@ class ContactProblem:
         full[self.dof_map[:, 0], self.dof_map[:, 1]] = u
         return full
 
-    def summary(self):
-        """A dict of the problem's main figures (for ``--info``)."""
-        from scipy.sparse.linalg import norm as sparse_norm
+    def summary(self, check=False, gap=None):
+        """A dict of the problem's main figures (for ``--info``), every
+        number finite (strict JSON).
 
+        With ``check``, also ``"checks"`` (the names of the checks made)
+        and ``"refusals"`` (:meth:`refusals` for the ``gap`` mode: what a
+        solve would refuse, empty if it would start).
+        """
         active = (self.contact_dofs >= 0).all(axis=1)
         info = {
             "kind": self.kind,
@@ -298,9 +314,10 @@ class ContactProblem:
             "contact_nodes": int(self.n_contact),
             "contact_nodes_free": int(active.sum()),
             "K_nnz": int(self.K.nnz),
-            "K_norm_fro": float(sparse_norm(self.K)),
+            # scaled by the largest entry: K's entries may reach 1e300
+            "K_norm_fro": _norm(sp.csr_matrix(self.K).data),
             "K_norm_max": float(abs(self.K).max()),
-            "f_norm": float(np.linalg.norm(self.f)),
+            "f_norm": _norm(self.f),
             "M_sum": float(self.M.sum()),
         }
         if self.kind == "mesh" and self.dim == 3:
@@ -331,7 +348,19 @@ class ContactProblem:
         else:
             info.update(gap=self.gap.tolist(), normal=self.normal.tolist())
         info["meta"] = self.meta
+        if check:
+            from .refusals import checks_made
+
+            info.update(checks=checks_made(self, gap or "obstacle"),
+                        refusals=self.refusals(gap))
         return info
+
+
+def _norm(values):
+    """‖values‖₂ without overflow of the squares."""
+    values = np.asarray(values, dtype=float)
+    top = float(np.abs(values).max(initial=0.0))
+    return top * float(np.linalg.norm(values / top)) if top > 0 else 0.0
 
 
 def validate_arrays(arrays):

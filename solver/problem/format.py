@@ -55,7 +55,7 @@ __all__ = ["FORMAT_VERSION", "READ_VERSIONS", "DIMS", "KEYS", "KINDS",
            "ONLY_2D", "TWO_BODY", "TWO_BODY_VERSION", "META_REQUIRED",
            "SYMMETRY_RTOL", "MAX_TEXT", "MAX_META_DEPTH", "MAX_INT_DIGITS",
            "MAX_STAGES", "MAX_OBSTACLE_POINTS", "MAX_TOTAL_BYTES",
-           "format_table"]
+           "LOAD_LIMIT", "format_table"]
 
 #: Version of the ``.npz`` layout written by ``save_problem``.
 FORMAT_VERSION = 4
@@ -233,6 +233,21 @@ MAX_STAGES = 100_000
 
 #: Most vertices of a polyline obstacle.
 MAX_OBSTACLE_POINTS = 10_000_000
+
+#: Largest accepted load: ‖f‖₂·max(k, 1/k) ≤ LOAD_LIMIT, k = max|K_ij|,
+#: for ``f`` and for every stage of ``load_path``
+#: (:func:`solver.problem.checks.check_load`). From a load the solver forms
+#: forces (the equilibrium rows of Φ, about ‖f‖), stiffness times forces
+#: (the gradient JᵀΦ of φ_FB's merit function, about k‖f‖) and
+#: displacements (K⁻¹f, at least about ‖f‖/k), and squares them: in
+#: ψ = ½‖Φ‖², in the slope ∇ψᵀd of its line search, in the full system's
+#: gap rows. Squares overflow above √(max double) ≈ 1.3e154, and the run
+#: ends in "non-finite residual" however good the input looks (a load of
+#: 1e152 did, with friction). 1e150 leaves a factor 1e4 for Φ growing past
+#: the load (contact and friction forces, the first Newton steps, sums
+#: over the DOFs). No physical load comes near it: in N and mm, k is about
+#: 1e5 to 1e7 and ‖f‖·k below 1e20.
+LOAD_LIMIT = 1e150
 
 #: Most bytes the arrays of one file may occupy once read (16 GiB; the
 #: largest benchmark, 916 000 DOFs, needs well under 1 GiB).

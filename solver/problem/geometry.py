@@ -6,7 +6,8 @@ in :mod:`solver.problem.geometry3d`.
 
 Besides dtypes and shapes, the geometry must be one double precision can
 resolve and the thesis's normals (§2.1.3) can be computed on: coordinates
-within :data:`COORDINATE_LIMIT`, a body at least :data:`RESOLUTION` times
+within :data:`COORDINATE_LIMIT` (shared with the obstacles, defined in
+:mod:`solver.geometry.checks`), a body at least :data:`RESOLUTION` times
 as large as its distance from the origin (a body of size 20 shifted by
 1e17 has no two distinct node positions left), a contact boundary of at
 least two nodes, no two consecutive contact nodes at one point, no
@@ -19,6 +20,7 @@ and its slave chain is checked by :mod:`solver.problem.two_body`.
 import numpy as np
 
 from ..errors import GeometryError, ProblemError
+from ..geometry.checks import COORDINATE_LIMIT, RESOLUTION
 from ..geometry.mesh import is_boundary_chain
 from ..geometry.curves.normals import boundary_normals
 from ..geometry.curves.parametric import ParametricCurve
@@ -28,15 +30,6 @@ from .format import ONLY_2D, TWO_BODY
 from .geometry3d import validate_solid
 
 __all__ = ["COORDINATE_LIMIT", "RESOLUTION", "validate_mesh"]
-
-#: Largest accepted |coordinate| (and smallest accepted size of the body):
-#: gaps, squared distances and forces of bodies beyond it overflow or
-#: underflow double precision.
-COORDINATE_LIMIT = 1e30
-
-#: Smallest accepted ratio of the body's size to its largest |coordinate|
-#: (below it the node positions keep fewer than 8 significant digits).
-RESOLUTION = 1e-8
 
 
 def _check_coordinates(nodes):
@@ -160,6 +153,9 @@ def _obstacle_curve(arrays):
         y = check_array(arrays, "obstacle_y", "str", 0)
         try:
             obstacle = ParametricCurve(x, y, t_range, search)
-        except ProblemError as exc:
-            fail("obstacle", str(exc))
+        except ProblemError as exc:  # named by the expression it is about
+            key = next((k for k, text in (("obstacle_x", x),
+                                          ("obstacle_y", y))
+                        if str(exc).startswith(repr(text))), "obstacle")
+            fail(key, str(exc))
     return obstacle

@@ -9,7 +9,10 @@ surface and the obstacle surface.
   so that the right-hand normal (x1 − x0) × (x2 − x0) points out of the body
   (away from the tetrahedron's fourth vertex); every contact node is a
   vertex of one;
-* ``obstacle_surface``: :mod:`solver.problem.surface_spec`.
+* ``obstacle_surface``: :mod:`solver.problem.surface_spec`; a sphere's
+  radius at most 1/:data:`~solver.geometry.checks.RESOLUTION` times the
+  body's size (its gaps |x − c| − R carry an error of about ε·R: a sphere
+  of radius 1e29 gave every node of a unit body the gap 0).
 
 Vectorised over the faces; only tetrahedra with three contact vertices are
 looked at for the faces. Failures raise a one-line
@@ -18,6 +21,7 @@ looked at for the faces. Failures raise a one-line
 
 import numpy as np
 
+from ..geometry.checks import RESOLUTION
 from .checks import check_array, check_range, fail
 from .surface_spec import obstacle_surface
 
@@ -123,4 +127,20 @@ def validate_solid(arrays, nodes, cells, contact_nodes):
     faces = check_array(arrays, "contact_faces", "int", 2, (None, 3))
     check_contact_faces(faces, nodes, cells, contact_nodes)
     text = check_array(arrays, "obstacle_surface", "str", 0)
-    return dict(contact_faces=faces, obstacle=obstacle_surface(text))
+    obstacle = obstacle_surface(text)
+    _check_sphere_resolution(obstacle, nodes)
+    return dict(contact_faces=faces, obstacle=obstacle)
+
+
+def _check_sphere_resolution(obstacle, nodes):
+    """A sphere whose gaps keep 8 significant digits of the body's size
+    (module docstring); a larger one is, to that precision, a plane."""
+    if getattr(obstacle, "kind", None) != "sphere":
+        return
+    size = float(np.ptp(nodes, axis=0).max())
+    if obstacle.radius * RESOLUTION > size:
+        fail("obstacle_surface", f"the sphere's radius {obstacle.radius:g} "
+                                 f"is more than {1 / RESOLUTION:g} times the "
+                                 f"body's size {size:g}: its gaps would keep "
+                                 "fewer than 8 significant digits (use a "
+                                 "plane)")

@@ -12,7 +12,7 @@ from collections.abc import Mapping
 
 import numpy as np
 
-from .checks import (check_array, check_norm, check_positive_definite,
+from .checks import (check_array, check_load, check_positive_definite,
                      check_range, csr, fail)
 from .format import (DIMS, KEYS, KINDS, META_REQUIRED, ONLY_2D,
                      READ_VERSIONS, TWO_BODY, TWO_BODY_VERSION)
@@ -109,7 +109,7 @@ def _validate(arrays):
     K = csr(arrays, "K")
     n = K.shape[0]
     f = check_array(arrays, "f", "float", 1, (n,))
-    check_norm("f", f)
+    check_load("f", f, K)
     nc = len(contact_dofs)
     if nc < 1:
         fail("contact_dofs", "no contact nodes")
@@ -137,7 +137,8 @@ def _validate(arrays):
             fail("normal", f"row {i} has length {length[i]:.12g}, expected "
                            "a unit vector")
         problem.update(gap=gap, normal=normal)
-    problem.update(_validate_load_path(arrays, f, problem.get("nodes"), dim))
+    problem.update(_validate_load_path(arrays, f, K, problem.get("nodes"),
+                                       dim))
     return problem
 
 
@@ -164,7 +165,7 @@ def _check_keys(arrays, kind, dim):
             fail(key, f"missing (required in a {where} problem file)")
 
 
-def _validate_load_path(arrays, f, nodes, dim):
+def _validate_load_path(arrays, f, K, nodes, dim):
     """The optional load path: all of load_path, _steps, _friction or none."""
     keys = ("load_path", "load_path_steps", "load_path_friction")
     present = [k for k in keys if k in arrays]
@@ -176,7 +177,7 @@ def _validate_load_path(arrays, f, nodes, dim):
         if key not in arrays:
             fail(key, f"missing (load_path needs {', '.join(keys)})")
     path = check_array(arrays, "load_path", "float", 2, (None, len(f)))
-    check_norm("load_path", path)
+    check_load("load_path", path, K)
     stages = len(path)
     if stages < 1:
         fail("load_path", "no stages")

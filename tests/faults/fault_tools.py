@@ -120,3 +120,38 @@ def assert_one_error_line(code, out, err, phrase=""):
     assert len(lines) == 1, err
     assert lines[0].startswith(("error: ", "python -m solver: error: ")), err
     assert "Traceback" not in err and phrase in lines[0], (phrase, err)
+
+
+#: The rigid plane z = -0.01 under :func:`unit_cube`.
+PLANE = {"kind": "plane", "point": [0.0, 0.0, -0.01],
+         "normal": [0.0, 0.0, 1.0]}
+
+
+def unit_cube(supported=True, obstacle=PLANE):
+    """The ``.npz`` arrays of a 3D problem without SfePy: the unit cube
+    (2×2×2 boxes of 6 tetrahedra, P1 elasticity of ``tet_elasticity``,
+    E = 100, ν = 0.3), its bottom z = 0 the contact surface above
+    ``obstacle``; its top face pressed down by 0.02 (``supported``) or no
+    Dirichlet condition at all (a floating body, K singular, no load)."""
+    from tet_elasticity import box, mesh_problem, stiffness
+
+    n = (2, 2, 2)
+    nodes, tets = box(n)
+    z = nodes[:, 2]
+    prescribed = np.full(nodes.shape, np.nan)
+    if supported:
+        top = np.isclose(z, 1.0)
+        prescribed[top] = 0.0
+        prescribed[top, 2] = -0.02
+    ids = np.arange(len(nodes)).reshape(tuple(m + 1 for m in n))
+    a, b = ids[:-1, :-1, 0].ravel(), ids[1:, :-1, 0].ravel()
+    c, d = ids[1:, 1:, 0].ravel(), ids[:-1, 1:, 0].ravel()
+    faces = np.concatenate([np.stack([a, c, b], 1), np.stack([a, d, c], 1)])
+    problem = mesh_problem(nodes, tets, stiffness(nodes, tets, 100.0, 0.3),
+                           prescribed, np.flatnonzero(np.isclose(z, 0.0)),
+                           faces)
+    problem.meta = {"E": 100.0, "nu": 0.3,
+                    "load": "top pressed by 0.02" if supported else "none",
+                    "mesh": "unit cube, 48 tetrahedra"}
+    problem.obstacle, problem.contact_faces = obstacle, faces
+    return problem.to_arrays()

@@ -29,11 +29,11 @@ import sympy
 
 from ...errors import ExpressionError
 from ..expression import (ALLOWED_CONSTANTS, ALLOWED_FUNCTIONS,  # noqa: F401
-                         MAX_DERIVATIVE_NODES, _numeric, _size,
-                         parse_expression)
+                         MAX_DERIVATIVE_NODES, _check_constants, _numeric,
+                         _size, parse_expression)
 
 __all__ = ["ALLOWED_FUNCTIONS", "ALLOWED_CONSTANTS", "parse_expression",
-           "check_interval", "ParametricCurve"]
+           "check_interval", "check_derivative", "ParametricCurve"]
 
 
 def check_interval(name, interval):
@@ -48,6 +48,26 @@ def check_interval(name, interval):
         raise ExpressionError(f"{name}: need finite t0 < t1, got "
                               f"({t0:g}, {t1:g})")
     return (t0, t1)
+
+
+def check_derivative(derivative, text, symbol):
+    """The constants of a derivative must be finite in double precision, as
+    those of the expression are: 1e308*t**2 is finite, its derivative
+    2e308*t is infinite everywhere, and the gap search found "no tangent"
+    at every node.
+
+    Raises
+    ------
+    ExpressionError
+        Naming the expression and its derivative.
+    """
+    try:
+        _check_constants(derivative, text, symbol)
+    except ExpressionError as exc:
+        reason = str(exc).split(": ", 1)[-1]
+        raise ExpressionError(f"{text!r}: its derivative {derivative} "
+                              f"overflows ({reason}; rescale the "
+                              "units)") from None
 
 
 class ParametricCurve:
@@ -99,6 +119,7 @@ class ParametricCurve:
                 raise ExpressionError(
                     f"{text!r}: too complex (its derivative has more than "
                     f"{MAX_DERIVATIVE_NODES} terms)")
+            check_derivative(d, text, symbol)
             first.append(d)
         self._derivatives = [[self.x_expr, self.y_expr], first, None]
         self._functions = [[_numeric(d, symbol) for d in pair]

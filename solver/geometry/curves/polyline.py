@@ -16,6 +16,7 @@ defined everywhere.
 import numpy as np
 
 from ...errors import ExpressionError
+from ..checks import COORDINATE_LIMIT
 from .parametric import check_interval
 
 __all__ = ["PolylineCurve"]
@@ -27,7 +28,8 @@ class PolylineCurve:
     Parameters
     ----------
     points : (n + 1, 2) array_like
-        Vertices, n ≥ 1 segments of positive length.
+        Vertices, n ≥ 1 segments of positive length, coordinates within
+        :data:`~solver.geometry.checks.COORDINATE_LIMIT` (as the body's).
     search_interval : (float, float) or None
         Arc-length interval searched for the gaps (default: all of it).
 
@@ -46,6 +48,13 @@ class PolylineCurve:
         if not np.isfinite(points).all():
             raise ExpressionError("obstacle_points: NaN or infinite "
                                   "coordinates")
+        far = np.abs(points).max(axis=1)
+        if far.max() > COORDINATE_LIMIT:  # segment lengths would overflow
+            i = int(np.argmax(far))
+            raise ExpressionError(
+                f"obstacle_points: point {i} at ({points[i, 0]:g}, "
+                f"{points[i, 1]:g}) is out of the supported range |x|, |y| "
+                f"<= {COORDINATE_LIMIT:g}, as the nodes (rescale the units)")
         lengths = np.hypot(*np.diff(points, axis=0).T)
         if (lengths <= 0).any():
             i = int(np.argmax(lengths <= 0))

@@ -144,9 +144,10 @@ def _first_per_owner(owner, key, n):
 
 
 def _obstacle_normals(curve, t):
-    """Unit normals of the obstacle at ``t`` (and the tangent lengths)."""
+    """Unit normals of the obstacle at ``t`` (and the tangent lengths; by
+    hypot, so that a fast parametrisation, y = 1e300·t, has a tangent)."""
     tangent = curve.derivative(t)
-    length = np.linalg.norm(tangent, axis=-1)
+    length = np.hypot(tangent[..., 0], tangent[..., 1])
     with np.errstate(all="ignore"):
         normal = np.stack([tangent[..., 1], -tangent[..., 0]], axis=-1) \
             / length[..., None]

@@ -13,10 +13,12 @@ import math
 import numpy as np
 
 from ...errors import ProblemError
+from ..checks import COORDINATE_LIMIT
 from ..curves import GapError
 
 __all__ = ["Surface", "GapError", "spec_fields", "spec_vector",
-           "spec_number", "as_points", "as_directions", "fail"]
+           "spec_number", "check_limit", "as_points", "as_directions",
+           "fail"]
 
 
 def spec_fields(spec, kind, required, optional=()):
@@ -33,8 +35,10 @@ def spec_fields(spec, kind, required, optional=()):
                                f"{', '.join(required)})")
 
 
-def spec_vector(spec, field, length=3):
-    """``spec[field]`` as a finite float vector of ``length`` entries."""
+def spec_vector(spec, field, length=3, limit=COORDINATE_LIMIT):
+    """``spec[field]`` as a finite float vector of ``length`` entries, each
+    of magnitude at most ``limit`` (None: any finite value, e.g. for a
+    direction)."""
     value = spec[field]
     try:
         array = np.array(value, dtype=float)
@@ -44,11 +48,12 @@ def spec_vector(spec, field, length=3):
             not np.isfinite(array).all():
         raise ProblemError(f"surface {field}: need {length} finite numbers, "
                            f"got {value!r}"[:200])
+    check_limit(field, np.abs(array).max(), limit)
     return array
 
 
-def spec_number(spec, field):
-    """``spec[field]`` as a finite float."""
+def spec_number(spec, field, limit=COORDINATE_LIMIT):
+    """``spec[field]`` as a finite float of magnitude at most ``limit``."""
     value = spec[field]
     try:
         number = float(value)
@@ -57,7 +62,18 @@ def spec_number(spec, field):
     if isinstance(value, bool) or not math.isfinite(number):
         raise ProblemError(f"surface {field}: need a finite number, got "
                            f"{value!r}"[:200])
+    check_limit(field, abs(number), limit)
     return number
+
+
+def check_limit(field, magnitude, limit):
+    """Coordinates and lengths beyond :data:`COORDINATE_LIMIT` make gaps
+    and squared distances overflow (a sphere of radius 1e300 had an
+    infinite gap and a zero normal)."""
+    if limit is not None and magnitude > limit:
+        raise ProblemError(f"surface {field}: {magnitude:g} is out of the "
+                           f"supported range (at most {limit:g} in "
+                           "magnitude, as the nodes; rescale the units)")
 
 
 def as_points(points, name="points"):

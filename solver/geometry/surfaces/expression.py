@@ -17,6 +17,7 @@ import numpy as np
 import sympy
 
 from ...errors import ExpressionError
+from ..curves.parametric import check_derivative
 from ..expression import MAX_DERIVATIVE_NODES, _size, parse_expression
 
 __all__ = ["SurfaceMap"]
@@ -74,11 +75,16 @@ class SurfaceMap:
                                  ((0, 2), (0, 1), 1)):
             derivatives[key] = [sympy.diff(e, symbols[sym])
                                 for e in derivatives[parent]]
-            for field, d in zip(fields, derivatives[key]):
+            for field, text, d in zip(fields, texts, derivatives[key]):
                 if _size(d, MAX_DERIVATIVE_NODES) > MAX_DERIVATIVE_NODES:
                     raise ExpressionError(
                         f"surface {field}: too complex (a derivative has "
                         f"more than {MAX_DERIVATIVE_NODES} terms)")
+                try:  # the Newton searches evaluate all of them
+                    check_derivative(d, text, symbols[0])
+                except ExpressionError as exc:
+                    raise ExpressionError(f"surface {field}: {exc}") \
+                        from None
         self.variables = tuple(variables)
         self.exprs = exprs
         self._functions = {key: [_lambdify(e, symbols) for e in value]

@@ -11,9 +11,10 @@ the body) is :math:`c_s \times c_t / |c_s \times c_t|`; for a graph this is
 import numpy as np
 
 from ...errors import ExpressionError, ProblemError, SolverError
+from ..checks import COORDINATE_LIMIT
 from ..curves.parametric import check_interval
-from .base import (Surface, as_directions, as_points, fail,
-                           spec_fields)
+from .base import (Surface, as_directions, as_points, check_limit, fail,
+                   spec_fields)
 from .expression import SurfaceMap
 from .search import (CANDIDATES, DEFAULT_SAMPLES, closest_points,
                              grid_start, local_grid_start, ray_hits)
@@ -90,6 +91,12 @@ class _MapSurface(Surface):
             return np.zeros(0), np.zeros((0, 3)), np.zeros((0, 3))
         u, lower, upper = self._closest(points)
         foot = self.map.point(u[:, 0], u[:, 1])
+        with np.errstate(invalid="ignore"):
+            far = ~(np.abs(foot) <= COORDINATE_LIMIT).all(axis=1)
+        if far.any():
+            fail(far, points, "the nearest obstacle point is not finite or "
+                 "out of the supported range |x|, |y|, |z| <= "
+                 f"{COORDINATE_LIMIT:g}")
         normal = self._frame(u, points)
         if self._off_edge(u, points, lower, upper).any():
             fail(self._off_edge(u, points, lower, upper), points,
@@ -125,7 +132,8 @@ class _MapSurface(Surface):
 
 
 class ParametricSurface(_MapSurface):
-    """:math:`c(s, t)`, ``s`` in ``s_range``, ``t`` in ``t_range``.
+    """:math:`c(s, t)`, ``s`` in ``s_range``, ``t`` in ``t_range`` (finite,
+    within :data:`~solver.geometry.checks.COORDINATE_LIMIT`).
 
     ``samples`` × ``samples`` grid points of the box give the Newton starts.
     """
@@ -141,6 +149,7 @@ class ParametricSurface(_MapSurface):
                 ranges.append(check_interval(f"surface {name}", value))
             except ExpressionError as exc:
                 raise ProblemError(str(exc)) from None
+            check_limit(name, max(map(abs, ranges[-1])), COORDINATE_LIMIT)
         self.s_range, self.t_range = ranges
         self.lower = np.array([self.s_range[0], self.t_range[0]])
         self.upper = np.array([self.s_range[1], self.t_range[1]])
@@ -195,6 +204,10 @@ class GraphSurface(_MapSurface):
         if not np.isfinite(h).all():
             fail(~np.isfinite(h), points, "the obstacle height h(x, y) is "
                  "not finite below the node")
+        if (np.abs(h) > COORDINATE_LIMIT).any():  # squared distances
+            fail(np.abs(h) > COORDINATE_LIMIT, points, "the obstacle height "
+                 f"h(x, y) below the node is out of the supported range "
+                 f"|z| <= {COORDINATE_LIMIT:g}")
         v = np.abs(points[:, 2] - h)
         v = v * (1 + 1e-12) + 1e-300
         lower, upper = points[:, :2] - v[:, None], points[:, :2] + v[:, None]

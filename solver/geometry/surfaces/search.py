@@ -34,6 +34,7 @@ cases.
 import numpy as np
 from scipy.spatial import cKDTree
 
+from ..checks import COORDINATE_LIMIT
 from ..curves import GapError
 
 __all__ = ["DEFAULT_SAMPLES", "grid_start", "local_grid_start",
@@ -56,14 +57,20 @@ _MAX_HALVINGS = 40
 def grid_start(surface_map, points, lower, upper, samples=DEFAULT_SAMPLES,
                k=CANDIDATES):
     """The ``k`` grid points of the box [lower, upper] (``samples`` per
-    parameter) nearest to each point, nearest first: starts (m, k, 2)."""
+    parameter) nearest to each point, nearest first: starts (m, k, 2).
+    Samples that are not finite or lie beyond
+    :data:`~solver.geometry.checks.COORDINATE_LIMIT` (where squared
+    distances overflow) are no starts."""
     s, t = (np.linspace(lower[i], upper[i], samples) for i in (0, 1))
     S, T = (a.ravel() for a in np.meshgrid(s, t, indexing="ij"))
     cloud = surface_map.point(S, T)
-    good = np.isfinite(cloud).all(axis=1)
+    with np.errstate(invalid="ignore"):
+        good = (np.abs(cloud) <= COORDINATE_LIMIT).all(axis=1)  # finite too
     if not good.any():
-        raise GapError("the obstacle surface is not finite at any sample of "
-                       "its parameter box")
+        raise GapError("the obstacle surface is not finite, or out of the "
+                       f"supported range |x|, |y|, |z| <= "
+                       f"{COORDINATE_LIMIT:g}, at every sample of its "
+                       "parameter box")
     _, nearest = cKDTree(cloud[good]).query(points, k=min(k, good.sum()))
     nearest = nearest.reshape(len(points), -1)
     nearest = np.pad(nearest, ((0, 0), (0, k - nearest.shape[1])), "edge")

@@ -16,18 +16,27 @@ MIN_COSINE = 1e-3
 
 class PlaneSurface(Surface):
     r"""The half-space :math:`(y - p)\cdot n \le 0`; *n* (normalised here)
-    points out of the obstacle, towards the body."""
+    points out of the obstacle, towards the body.
+
+    ``point`` is a place, within
+    :data:`~solver.geometry.checks.COORDINATE_LIMIT`; ``normal`` only a
+    direction, any finite non-zero vector: it is divided by its largest
+    |component| before its length is taken, so that (0, 0, 1e308) and
+    (0, 0, 1e-320), whose squares overflow or underflow, are the direction
+    (0, 0, 1).
+    """
 
     kind = "plane"
 
     def __init__(self, point, normal):
         spec = {"point": point, "normal": normal}
         self.point = spec_vector(spec, "point")
-        self._normal_given = spec_vector(spec, "normal")
-        length = np.linalg.norm(self._normal_given)
-        if not length > 0:
+        self._normal_given = spec_vector(spec, "normal", limit=None)
+        top = np.abs(self._normal_given).max()
+        if not top > 0:
             raise ProblemError("surface normal: must be non-zero")
-        self.normal = self._normal_given / length
+        direction = self._normal_given / top
+        self.normal = direction / np.linalg.norm(direction)
 
     @classmethod
     def from_spec(cls, spec):
@@ -56,7 +65,9 @@ class PlaneSurface(Surface):
 
 
 class SphereSurface(Surface):
-    """The ball of centre ``center`` and radius ``radius`` > 0."""
+    """The ball of centre ``center`` and radius ``radius`` > 0, both within
+    :data:`~solver.geometry.checks.COORDINATE_LIMIT` (the distances
+    :math:`|x - c|` would overflow beyond it)."""
 
     kind = "sphere"
 

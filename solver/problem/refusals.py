@@ -1,0 +1,117 @@
+"""What a solve would refuse in a loaded problem, found without solving.
+
+Loading checks every key, but two input errors only show when a solve
+starts: a K that is not positive definite (a floating body: every
+Dirichlet condition removed) and an obstacle whose gaps cannot be found
+at the contact nodes (a normal line that misses it, a surface out of
+range where the body is). :func:`refusals` runs exactly those checks, so
+that ``python -m solver X.npz --info`` says what the solve would refuse
+instead of exiting 0:
+
+* K positive definite: :meth:`ContactProblem.check_stiffness`, one sparse
+  factorisation with the pivot test every solver applies;
+* the gaps and normals of the obstacle (thesis §2.1) in the solve's gap
+  mode at every contact node that can take part (every node with a free
+  DOF, as a frictionless solve takes them; a 2D friction run leaves out
+  the nodes with a Dirichlet component), by the geometry functions the
+  solvers call (:func:`solver.geometry.curves.gap_from_obstacle`,
+  :func:`~solver.geometry.curves.gap_along_normals`, the surface's
+  ``gap_along_obstacle_normal`` and ``gap_along_rays``). Cheap next to the
+  factorisation: one search over the contact nodes.
+
+A discrete problem carries its gaps, and a two-body problem's mortar gaps
+are computed by the solve; for both only K is checked.
+"""
+
+import numpy as np
+
+from ..errors import SolverError
+
+__all__ = ["GAP_MODES", "refusals", "checks_made"]
+
+#: The gap modes of the solvers (thesis §2.1.1 / §2.1.2).
+GAP_MODES = ("obstacle", "body")
+
+
+def checks_made(problem, gap="obstacle"):
+    """The names of the checks :func:`refusals` makes for ``problem``."""
+    made = ["K positive definite"]
+    if _has_obstacle(problem):
+        made.append(f"gaps from the {gap} at "
+                    f"{len(_candidates(problem))} contact nodes")
+    return made
+
+
+def refusals(problem, gap="obstacle"):
+    """The one-line reasons for which a solve of ``problem`` would stop
+    before iterating (empty: it would start).
+
+    Parameters
+    ----------
+    problem : ContactProblem
+        A validated problem (from :func:`~solver.problem.load_problem`).
+    gap : {"obstacle", "body"}
+        The gap mode of the solve (``--gap``).
+
+    Returns
+    -------
+    list of str
+        Each as the solve would print it after ``error:``.
+    """
+    if gap not in GAP_MODES:
+        raise SolverError(f"gap mode must be one of {GAP_MODES}, got {gap!r}")
+    found = []
+    try:
+        problem.check_stiffness()
+    except SolverError as exc:
+        found.append(_one_line(exc))
+    if _has_obstacle(problem):
+        try:
+            _gaps(problem, gap)
+        except SolverError as exc:
+            found.append(_one_line(exc))
+    return found
+
+
+def _one_line(exc):
+    return " ".join(str(exc).split())
+
+
+def _has_obstacle(problem):
+    return problem.kind == "mesh" and problem.obstacle is not None \
+        and not problem.is_mortar
+
+
+def _candidates(problem):
+    """Positions along Γc of the contact nodes with a free DOF."""
+    return np.flatnonzero(~(problem.contact_dofs < 0).all(axis=1))
+
+
+def _gaps(problem, gap):
+    """The gaps and normals of the candidates (raises what the solve
+    raises: GapError, GeometryError, SolverError)."""
+    index = _candidates(problem)
+    ids = problem.contact_nodes[index]
+    points = problem.nodes[ids]
+    if problem.dim == 3:
+        surface = problem.obstacle
+        if isinstance(surface, dict):  # a spec not yet made a surface
+            from ..geometry.surfaces import surface_from_spec
+
+            surface = surface_from_spec(surface)
+        if gap == "obstacle":
+            return surface.gap_along_obstacle_normal(points)
+        from ..geometry.surfaces.normals import surface_normals
+
+        normal = surface_normals(problem.nodes, problem.contact_faces,
+                                 problem.contact_nodes)[index]
+        return surface.gap_along_rays(points, normal)
+    from ..geometry.curves import gap_along_normals, gap_from_obstacle
+    from ..geometry.curves.normals import boundary_normals
+
+    body = boundary_normals(problem.nodes, problem.cells,
+                            problem.contact_nodes)[index]
+    if gap == "obstacle":
+        return gap_from_obstacle(points, problem.obstacle, body,
+                                 node_ids=ids)
+    return gap_along_normals(points, body, problem.obstacle, node_ids=ids)
