@@ -37,9 +37,9 @@ pytestmark = pytest.mark.skipif(REASON is not None, reason=str(REASON))
 
 MPIEXEC = ["mpiexec", "--allow-run-as-root", "--oversubscribe", "-n", "2"]
 
-#: Seconds from the signal to the end of ``mpiexec``: measured 2.0-2.9 s
-#: (Open MPI's own two seconds, the outputs take < 0.1 s); the margin is
-#: for a loaded machine.
+#: Seconds from the signal to the end of ``mpiexec``: Open MPI's own two
+#: seconds of timers and the writing (docs/mpi.md has the measurements),
+#: with a margin for a loaded machine; far below the 60 s abort.
 WITHIN = 15.0
 
 
