@@ -49,7 +49,17 @@ class Interrupted(BaseException):
         self.signum = signum
 
 
+#: The signals that stop a run (exit code 128 + the signal's number).
+STOP_SIGNALS = (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)
+
+
 def _raise_interrupted(signum, frame):
+    """Stop the run, once: the signals that follow are ignored, so that a
+    second one (Ctrl-C pressed again, a second ``kill``) cannot cut short
+    the writing of the completed work, which may still need the ranks of
+    the petsc engine (the last friction steps' displacements)."""
+    for stop in STOP_SIGNALS:
+        signal.signal(stop, signal.SIG_IGN)
     raise Interrupted(signum)
 
 
@@ -66,7 +76,7 @@ def _show_warning(message, category, filename, lineno, file=None,
 def _setup(args):
     """Signals become exceptions (so that the run can mark its outputs);
     a file-size limit gives an error, not a kill; warnings one line each."""
-    for signum in (signal.SIGTERM, signal.SIGHUP):
+    for signum in STOP_SIGNALS:
         signal.signal(signum, _raise_interrupted)
     if hasattr(signal, "SIGXFSZ"):
         signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
@@ -116,7 +126,7 @@ def _guarded(args):
         except KeyboardInterrupt:
             raise Interrupted(signal.SIGINT) from None
     except Interrupted as exc:
-        for signum in (signal.SIGINT, signal.SIGTERM, signal.SIGHUP):
+        for signum in STOP_SIGNALS:
             signal.signal(signum, signal.SIG_IGN)  # finish the marking
         _finish(state, "interrupted", f"interrupted by {exc}")
         print(f"error: interrupted by {exc}"

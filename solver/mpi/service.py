@@ -13,15 +13,27 @@ rank that failed while the others are stuck in one of PETSc's collective
 calls aborts them all after :data:`ABORT_AFTER` s. ``stop`` ends the
 workers with rank 0's exit code; a worker that loses rank 0 aborts the
 communicator (no hang).
+
+Signals (:data:`STOP_SIGNALS`: SIGINT, SIGTERM, SIGHUP) never cut a command
+short: rank 0 holds back one that arrives during a command and delivers it
+to its own handler once every rank has finished the command, so that the
+workers are waiting for the next command and ``stop`` reaches them at
+once. A worker does not die of such a signal (``mpiexec`` signals every
+rank, and a rank that dies makes it kill the others at once, rank 0 before
+it has written its outputs): it reports the signal with the command it is
+in, or with the next one, and rank 0 then acts on it as if it had received
+it itself.
 """
 
+import signal
 import sys
+import threading
 import time
 
 from ..errors import ProblemError, SolverError
 
 __all__ = ["EngineError", "EngineInputError", "Service", "command",
-           "HANDLERS", "memory_mb"]
+           "HANDLERS", "memory_mb", "STOP_SIGNALS"]
 
 #: name -> handler(service, payload, local); filled by :func:`command`.
 HANDLERS = {}
@@ -32,6 +44,11 @@ TAG, POLL = 2020, 1e-3
 #: Seconds a rank whose command failed waits for the others before it
 #: aborts every rank (:meth:`Service._rendezvous`).
 ABORT_AFTER = 60.0
+
+#: The signals that stop a run (the command line's exit codes 130, 143,
+#: 129); held back during a command (:class:`_HeldSignals`).
+STOP_SIGNALS = tuple(getattr(signal, name) for name in (
+    "SIGINT", "SIGTERM", "SIGHUP") if hasattr(signal, name))
 
 
 def memory_mb():
@@ -68,6 +85,40 @@ def command(name):
     return register
 
 
+class _HeldSignals:
+    """While active, :data:`STOP_SIGNALS` are recorded instead of handled
+    (those not ignored); :meth:`release` puts the previous handlers back
+    and returns the first signal recorded (or None). Python runs signal
+    handlers in the main thread only, so elsewhere it holds nothing."""
+
+    def __init__(self):
+        self.received, self.saved = [], {}
+
+    def hold(self):
+        if threading.current_thread() is not threading.main_thread():
+            return self
+        for signum in STOP_SIGNALS:
+            previous = signal.getsignal(signum)
+            if previous is not signal.SIG_IGN and previous is not None:
+                self.saved[signum] = signal.signal(signum, self._record)
+        return self
+
+    def _record(self, signum, frame):
+        self.received.append(signum)
+
+    def pop(self):
+        """The first signal recorded since the last pop (or None)."""
+        first = self.received[0] if self.received else None
+        self.received.clear()
+        return first
+
+    def release(self):
+        for signum, handler in self.saved.items():
+            signal.signal(signum, handler)
+        self.saved = {}
+        return self.pop()
+
+
 class Service:
     """The communicator, the objects the commands keep between calls
     (``objects``: name -> distributed matrix, KSP, ...) and per-command
@@ -84,6 +135,8 @@ class Service:
         self.rank, self.size = self.comm.Get_rank(), self.comm.Get_size()
         self.objects, self.timings, self.memory = {}, {}, {}
         self._sync = None
+        self._signals = _HeldSignals()  # a worker's, held while it serves
+        self._reported = None  # a stop signal a worker reported to rank 0
 
     def mark(self, stage):
         """Record this rank's memory after ``stage`` (:attr:`memory`)."""
@@ -96,9 +149,21 @@ class Service:
     def call(self, name, payload=None, local=None):
         """(rank 0) Run command ``name`` on every rank; ``local`` is rank
         0's large data, passed to its handler only. Returns rank 0's
-        result; raises :class:`EngineError` if any rank failed."""
-        self._send((name, payload))
-        return self._run(name, payload, local)
+        result; raises :class:`EngineError` if any rank failed. A stop
+        signal that rank 0 receives, or a worker reports, during the
+        command reaches rank 0's handler when the command has ended on
+        every rank (an exception from the handler, e.g. the command
+        line's ``Interrupted``, then comes from here)."""
+        held = _HeldSignals().hold()
+        try:
+            self._send((name, payload))
+            return self._run(name, payload, local)
+        finally:
+            signum = held.release()
+            signum = signum or self._reported
+            self._reported = None
+            if signum is not None:
+                signal.raise_signal(signum)
 
     def _send(self, message):
         """Rank 0's command to every worker (point to point, tag
@@ -131,8 +196,10 @@ class Service:
         entry[2] += time.process_time() - cpu
         self.mark(name)
         self._rendezvous(name, error)
-        errors = self.comm.gather(error, root=0)
+        statuses = self.comm.gather((error, self._signals.pop()), root=0)
         if self.root:
+            errors = [e for e, _ in statuses]
+            self._reported = next((s for _, s in statuses if s), None)
             failed = [(r, e) for r, e in enumerate(errors) if e]
             if failed:
                 rank, (bad_input, text) = failed[0]
@@ -167,7 +234,10 @@ class Service:
             wait = min(2 * wait, POLL)
 
     def serve(self):
-        """(ranks > 0) Run commands until ``stop``; return its exit code."""
+        """(ranks > 0) Run commands until ``stop``; return its exit code.
+        A stop signal meanwhile is reported to rank 0 with the current or
+        next command (rank 0 decides), not acted on here."""
+        self._signals.hold()
         try:
             while True:
                 name, payload = self._receive()
@@ -179,6 +249,8 @@ class Service:
                   file=sys.stderr)
             self.comm.Abort(1)
             raise
+        finally:
+            self._signals.release()
 
     def stop(self, code):
         """(rank 0) End the workers with exit code ``code``."""

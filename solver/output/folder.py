@@ -121,7 +121,11 @@ class OutputFolder:
 
     def clear_stale(self):
         """Remove an earlier run's outputs (only names a run of ours
-        writes), so that nothing unlisted is left beside this run's."""
+        writes), so that nothing unlisted is left beside this run's, and
+        the temporary files of a run that was killed before it could
+        remove them (``kill -9``; ``mpiexec`` kills too when its grace
+        after SIGTERM ends): the lock says that no run writes them now."""
+        self.sweep_temporaries()
         for name in self._ours():
             path = os.path.join(self.path, name)
             if os.path.isfile(path) or os.path.islink(path):

@@ -292,3 +292,51 @@ def test_load_path_with_too_many_steps(block, tmp_path, capsys):
 
     with pytest.raises(Exception, match=f"at most {MAX_LOAD_STEPS}"):
         solve(problem, friction=0.3, method="min")
+
+
+def test_a_second_signal_cannot_cut_the_finish_short():
+    """The first SIGINT, SIGTERM or SIGHUP stops the run; the ones after it
+    are ignored until the run has written its outputs (the handlers the
+    caller had come back when it returns). Before, Ctrl-C stayed Python's
+    KeyboardInterrupt and any signal during the finish raised again."""
+    import importlib
+    import warnings
+    from types import SimpleNamespace
+
+    run = importlib.import_module("solver.cli.run")
+    stops = (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)
+    saved = {s: signal.getsignal(s) for s in stops}
+    try:
+        for signum in stops:
+            with warnings.catch_warnings():
+                run._setup(SimpleNamespace(verbose=True))
+            with pytest.raises(run.Interrupted) as caught:
+                signal.raise_signal(signum)
+            assert caught.value.signum == signum
+            assert all(signal.getsignal(s) is signal.SIG_IGN for s in stops)
+            signal.raise_signal(signal.SIGTERM)  # ignored: nothing raised
+    finally:
+        for signum, handler in saved.items():
+            signal.signal(signum, handler)
+
+
+def test_temporaries_of_a_killed_run_are_removed(block, tmp_path):
+    """A run killed with SIGKILL (``kill -9``, or ``mpiexec`` when its
+    grace after SIGTERM ends) leaves its scratch folder and temporary
+    files; the next run into the folder (which it holds locked) removes
+    them, and keeps files that are not ours."""
+    out = tmp_path / "killed"
+    (out / ".tmp-steps-x1y2").mkdir(parents=True)
+    (out / ".tmp-steps-x1y2" / "u.npy").write_bytes(b"\x93NUMPY")
+    (out / ".tmp-abc123.npz").write_bytes(b"PK")
+    (out / "steps").mkdir()
+    (out / "steps" / ".tmp-def456.vtu").write_text("<VTKFile")
+    (out / "notes.txt").write_text("mine")
+    (out / "summary.json").write_text(json.dumps({"status": "running"}))
+    assert main([block, "--friction", "0.3", "--steps", "3",
+                 "--formulation", "projection", "-o", str(out)]) == 0
+    files = listing(out)
+    assert "notes.txt" in files
+    files.remove("notes.txt")
+    assert not [f for f in files if "/." in "/" + f], files
+    assert sorted(summary(out)["files"]) == files
