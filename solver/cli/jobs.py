@@ -103,35 +103,16 @@ def frictionless(args, problem, open_folder, emit, write_summary):
 
 def _figures(folder, problem, result):
     """``--plots`` of a frictionless solve: the thesis's figures in 2D; in
-    3D the convergence and the pressure against the radius, with Hertz's
-    profile when the problem's meta names R, E and nu (a Hertz export)."""
+    3D the convergence and the pressure against the radius, with the Hertz
+    profile that :func:`solver.output.hertz_reference.hertz_reference`
+    finds for the problem (or none, and why)."""
     if getattr(problem, "dim", 2) == 2:
         from ..output.figures import write_figures
 
         return write_figures(folder, problem, result)
     from ..output.figures3d import write_figures3d
 
-    center = (problem.meta or {}).get("contact_center")
-    return write_figures3d(folder, problem, result,
-                           *_hertz_reference(problem, result), center=center)
-
-
-def _hertz_reference(problem, result):
-    """(a, p0) of Hertz's point contact for the total contact force of the
-    solve (×4 for a quarter model), or (None, None) without R, E, nu."""
-    import numpy as np
-
-    from ..verification import hertz_point_contact
-
-    meta = problem.meta or {}
-    if not all(isinstance(meta.get(k), (int, float)) for k in ("R", "E",
-                                                                 "nu")):
-        return None, None
-    force = np.nansum(np.asarray(result.contact_force, float))
-    if force <= 0:
-        return None, None
-    return hertz_point_contact(force * (4 if meta.get("quarter") else 1),
-                               meta["R"], meta["E"], meta["nu"])
+    return write_figures3d(folder, problem, result)
 
 
 class Progress:
