@@ -215,10 +215,17 @@ def plot_deformed(problem, result, scale=None, path=None, title=None):
 
 
 def plot_displacement_arrows(problem, result, path=None):
-    """Undeformed body with displacement directions (thesis Fig. 4, right)."""
+    """Undeformed body with displacement directions (thesis Fig. 4, right),
+    on a figure shaped like the body (the thesis block is tall, the Hertz
+    half-cylinder wide), so that the colour bar is as tall as the body."""
     plt = _pyplot()
     u = result.displacement
-    fig, ax = plt.subplots(figsize=(5, 7), layout="constrained")
+    width, height = np.ptp(problem.nodes, axis=0)
+    if height >= width:
+        size = (5, 7)
+    else:
+        size = (8, float(np.clip(6.5 * height / width + 1.3, 3.2, 7)))
+    fig, ax = plt.subplots(figsize=size, layout="constrained")
     ax.triplot(problem.nodes[:, 0], problem.nodes[:, 1], problem.cells,
                color="0.75", lw=0.5)
     q = ax.quiver(problem.nodes[:, 0], problem.nodes[:, 1], u[:, 0], u[:, 1],
