@@ -174,3 +174,12 @@ def test_a_2d_problem_gets_no_point_contact_curve(exported):
     problem = load_problem(exported(118)[0])
     ref = hertz_reference(problem, solve_frictionless(problem))
     assert not ref.drawn and "3D" in ref.note
+
+
+def test_a_result_without_gaps_gets_no_curve(sphere):
+    """A result that carries no gaps (an engine that does not return
+    them) gets no curve and the note names what is missing."""
+    _, problem, result = sphere
+    partial = {k: v for k, v in result.items() if k != "gap"}
+    ref = hertz_reference(problem, partial)
+    assert not ref.drawn and ref.note.endswith("has no gap")

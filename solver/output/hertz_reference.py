@@ -267,6 +267,11 @@ def hertz_reference(problem, result):
         return HertzReference(note="no Hertz curve: Hertz's point contact "
                                    "needs a 3D problem")
     meta = dict(problem.meta or {})
+    missing = [k for k in ("gap", "normal", "contact_force")
+               if _field(result, k) is None]
+    if missing:
+        return HertzReference(note="no Hertz curve: the result has no "
+                                   + ", ".join(missing))
     normal = np.asarray(_field(result, "normal"), float)
     planes = symmetry_planes(problem, normal)
     copies = 2 ** len(planes)
