@@ -52,12 +52,12 @@ def main():
         block, r, FIGURES / "frictionless_pressure.png"))
     bar = two_dof_bar()
     for fc, name in ((10.0, "10"), (0.5, "0.5")):
-        r = solve_friction(bar, fc, steps=100)
+        r = solve_friction(bar, fc, steps=100, formulation="thesis")
         exact = np.array([two_dof_bar_closed_form(k, fc)
                           for k in range(1, 101)])
         plt.close(friction_figures.plot_step_history(
             bar, r, reference=exact, path=FIGURES / f"bar_fc{name}.png"))
-    r = solve_friction(block, 0.3, steps=100)
+    r = solve_friction(block, 0.3, steps=100, formulation="thesis")
     plt.close(friction_figures.plot_friction_along_boundary(
         block, r, path=FIGURES / "friction_tractions_fc0.3.png"))
     last = SimpleNamespace(displacement=r.displacement[-1],

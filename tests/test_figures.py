@@ -1,7 +1,9 @@
 """Figures: each one is rendered to a PNG and checked for what it must show
-— the magnification it states, the non-negative pressure first, the step
-halvings, the closed form on top — and that no legend covers data and no
-two panels' labels and ticks collide."""
+— the magnification it states, the obstacle magnified with the body, the
+non-negative pressure first, the zoom onto the contact zone, the step
+halvings, the closed form on top, the nodes that carry friction and no
+round-off drawn as data — and that no legend covers data or an axis label,
+no two panels' labels and ticks collide and every axis has its unit."""
 
 import re
 from types import SimpleNamespace
@@ -43,20 +45,35 @@ def _render(fig, tmp_path, name="figure.png"):
 
 def _data_points(ax):
     """Display coordinates of every drawn data point of ``ax``'s lines
-    (horizontal reference lines excluded)."""
+    (horizontal reference lines excluded; points outside the axes' limits
+    are clipped, not drawn)."""
     points = []
     for line in ax.lines:
         xy = np.column_stack([line.get_xdata(), line.get_ydata()])
         xy = xy[np.all(np.isfinite(xy.astype(float)), axis=1)]
         if len(xy) and line.get_transform() is ax.transData:
             points.append(ax.transData.transform(xy.astype(float)))
-    return np.vstack(points) if points else np.empty((0, 2))
+    if not points:
+        return np.empty((0, 2))
+    points = np.vstack(points)
+    frame = ax.get_window_extent()
+    shown = ((points[:, 0] >= frame.x0) & (points[:, 0] <= frame.x1)
+             & (points[:, 1] >= frame.y0) & (points[:, 1] <= frame.y1))
+    return points[shown]
+
+
+def _legends(fig):
+    """Every legend of ``fig``: of its axes, of the figure and of its
+    subfigures."""
+    found = [ax.get_legend() for ax in fig.axes] + list(fig.legends)
+    for sub in fig.subfigs:
+        found += _legends(sub)
+    return [legend for legend in found if legend is not None]
 
 
 def _assert_legends_clear_of_data(fig):
     for ax in fig.axes:
-        legends = [ax.get_legend()] + list(fig.legends)
-        for legend in filter(None, legends):
+        for legend in _legends(fig):
             box = legend.get_window_extent()
             for other in fig.axes:
                 pts = _data_points(other)
@@ -65,6 +82,30 @@ def _assert_legends_clear_of_data(fig):
                 assert not inside.any(), (
                     f"legend {legend.get_texts()[0].get_text()!r} covers "
                     f"{inside.sum()} data points")
+
+
+def _assert_legends_clear_of_labels(fig):
+    """No legend overlaps an axis label (the x label under a panel)."""
+    renderer = fig.canvas.get_renderer()
+    for legend in _legends(fig):
+        box = legend.get_window_extent(renderer)
+        for ax in fig.axes:
+            for label in (ax.xaxis.label, ax.yaxis.label):
+                if label.get_text():
+                    other = label.get_window_extent(renderer)
+                    assert not box.overlaps(other), (
+                        f"legend covers the label {label.get_text()!r}")
+
+
+def _assert_no_offset(fig):
+    """No axis shows an additive offset (the "1e−29+1.4e−17" of round-off
+    drawn as data); a power-of-ten multiplier is fine."""
+    fig.canvas.draw()
+    for ax in fig.axes:
+        for axis in (ax.xaxis, ax.yaxis):
+            formatter = axis.get_major_formatter()
+            assert getattr(formatter, "offset", 0) == 0, \
+                (ax.get_title(), formatter.get_offset())
 
 
 def _assert_panels_apart(fig):
@@ -109,6 +150,27 @@ def test_magnification_never_shrinks_large_displacements():
     assert figures.magnification(body, np.zeros((2, 2))) == 1
 
 
+def _line(ax, prefix):
+    """The line of ``ax`` whose label starts with ``prefix``."""
+    return next(line for line in ax.lines
+                if line.get_label().startswith(prefix))
+
+
+def _distance_to_polyline(points, polyline):
+    """Distance of each point from the polyline (NaN rows break it),
+    written out here: the nearest point of each segment, clamped."""
+    best = np.full(len(points), np.inf)
+    for piece in np.split(polyline, np.flatnonzero(
+            np.isnan(polyline[:, 0]))):
+        piece = piece[np.isfinite(piece[:, 0])]
+        for a, b in zip(piece[:-1], piece[1:]):
+            d = b - a
+            t = np.clip((points - a) @ d / (d @ d), 0, 1)
+            best = np.minimum(best, np.hypot(*(points - a - t[:, None]
+                                               * d).T))
+    return best
+
+
 def test_deformed_figure_states_and_applies_its_factor(block, full_solves,
                                                        tmp_path):
     r = full_solves["min"]
@@ -122,22 +184,86 @@ def test_deformed_figure_states_and_applies_its_factor(block, full_solves,
     assert factor > 1
     assert 0.05 <= factor * largest / size <= 0.2
     # the starred contact nodes are drawn magnified by that factor
-    stars = next(line for line in body.lines
-                 if line.get_label().startswith("in contact"))
+    stars = _line(body, "in contact")
     nodes = block.contact_nodes[r.in_contact]
     expected = block.nodes[nodes] + factor * r.displacement[nodes]
     assert np.allclose(np.column_stack(stars.get_data()), expected)
-    assert any("not magnified" in t.get_text()
-               for t in body.get_legend().get_texts())
+    texts = [t.get_text() for legend in _legends(fig)
+             for t in legend.get_texts()]
+    assert any("true position" in t for t in texts)
+    assert any(f"moved with Γc × {factor - 1:g}" in t for t in texts)
     # beside it, Γc at true scale: contact nodes on the obstacle's side
     zoom = fig.axes[1]
-    moved = next(line for line in zoom.lines
-                 if line.get_label().startswith("Γc deformed"))
+    moved = _line(zoom, "Γc deformed")
     gc = block.contact_nodes
     assert np.allclose(np.column_stack(moved.get_data()),
                        block.nodes[gc] + r.displacement[gc])
     _assert_legends_clear_of_data(fig)
+    _assert_legends_clear_of_labels(fig)
     _assert_panels_apart(fig)
+    _assert_units(fig)
+
+
+def test_deformed_figure_magnifies_the_gaps_with_the_body(block,
+                                                          full_solves):
+    """Drawn with the body at X + s·u, the moved obstacle keeps every gap
+    at its true length: the distance of each magnified Γc node from the
+    drawn obstacle equals the distance of the deformed node X + u from
+    the true obstacle (sampled here from the problem's curve) to 2 %, and
+    the nodes in contact lie on it. Left in place, the obstacle would be
+    crossed by (s − 1) times each node's displacement towards it."""
+    r = full_solves["min"]
+    fig = figures.plot_deformed(block, r)
+    body = fig.axes[0]
+    drawn = np.column_stack(_line(body, "Γo moved").get_data())
+    stars = np.column_stack(_line(body, "in contact").get_data())
+    factor = float(re.search(r"× ([0-9.e+-]+)", body.get_title()).group(1))
+    gc = block.contact_nodes
+    magnified = block.nodes[gc] + factor * r.displacement[gc]
+    deformed = block.nodes[gc] + r.displacement[gc]
+    true = block.obstacle.point(np.linspace(-15, 15, 30001))
+    true_gap = _distance_to_polyline(deformed, true)
+    drawn_gap = _distance_to_polyline(magnified, drawn)
+    size = np.ptp(block.nodes, axis=0).max()
+    # equal up to the moved curve's change of shape over a gap's length
+    assert np.all(np.abs(drawn_gap - true_gap) <= 0.02 * true_gap
+                  + 1e-4 * size)
+    assert _distance_to_polyline(stars, drawn).max() <= 1e-4 * size
+    # the obstacle at its true position is drawn too, over the body
+    true_drawn = np.column_stack(_line(body, "obstacle Γo, true").get_data())
+    y = true_drawn[np.isfinite(true_drawn[:, 1]), 1]
+    assert y.min() <= block.nodes[:, 1].min() and \
+        y.max() >= block.nodes[:, 1].max()
+
+
+@pytest.fixture(scope="module")
+def symmetric_block():
+    """The mirror-symmetric plane-strain block [−1, 1] × [0, 1] of
+    tests/test_rollers.py, pressed onto the parabola y = −κx²: the
+    obstacle is a graph over x, the body is wider than it is high, and
+    its node on the symmetry line x = 0 carries the largest contact force
+    but, by symmetry, no friction force and no u_x (both round-off)."""
+    from test_rollers import block_2d
+
+    return block_2d("whole")
+
+
+def test_deformed_figure_draws_the_obstacle_over_the_body(symmetric_block,
+                                                          tmp_path):
+    """The obstacle spans the body's width (before: the parameter window
+    was the body's y range, so x = t covered [−0.1, 1.1] of [−1, 1]), and
+    no legend covers an axis label of a wide, flat body."""
+    problem = symmetric_block
+    r = solve_frictionless(problem)
+    fig = figures.plot_deformed(problem, r)
+    _render(fig, tmp_path)
+    for prefix in ("obstacle Γo, true", "Γo moved"):
+        x = _line(fig.axes[0], prefix).get_xdata()
+        x = x[np.isfinite(x)]
+        assert x.min() <= problem.nodes[:, 0].min()
+        assert x.max() >= problem.nodes[:, 0].max()
+    _assert_legends_clear_of_labels(fig)
+    _assert_legends_clear_of_data(fig)
     _assert_units(fig)
 
 
@@ -171,6 +297,28 @@ def test_pressure_figure_leads_with_the_non_negative_nodal_pressure(
     assert "[MPa]" in ax.get_ylabel()
     assert ax.get_xlabel().startswith("arc length along Γc")
     _assert_legends_clear_of_data(fig)
+    _assert_units(fig)
+
+
+def test_pressure_figure_zooms_onto_the_contact_zone(block, full_solves,
+                                                   tmp_path):
+    """Four nodes in contact on a 20 mm Γc: the main panel shows the
+    contact zone and its open neighbours, under half of Γc, and a panel
+    below shows all of Γc (before: one panel over all 20 mm)."""
+    r = full_solves["min"]
+    fig = figures.plot_contact_pressure(block, r)
+    _render(fig, tmp_path)
+    assert len(fig.axes) == 2
+    main, whole = fig.axes
+    xy = block.nodes[block.contact_nodes]
+    arc = np.r_[0, np.cumsum(np.hypot(*np.diff(xy, axis=0).T))]
+    touching = arc[r.in_contact]
+    low, high = main.get_xlim()
+    assert low < touching.min() and touching.max() < high
+    assert high - low < 0.5 * arc[-1]
+    assert whole.get_xlim()[0] <= 0 and whole.get_xlim()[1] >= arc[-1]
+    _assert_legends_clear_of_data(fig)
+    _assert_panels_apart(fig)
     _assert_units(fig)
 
 
@@ -270,3 +418,147 @@ def test_friction_figures_of_a_mesh(block, tmp_path):
     _render(fig, tmp_path, "along.png")
     _assert_legends_clear_of_data(fig)
     _assert_units(fig)
+    # the tractions zoom onto the contact zone, all of Γc below
+    main, whole = fig.axes
+    xy = block.nodes[block.contact_nodes]
+    arc = np.r_[0, np.cumsum(np.hypot(*np.diff(xy, axis=0).T))]
+    touching = arc[r.in_contact[-1]]
+    low, high = main.get_xlim()
+    assert low < touching.min() and touching.max() < high
+    assert high - low < 0.5 * arc[-1] <= whole.get_xlim()[1]
+    _assert_panels_apart(fig)
+
+
+@pytest.fixture(scope="module")
+def symmetric_friction(symmetric_block):
+    r = solve_friction(symmetric_block, 0.3, steps=4)
+    assert r.success
+    return symmetric_block, r
+
+
+def _friction_force(problem, r):
+    """|D g_t| per step and node, D the row sums of M (written out here)."""
+    return np.abs(np.asarray(problem.M.sum(axis=1)).ravel()
+                  * r.friction_traction)
+
+
+def test_history_follows_nodes_that_carry_friction(symmetric_friction,
+                                                   tmp_path):
+    """On the symmetric block the node of largest contact force is the
+    one on the symmetry line, whose friction force is round-off (the
+    figure followed it before). The history follows the node of largest
+    friction force instead and draws its friction force. The two nodes
+    that slip carry no friction force (the lagged bound of their first
+    step in contact is 0), so no second node is added for contrast."""
+    problem, r = symmetric_friction
+    centre = int(np.argmax(r.contact_force[-1]))
+    x = problem.nodes[problem.contact_nodes, 0]
+    force = _friction_force(problem, r)
+    assert x[centre] == 0 and force[:, centre].max() < 1e-12 * force.max()
+    assert force[:, r.slip[-1]].max() < 1e-12 * force.max()
+    chosen = friction_figures.history_nodes(problem, r)
+    assert [n for n, _ in chosen] == [int(np.argmax(force.max(axis=0)))]
+    fig = friction_figures.plot_step_history(problem, r)
+    _render(fig, tmp_path)
+    drawn = [line.get_ydata() for line in fig.axes[1].lines]
+    assert max(np.abs(y).max() for y in drawn) == pytest.approx(force.max())
+    _assert_no_offset(fig)
+    _assert_legends_clear_of_data(fig)
+    _assert_panels_apart(fig)
+    _assert_units(fig)
+
+
+def test_history_nodes_contrast_stick_and_slip():
+    """The rule on a hand-made run of four nodes (M = I, so the friction
+    force is g_t): node 3 has the largest contact force but only
+    round-off friction; node 0 has the largest friction force and slips
+    at the end; of the nodes that stick, node 2 has the larger friction
+    force. The history follows 0, then 2; reversed states, 0 then the
+    largest slipping node."""
+    import scipy.sparse as sp
+
+    problem = SimpleNamespace(n_contact=4, M=sp.identity(4, format="csr"))
+    g = np.array([[0.0, 0.1, 0.2, 1e-15], [-1.0, 0.5, 0.8, -1e-15]])
+    run = SimpleNamespace(
+        friction_traction=g, contact_force=np.array([[1, 1, 1, 5.0]] * 2),
+        slip=np.array([[0, 0, 0, 0], [1, 0, 0, 0]], bool),
+        stick=np.array([[0, 0, 0, 0], [0, 1, 1, 1]], bool))
+    chosen = friction_figures.history_nodes(problem, run)
+    assert [n for n, _ in chosen] == [0, 2]
+    assert "slips" in chosen[0][1] and "sticks" in chosen[1][1]
+    run.slip, run.stick = (np.array([[0, 0, 0, 0], [0, 1, 1, 0]], bool),
+                           np.array([[0, 0, 0, 0], [1, 0, 0, 1]], bool))
+    assert [n for n, _ in friction_figures.history_nodes(problem, run)] \
+        == [0, 2]
+    run.friction_traction = np.zeros((2, 4))
+    assert [n for n, _ in friction_figures.history_nodes(problem, run)] \
+        == [3]
+
+
+def test_history_of_round_off_says_so(symmetric_friction, tmp_path):
+    """Asked for the symmetry-line node, the friction and u_x panels draw
+    exact zeros and say that the values were round-off, and no axis
+    carries an offset like "1e−29+1.4e−17"."""
+    problem, r = symmetric_friction
+    centre = int(np.argmax(r.contact_force[-1]))
+    u_x = r.displacement[:, problem.contact_nodes[centre], 0]
+    assert 0 < np.abs(u_x).max() < 1e-12 * np.abs(r.displacement).max()
+    fig = friction_figures.plot_step_history(problem, r, node=centre)
+    _render(fig, tmp_path)
+    panels = {ax.get_title(): ax for ax in fig.axes}
+    for title in ("Fig. 19: friction force", "Fig. 20: u_x"):
+        ax = panels[title]
+        assert np.all(ax.lines[0].get_ydata() == 0)
+        assert any("round-off" in t.get_text() for t in ax.texts)
+    assert not panels["Fig. 18: contact force"].texts
+    _assert_no_offset(fig)
+
+
+def test_history_in_3d_draws_the_friction_magnitude_and_u_z(tmp_path):
+    """A 3D run: |t| = D |g_t| (g_t is a vector in the tangent plane) and
+    u_x, u_y, u_z of nodes given by three coordinates."""
+    from test_rollers import block_3d
+
+    problem = block_3d("quarter", top=(0.02, 0.0, -0.05))
+    r = solve_friction(problem, 0.3, steps=4, formulation="projection")
+    assert r.success
+    fig = friction_figures.plot_step_history(problem, r)
+    _render(fig, tmp_path)
+    labels = [ax.get_ylabel() for ax in fig.axes]
+    assert labels[1].startswith("friction force |t|")
+    assert labels[2:] == ["u_x [mm]", "u_y [mm]", "u_z [mm]"]
+    chosen = friction_figures.history_nodes(problem, r)
+    force = np.linalg.norm(r.friction_traction, axis=2) * np.asarray(
+        problem.M.sum(axis=1)).ravel()
+    assert np.allclose(fig.axes[1].lines[0].get_ydata(),
+                       force[:, chosen[0][0]])
+    assert re.search(r"\(([-0-9.e]+, ){2}[-0-9.e]+\) mm",
+                     fig.legends[0].get_texts()[0].get_text()
+                     if fig.legends else fig._suptitle.get_text())
+    _assert_no_offset(fig)
+    _assert_panels_apart(fig)
+    _assert_units(fig)
+
+
+# --- two bodies ------------------------------------------------------------
+
+def test_two_body_figures_label_every_axis_with_its_unit(tmp_path):
+    """bodies.png and interface.png: x and y labelled on every panel, in
+    mm and MPa (before: no units, no labels on bodies.png)."""
+    from tri_elasticity import stacked_blocks
+
+    from solver.contact.two_body import solve_two_body
+    from solver.output import two_body
+
+    problem, _, _ = stacked_blocks(n_upper=(4, 2), n_lower=(9, 3),
+                                   materials=((1.0, 0.3), (3.0, 0.2)))
+    r = solve_two_body(problem)
+    for fig in (two_body.plot_bodies(problem, r),
+                two_body.plot_interface(problem, r)):
+        _render(fig, tmp_path)
+        for ax in fig.axes:
+            for text in (ax.get_xlabel(), ax.get_ylabel()):
+                assert re.search(r"\[(mm|MPa)\]$", text), text
+        _assert_units(fig)
+        _assert_legends_clear_of_data(fig)
+        _assert_panels_apart(fig)

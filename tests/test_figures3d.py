@@ -6,8 +6,8 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from solver.output.figures3d import (contact_radius, hertz_pressure,
-                                     plot_pressure_vs_radius,
+from solver.output.figures3d import (HertzReference, contact_radius,
+                                     hertz_pressure, plot_pressure_vs_radius,
                                      pressure_vs_radius, write_figures3d)
 
 
@@ -71,18 +71,41 @@ def test_contact_radius_finds_the_axis_of_a_quarter_contact():
 
 
 def test_write_figures3d(tmp_path):
+    """Given a reference (the tilted disc's own centre and axis, a, p0),
+    the figure measures r from that axis, draws that curve and puts the
+    reference's note in the title."""
     from solver import solve_frictionless
     from solver.examples import two_dof_bar
 
-    points, r, p, *_ = _tilted_disc()
+    points, r, p, center, axis = _tilted_disc()
     problem = SimpleNamespace(nodes=points, contact_nodes=np.arange(200))
     result = solve_frictionless(two_dof_bar())  # for its history
     result = dict(result, contact_pressure=p)
     result = type("R", (dict,), {"__getattr__": dict.__getitem__})(result)
-    paths = write_figures3d(tmp_path, problem, result, a=1.5, p0=7.0)
+    reference = HertzReference(center=center, axis=axis, a=1.5, p0=7.0,
+                               note="given")
+    paths = write_figures3d(tmp_path, problem, result, reference=reference)
     assert sorted(paths) == ["convergence", "pressure_radius"]
     for path in paths.values():
         assert open(path, "rb").read(4) == b"\x89PNG"
-    fig = plot_pressure_vs_radius(problem, result)
+    fig = plot_pressure_vs_radius(problem, result, reference=reference)
     np.testing.assert_allclose(fig.axes[0].lines[0].get_xdata(), r,
                                atol=1e-12)
+    assert fig.axes[0].lines[1].get_label().startswith("Hertz")
+    assert "given" in fig.axes[0].get_title()
+
+
+def test_pressure_figure_zooms_onto_a_small_contact(tmp_path):
+    """Hertz pressure on r < a = 0.05 among nodes out to r = 0.7 (the
+    quarter sphere's Γc): the main panel spans [0, ≈ a], a second panel
+    all radii (before: one panel over 0.73 for a 0.05 contact)."""
+    rng = np.random.default_rng(1)
+    r = np.r_[rng.uniform(0, 0.05, 40), rng.uniform(0.05, 0.7, 160)]
+    p = hertz_pressure(r, 0.05, 7000.0)
+    fig = pressure_vs_radius(tmp_path / "p.png", r, p, a=0.05, p0=7000.0,
+                             zoom=True)
+    main, whole = fig.axes
+    assert 0.05 < main.get_xlim()[1] < 0.1
+    assert whole.get_xlim()[1] >= 0.7
+    assert main.get_ylabel() == "contact pressure p [MPa]"
+    assert whole.get_xlabel().endswith("[mm]")

@@ -12,7 +12,10 @@ were built in mm, MPa and N, as ``sfepy_problems/`` does.
 
 import numpy as np
 
-__all__ = ["UNITS", "magnification", "plot_deformed",
+from .scene import moved_obstacle, obstacle_in_box
+
+__all__ = ["UNITS", "magnification", "carries_load", "zoom_window",
+           "zoomed_axes", "finish_overview", "plot_deformed",
            "plot_displacement_arrows", "step_halvings", "plot_convergence",
            "plot_contact_pressure", "write_figures"]
 
@@ -71,15 +74,26 @@ def _arc_length(problem):
     return np.arange(problem.n_contact), "contact node"
 
 
-def _obstacle_curve(problem, y_range):
-    """Points of the obstacle covering the body's height (with margin)."""
-    curve = problem.obstacle
-    if curve.t_range is not None:
-        t = np.linspace(*curve.t_range, 400)
-    else:
-        # Parameter window around the foot points of the contact nodes.
-        t = np.linspace(y_range[0], y_range[1], 400)
-    return curve.point(t)
+def zoom_window(x, loaded, fraction=0.5):
+    """Interval of ``x`` to zoom a plot into: from the last position
+    before the loaded ones to the first after them (where the load has
+    fallen to zero), padded by 10 % of its width; None when nothing is
+    loaded or when that interval covers ``fraction`` or more of the whole
+    range (a zoom would then show little more)."""
+    x = np.asarray(x, float)
+    loaded = np.asarray(loaded, bool) & np.isfinite(x)
+    if not loaded.any() or len(x) < 3:
+        return None
+    lo, hi = x[loaded].min(), x[loaded].max()
+    before, after = x[x < lo], x[x > hi]
+    lo = before.max() if len(before) else lo
+    hi = after.min() if len(after) else hi
+    whole = np.ptp(x[np.isfinite(x)])
+    pad = 0.1 * max(hi - lo, 1e-3 * whole)
+    lo, hi = lo - pad, hi + pad
+    if hi - lo >= fraction * whole:
+        return None
+    return lo, hi
 
 
 def _outline(cells):
@@ -112,12 +126,15 @@ def magnification(problem, displacement, fraction=TARGET_FRACTION):
 def plot_deformed(problem, result, scale=None, path=None, title=None):
     """Deformed body (thesis Fig. 4, left) and, beside it, Γc at true scale.
 
-    Left: the body with its displacements magnified by ``scale`` (default
-    :func:`magnification`, stated in the title) over the faint undeformed
-    outline; contact nodes starred. The obstacle is drawn unscaled, so the
-    magnified contact nodes appear beyond it. Right: Γc before and after
-    deformation at scale 1 with the obstacle, on stretched axes — there
-    the contact nodes lie on the obstacle.
+    Left: the body at X + scale·u (``scale`` default :func:`magnification`,
+    stated in the title) over the faint undeformed outline, contact nodes
+    starred, and the obstacle over the body's extent twice: thin and
+    dotted at its true position, which a magnified body crosses, and solid
+    moved with the magnified boundary (:func:`moved_obstacle`), so that
+    every gap keeps its true length, nodes in contact lie on it and no
+    node crosses it. Right: Γc before and after deformation at scale 1
+    with the obstacle, on stretched axes. Each panel's legend sits below
+    its axis label.
 
     ``result`` needs ``displacement`` (nodal) and ``in_contact``; ``method``
     and ``gap_mode`` are used in the default title when present.
@@ -131,9 +148,9 @@ def plot_deformed(problem, result, scale=None, path=None, title=None):
     nodes = problem.nodes
     largest = np.hypot(*u.T).max()
     xy = nodes + scale * u
-    fig, (ax, zoom) = plt.subplots(
-        1, 2, figsize=(9, 7), layout="constrained",
-        gridspec_kw=dict(width_ratios=(1.2, 1)))
+    fig = plt.figure(figsize=(10, 7.5), layout="constrained")
+    left, right = fig.subfigures(1, 2, width_ratios=(1.15, 1), wspace=0.02)
+    ax, zoom = left.subplots(), right.subplots()
     outline = _outline(problem.cells)
     ax.add_collection(LineCollection(nodes[outline], colors="0.55", lw=1.0,
                                      linestyles="--", label="undeformed"))
@@ -142,20 +159,27 @@ def plot_deformed(problem, result, scale=None, path=None, title=None):
                                      label=f"deformed, displacements × "
                                      f"{scale:g}"))
     contact = problem.contact_nodes[np.asarray(result.in_contact, bool)]
-    ax.plot(xy[contact, 0], xy[contact, 1], "r*", ms=8,
+    ax.plot(xy[contact, 0], xy[contact, 1], "r*", ms=8, zorder=4,
             label=f"in contact ({len(contact)} nodes)")
-    ymin, ymax = nodes[:, 1].min(), nodes[:, 1].max()
-    margin = 0.1 * (ymax - ymin)
-    obstacle = _obstacle_curve(problem, (ymin - margin, ymax + margin))
-    ax.plot(obstacle[:, 0], obstacle[:, 1], "b-", lw=2,
-            label="obstacle Γo (not magnified)")
+    both = np.vstack([nodes, xy])
+    margin = 0.1 * np.ptp(nodes, axis=0).max()
+    obstacle = obstacle_in_box(problem.obstacle, both.min(axis=0) - margin,
+                               both.max(axis=0) + margin)
+    if scale != 1:
+        ax.plot(*obstacle.T, ":", color="b", lw=1.0,
+                label="obstacle Γo, true position")
+        ax.plot(*moved_obstacle(problem, u, scale, obstacle).T, "-",
+                color="b", lw=2, label=f"Γo moved with Γc × {scale - 1:g}: "
+                "gaps at true size,\nnodes in contact on it")
+    else:
+        ax.plot(*obstacle.T, "b-", lw=2, label="obstacle Γo")
     ax.set_aspect("equal")
     ax.set_xlabel("x [mm]")
     ax.set_ylabel("y [mm]")
     ax.set_title(f"whole body, displacements × {scale:g}\n(largest |u| = "
                  f"{largest:.3g} mm drawn as {scale * largest:.3g} mm)",
                  fontsize=10)
-    _legend_outside(ax, ncols=2)
+    left.legend(loc="outside lower center", ncols=2, fontsize=8)
 
     gc = problem.contact_nodes
     moved = nodes[gc] + u[gc]
@@ -166,16 +190,18 @@ def plot_deformed(problem, result, scale=None, path=None, title=None):
     zoom.plot(nodes[contact, 0] + u[contact, 0],
               nodes[contact, 1] + u[contact, 1], "r*", ms=8,
               label="in contact")
-    zoom.plot(obstacle[:, 0], obstacle[:, 1], "b-", lw=2, label="obstacle Γo")
     box = np.vstack([nodes[gc], moved])
     low, high = box.min(axis=0), box.max(axis=0)
     pad = np.maximum(0.1 * (high - low), 0.005 * (high - low).max())
+    zoom.plot(*obstacle_in_box(problem.obstacle, low - 2 * pad,
+                               high + 2 * pad).T, "b-", lw=2,
+              label="obstacle Γo")
     zoom.set_xlim(low[0] - pad[0], high[0] + pad[0])
     zoom.set_ylim(low[1] - pad[1], high[1] + pad[1])
     zoom.set_xlabel("x [mm]")
     zoom.set_ylabel("y [mm]")
     zoom.set_title("Γc at true scale (axes not to scale)", fontsize=10)
-    _legend_outside(zoom, ncols=2)
+    right.legend(loc="outside lower center", ncols=2, fontsize=8)
     if title is None:
         parts = [getattr(result, "method", None),
                  getattr(result, "gap_mode", None)]
@@ -189,10 +215,17 @@ def plot_deformed(problem, result, scale=None, path=None, title=None):
 
 
 def plot_displacement_arrows(problem, result, path=None):
-    """Undeformed body with displacement directions (thesis Fig. 4, right)."""
+    """Undeformed body with displacement directions (thesis Fig. 4, right),
+    on a figure shaped like the body (the thesis block is tall, the Hertz
+    half-cylinder wide), so that the colour bar is as tall as the body."""
     plt = _pyplot()
     u = result.displacement
-    fig, ax = plt.subplots(figsize=(5, 7), layout="constrained")
+    width, height = np.ptp(problem.nodes, axis=0)
+    if height >= width:
+        size = (5, 7)
+    else:
+        size = (8, float(np.clip(6.5 * height / width + 1.3, 3.2, 7)))
+    fig, ax = plt.subplots(figsize=size, layout="constrained")
     ax.triplot(problem.nodes[:, 0], problem.nodes[:, 1], problem.cells,
                color="0.75", lw=0.5)
     q = ax.quiver(problem.nodes[:, 0], problem.nodes[:, 1], u[:, 0], u[:, 1],
@@ -298,28 +331,81 @@ def plot_convergence(result, path=None):
     return _save(fig, path)
 
 
+def carries_load(values, relative=1e-6):
+    """Where |values| exceeds ``relative`` × their largest: a node that
+    carries load, as opposed to one whose force is round-off of the
+    solve (open nodes keep λ of order 1e-15 of the largest)."""
+    values = np.abs(np.nan_to_num(np.asarray(values, float)))
+    return values > relative * values.max(initial=0.0)
+
+
+def zoomed_axes(plt, x, loaded, figsize):
+    """A figure for a profile along ``x`` whose load sits in a small part
+    of it: (fig, main axes, overview axes or None, window). With a
+    :func:`zoom_window` the main axes (top) show that window and a short
+    overview below shows all of ``x`` with the window shaded; without
+    one, a single axes."""
+    window = zoom_window(x, loaded)
+    if window is None:
+        fig, ax = plt.subplots(figsize=figsize, layout="constrained")
+        return fig, ax, None, None
+    fig, (ax, whole) = plt.subplots(
+        2, 1, figsize=(figsize[0], 1.5 * figsize[1]), layout="constrained",
+        gridspec_kw=dict(height_ratios=(3, 1.1)))
+    return fig, ax, whole, window
+
+
+def finish_overview(ax, whole, window, xlabel, ylabel, what="all of Γc"):
+    """Set the zoom ``window`` on ``ax`` and label the overview ``whole``
+    (data already drawn into both), titled ``what``."""
+    ax.set_xlim(*window)
+    ax.set_title(ax.get_title() + f" (zoomed to {window[0]:.3g} … "
+                 f"{window[1]:.3g} {_unit(xlabel)})".replace(" ()", ""),
+                 fontsize=10)
+    whole.axvspan(*window, color="C1", alpha=0.15, lw=0)
+    whole.set_xlabel(xlabel)
+    whole.set_ylabel(ylabel, fontsize=8)
+    whole.set_title(f"{what}; shaded: the part zoomed above", fontsize=9)
+    whole.grid(alpha=0.3)
+
+
+def _unit(label):
+    """The unit in an axis label's brackets, or ''."""
+    return label[label.rfind("[") + 1:label.rfind("]")] \
+        if label.endswith("]") else ""
+
+
 def plot_contact_pressure(problem, result, path=None):
     """Contact pressure along Γc: the nodal contact force per length
     p_i = λ_i / D_ii, D_ii = Σ_j M_ij (non-negative by complementarity),
     and, thin and dashed, the consistent M⁻¹λ of thesis (87), which spreads
     the same forces with the consistent boundary matrix and so oscillates
-    below zero next to the contact zone."""
+    below zero next to the contact zone. When the loaded nodes lie in less
+    than half of Γc the main panel zooms onto them and a short panel below
+    shows all of Γc (:func:`zoomed_axes`)."""
     plt = _pyplot()
     arc, xlabel = _arc_length(problem)
-    fig, ax = plt.subplots(figsize=(9, 4.2), layout="constrained")
-    ax.plot(arc, result.contact_pressure, "o-", color="C0", ms=5, zorder=3,
-            label="p_i = λ_i / Σ_j M_ij:\nnodal contact force per length")
+    pressure = np.asarray(result.contact_pressure, float)
     contact = np.asarray(result.in_contact, bool)
-    ax.plot(arc[contact], np.asarray(result.contact_pressure)[contact], "r*",
-            ms=10, zorder=4, label="in contact")
+    loaded = contact | carries_load(pressure)
+    fig, ax, whole, window = zoomed_axes(
+        plt, arc, loaded if problem.kind == "mesh" else np.zeros_like(
+            loaded), (9, 4.2))
     consistent = getattr(result, "contact_pressure_consistent", None)
-    if consistent is not None:
-        note = "M⁻¹λ, thesis (87): the same\nforces, consistent M"
-        if np.min(consistent) < -1e-9 * np.max(np.abs(consistent)):
-            note += "; dips\nbelow 0 beside the zone"
-        ax.plot(arc, consistent, "--", color="0.45", lw=1.0, marker=".",
-                ms=4, zorder=2, label=note)
-    ax.axhline(0.0, color="0.5", lw=0.8, zorder=1)
+    for target in filter(None, (ax, whole)):
+        small = target is whole
+        target.plot(arc, pressure, "o-", color="C0", ms=3 if small else 5,
+                    zorder=3, label="p_i = λ_i / Σ_j M_ij:\nnodal contact "
+                    "force per length")
+        target.plot(arc[contact], pressure[contact], "r*",
+                    ms=6 if small else 10, zorder=4, label="in contact")
+        if consistent is not None:
+            note = "M⁻¹λ, thesis (87): the same\nforces, consistent M"
+            if np.min(consistent) < -1e-9 * np.max(np.abs(consistent)):
+                note += "; dips\nbelow 0 beside the zone"
+            target.plot(arc, consistent, "--", color="0.45", lw=1.0,
+                        marker=".", ms=4, zorder=2, label=note)
+        target.axhline(0.0, color="0.5", lw=0.8, zorder=1)
     ax.set_xlabel(xlabel)
     if problem.kind == "mesh":
         ax.set_ylabel("contact pressure [MPa]")
@@ -328,6 +414,8 @@ def plot_contact_pressure(problem, result, path=None):
         ax.set_xticks(arc)
     ax.grid(alpha=0.3)
     ax.set_title("contact pressure along Γc", fontsize=10)
+    if whole is not None:
+        finish_overview(ax, whole, window, xlabel, "p [MPa]")
     _legend_outside(ax, "right")
     return _save(fig, path)
 

@@ -10,10 +10,12 @@ Mechanics*, 1985, §4.2) the pressure is
 with :math:`a = (3PR/(4E^*))^{1/3}`, :math:`p_0 = 3P/(2\pi a^2)`. The figure
 draws the nodal pressures against their distance *r* from the axis of the
 contact and, given *a* and :math:`p_0`, that curve (:func:`pressure_vs_radius`
-from arrays; :func:`plot_pressure_vs_radius` from a problem and its result,
-the radius by :func:`contact_radius`; :func:`write_figures3d` for
-``--plots``). matplotlib is imported lazily, on the Agg backend (as
-:mod:`.figures`).
+from arrays; :func:`plot_pressure_vs_radius` from a problem and its result;
+:func:`write_figures3d` for ``--plots``). Which curve, which axis and why
+is decided in one place, :func:`.hertz_reference.hertz_reference`: from
+the problem's symmetry planes and initial gap, never from keys that only
+a shipped problem file writes. matplotlib is imported lazily, on the Agg
+backend (as :mod:`.figures`).
 """
 
 import os
@@ -21,13 +23,17 @@ import os
 import numpy as np
 
 from ..verification import hertz_pressure
-from .figures import _pyplot, _save
+from .figures import _pyplot, _save, carries_load, zoom_window
+from .hertz_reference import HertzReference, hertz_reference
 
 __all__ = ["hertz_pressure", "contact_radius", "pressure_vs_radius",
-           "plot_pressure_vs_radius", "write_figures3d"]
+           "hertz_reference", "HertzReference", "plot_pressure_vs_radius",
+           "write_figures3d"]
 
 
-def pressure_vs_radius(target, radius, p, a=None, p0=None, title=None):
+def pressure_vs_radius(target, radius, p, a=None, p0=None, title=None,
+                       xlabel="distance from the contact axis r [mm]",
+                       zoom=False):
     """Nodal contact pressure against the radius, with the Hertz curve.
 
     Parameters
@@ -43,6 +49,12 @@ def pressure_vs_radius(target, radius, p, a=None, p0=None, title=None):
         curve :math:`p_0\\sqrt{1 - r^2/a^2}` is drawn over [0, 1.2 max(a, r)]
         and *a* is marked.
     title : str, optional
+    xlabel : str
+        What the radius is measured from.
+    zoom : bool
+        With a new figure: when the loaded nodes (and *a*) lie within less
+        than half of the radii, the main panel shows [0, that radius] and
+        a short panel below all radii (:func:`.figures.zoom_window`).
 
     Returns
     -------
@@ -55,29 +67,54 @@ def pressure_vs_radius(target, radius, p, a=None, p0=None, title=None):
                          f"and {p.size})")
     if (a is None) != (p0 is None):
         raise ValueError("give both a and p0 for the Hertz curve, or neither")
+    window = None
     if target is None or isinstance(target, (str, os.PathLike)):
         plt = _pyplot()
-        fig, ax = plt.subplots(figsize=(6.0, 4.0))
         path = target
+        loaded = carries_load(p)
+        if a is not None:
+            loaded = loaded | (radius <= a)
+        if zoom:
+            window = zoom_window(np.r_[0.0, radius], np.r_[True, loaded])
+        if window is None:
+            fig, ax = plt.subplots(figsize=(6.5, 4.2), layout="constrained")
+            axes = (ax,)
+        else:
+            fig, axes = plt.subplots(
+                2, 1, figsize=(6.5, 5.8), layout="constrained",
+                gridspec_kw=dict(height_ratios=(3, 1.1)))
+            ax = axes[0]
     else:
         ax, path = target, None
+        axes = (ax,)
         fig = ax.figure
-    ax.plot(radius, p, ".", ms=4, color="C0", label="nodal pressure")
-    if a is not None:
-        r_max = 1.2 * max(a, radius.max(initial=0.0))
-        r = np.linspace(0.0, r_max, 400)
-        ax.plot(r, hertz_pressure(r, a, p0), "-", color="C3",
-                label=f"Hertz: $p_0\\sqrt{{1 - r^2/a^2}}$, a = {a:.4g}, "
-                      f"$p_0$ = {p0:.4g}")
-        ax.axvline(a, color="C3", lw=0.6, ls=":")
-    ax.set_xlabel("distance from the contact axis r [mm]")
+    for target_ax in axes:
+        small = target_ax is not ax
+        target_ax.plot(radius, p, ".", ms=3 if small else 4, color="C0",
+                       label="nodal pressure")
+        if a is not None:
+            r_max = 1.2 * max(a, radius.max(initial=0.0))
+            r = np.linspace(0.0, r_max, 600)
+            target_ax.plot(r, hertz_pressure(r, a, p0), "-", color="C3",
+                           label=f"Hertz: $p_0\\sqrt{{1 - r^2/a^2}}$, a = "
+                                 f"{a:.4g} mm, $p_0$ = {p0:.4g} MPa")
+            target_ax.axvline(a, color="C3", lw=0.6, ls=":")
+        target_ax.set_xlim(left=0.0)
+        target_ax.set_ylim(bottom=0.0)
+        target_ax.grid(True, lw=0.3)
+    ax.set_xlabel(xlabel)
     ax.set_ylabel("contact pressure p [MPa]")
-    ax.set_xlim(left=0.0)
-    ax.set_ylim(bottom=0.0)
-    ax.grid(True, lw=0.3)
     ax.legend(fontsize=8)
+    if window is not None:
+        whole = axes[1]
+        ax.set_xlim(0.0, window[1])
+        whole.axvspan(0.0, window[1], color="C1", alpha=0.15, lw=0)
+        whole.set_xlabel(xlabel)
+        whole.set_ylabel("p [MPa]", fontsize=8)
+        whole.set_title("all contact nodes; shaded: the part zoomed above",
+                        fontsize=9)
     if title:
-        ax.set_title(title)
+        ax.set_title(title, fontsize=10)
     return _save(fig, path) if path is not None else fig
 
 
@@ -114,30 +151,45 @@ def contact_radius(points, pressure, center=None, axis=None):
     return np.linalg.norm(d - np.outer(d @ axis, axis), axis=1)
 
 
-def plot_pressure_vs_radius(problem, result, path=None, a=None, p0=None,
-                            center=None, axis=None):
+def plot_pressure_vs_radius(problem, result, path=None, reference=None):
     """:func:`pressure_vs_radius` of a 3D solve: ``result.contact_pressure``
-    at ``problem.nodes[problem.contact_nodes]`` against
-    :func:`contact_radius` (``center``, ``axis`` passed on)."""
+    at ``problem.nodes[problem.contact_nodes]`` against the distance from
+    the contact axis of ``reference`` (default
+    :func:`.hertz_reference.hertz_reference` of the solve), with its Hertz
+    curve if it has one; zoomed onto the contact zone with all nodes in a
+    panel below. Without an axis (the first contact is not a point) the
+    radius is measured from the node of largest pressure, across the
+    loaded patch (:func:`contact_radius`), and the label says so. The
+    title carries ``reference.note``: why the curve is drawn, or why not.
+    """
+    if reference is None:
+        reference = hertz_reference(problem, result)
     points = problem.nodes[problem.contact_nodes]
-    p = np.asarray(result.contact_pressure, dtype=float)
-    return pressure_vs_radius(path, contact_radius(points, p, center, axis),
-                              p, a=a, p0=p0, title="contact pressure "
-                              "against the distance from the contact axis")
+    p = np.nan_to_num(np.asarray(result.contact_pressure, dtype=float))
+    if reference.center is not None:
+        radius = contact_radius(points, p, reference.center, reference.axis)
+        xlabel = "distance from the contact axis r [mm]"
+    else:
+        radius = contact_radius(points, p)
+        xlabel = "distance from the node of largest pressure r [mm]"
+    return pressure_vs_radius(
+        path, radius, p, a=reference.a, p0=reference.p0, xlabel=xlabel,
+        zoom=True, title=f"contact pressure against r\n{reference.note}")
 
 
-def write_figures3d(folder, problem, result, a=None, p0=None, center=None):
+def write_figures3d(folder, problem, result, reference=None):
     """The figures of a 3D frictionless solve for ``--plots``: the
-    Newton convergence (as in 2D) and the pressure against the radius;
-    returns their paths by name (``center``: a point of the contact's
-    axis, see :func:`contact_radius`)."""
+    Newton convergence (as in 2D) and the pressure against the radius
+    (``reference``: what :func:`plot_pressure_vs_radius` draws, default
+    decided from the problem and the solve); returns their paths by
+    name."""
     from .figures import plot_convergence
 
     plt = _pyplot()
     paths = {}
     jobs = [("convergence", lambda p: plot_convergence(result, p)),
             ("pressure_radius", lambda p: plot_pressure_vs_radius(
-                problem, result, p, a=a, p0=p0, center=center))]
+                problem, result, p, reference=reference))]
     for name, job in jobs:
         path = os.path.join(folder, f"{name}.png")
         plt.close(job(path))

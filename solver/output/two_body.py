@@ -67,28 +67,47 @@ def write_two_body_vtk(path, result, problem):
 
 def plot_interface(problem, result, path=None, reference=None):
     """λ_j and the traction components (normal −λ, tangential g_t) along
-    the slave surface (arc length from its first node); ``reference``:
-    optional (s, p) curve drawn dashed (e.g. Hertz's)."""
+    the slave surface (arc length from its first node, mm; tractions in
+    MPa); ``reference``: optional (s, p) curve drawn dashed (e.g.
+    Hertz's). When the loaded slave nodes lie in less than half of the
+    surface the main panel zooms onto them and a short panel below shows
+    all of it (:func:`.figures.zoomed_axes`)."""
+    from .figures import (_legend_outside, carries_load, finish_overview,
+                          zoomed_axes)
+
     plt = _pyplot()
     xy = problem.nodes[problem.contact_nodes]
     arc = np.r_[0, np.cumsum(np.hypot(*np.diff(xy, axis=0).T))]
-    fig, ax = plt.subplots(figsize=(7, 3.6), layout="constrained")
-    pressure = _last(result, "contact_pressure")
-    covered = np.asarray(result.covered)
-    ax.plot(arc[covered], pressure[covered], "o-", ms=3,
-            label="pressure λ_j (dual multiplier)")
-    if result.get("friction_traction") is not None:
-        ax.plot(arc[covered], _last(result, "friction_traction")[covered],
-                "s-", ms=3, label="tangential traction g_t")
-    if reference is not None:
-        ax.plot(*reference, "k--", lw=1, label="reference")
-    ax.set_xlabel("arc length along the slave surface")
-    ax.set_ylabel("traction on the slave body")
+    pressure = np.asarray(_last(result, "contact_pressure"), float)
+    covered = np.asarray(result.covered, bool)
+    friction = result.get("friction_traction") is not None
+    tangential = (np.asarray(_last(result, "friction_traction"), float)
+                  if friction else np.zeros_like(pressure))
+    loaded = covered & (carries_load(pressure) | carries_load(tangential)
+                        | np.asarray(_last(result, "in_contact"), bool))
+    fig, ax, whole, window = zoomed_axes(plt, np.where(covered, arc, np.nan),
+                                         loaded, (8.5, 3.8))
+    for target in filter(None, (ax, whole)):
+        ms = 2 if target is whole else 3
+        target.plot(arc[covered], pressure[covered], "o-", ms=ms,
+                    label="pressure λ_j (dual multiplier)")
+        if friction:
+            target.plot(arc[covered], tangential[covered], "s-", ms=ms,
+                        label="tangential traction g_t")
+        if reference is not None:
+            target.plot(*reference, "k--", lw=1, label="reference")
+        target.axhline(0.0, color="0.5", lw=0.8)
+    xlabel = "arc length along the slave surface [mm]"
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel("traction on the slave body [MPa]")
     ax.set_title(f"interface ({result.variant}): "
                  f"{int(np.sum(_last(result, 'in_contact')))} of "
-                 f"{int(covered.sum())} slave nodes in contact")
+                 f"{int(covered.sum())} slave nodes in contact", fontsize=10)
     ax.grid(alpha=0.3)
-    ax.legend(fontsize=8)
+    if whole is not None:
+        finish_overview(ax, whole, window, xlabel, "traction [MPa]",
+                        what="the whole slave surface")
+    _legend_outside(ax, "right")
     return _save(fig, path)
 
 
@@ -96,7 +115,7 @@ def plot_bodies(problem, result, path=None):
     """Both bodies deformed at true scale (a magnified drawing would show
     the bodies overlapping), coloured by body, the undeformed meshes faint;
     right: the interface zoomed, the deformed slave and master segments and
-    the slave nodes in contact (stretched axes)."""
+    the slave nodes in contact (stretched axes). Lengths in mm."""
     plt = _pyplot()
     displacement = _last(result, "displacement")
     moved = problem.nodes + displacement
@@ -104,11 +123,21 @@ def plot_bodies(problem, result, path=None):
                                    layout="constrained")
     body = np.asarray(result.body)[problem.cells[:, 0]]
     colours = ("tab:blue", "tab:orange", "tab:green", "tab:red")
+    names = [b.get("name", f"body {i}") if isinstance(b, dict)
+             else f"body {i}" for i, b in enumerate(
+                 (problem.meta or {}).get("bodies", []))]
     ax.triplot(*problem.nodes.T, problem.cells, color="0.85", lw=0.3)
+    ax.plot([], [], color="0.85", label="undeformed")
     for b, colour in zip(np.unique(body), colours):
         ax.triplot(*moved.T, problem.cells[body == b], color=colour, lw=0.4)
+        name = names[b] if b < len(names) else f"body {b}"
+        ax.plot([], [], color=colour, label=f"{name}, deformed")
     ax.set_aspect("equal")
-    ax.set_title("deformed bodies (true scale)")
+    ax.set_xlabel("x [mm]")
+    ax.set_ylabel("y [mm]")
+    ax.set_title("deformed bodies (true scale)", fontsize=10)
+    ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(0.0, -0.12),
+              ncols=3, borderaxespad=0.0)
     for segments, colour, label in (
             (problem.mortar_slave, "tab:blue", "slave surface"),
             (problem.mortar_master, "tab:red", "master surface")):
@@ -128,7 +157,9 @@ def plot_bodies(problem, result, path=None):
                   for k in (0, 1)]
         zoom.set_xlim(*limits[0])
         zoom.set_ylim(*limits[1])
-    zoom.set_title("interface, deformed (stretched axes)")
+    zoom.set_xlabel("x [mm]")
+    zoom.set_ylabel("y [mm]")
+    zoom.set_title("interface, deformed (stretched axes)", fontsize=10)
     zoom.legend(fontsize=8)
     return _save(fig, path)
 

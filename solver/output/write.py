@@ -111,7 +111,7 @@ def _figures(folder, problem, result):
     """``--plots``: the thesis's figures in 2D, friction's per-step
     figures, the two bodies' interface; in 3D the convergence and the
     pressure against the radius (with Hertz's profile where the problem
-    allows one)."""
+    allows one, :func:`~solver.output.hertz_reference.hertz_reference`)."""
     if result.get("friction") is not None and not problem.is_mortar:
         from .friction_figures import write_friction_figures
 
@@ -129,25 +129,7 @@ def _figures(folder, problem, result):
         return write_figures(folder.path, problem, result)
     from .figures3d import write_figures3d
 
-    center = (problem.meta or {}).get("contact_center")
-    return write_figures3d(folder.path, problem, result,
-                           *_hertz_reference(problem, result), center=center)
-
-
-def _hertz_reference(problem, result):
-    """(a, p0) of Hertz's point contact for the total contact force of the
-    solve (×4 for a quarter model), or (None, None) without R, E, nu."""
-    from ..verification import hertz_point_contact
-
-    meta = problem.meta or {}
-    if not all(isinstance(meta.get(k), (int, float)) for k in ("R", "E",
-                                                                 "nu")):
-        return None, None
-    force = np.nansum(np.asarray(result.contact_force, float))
-    if force <= 0:
-        return None, None
-    return hertz_point_contact(force * (4 if meta.get("quarter") else 1),
-                               meta["R"], meta["E"], meta["nu"])
+    return write_figures3d(folder.path, problem, result)
 
 
 def _saved_steps(folder, result):

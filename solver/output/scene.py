@@ -1,0 +1,97 @@
+"""What the deformed-body figure draws besides the body: the obstacle over
+the body's extent, and moved with the magnified boundary so that a
+magnified drawing keeps the gaps (:func:`moved_obstacle`). Plain
+geometry on arrays; :mod:`.figures` draws it.
+"""
+
+import numpy as np
+
+__all__ = ["obstacle_in_box", "closest_on_polyline", "moved_obstacle"]
+
+
+def obstacle_in_box(curve, low, high, samples=1201):
+    """Points of a 2D obstacle curve inside the box [low, high] (corners,
+    (2,) each), NaN rows where the curve leaves it.
+
+    The parameter window starts from ``curve.t_range`` or, for an
+    unbounded curve, from [−L, L] with L = 2 max |corner − Γo(0)| + 1, is
+    doubled while the curve has not left the box at both ends, then
+    narrowed to the samples inside, so that the drawn part spans the box
+    however fast the parametrisation runs. A polyline's vertices are
+    always among the samples (its kinks stay sharp)."""
+    low, high = np.asarray(low, float), np.asarray(high, float)
+
+    def inside(points):
+        return np.all((points >= low) & (points <= high), axis=-1)
+
+    if curve.t_range is not None:
+        t0, t1 = curve.t_range
+    else:
+        corners = np.array([low, high, [low[0], high[1]], [high[0], low[1]]])
+        origin = curve.point(np.array(0.0))
+        half = 2.0 * np.linalg.norm(corners - origin, axis=1).max() + 1.0
+        t0, t1 = -half, half
+        for _ in range(30):  # widen until both ends are outside the box
+            ends = inside(curve.point(np.array([t0, t1])))
+            if not ends.any():
+                break
+            t0, t1 = (2 * t0 if ends[0] else t0), (2 * t1 if ends[1] else t1)
+    for _ in range(3):  # narrow to the part inside, one sample beyond it
+        t = np.linspace(t0, t1, samples)
+        hits = np.flatnonzero(inside(curve.point(t)))
+        if not len(hits):
+            return np.empty((0, 2))
+        t0 = t[max(hits[0] - 1, 0)]
+        t1 = t[min(hits[-1] + 1, samples - 1)]
+    t = np.linspace(t0, t1, samples)
+    kinks = getattr(curve, "kinks", None)
+    if kinks is not None:
+        t = np.union1d(t, kinks[(kinks > t0) & (kinks < t1)])
+    points = curve.point(t).astype(float)
+    points[~inside(points)] = np.nan
+    return points
+
+
+def closest_on_polyline(points, chain, chunk=512):
+    """For each point, the closest point of the polyline through ``chain``
+    ((n, 2), n ≥ 2): the segment index j and the fraction τ ∈ [0, 1] along
+    it (closest point chain[j] + τ (chain[j + 1] − chain[j])). NaN points
+    get j = 0, τ = 0. Vectorised over points × segments, in chunks."""
+    points = np.asarray(points, float)
+    a, d = chain[:-1], np.diff(chain, axis=0)
+    length2 = np.maximum(np.einsum("ij,ij->i", d, d), np.finfo(float).tiny)
+    segment = np.zeros(len(points), int)
+    tau = np.zeros(len(points))
+    finite = np.flatnonzero(np.isfinite(points).all(axis=1))
+    for start in range(0, len(finite), chunk):
+        rows = finite[start:start + chunk]
+        rel = points[rows, None, :] - a[None]                 # (m, s, 2)
+        frac = np.clip(np.einsum("msk,sk->ms", rel, d) / length2, 0.0, 1.0)
+        gap = rel - frac[..., None] * d[None]
+        best = np.argmin(np.einsum("msk,msk->ms", gap, gap), axis=1)
+        segment[rows] = best
+        tau[rows] = frac[np.arange(len(rows)), best]
+    return segment, tau
+
+
+def moved_obstacle(problem, displacement, scale, points):
+    """The obstacle points moved with the magnified boundary: each point O
+    by (scale − 1) ũ(O), ũ the displacement of the closest point of the
+    deformed Γc (linear between its nodes, the end node's beyond its ends).
+
+    Drawn with the body at X + scale·u, each gap keeps its true length
+    and direction: the deformed node X + u and its obstacle point O become
+    X + scale·u and O + (scale − 1)·u, the same vector apart (the distance
+    to the whole moved curve differs only by its change of shape over the
+    gap's length). So nodes in contact lie on the moved obstacle and no
+    drawn node crosses it, while a body at X + scale·u with the obstacle
+    left in place crosses it by (scale − 1) times each node's displacement
+    towards it. The obstacle's drawn shape changes where u varies along
+    Γc: the price of a consistent picture, stated in the legend."""
+    u = np.asarray(displacement, float)
+    gc = problem.contact_nodes
+    chain = problem.nodes[gc] + u[gc]
+    segment, tau = closest_on_polyline(points, chain)
+    along = ((1 - tau)[:, None] * u[gc][segment]
+             + tau[:, None] * u[gc][segment + 1])
+    return points + (scale - 1.0) * along
