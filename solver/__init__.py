@@ -44,8 +44,8 @@ from .ncp import DEFAULT_OPTIONS, solve_ncp
 from .geometry.curves.parametric import ParametricCurve, parse_expression
 from .problem import (FORMAT_VERSION, ContactProblem, load_problem,
                       save_problem)
+from .version import __version__
 
-__version__ = "0.1.0"
 
 __all__ = ["solve", "ContactResult", "FORMAT_VERSION", "ContactProblem",
            "load_problem", "save_problem", "ParametricCurve",

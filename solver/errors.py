@@ -41,3 +41,9 @@ class InitialPenetrationWarning(SolverWarning):
     gaps s are negative (thesis §2.1; the contact conditions push those
     nodes out, which is rarely what the problem meant). The message names
     the nodes and the deepest penetration."""
+
+
+class PenetrationWarning(SolverWarning):
+    """A node of Γc that took no part in contact (a support: its
+    displacement is prescribed) penetrates the obstacle at the answer. The
+    solver cannot move it; the message names the nodes and the depth."""

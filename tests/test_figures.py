@@ -547,7 +547,7 @@ def test_two_body_figures_label_every_axis_with_its_unit(tmp_path):
     mm and MPa (before: no units, no labels on bodies.png)."""
     from tri_elasticity import stacked_blocks
 
-    from solver.contact.two_body import solve_two_body
+    from solver import solve_two_body
     from solver.output import two_body
 
     problem, _, _ = stacked_blocks(n_upper=(4, 2), n_lower=(9, 3),

@@ -26,7 +26,7 @@ from hypothesis import strategies as st
 from solver.errors import ProblemError
 from solver.examples import two_dof_bar
 from solver.ncp import derivative_weights, phi, solve_ncp
-from solver.ncp.newton import _Counted
+from solver.ncp.newton import Counted
 from solver.problem import load_problem, save_problem, validate_arrays
 
 METHODS = ("min", "fb")
@@ -109,7 +109,7 @@ def test_jacobian_of_phi_matches_finite_differences(seed, n, kind):
     _, a, b = fun(x)
     kink = np.abs(a - b) if kind == "min" else np.hypot(a, b)
     assume(kink.min() > 1e-3)
-    counted = _Counted(fun, jac, kind)
+    counted = Counted(fun, jac, kind)
     F, parts = counted.residual(x)
     J = counted.jacobian(x, parts)[0].toarray()
     h = 1e-7

@@ -108,7 +108,13 @@ def test_first_run_numbers_are_what_the_run_prints(scratch):
 
 
 def test_python_examples(scratch, monkeypatch):
-    folder, _, _ = scratch
+    """The doctests of the README, after the export the API section asks
+    for (its bash block)."""
+    folder, env, _ = scratch
+    api = README.split("### Python API", 1)[1].split("\n## ", 1)[0]
+    export = re.search(r"```bash\n(.*?)```", api, flags=re.S).group(1)
+    subprocess.run(["bash", "-e", "-c", export], cwd=folder, env=env,
+                   check=True, capture_output=True)
     monkeypatch.chdir(folder)
     parser = doctest.DocTestParser()
     test = parser.get_doctest(README, {}, "README", "README.md", 0)
@@ -176,3 +182,12 @@ def test_condensed_counts_quoted_beside_table1(exported):
         difference = np.abs(nested.u - full.u).max() / np.abs(full.u).max()
         assert difference <= 1e-12 and "same solution to 1e-12" in text
     assert f"of which {finest[0]} and {finest[1]} Jacobians" in text
+
+
+def test_support_table_is_the_fronts():
+    """The README's "What works where" is what solver.support_table()
+    prints: the rules the front applies, not a copy that drifts."""
+    from solver import support_table
+
+    section = README.split("### What works where", 1)[1]
+    assert support_table() in section

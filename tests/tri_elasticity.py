@@ -17,7 +17,7 @@ from tet_elasticity import mesh_problem, rectangle, stiffness
 def stacked_blocks(n_upper=(3, 2), n_lower=(5, 2), width=1.0,
                    heights=(1.0, 1.0), materials=((1.0, 0.3), (1.0, 0.3)),
                    squeeze=1e-3, slave="upper", fix_x=True, curvature=0.0,
-                   shift=None):
+                   shift=None, side_rollers=False):
     """Block 0 = upper on [0, W]×[h₁, h₁ + h₀], block 1 = lower on
     [0, W]×[0, h₁]; ``n_*`` cells (nx, ny); ``materials`` (E, ν) per body.
     Bottom: u_y = 0, bottom-left corner also u_x = 0; top: u_y = −squeeze,
@@ -27,7 +27,9 @@ def stacked_blocks(n_upper=(3, 2), n_lower=(5, 2), width=1.0,
     block's bottom to y = h₁ + c (x − W/2)² (the top stays flat; contact
     then starts at the middle). ``shift``: every top node also gets
     u_x = shift (the bottom is clamped): a two-stage load path, squeeze
-    then shift, for friction. Returns (problem, full K, prescribed).
+    then shift, for friction. ``side_rollers``: u_x = 0 on the left side
+    x = 0 of both blocks (the interface's end nodes there are rollers).
+    Returns (problem, full K, prescribed).
     """
     h0, h1 = heights
     up, up_cells = rectangle(n_upper, (width, h0))
@@ -46,6 +48,8 @@ def stacked_blocks(n_upper=(3, 2), n_lower=(5, 2), width=1.0,
     if fix_x:
         prescribed[top & np.isclose(nodes[:, 0], 0), 0] = 0.0
         prescribed[bottom & np.isclose(nodes[:, 0], 0), 0] = 0.0
+    if side_rollers:
+        prescribed[np.isclose(nodes[:, 0], 0), 0] = 0.0
     # interface edges: upper's bottom left → right (body above = left),
     # lower's top right → left (body below = left)
     if shift is not None:

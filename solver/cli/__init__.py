@@ -24,10 +24,11 @@ code meaning
 
 import argparse
 
-from .. import __version__
+from ..version import __version__
 from ..problem import FORMAT_VERSION
-from .run import (EXIT_CODES_TEXT, EXIT_INPUT, MAX_ITER, MAX_STEPS,
-                     MIN_TOL, run)
+from .codes import (EXIT_CODES_TEXT, EXIT_INPUT, MAX_ITER, MAX_STEPS,
+                     MIN_TOL)
+from .run import run
 
 
 class _Parser(argparse.ArgumentParser):

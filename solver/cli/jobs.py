@@ -10,7 +10,7 @@ import sys
 import time
 
 from ..errors import SolverError
-from .run import EXIT_NOT_CONVERGED, EXIT_OK
+from .codes import EXIT_NOT_CONVERGED, EXIT_OK
 
 __all__ = ["solve_job", "options_of", "default_outdir", "Progress"]
 

@@ -17,9 +17,20 @@ constrained component c: the constraint then acts only along a tangent,
 where a frictionless contact exerts no force, and the node's normal
 contact force is half (quarter) that of the whole model there. Such a
 node is a *roller*; with ``contact_geometry(..., rollers=True)`` it takes
-part in contact, otherwise (and always when a constrained direction has
-a normal component, or every DOF is fixed) it is a support with λ = 0.
-Its frame: the constrained directions e_c first among the tangents, then
+part in contact, otherwise (and always when every DOF is fixed) it is a
+support with λ = 0.
+
+Oblique nodes. When a constrained direction has a share of ν (|ν_c| >
+:data:`ROLLER_TOLERANCE`, e.g. a plane-strain slab, u_z = 0, against an
+obstacle tilted in z), the contact condition s − ν·u ≥ 0 reads, with the
+prescribed ū_c, s' − n'·u_f ≥ 0 on the free components: n' = ν_f/|ν_f|,
+s' = (s − ν_c·ū_c)/|ν_f|. The node takes part with that normal and gap
+(exact for frictionless contact: the support carries the force's part
+along e_c; its λ is the force along n'); it is marked ``oblique``, and
+friction, whose Coulomb cone such a projection does not preserve, refuses
+it. A node whose normal lies along its constrained directions (|ν_f| <
+:data:`OBLIQUE_MIN`) cannot touch in its free directions: it is a
+support. Its frame, as every roller's: the constrained directions e_c first among the tangents, then
 the tangents orthonormal in the free subspace, then ν with ν_c set to 0
 exactly (renormalised); its row DOFs ``dofs`` hold −1 for the e_c rows
 (they act on no unknown: u_c is prescribed), the free DOFs (in component
@@ -32,17 +43,28 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..errors import SolverError
+from ..geometry.checks import warn_penetration
 from ..geometry.frames import frames, roller_frames, tangent_basis
 
-__all__ = ["GAP_MODES", "ROLLER_TOLERANCE", "ContactGeometry",
+__all__ = ["GAP_MODES", "ROLLER_TOLERANCE", "OBLIQUE_MIN", "ContactGeometry",
            "contact_geometry", "problem_dim", "rotation", "rotate_stiffness",
-           "contact_stiffness"]
+           "contact_stiffness", "node_displacement", "UNCOVERED"]
 
 #: How gaps and normals are found (thesis §2.1.1 / §2.1.2).
 GAP_MODES = ("obstacle", "body")
 
 #: A node with Dirichlet components c is a roller when |ν_c| ≤ this.
 ROLLER_TOLERANCE = 1e-8
+
+#: A node with Dirichlet components whose normal keeps less than this
+#: length in its free components is a support (module docstring).
+OBLIQUE_MIN = 1e-6
+
+#: Why a node of Γc takes no part in contact (``ContactGeometry.excluded``).
+SUPPORT = "support: every DOF prescribed"
+SUPPORT_PARTIAL = "support: a DOF prescribed (rollers=False)"
+SUPPORT_ALONG = "support: the normal lies along its prescribed DOFs"
+UNCOVERED = "slave node not covered by the master"
 
 
 class ContactGeometry:
@@ -74,10 +96,18 @@ class ContactGeometry:
         Orthonormal tangents (default :func:`tangent_basis` of ``normal``).
     rollers : (Nca,) bool
         Nodes with a Dirichlet component (``node_dofs`` has a −1).
+    oblique : (Nca,) bool
+        Rollers whose constrained directions had a share of the normal
+        (module docstring): gap and normal projected.
+    excluded : dict
+        The nodes of Γc that take no part: ``index`` (positions along
+        Γc), ``reason`` (one string per node), ``gap`` and ``normal``
+        (NaN where not computed), for the check that they do not
+        penetrate (:func:`solver.contact.verify.verify_excluded`).
     """
 
     def __init__(self, index, dofs, gap, normal, foot=None, mode="given",
-                 tangents=None, node_dofs=None):
+                 tangents=None, node_dofs=None, oblique=None):
         self.index, self.dofs = index, dofs
         self.node_dofs = dofs if node_dofs is None else node_dofs
         self.gap, self.normal, self.foot, self.mode = gap, normal, foot, mode
@@ -85,6 +115,10 @@ class ContactGeometry:
         self.tangents = tangent_basis(normal) if tangents is None \
             else np.asarray(tangents, float)
         self.rollers = (np.asarray(self.node_dofs) < 0).any(axis=1)
+        self.oblique = np.zeros(len(self.gap), bool) if oblique is None \
+            else np.asarray(oblique, bool)
+        self.excluded = dict(index=np.zeros(0, np.int64), reason=[],
+                             gap=np.zeros(0), normal=np.zeros((0, self.dim)))
 
     @property
     def has_rollers(self):
@@ -116,9 +150,11 @@ class ContactGeometry:
     def renumbered(self, dofs, node_dofs=None):
         """The same nodes with other DOFs (a condensed numbering);
         ``node_dofs`` defaults to ``dofs`` (no rollers)."""
-        return ContactGeometry(self.index, dofs, self.gap, self.normal,
-                               self.foot, self.mode, self.tangents,
-                               node_dofs)
+        out = ContactGeometry(self.index, dofs, self.gap, self.normal,
+                              self.foot, self.mode, self.tangents,
+                              node_dofs, self.oblique)
+        out.excluded = self.excluded
+        return out
 
     def subset(self, nodes, dofs=None):
         """The nodes ``nodes`` (positions in this geometry), with their own
@@ -129,7 +165,7 @@ class ContactGeometry:
         return ContactGeometry(
             self.index[nodes], self.dofs[nodes] if dofs is None else dofs,
             self.gap[nodes], self.normal[nodes], foot, self.mode,
-            self.tangents[nodes], node_dofs)
+            self.tangents[nodes], node_dofs, self.oblique[nodes])
 
 
 def problem_dim(problem):
@@ -143,31 +179,47 @@ def contact_geometry(problem, gap="obstacle", rollers=False):
     ``gap="obstacle"``: nearest obstacle point, ν = obstacle normal there
     (§2.1.1). ``gap="body"``: ν = the body's outward normal (2D: from a
     natural cubic spline through Γc, §2.1.3; 3D: nodal normals of the
-    contact triangles, :func:`solver.geometry.surfaces.normals`), gap along
-    that line (§2.1.2). Discrete problems carry their gaps and normals;
-    ``gap`` is ignored.
+    contact triangles, :func:`solver.geometry.surfaces.normals.
+    surface_normals`), gap along that line (§2.1.2). Discrete problems
+    carry their gaps and normals; ``gap`` is ignored.
 
-    ``rollers``: False (default, the thesis and 2D friction runs): only
-    the nodes whose DOFs are all free take part, a node with a Dirichlet
-    DOF is a support. True: also the rollers, nodes with some Dirichlet
-    components whose normal has no component along them (module
-    docstring); :func:`solve_frictionless` asks for them, and
-    :func:`solve_friction` in 3D (their friction traction then lives in
-    the free tangents only, :mod:`solver.contact.friction.driver`).
+    ``rollers``: False (the thesis's runs): only the nodes whose DOFs are
+    all free take part, a node with a Dirichlet DOF is a support. True
+    (what :func:`solver.solve` asks for): also the rollers and the oblique
+    nodes (module docstring). The nodes left out, and why, are recorded in
+    ``excluded`` with their gaps where these can be computed, so that the
+    answer can be checked on every node of Γc. The obstacle penetrating a
+    node that takes part is reported by an
+    :class:`~solver.errors.InitialPenetrationWarning` naming the nodes.
     """
     constrained = problem.contact_dofs < 0
     eligible = ~constrained.all(axis=1) if rollers \
         else ~constrained.any(axis=1)
     nodes = np.flatnonzero(eligible)
-    node_dofs = problem.contact_dofs[nodes]
-    if problem.kind == "discrete":
-        return _frames(nodes, node_dofs, problem.gap[nodes],
-                       problem.normal[nodes], None, "given")
-    if gap not in GAP_MODES:
+    if problem.kind != "discrete" and gap not in GAP_MODES:
         raise SolverError(f"gap mode must be one of {GAP_MODES}, got {gap!r}")
+    s, normal, foot = _gaps(problem, gap, nodes)
+    geometry = _frames(nodes, problem.contact_dofs[nodes], s, normal, foot,
+                       "given" if problem.kind == "discrete" else gap,
+                       _prescribed(problem, nodes))
+    left = np.setdiff1d(np.arange(problem.n_contact), geometry.index)
+    reason = np.where(constrained[left].all(axis=1), SUPPORT,
+                      np.where(eligible[left], SUPPORT_ALONG,
+                               SUPPORT_PARTIAL)).tolist()
+    geometry.excluded = dict(index=left, reason=reason,
+                             **_support_gaps(problem, gap, left))
+    if problem.kind != "discrete":
+        ids = problem.contact_nodes[geometry.index]
+        warn_penetration(geometry.gap, problem.nodes[ids], node_ids=ids)
+    return geometry
+
+
+def _gaps(problem, gap, nodes):
+    """(s, ν, foot) at the positions ``nodes`` of Γc."""
+    if problem.kind == "discrete":
+        return problem.gap[nodes], problem.normal[nodes], None
     if problem_dim(problem) == 3:
-        s, normal, foot = _geometry_3d(problem, gap, nodes)
-        return _frames(nodes, node_dofs, s, normal, foot, gap)
+        return _geometry_3d(problem, gap, nodes)
     from ..geometry.curves import gap_along_normals, gap_from_obstacle
     from ..geometry.curves.normals import boundary_normals
 
@@ -176,12 +228,48 @@ def contact_geometry(problem, gap="obstacle", rollers=False):
     ids = problem.contact_nodes[nodes]
     points = problem.nodes[ids]
     if gap == "obstacle":
-        s, normal, t = gap_from_obstacle(points, problem.obstacle, body,
-                                         node_ids=ids)
-    else:
-        s, normal, t = gap_along_normals(points, body, problem.obstacle,
-                                         node_ids=ids)
-    return _frames(nodes, node_dofs, s, normal, t, gap)
+        return gap_from_obstacle(points, problem.obstacle, body,
+                                 node_ids=ids, warn=False)
+    return gap_along_normals(points, body, problem.obstacle, node_ids=ids,
+                             warn=False)
+
+
+def _support_gaps(problem, gap, left):
+    """The gaps and normals of the excluded nodes ``left`` (for the check
+    that they do not penetrate), NaN where they cannot be computed (a
+    normal line that misses the obstacle at a support is no error)."""
+    from ..errors import GeometryError
+
+    out = dict(gap=np.full(len(left), np.nan),
+               normal=np.full((len(left), problem.dim), np.nan))
+    if not len(left):
+        return out
+    try:
+        s, normal, _ = _gaps(problem, gap, left)
+    except GeometryError:
+        return out
+    out.update(gap=np.asarray(s, float), normal=np.asarray(normal, float))
+    return out
+
+
+def _prescribed(problem, nodes):
+    """The prescribed displacements ū at the positions ``nodes`` of Γc
+    (zero where free, and for a discrete problem)."""
+    if problem.kind == "discrete" or problem.u_prescribed is None:
+        return np.zeros((len(nodes), problem.dim))
+    return np.asarray(problem.u_prescribed)[problem.contact_nodes[nodes]]
+
+
+def node_displacement(problem, u, positions):
+    """The displacement (k, d) of the nodes of Γc at ``positions`` for the
+    reduced u: free DOFs from u, prescribed ones their values."""
+    dofs = problem.contact_dofs[positions]
+    padded = np.append(np.asarray(u, float), 0.0)
+    out = padded[dofs]
+    fixed = dofs < 0
+    if fixed.any():
+        out[fixed] = _prescribed(problem, positions)[fixed]
+    return out
 
 
 def _geometry_3d(problem, gap, nodes):
@@ -200,19 +288,26 @@ def _geometry_3d(problem, gap, nodes):
     return np.asarray(s, float), np.asarray(normal, float), foot
 
 
-def _frames(index, node_dofs, gap, normal, foot, mode):
-    """The ContactGeometry of the nodes ``index``: those with a Dirichlet
-    component along which ν has a component (> :data:`ROLLER_TOLERANCE`)
-    dropped as supports, the rollers' frames built (module docstring);
-    vectorised per pattern of constrained components (at most 2^d − 2)."""
+def _frames(index, node_dofs, gap, normal, foot, mode, prescribed):
+    """The ContactGeometry of the nodes ``index``: the rollers' frames
+    built, the oblique nodes' gaps and normals projected onto their free
+    components, the nodes whose normal lies along their constrained
+    directions dropped as supports (module docstring); vectorised per
+    pattern of constrained components (at most 2^d − 2)."""
     gap, normal = np.asarray(gap, float), np.asarray(normal, float)
     fixed = node_dofs < 0
     if not fixed.any():  # every node free: exactly as without rollers
         return ContactGeometry(index, node_dofs, gap, normal, foot, mode)
-    keep = ~(fixed & (np.abs(normal) > ROLLER_TOLERANCE)).any(axis=1)
-    index, node_dofs, gap = index[keep], node_dofs[keep], gap[keep]
+    free_part = np.linalg.norm(np.where(fixed, 0.0, normal), axis=1)
+    keep = ~fixed.any(axis=1) | (free_part >= OBLIQUE_MIN)
+    index, node_dofs, gap = index[keep], node_dofs[keep], gap[keep].copy()
     foot = None if foot is None else foot[keep]
     fixed, normal = fixed[keep], normal[keep].copy()
+    prescribed, free_part = prescribed[keep], free_part[keep]
+    oblique = (fixed & (np.abs(normal) > ROLLER_TOLERANCE)).any(axis=1)
+    # s' = (s − ν_c·ū_c)/|ν_f| (exact: the constraint on the free DOFs)
+    shift = np.where(fixed, normal * prescribed, 0.0).sum(axis=1)
+    gap[oblique] = (gap[oblique] - shift[oblique]) / free_part[oblique]
     roll = fixed.any(axis=1)
     tangents = tangent_basis(normal)
     normal[roll], tangents[roll] = roller_frames(normal[roll], fixed[roll])
@@ -223,7 +318,7 @@ def _frames(index, node_dofs, gap, normal, foot, mode):
         dofs[rows] = np.column_stack([np.full((len(rows), k), -1),
                                       node_dofs[rows][:, ~pattern]])
     return ContactGeometry(index, dofs, gap, normal, foot, mode, tangents,
-                           node_dofs)
+                           node_dofs, oblique)
 
 
 def rotation(n, geometry):

@@ -182,6 +182,24 @@ class TwoBodyMap:
         n = self.coupling.normal
         self.tangent = np.column_stack([-n[:, 1], n[:, 0]])
 
+    def mark_uncovered(self, geometry):
+        """Record the uncovered slave nodes among ``geometry``'s excluded
+        nodes (their gaps are not the bodies': not checked), and warn
+        (:class:`~solver.errors.InitialPenetrationWarning`) where the
+        undeformed bodies overlap at a slave node that takes part."""
+        from ..geometry.checks import warn_penetration
+        from .geometry import UNCOVERED
+
+        excluded = geometry.excluded
+        uncovered = ~self.covered[excluded["index"]]
+        excluded["reason"] = [UNCOVERED if u else r for u, r in
+                              zip(uncovered, excluded["reason"])]
+        excluded["gap"] = np.where(uncovered, np.nan, excluded["gap"])
+        ids = self.problem.contact_nodes[geometry.index]
+        warn_penetration(geometry.gap, self.problem.nodes[ids],
+                         node_ids=ids, what="the undeformed bodies overlap")
+        return geometry
+
     def _traction(self, pressure, friction_traction=None):
         """−λ_j n_j + g_t,j τ_j on the slave surface (…, Nc, 2)."""
         traction = -np.asarray(pressure)[..., None] * self.coupling.normal

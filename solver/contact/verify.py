@@ -50,7 +50,8 @@ from ..ncp import stable_norm as _norm
 
 __all__ = ["VERIFY_FACTOR", "VERIFY_FLOOR", "verification_tolerance",
            "force_scale", "typical_sizes", "unit_free_options",
-           "verify_contact", "worst_verification", "describe_failure"]
+           "verify_contact", "verify_excluded", "worst_verification",
+           "describe_failure"]
 
 #: tol_v = max(VERIFY_FACTOR·tol, VERIFY_FLOOR).
 VERIFY_FACTOR = 10.0
@@ -206,6 +207,43 @@ def verify_contact(K, f, u, dofs, normal, gap, lam, stiffness, tol_v,
     out.update({k: float(v) for k, v in checks.items()})
     out.update(force_scale=float(F), length_scale=float(L),
                tolerances=tolerances, failed=failed)
+    return out
+
+
+def verify_excluded(problem, geometry, u, length, tol_v):
+    """The nodes of Γc that took no part in contact (``geometry.excluded``:
+    supports, uncovered slave nodes), reported and checked: a support
+    whose prescribed position penetrates the obstacle, s − ν·u < −tol_v·L
+    (L the verification's length scale), is listed in ``penetrating``
+    (positions along Γc); a node whose gap could not be computed is not
+    checked (``unchecked``).
+
+    Returns a dict: ``nodes`` (how many were excluded), ``reasons`` (count
+    per reason), ``penetrating``, ``max_penetration`` (relative to L),
+    ``max_depth`` (a length) and ``unchecked``."""
+    from .geometry import node_displacement
+
+    excluded = geometry.excluded
+    index = np.asarray(excluded["index"], np.int64)
+    reasons = {}
+    for reason in excluded["reason"]:
+        reasons[reason] = reasons.get(reason, 0) + 1
+    out = dict(nodes=int(len(index)), reasons=reasons, penetrating=[],
+               max_penetration=0.0, unchecked=0)
+    gap = np.asarray(excluded["gap"], float)
+    known = np.isfinite(gap) & np.all(np.isfinite(excluded["normal"]),
+                                      axis=1) if len(index) else gap > 0
+    out["unchecked"] = int(np.count_nonzero(~known))
+    if not known.any():
+        return out
+    moved = node_displacement(problem, u, index[known])
+    remaining = gap[known] - np.einsum(
+        "ij,ij->i", np.asarray(excluded["normal"], float)[known], moved)
+    depth = np.maximum(-remaining, 0.0)
+    out["max_penetration"] = _relative(depth.max(initial=0.0), length)
+    out["max_depth"] = float(depth.max(initial=0.0))
+    out["penetrating"] = [int(i) for i in index[known][
+        depth > tol_v * length]]
     return out
 
 

@@ -14,6 +14,8 @@ against a rigid obstacle, "two-body": two elastic bodies by dual mortar,
 
 from dataclasses import dataclass
 
+import numpy as np
+
 from ..contact import COULOMB, FORMULATIONS, GAP_MODES
 from ..errors import SolverError
 from ..linalg import BACKENDS
@@ -97,11 +99,13 @@ class Rule:
     where: str
     reason: str
     applies: object
+    label: str = None  # the option (and value) as the README shows it
 
     def message(self, case, settings):
         """The error: the option, the case, the reason."""
-        return (f"{self.option}={_shown(settings, self.option)} is not "
-                f"supported for {case}: {self.reason}")
+        given = f"{self.option}={_shown(settings, self.option)}" \
+            if self.option in settings else self.label
+        return f"{given} is not supported for {case}: {self.reason}"
 
 
 def _shown(settings, name):
@@ -143,34 +147,52 @@ RULES = tuple(
         Rule("engine", "two bodies, discrete problems",
              "the petsc engine partitions one meshed body against a rigid "
              "obstacle; this runs on the serial engine",
-             lambda c, s, g: c.engine == "petsc" and c.bodies != "rigid"),
+             lambda c, s, g: c.engine == "petsc" and c.bodies != "rigid",
+             "engine='petsc'"),
         Rule("bodies", "two bodies in 3D",
              "the dual mortar is built for 2D interfaces only",
-             lambda c, s, g: c.bodies == "two-body" and c.dim == 3),
+             lambda c, s, g: c.bodies == "two-body" and c.dim == 3,
+             "two bodies"),
+        Rule("method", "friction with formulation='thesis'",
+             "the split formulation's Jacobian is singular where p = 0 (a "
+             "node out of contact) and φ_min has no gradient fallback: use "
+             "method='fb' (the thesis's) or formulation='projection'",
+             lambda c, s, g: c.contact == "friction" and s["method"] == "min"
+             and s["formulation"] == "thesis", "method='min'"),
         Rule("formulation", "3D",
              "the thesis's split formulation (Δu_t⁺, Δu_t⁻) is 2D-only; "
              "use formulation='projection'",
-             lambda c, s, g: s["formulation"] == "thesis" and c.dim == 3),
+             lambda c, s, g: s["formulation"] == "thesis" and c.dim == 3,
+             "formulation='thesis'"),
         Rule("start", "the full system",
              "the nested start needs the condensed system",
-             lambda c, s, g: s["start"] == "nested" and not s["condense"]),
+             lambda c, s, g: s["start"] == "nested" and not s["condense"],
+             "start='nested'"),
+        Rule("start", "the full system",
+             "the full system starts from the thesis's u = 0; the free "
+             "start (no contact force, u = K⁻¹f) is the condensed system's",
+             lambda c, s, g: s["start"] == "free" and not s["condense"],
+             "start='free'"),
         Rule("start", "3D",
              "the nested start coarsens along the ordered 2D curve Γc; 3D "
              "starts free",
-             lambda c, s, g: s["start"] == "nested" and c.dim == 3),
+             lambda c, s, g: s["start"] == "nested" and c.dim == 3,
+             "start='nested'"),
         Rule("start", "candidates=True",
              "the nested start condenses onto every DOF of Γc, not onto "
              "candidates",
-             lambda c, s, g: s["start"] == "nested" and s["candidates"]),
+             lambda c, s, g: s["start"] == "nested" and s["candidates"],
+             "start='nested'"),
         Rule("x0", "start given", "give either x0 or start",
              lambda c, s, g: "x0" in g and "start" in g),
         Rule("candidates", "the full system",
              "the candidates are a condensation (system='condensed')",
-             lambda c, s, g: s["candidates"] and not s["condense"]),
-        Rule("candidates", "the thesis's friction formulation",
+             lambda c, s, g: s["candidates"] and not s["condense"],
+             "candidates=True"),
+        Rule("candidates", "friction with formulation='thesis'",
              "friction on candidates needs formulation='projection'",
              lambda c, s, g: s["candidates"] and c.contact == "friction"
-             and s["formulation"] == "thesis"),
+             and s["formulation"] == "thesis", "candidates=True"),
         Rule("margin", "without candidates",
              "it is the candidates' screening margin (candidates=True)",
              lambda c, s, g: "margin" in g and not s["candidates"]),
@@ -179,12 +201,13 @@ RULES = tuple(
              "LU (backend='superlu' or backend='auto'); the other backends "
              "factorise K for the condensed system",
              lambda c, s, g: not s["condense"] and c.engine == "serial"
-             and s["backend"] not in ("auto", "superlu")),
+             and s["backend"] not in ("auto", "superlu"),
+             "backend='pardiso' or 'cholmod'"),
         Rule("backend", "the petsc engine",
              "the petsc engine factorises with MUMPS; backend chooses the "
              "serial engine's solver",
              lambda c, s, g: c.engine == "petsc"
-             and s["backend"] != "auto"),
+             and s["backend"] != "auto", "backend"),
         Rule("ksp", "the serial engine, the condensed system",
              "it solves the petsc engine's full-system Newton steps "
              "(engine='petsc', system='full')",
@@ -195,7 +218,7 @@ RULES = tuple(
              "there) has no distributed Newton solve: use the condensed "
              "projection formulation or the serial engine",
              lambda c, s, g: c.engine == "petsc" and c.contact == "friction"
-             and not s["condense"]),
+             and not s["condense"], "system='full'"),
     ])
 
 
@@ -249,8 +272,8 @@ def resolve(case, options):
     if not friction:
         if s["x0"] is not None and s["start"] is None:
             s["start"] = "x0"
-        elif not s["condense"]:
-            s["start"] = s["start"] or "zero"
+        elif not s["condense"] and s["start"] is None:
+            s["start"] = "zero"
         elif s["start"] is None:
             s["start"] = "nested" if case.dim == 2 \
                 and not s["candidates"] else "free"
@@ -297,6 +320,15 @@ def check_geometry_rules(case, settings, geometry):
     """The refusals that need the contact geometry (SolverError): roller
     nodes with the thesis's split formulation, and with the petsc
     engine's full system (its node frames must be orthogonal)."""
+    oblique = np.flatnonzero(geometry.oblique)
+    if case.contact == "friction" and len(oblique):
+        raise SolverError(
+            f"friction is not supported for {case} at {len(oblique)} "
+            f"contact node(s) (positions {_first(oblique)} along Γc) whose "
+            "prescribed DOFs have a share of the contact normal: the "
+            "Coulomb cone does not survive the projection onto their free "
+            "DOFs; free those DOFs, or make the nodes supports "
+            "(rollers=False)")
     rollers = int(geometry.rollers.sum())
     if not rollers:
         return
@@ -315,14 +347,24 @@ def check_geometry_rules(case, settings, geometry):
             "system")
 
 
+def _first(values, count=5):
+    text = ", ".join(str(int(v)) for v in values[:count])
+    return text + (", ..." if len(values) > count else "")
+
+
 def support_table():
     """The README's "What works where": one Markdown row per rule."""
     rows = ["| option | refused for | why |", "|---|---|---|"]
     for rule in RULES:
-        rows.append(f"| `{rule.option}` | {rule.where} | {rule.reason} |")
+        rows.append(f"| `{rule.label or rule.option}` | {rule.where} | "
+                    f"{rule.reason} |")
     rows.append("| `formulation='thesis'` | roller nodes (symmetry planes) "
                 "| the split formulation has no row to drop for a "
-                "roller's constrained tangent |")
+                "roller's constrained tangent (rollers=False makes them "
+                "supports) |")
     rows.append("| `system='full'`, petsc engine | roller nodes | its node "
                 "frames must be orthogonal |")
+    rows.append("| `friction` | oblique nodes (a prescribed DOF with a share "
+                "of the contact normal) | the Coulomb cone does not survive "
+                "the projection onto the free DOFs |")
     return "\n".join(rows)

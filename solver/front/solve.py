@@ -179,6 +179,7 @@ class Plan:
                 steps=s["steps"], formulation=s["formulation"],
                 coulomb=s["coulomb"], progress=s["progress"],
                 on_step=on_step, keep_steps=s["keep_steps"], **common)
+        _warn_excluded(self.problem, result)
         if self.mapping is not None:
             result = self.mapping.result(result, self.friction, s["steps"])
         summary = self.engine.summary()
@@ -219,11 +220,38 @@ def prepare(problem, **options):
     if geometry is None:
         geometry = contact_geometry(target, settings["gap"],
                                     rollers=settings["rollers"])
+        if mapping is not None:
+            mapping.mark_uncovered(geometry)
     check_geometry_rules(case, settings, geometry)
     if not settings["condense"] and case.engine == "serial":
         target.check_stiffness()  # before anything is written
     return Plan(problem, case, settings, engine, geometry, mapping, target,
                 clock)
+
+
+def _warn_excluded(problem, result):
+    """A :class:`~solver.errors.PenetrationWarning` naming the nodes left
+    out of contact (supports) that penetrate the obstacle at the answer."""
+    import warnings
+
+    from ..errors import PenetrationWarning
+
+    excluded = (result.get("verification") or {}).get("excluded") or {}
+    where = excluded.get("penetrating") or []
+    if not where:
+        return
+    ids = problem.contact_nodes[where] if problem.kind == "mesh" else where
+    names = ", ".join(str(int(i)) for i in ids[:5]) + \
+        (", ..." if len(ids) > 5 else "")
+    several = len(ids) > 1
+    other = "the other body" if problem.is_mortar else "the obstacle"
+    warnings.warn(
+        f"{len(ids)} contact node{'s' if several else ''} left out of "
+        f"contact as support{'s' if several else ''} ({names}) "
+        f"penetrate{'' if several else 's'} {other} at the answer "
+        f"(deepest {excluded['max_depth']:.3g}): a prescribed displacement "
+        "moves them there; let them take part (rollers=True) or correct "
+        "the supports", PenetrationWarning, stacklevel=3)
 
 
 def _chain(first, then):

@@ -41,15 +41,15 @@ class GapError(GeometryError):
 
 
 
-def _as_floats(values, name):
+def as_floats(values, name):
     try:
         return np.asarray(values, dtype=float)
     except (TypeError, ValueError) as exc:
         raise GapError(f"{name} must be real numbers ({exc})") from None
 
 
-def _as_points(points):
-    points = _as_floats(points, "points")
+def as_plane_points(points):
+    points = as_floats(points, "points")
     if points.ndim != 2 or points.shape[1] != 2:
         raise GapError(f"points must have shape (n, 2), got {points.shape}")
     if not np.isfinite(points).all():
@@ -57,9 +57,9 @@ def _as_points(points):
     return points
 
 
-def _as_unit(normals, n):
+def unit_normals(normals, n):
     """Normalise body normals (7), broadcast to (n, 2)."""
-    normals = _as_floats(normals, "normals")
+    normals = as_floats(normals, "normals")
     if normals.shape not in ((2,), (n, 2)):
         raise GapError(
             f"normals must have shape (2,) or ({n}, 2), got {normals.shape}")
@@ -70,7 +70,7 @@ def _as_unit(normals, n):
     return normals / length
 
 
-def _fail(bad, points, node_ids, reason):
+def normal_line_misses(bad, points, node_ids, reason):
     """Raise GapError about the first node flagged in ``bad``."""
     where = np.flatnonzero(bad)
     i = int(where[0])
@@ -83,11 +83,14 @@ def _fail(bad, points, node_ids, reason):
 
 
 
-def warn_penetration(gap, points, node_ids=None):
+def warn_penetration(gap, points, node_ids=None,
+                     what="the obstacle penetrates the undeformed body"):
     """Warn (:class:`~solver.errors.InitialPenetrationWarning`) if the
-    obstacle penetrates the undeformed body: gaps s < 0 beyond round-off
-    (1e-12 of the coordinates' magnitude), naming the first nodes, their
-    count and the deepest penetration."""
+    obstacle penetrates the undeformed body (``what`` happens): gaps s < 0
+    beyond round-off (1e-12 of the coordinates' magnitude), naming the
+    first nodes, their count and the deepest penetration."""
+    if not len(gap):
+        return
     scale = float(np.abs(points).max(initial=0.0))
     deep = gap < -1e-12 * max(scale, float(np.ptp(points, axis=0).max(
         initial=0.0)), 1e-300)
@@ -100,9 +103,9 @@ def warn_penetration(gap, points, node_ids=None):
     names = ", ".join(str(v) for v in labels[:5]) \
         + (", ..." if len(where) > 5 else "")
     warnings.warn(
-        f"the obstacle penetrates the undeformed body at {len(where)} "
-        f"contact node{'s' if len(where) > 1 else ''} ({names}); deepest "
-        f"{-gap[worst]:.3g} at node {label} ({points[worst, 0]:g}, "
-        f"{points[worst, 1]:g}): initial gaps s < 0, the contact "
-        "conditions will push these nodes out",
+        f"{what} at {len(where)} contact node"
+        f"{'s' if len(where) > 1 else ''} ({names}); deepest "
+        f"{-gap[worst]:.3g} at node {label} ("
+        + ", ".join(f"{x:g}" for x in points[worst]) + "): initial gaps "
+        "s < 0, the contact conditions will push these nodes out",
         InitialPenetrationWarning, stacklevel=3)

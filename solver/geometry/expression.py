@@ -269,7 +269,7 @@ def parse_expression(text, variable="t"):
         raise ExpressionError(f"{text!r}: is not finite (division by zero?)")
     if expr.has(sympy.I):
         raise ExpressionError(f"{text!r}: is not real")
-    _check_constants(expr, text, symbol)
+    check_constants(expr, text, symbol)
     if expr.is_Number and not math.isfinite(float(expr)):
         raise ExpressionError(f"{text!r}: is not finite")
     return expr
@@ -297,7 +297,7 @@ def _depth(expr):
     return deepest
 
 
-def _size(expr, limit):
+def expression_size(expr, limit):
     """Number of nodes of a SymPy expression tree, counted up to ``limit``."""
     count = 0
     for _ in sympy.preorder_traversal(expr):
@@ -307,7 +307,7 @@ def _size(expr, limit):
     return count
 
 
-def _check_constants(expr, text, symbol):
+def check_constants(expr, text, symbol):
     """Every constant part (a subexpression without t, such as exp(1000) or
     asin(2)) must be a finite real number in double precision, which is
     what the curve is evaluated in: SymPy keeps exp(1000) exact and finite,
@@ -323,14 +323,14 @@ def _check_constants(expr, text, symbol):
         if node.is_Atom:  # a number (SymPy's exponents are unbounded), pi, e
             value = float(node)
         else:
-            value = float(_numeric(node, symbol)(np.array(0.0)))
+            value = float(numeric_function(node, symbol)(np.array(0.0)))
         if not math.isfinite(value):
             raise ExpressionError(
                 f"{text!r}: constant {node} is not a finite real number in "
                 f"double precision (evaluates to {value})")
 
 
-def _numeric(expr, symbol):
+def numeric_function(expr, symbol):
     """A NumPy function of ``t`` for ``expr`` that broadcasts constants."""
     function = sympy.lambdify([symbol], expr, modules="numpy")
 

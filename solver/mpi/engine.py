@@ -40,6 +40,7 @@ def service():
 
         PETSc.Options().setValue("k_mat_mumps_icntl_14", 50)  # workspace +%
         _SERVICE.append(Service(PETSc.COMM_WORLD.tompi4py()))
+        Service.current = _SERVICE[0]
     return _SERVICE[0]
 
 

@@ -33,9 +33,9 @@ MEMORY_ERRORS = (-8, -9, -13, -19, -20)
 
 
 def _lib_and_int():
-    from .schur import _int_type, _lib
+    from .schur import petsc_int_type, petsc_library
 
-    return _lib(), _int_type()
+    return petsc_library(), petsc_int_type()
 
 
 def watch_pivots(F):

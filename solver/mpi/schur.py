@@ -30,7 +30,7 @@ __all__ = ["set_schur_is", "schur_complement", "interior_solves",
 _LIB = []
 
 
-def _lib():
+def petsc_library():
     """libpetsc as petsc4py loaded it (the same shared object)."""
     if not _LIB:
         import petsc4py
@@ -59,7 +59,7 @@ def set_schur_is(F, rows, comm):
     mine = np.asarray(rows, PETSc.IntType) if comm.getRank() == 0 else \
         np.zeros(0, PETSc.IntType)
     iset = PETSc.IS().createGeneral(mine, comm=comm)
-    _check(_lib().MatFactorSetSchurIS(ctypes.c_void_p(F.handle),
+    _check(petsc_library().MatFactorSetSchurIS(ctypes.c_void_p(F.handle),
                                       ctypes.c_void_p(iset.handle)),
            "MatFactorSetSchurIS")
     iset.destroy()
@@ -70,7 +70,7 @@ def schur_complement(F):
     its own, which PETSc factorises for later solves)."""
     from petsc4py import PETSc
 
-    lib = _lib()
+    lib = petsc_library()
     S = ctypes.c_void_p()
     status = ctypes.c_int()
     _check(lib.MatFactorCreateSchurComplement(
@@ -101,7 +101,7 @@ def interior_solves(F):
 
     c_int = ctypes.c_int64 if PETSc.IntType().itemsize == 8 else \
         ctypes.c_int32
-    _check(_lib().MatMumpsSetIcntl(ctypes.c_void_p(F.handle), c_int(26),
+    _check(petsc_library().MatMumpsSetIcntl(ctypes.c_void_p(F.handle), c_int(26),
                                    c_int(0)),
            "MatMumpsSetIcntl")
 
@@ -113,7 +113,7 @@ MEMORY_INFOG = dict(estimate_max=16, estimate_sum=17, used_max=21,
                     used_sum=22)
 
 
-def _int_type():
+def petsc_int_type():
     from petsc4py import PETSc
 
     return ctypes.c_int64 if PETSc.IntType().itemsize == 8 else \
@@ -125,7 +125,7 @@ def mumps_memory(F):
     in analysis, in-core), INFO(16) (allocated by the factorisation), INFO(22)
     (effectively used), and INFOG(16)/(17), INFOG(21)/(22) (max / sum over
     the processes of INFO(15) and INFO(22))."""
-    lib, c_int = _lib(), _int_type()
+    lib, c_int = petsc_library(), petsc_int_type()
     out = {}
     for table, fields in (("MatMumpsGetInfo", MEMORY_INFO),
                           ("MatMumpsGetInfog", MEMORY_INFOG)):

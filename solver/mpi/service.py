@@ -128,6 +128,10 @@ class Service:
     resident, MB peak resident] after its last run, in first-run order; a
     command is a stage on every rank, :meth:`mark` adds rank 0's own)."""
 
+    #: The process's service, once :func:`solver.mpi.engine.service` made
+    #: it (with PETSc initialised and every command registered).
+    current = None
+
     def __init__(self, comm=None):
         from mpi4py import MPI
 

@@ -23,9 +23,8 @@ thesis blocks, measured 8/10 against 4/6).
 import numpy as np
 
 from ..contact.geometry import contact_geometry, rotate_stiffness, rotation
-from .engine import service
 from .layout import Layout, gather_vector, scatter_matrix, scatter_vector
-from .service import EngineError, command
+from .service import EngineError, Service, command
 
 __all__ = ["solve_snesvi", "LINE_SEARCH"]
 
@@ -37,10 +36,12 @@ def solve_snesvi(problem, gap="obstacle", geometry=None, rtol=1e-12,
                  kind="vinewtonrsls"):
     """(u, iterations) of SNESVI (call on rank 0 inside
     :func:`~solver.mpi.engine.spmd`); u is the reduced displacement."""
-    from .engine import check_problem
-
-    check_problem(problem)
-    svc = service()
+    if problem.kind != "mesh":
+        raise EngineError("SNESVI partitions a mesh by nodes")
+    svc = Service.current
+    if svc is None:
+        raise EngineError("the petsc engine is not running: call "
+                          "solve_snesvi inside solver.mpi.engine.spmd")
     geometry = geometry or contact_geometry(problem, gap)
     layout = Layout(problem, svc.size)
     svc.call("layout", layout.ranges())

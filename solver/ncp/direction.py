@@ -10,7 +10,7 @@ import scipy.linalg as sla_dense
 import scipy.sparse as sp
 import scipy.sparse.linalg as sla
 
-__all__ = ["DENSE_FRACTION", "DENSE_MIN_SIZE", "_newton_direction"]
+__all__ = ["DENSE_FRACTION", "DENSE_MIN_SIZE", "newton_direction"]
 
 #: Jacobians with more than this fraction of nonzeros (and at least
 #: DENSE_MIN_SIZE rows) are factorised by LAPACK instead of SuperLU: those of
@@ -20,7 +20,7 @@ DENSE_FRACTION = 0.2
 DENSE_MIN_SIZE = 64
 
 
-def _newton_direction(J, F):
+def newton_direction(J, F):
     """Solve J d = −F (SuperLU, or LAPACK for a dense J, or the
     structured Jacobian's own ``direction``); None if J is (numerically)
     singular."""

@@ -8,10 +8,10 @@ import scipy.sparse as sp
 
 from .functions import derivative_weights, phi
 
-__all__ = ["_Counted", "_default_z"]
+__all__ = ["Counted", "_default_z"]
 
 
-class _Counted:
+class Counted:
     """Wraps ``fun`` and ``jac`` to count evaluations (Table 1's metrics)."""
 
     def __init__(self, fun, jac, kind):

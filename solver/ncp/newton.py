@@ -54,8 +54,8 @@ import numpy as np
 from scipy.optimize import OptimizeResult
 
 from ..linalg.threads import single_blas_thread
-from .direction import _newton_direction
-from .evaluation import _Counted
+from .direction import newton_direction
+from .evaluation import Counted
 from .functions import NCP_FUNCTIONS
 
 __all__ = ["solve_ncp", "MESSAGES", "DEFAULT_OPTIONS", "stable_norm"]
@@ -231,7 +231,7 @@ def _iterate(fun, jac, x0, method, tol, max_iter, opts, callback, error,
              scale):
     """The iterations of :func:`solve_ncp` (arguments checked)."""
     start = time.perf_counter()
-    counted = _Counted(fun, jac, method)
+    counted = Counted(fun, jac, method)
     history = {k: [] for k in ("residual", "error", "merit", "alpha", "step",
                                "active", "line_search_failed")}
 
@@ -334,7 +334,7 @@ def _stalled(err, size, tol, what):
 
 def _min_step(counted, x, F, parts, J, opts):
     """One damped Newton iteration with φ_min (thesis §2.2.1, steps 2-4)."""
-    d = _newton_direction(J, F)
+    d = newton_direction(J, F)
     if d is None:
         return x, F, parts, dict(alpha=0.0, step="newton",
                                  line_search_failed=False, status=3)
@@ -358,7 +358,7 @@ def _min_step(counted, x, F, parts, J, opts):
 def _fb_step(counted, x, F, parts, J, opts):
     """One iteration of the DFK method (thesis §2.2.2, steps 2-4)."""
     grad = J.rmatvec(F) if hasattr(J, "rmatvec") else J.T @ F  # ∇ψ (28)
-    d = _newton_direction(J, F)
+    d = newton_direction(J, F)
     step = "newton"
     force, length = map(np.float64, opts["typical"] or (1.0, 1.0))
     with np.errstate(over="ignore", invalid="ignore"):

@@ -27,7 +27,8 @@ import numpy as np
 import pytest
 
 from fault_tools import PLANE, run_cli, unit_cube
-from solver.contact import contact_geometry, solve_frictionless
+from solver import solve_frictionless
+from solver.contact import contact_geometry
 from solver.errors import ProblemError
 from solver.geometry.curves import GapError
 from solver.problem import load_problem

@@ -24,7 +24,7 @@ from .system import FrictionSystem
 from ..geometry import contact_stiffness
 from ..verify import (describe_failure, force_scale, unit_free_options,
                      verification_tolerance, verify_contact,
-                     worst_verification)
+                     verify_excluded, worst_verification)
 
 __all__ = ["GAP_WEIGHT", "STOPPING_TEST", "setup", "load_step",
            "make_result"]
@@ -87,7 +87,13 @@ def _final_check(problem, geometry, stiffness, tol_v, space, last,
             problem.K, f_step, u, geometry.node_dofs, geometry.normal,
             geometry.gap, lam, stiffness, tol_v, t, bound,
             geometry.tangents)]
-    return worst_verification(checks, tol_v)
+    elif last is not None:
+        u = last[1]
+    worst = worst_verification(checks, tol_v)
+    if last is not None:  # the nodes left out, at the last step
+        worst["excluded"] = verify_excluded(
+            problem, geometry, u, checks[-1]["length_scale"], tol_v)
+    return worst
 
 
 def setup(problem, geometry, space, friction, formulation, coulomb, method,

@@ -69,7 +69,8 @@ from ..geometry import contact_stiffness
 from ..result import ContactResult
 from ..strategies.reduction import reduction
 from ..verify import (describe_failure, force_scale, unit_free_options,
-                      verification_tolerance, verify_contact)
+                      verification_tolerance, verify_contact,
+                      verify_excluded)
 from .system import FrictionlessSystem
 
 __all__ = ["run_frictionless", "STOPPING_TEST", "nodal_arrays"]
@@ -216,9 +217,12 @@ def run_frictionless(problem, geometry, engine, method="min", tol=1e-10,
         u = space.displacement(result.x, w)
     result.stopping["test"] = STOPPING_TEST
     result.x = u
+    tol_v = verification_tolerance(tol)
     verification = verify_contact(
         problem.K, problem.f, u, geometry.node_dofs, geometry.normal,
-        geometry.gap, lam_free, stiffness, verification_tolerance(tol))
+        geometry.gap, lam_free, stiffness, tol_v)
+    verification["excluded"] = verify_excluded(
+        problem, geometry, u, verification["length_scale"], tol_v)
     if result.success and not verification["passed"]:
         result.update(success=False, status=6, message=(
             f"{MESSAGES[6]}: {describe_failure(verification)}"))

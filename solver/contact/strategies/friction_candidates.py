@@ -83,7 +83,7 @@ from ..frictionless.driver import run_frictionless
 from ..geometry import contact_stiffness
 from .candidates import MAX_ROUNDS, enlarge_candidates, initial_candidates
 from ..verify import (force_scale, verification_tolerance, verify_contact,
-                     worst_verification)
+                      verify_excluded, worst_verification)
 
 __all__ = ["RING_FRACTION", "RINGS", "use_candidates", "remaining_gap",
            "first_candidates", "surface_adjacency", "friction_on_candidates"]
@@ -306,6 +306,8 @@ def _complete(result, problem, geometry, nodes, fields, final, stiffness,
                            geometry.tangents)
     result.verification = worst_verification([result.verification, check],
                                              tol_v)
+    result.verification["excluded"] = verify_excluded(
+        problem, geometry, fields["u"], check["length_scale"], tol_v)
     if not check["passed"]:
         result.update(success=False, message=(
             "the last load step fails verification on every node of Γc: "

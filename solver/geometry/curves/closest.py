@@ -4,17 +4,17 @@ r"""Gaps measured from the obstacle: the nearest obstacle point (thesis
 
 import numpy as np
 
-from ..checks import _fail, warn_penetration
-from .search import (DEFAULT_SAMPLES, MIN_COSINE, _CHUNK,
-                         _first_per_owner, _obstacle_normals, _refine,
-                         _setup)
+from ..checks import normal_line_misses, warn_penetration
+from .search import (DEFAULT_SAMPLES, MIN_COSINE, CHUNK,
+                         first_per_owner, obstacle_normals, refine_roots,
+                         search_setup)
 
 __all__ = ["gap_from_obstacle"]
 
 
 def gap_from_obstacle(points, curve, body_normals, *, window=None,
                       samples=DEFAULT_SAMPLES, min_cosine=MIN_COSINE,
-                      node_ids=None):
+                      node_ids=None, warn=True):
     r"""Gaps measured from the obstacle: nearest obstacle point (§2.1.1).
 
     For every node *B* the nearest point :math:`\Gamma_o(t)` of the obstacle
@@ -70,7 +70,7 @@ def gap_from_obstacle(points, curve, body_normals, *, window=None,
         (:math:`|\nu\cdot n| <` ``min_cosine``; e.g. the obstacle runs
         along the body normal), or the obstacle has no tangent there.
     """
-    points, body, (t0, t1), ts, curve_ends = _setup(
+    points, body, (t0, t1), ts, curve_ends = search_setup(
         points, body_normals, curve, window, samples)
     if not len(points):  # no free contact node: nothing to measure
         return np.zeros(0), np.zeros((0, 2)), np.zeros(0)
@@ -79,18 +79,18 @@ def gap_from_obstacle(points, curve, body_normals, *, window=None,
     t = _window_ends(points, curve, t, best_d2, end_d2, (t0, t1),
                      curve_ends, node_ids)
     if np.isnan(t).any():
-        _fail(np.isnan(t), points, node_ids, lambda i: (
+        normal_line_misses(np.isnan(t), points, node_ids, lambda i: (
             f"no finite obstacle point for t in [{t0:g}, {t1:g}]"))
 
     foot_pt, normal, length, cosine = _contact_normals(points, curve, t,
                                                        body)
     if not (np.isfinite(length) & (length > 0)).all():
         bad = ~(np.isfinite(length) & (length > 0))
-        _fail(bad, points, node_ids, lambda i: (
+        normal_line_misses(bad, points, node_ids, lambda i: (
             f"the obstacle has no tangent at its nearest point t = {t[i]:g}"))
     grazing = ~(np.abs(cosine) >= min_cosine)
     if grazing.any():
-        _fail(grazing, points, node_ids, lambda i: (
+        normal_line_misses(grazing, points, node_ids, lambda i: (
             f"the obstacle normal at its nearest point t = {t[i]:g} is "
             f"nearly perpendicular to the body normal "
             f"(cosine {cosine[i]:.2g})"))
@@ -103,14 +103,15 @@ def gap_from_obstacle(points, curve, body_normals, *, window=None,
     orient = np.sign(cosine) if side == 0 else np.full(n, side)
     normal *= orient[:, None]
     gap = np.sum((foot_pt - points) * normal, axis=1)
-    warn_penetration(gap, points, node_ids)
+    if warn:  # an obstacle that penetrates the undeformed body
+        warn_penetration(gap, points, node_ids)
     return gap, normal, t
 
 
 def _nearest_foot_points(points, curve, ts):
     """Per node, the nearest foot point Γo(t) among the sampled brackets
     of f(t) = (Γo(t) − B)·Γo'(t) (f < 0 then f ≥ 0: local minima of the
-    distance), refined by :func:`_refine`: t (NaN where none), its squared
+    distance), refined by :func:`refine_roots`: t (NaN where none), its squared
     distance (inf where none) and the squared distances to the window's
     two ends, (n, 2)."""
     n = len(points)
@@ -121,7 +122,7 @@ def _nearest_foot_points(points, curve, ts):
     # Brackets of the local minima of |Γo(t) - B|: f < 0 then f >= 0.
     owners, lowers = [], []
     end_d2 = np.empty((n, 2))
-    block = max(1, _CHUNK // len(ts))
+    block = max(1, CHUNK // len(ts))
     for start in range(0, n, block):  # a few chunks, each vectorised
         stop = min(n, start + block)
         with np.errstate(all="ignore"):
@@ -140,14 +141,14 @@ def _nearest_foot_points(points, curve, ts):
         return ((pt[..., 0] - bx) * der[..., 0]
                 + (pt[..., 1] - by) * der[..., 1])
 
-    root, ok = _refine(slope, ts[lower], ts[lower + 1],
+    root, ok = refine_roots(slope, ts[lower], ts[lower + 1],
                        (points[owner, 0], points[owner, 1]))
     owner, root = owner[ok], root[ok]
     with np.errstate(all="ignore"):
         d2 = np.sum((curve.point(root) - points[owner]) ** 2, axis=1)
     keep = np.isfinite(d2)
     owner, root, d2 = owner[keep], root[keep], d2[keep]
-    best = _first_per_owner(owner, d2, n)
+    best = first_per_owner(owner, d2, n)
     has = best >= 0
     t = np.full(n, np.nan)
     t[has] = root[best[has]]
@@ -189,7 +190,7 @@ def _window_ends(points, curve, t, best_d2, end_d2, window, curve_ends,
                 return (f"no obstacle point nearer than the end t = {end:g} "
                         f"of the search window [{t0:g}, {t1:g}]; give a "
                         "larger search interval (--search-interval)")
-            _fail(bad, points, node_ids, reason)
+            normal_line_misses(bad, points, node_ids, reason)
         t = np.where(at_end >= 0, t_end, t)
     return t
 
@@ -200,7 +201,7 @@ def _contact_normals(points, curve, t, body):
     normals ``body`` (ν not yet oriented)."""
     with np.errstate(all="ignore"):
         foot_pt = curve.point(t)
-        normal, length = _obstacle_normals(curve, t)
+        normal, length = obstacle_normals(curve, t)
         # At a kink of a polyline (or any corner) the nearest point is not a
         # foot point: (Γo − B)·Γo' jumps in sign there instead of vanishing.
         # The normal is then the direction from B to that point (the limit

@@ -29,8 +29,8 @@ import sympy
 
 from ...errors import ExpressionError
 from ..expression import (ALLOWED_CONSTANTS, ALLOWED_FUNCTIONS,  # noqa: F401
-                         MAX_DERIVATIVE_NODES, _check_constants, _numeric,
-                         _size, parse_expression)
+                         MAX_DERIVATIVE_NODES, check_constants, numeric_function,
+                         expression_size, parse_expression)
 
 __all__ = ["ALLOWED_FUNCTIONS", "ALLOWED_CONSTANTS", "parse_expression",
            "check_interval", "check_derivative", "ParametricCurve"]
@@ -62,7 +62,7 @@ def check_derivative(derivative, text, symbol):
         Naming the expression and its derivative.
     """
     try:
-        _check_constants(derivative, text, symbol)
+        check_constants(derivative, text, symbol)
     except ExpressionError as exc:
         reason = str(exc).split(": ", 1)[-1]
         raise ExpressionError(f"{text!r}: its derivative {derivative} "
@@ -115,21 +115,21 @@ class ParametricCurve:
         first = []
         for text, e in ((x, self.x_expr), (y, self.y_expr)):
             d = sympy.diff(e, symbol)
-            if _size(d, MAX_DERIVATIVE_NODES) > MAX_DERIVATIVE_NODES:
+            if expression_size(d, MAX_DERIVATIVE_NODES) > MAX_DERIVATIVE_NODES:
                 raise ExpressionError(
                     f"{text!r}: too complex (its derivative has more than "
                     f"{MAX_DERIVATIVE_NODES} terms)")
             check_derivative(d, text, symbol)
             first.append(d)
         self._derivatives = [[self.x_expr, self.y_expr], first, None]
-        self._functions = [[_numeric(d, symbol) for d in pair]
+        self._functions = [[numeric_function(d, symbol) for d in pair]
                            for pair in self._derivatives[:2]] + [None]
 
     def _evaluate(self, t, order):
         if self._functions[order] is None:  # Γo'' only on demand
             self._derivatives[order] = [sympy.diff(d, self._symbol)
                                         for d in self._derivatives[order - 1]]
-            self._functions[order] = [_numeric(d, self._symbol)
+            self._functions[order] = [numeric_function(d, self._symbol)
                                       for d in self._derivatives[order]]
         fx, fy = self._functions[order]
         return np.stack([fx(t), fy(t)], axis=-1)

@@ -4,17 +4,17 @@ r"""Gaps measured from the body, along its outward normals (thesis §2.1.2,
 
 import numpy as np
 
-from ..checks import _fail, warn_penetration
-from .search import (DEFAULT_SAMPLES, MIN_COSINE, _CHUNK,
-                         _first_per_owner, _obstacle_normals, _refine,
-                         _setup)
+from ..checks import normal_line_misses, warn_penetration
+from .search import (DEFAULT_SAMPLES, MIN_COSINE, CHUNK,
+                         first_per_owner, obstacle_normals, refine_roots,
+                         search_setup)
 
 __all__ = ["gap_along_normals"]
 
 
 def gap_along_normals(points, normals, curve, *, window=None,
                       samples=DEFAULT_SAMPLES, min_cosine=MIN_COSINE,
-                      node_ids=None):
+                      node_ids=None, warn=True):
     r"""Gaps measured from the body, along its outward normals (§2.1.2).
 
     For every node *B* with unit outward normal ν (7) the intersections of
@@ -61,7 +61,7 @@ def gap_along_normals(points, normals, curve, *, window=None,
         grazing angle (:math:`|\nu_o\cdot\nu| <` ``min_cosine``, e.g. an
         obstacle line parallel to the normal).
     """
-    points, nu, (t0, t1), ts, curve_ends = _setup(
+    points, nu, (t0, t1), ts, curve_ends = search_setup(
         points, normals, curve, window, samples)
     if not len(points):  # no free contact node: nothing to measure
         return np.zeros(0), np.zeros((0, 2)), np.zeros(0)
@@ -71,7 +71,7 @@ def gap_along_normals(points, normals, curve, *, window=None,
 
     exact_owner, exact_t = [], []
     owners, lowers = [], []
-    block = max(1, _CHUNK // len(ts))
+    block = max(1, CHUNK // len(ts))
     for start in range(0, n, block):  # a few chunks, each vectorised
         stop = min(n, start + block)
         b, v = points[start:stop, None, :], nu[start:stop, None, :]
@@ -91,7 +91,7 @@ def gap_along_normals(points, normals, curve, *, window=None,
         pt = curve.point(t)
         return (pt[..., 0] - bx) * vy - (pt[..., 1] - by) * vx
 
-    root, ok = _refine(cross, ts[lower], ts[lower + 1],
+    root, ok = refine_roots(cross, ts[lower], ts[lower + 1],
                        (points[owner, 0], points[owner, 1],
                         nu[owner, 0], nu[owner, 1]))
     owner = np.concatenate([owner[ok]] + exact_owner)
@@ -100,7 +100,7 @@ def gap_along_normals(points, normals, curve, *, window=None,
         k = np.sum((curve.point(root) - points[owner]) * nu[owner], axis=1)
     keep = np.isfinite(k)
     owner, root, k = owner[keep], root[keep], k[keep]
-    best = _first_per_owner(owner, np.abs(k), n)
+    best = first_per_owner(owner, np.abs(k), n)
     if (best < 0).any():
         def reason(i):
             where = "t_range" if all(curve_ends) else "search window"
@@ -108,19 +108,20 @@ def gap_along_normals(points, normals, curve, *, window=None,
                 "; give a larger search interval (--search-interval)"
             return (f"no intersection for t in the {where} "
                     f"[{t0:g}, {t1:g}]{hint}")
-        _fail(best < 0, points, node_ids, reason)
+        normal_line_misses(best < 0, points, node_ids, reason)
     t, gap = root[best], k[best]
     with np.errstate(all="ignore"):
-        obstacle_normal, length = _obstacle_normals(curve, t)
+        obstacle_normal, length = obstacle_normals(curve, t)
         cosine = np.sum(obstacle_normal * nu, axis=1)
     bad = ~(np.isfinite(length) & (length > 0))
     if bad.any():
-        _fail(bad, points, node_ids, lambda i: (
+        normal_line_misses(bad, points, node_ids, lambda i: (
             f"the obstacle has no tangent at the intersection t = {t[i]:g}"))
     grazing = ~(np.abs(cosine) >= min_cosine)
     if grazing.any():
-        _fail(grazing, points, node_ids, lambda i: (
+        normal_line_misses(grazing, points, node_ids, lambda i: (
             f"it meets the obstacle at a grazing angle at t = {t[i]:g} "
             f"(cosine {cosine[i]:.2g} between the normals)"))
-    warn_penetration(gap, points, node_ids)
+    if warn:  # an obstacle that penetrates the undeformed body
+        warn_penetration(gap, points, node_ids)
     return gap, nu.copy(), t

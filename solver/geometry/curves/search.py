@@ -7,14 +7,14 @@ samples for all nodes at once, every sign change between consecutive samples
 gives a bracket, all brackets of all nodes are refined together by
 Chandrupatla's bracketing root finder
 (:func:`scipy.optimize.elementwise.find_root`, to machine precision), and
-per node the best root is chosen (:func:`_first_per_owner`).
+per node the best root is chosen (:func:`first_per_owner`).
 """
 
 import numpy as np
 from scipy.optimize.elementwise import find_root
 
 from ...errors import ExpressionError
-from ..checks import GapError, _as_points, _as_unit
+from ..checks import GapError, as_plane_points, unit_normals
 from .parametric import check_interval
 from .window import fit_window, start_window
 
@@ -30,7 +30,7 @@ MIN_COSINE = 1e-3
 
 # Values of the searched functions handled per chunk (bounds the memory to
 # a few tens of MB whatever the number of nodes).
-_CHUNK = 2 ** 20
+CHUNK = 2 ** 20
 
 
 def parameter_window(points, curve, window=None, samples=DEFAULT_SAMPLES):
@@ -99,11 +99,11 @@ def parameter_window(points, curve, window=None, samples=DEFAULT_SAMPLES):
 
 
 
-def _setup(points, vectors, curve, window, samples):
+def search_setup(points, vectors, curve, window, samples):
     """Checked points, unit vectors (one per point), the window (t0, t1),
     its parameter samples and whether it reaches the curve's ends."""
-    points = _as_points(points)
-    vectors = _as_unit(vectors, len(points))
+    points = as_plane_points(points)
+    vectors = unit_normals(vectors, len(points))
     if not len(points):
         return points, vectors, (None, None), None, None
     window, curve_ends = parameter_window(points, curve, window, samples)
@@ -117,7 +117,7 @@ def _samples(window, samples):
     return np.linspace(window[0], window[1], samples)
 
 
-def _refine(function, lower, upper, args):
+def refine_roots(function, lower, upper, args):
     """Roots of ``function(t, *args)`` in the brackets, all at once.
 
     Returns the roots and a mask of the brackets that converged.
@@ -129,7 +129,7 @@ def _refine(function, lower, upper, args):
     return np.asarray(result.x), np.asarray(result.success)
 
 
-def _first_per_owner(owner, key, n):
+def first_per_owner(owner, key, n):
     """Index of the candidate with the smallest ``key`` for every owner.
 
     Returns an (n,) int array, -1 for owners without candidates.
@@ -143,7 +143,7 @@ def _first_per_owner(owner, key, n):
     return best
 
 
-def _obstacle_normals(curve, t):
+def obstacle_normals(curve, t):
     """Unit normals of the obstacle at ``t`` (and the tangent lengths; by
     hypot, so that a fast parametrisation, y = 1e300·t, has a tangent)."""
     tangent = curve.derivative(t)

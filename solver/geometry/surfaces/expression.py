@@ -18,7 +18,7 @@ import sympy
 
 from ...errors import ExpressionError
 from ..curves.parametric import check_derivative
-from ..expression import MAX_DERIVATIVE_NODES, _size, parse_expression
+from ..expression import MAX_DERIVATIVE_NODES, expression_size, parse_expression
 
 __all__ = ["SurfaceMap"]
 
@@ -76,7 +76,7 @@ class SurfaceMap:
             derivatives[key] = [sympy.diff(e, symbols[sym])
                                 for e in derivatives[parent]]
             for field, text, d in zip(fields, texts, derivatives[key]):
-                if _size(d, MAX_DERIVATIVE_NODES) > MAX_DERIVATIVE_NODES:
+                if expression_size(d, MAX_DERIVATIVE_NODES) > MAX_DERIVATIVE_NODES:
                     raise ExpressionError(
                         f"surface {field}: too complex (a derivative has "
                         f"more than {MAX_DERIVATIVE_NODES} terms)")
