@@ -306,11 +306,13 @@ def test_roller_frames_and_dofs():
     assert not plain.has_rollers and geometry.has_rollers
 
 
-def test_tilted_roller_stays_a_support():
+def test_tilted_roller_is_oblique():
     """A roller whose constrained direction is not orthogonal to ν (the
     block's symmetry plane x = 0 moved to x = 0.25, off the obstacle's
-    axis: ν_x ≠ 0 there) is a support with λ = 0; a normal within
-    ROLLER_TOLERANCE of the plane counts as in it."""
+    axis: ν_x ≠ 0 there) takes part as an oblique node, its normal
+    projected onto its free DOFs (ν_x set to 0, renormalised) and its gap
+    divided by |ν_f| (ū_x = 0 here); a normal within ROLLER_TOLERANCE of
+    the plane is a plain roller, gap unchanged."""
     problem = block_3d("half")
     shifted = types.SimpleNamespace(**{
         name: getattr(problem, name) for name in
@@ -320,28 +322,47 @@ def test_tilted_roller_stays_a_support():
     shifted.dim, shifted.obstacle = 3, Paraboloid()
     plane = (problem.contact_dofs < 0).any(axis=1)
     geometry = contact_geometry(shifted, "obstacle", rollers=True)
-    assert not np.isin(np.flatnonzero(plane), geometry.index).any()
-    assert len(geometry.index) == (~plane).sum()
-    # ν_x = 1e-9 on the plane is a roller, 1e-7 is not.
-    for offset, roller in ((0.5e-9 / KAPPA, True), (0.5e-7 / KAPPA, False)):
+    assert np.array_equal(geometry.index, np.arange(len(plane)))
+    assert np.array_equal(geometry.oblique, plane)
+    assert np.allclose(geometry.normal[plane, 0], 0.0)
+    free = contact_geometry(shifted, "obstacle", rollers=False)
+    s, nu = free.excluded["gap"], free.excluded["normal"]
+    assert np.allclose(geometry.gap[plane],
+                       s / np.linalg.norm(nu[:, 1:], axis=1))
+    # ν_x = 1e-9 on the plane is a roller, 1e-7 is oblique.
+    for offset, oblique in ((0.5e-9 / KAPPA, False),
+                            (0.5e-7 / KAPPA, True)):
         shifted.nodes = problem.nodes + [offset, 0.0, 0.0]
         geometry = contact_geometry(shifted, "obstacle", rollers=True)
-        assert np.isin(np.flatnonzero(plane), geometry.index).all() == roller
+        assert geometry.oblique[plane].all() == oblique
+        assert geometry.rollers[plane].all()
     assert ROLLER_TOLERANCE == 1e-8
 
 
-def test_tilted_roller_solve_matches_supports():
-    """Solved, the half block shifted to x ≥ 0.1 (no roller qualifies:
-    ν_x ≈ −0.05 on its plane) gives the same
-    answer with and without rollers: the plane nodes are supports."""
+def test_tilted_roller_solve_holds_the_plane_nodes():
+    """Solved, the half block shifted to x ≥ 0.1 (ν_x ≈ −0.05 on its
+    plane, no roller qualifies): by default its plane nodes take part as
+    oblique nodes and none of them penetrates (the remaining gap along the
+    obstacle's own normal, from the solve's displacements); made supports
+    (rollers=False) they are driven into the obstacle, and a
+    PenetrationWarning names them."""
+    from solver.errors import PenetrationWarning
+
     problem = block_3d("half")
     problem.nodes = problem.nodes + [0.1, 0.0, 0.0]
-    a = solve_frictionless(problem, "min", tol=1e-13)
-    b = solve_frictionless(problem, "min", tol=1e-13, rollers=False)
-    assert a.success and b.success
-    np.testing.assert_array_equal(a.contact_force, b.contact_force)
     plane = (problem.contact_dofs < 0).any(axis=1)
-    assert (a.contact_force[plane] == 0).all() and a.n_contact > 0
+    a = solve_frictionless(problem, "min", tol=1e-13)
+    assert a.success and a.n_contact > 0
+    assert (a.contact_force[plane] > 0).any()
+    free = contact_geometry(problem, "obstacle", rollers=False)
+    moved = a.displacement[problem.contact_nodes[plane]]
+    remaining = free.excluded["gap"] - np.einsum(
+        "ij,ij->i", free.excluded["normal"], moved)
+    assert remaining.min() >= -1e-12
+    with pytest.warns(PenetrationWarning, match="penetrate"):
+        b = solve_frictionless(problem, "min", tol=1e-13, rollers=False)
+    assert b.success and (b.contact_force[plane] == 0).all()
+    assert b.verification["excluded"]["penetrating"]
 
 
 def test_fully_clamped_contact_node_stays_a_support():

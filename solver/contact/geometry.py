@@ -202,7 +202,7 @@ def contact_geometry(problem, gap="obstacle", rollers=False):
     geometry = _frames(nodes, problem.contact_dofs[nodes], s, normal, foot,
                        "given" if problem.kind == "discrete" else gap,
                        _prescribed(problem, nodes))
-    left = np.setdiff1d(np.arange(problem.n_contact), geometry.index)
+    left = np.setdiff1d(np.arange(len(problem.contact_dofs)), geometry.index)
     reason = np.where(constrained[left].all(axis=1), SUPPORT,
                       np.where(eligible[left], SUPPORT_ALONG,
                                SUPPORT_PARTIAL)).tolist()
@@ -241,7 +241,7 @@ def _support_gaps(problem, gap, left):
     from ..errors import GeometryError
 
     out = dict(gap=np.full(len(left), np.nan),
-               normal=np.full((len(left), problem.dim), np.nan))
+               normal=np.full((len(left), problem_dim(problem)), np.nan))
     if not len(left):
         return out
     try:
@@ -255,9 +255,10 @@ def _support_gaps(problem, gap, left):
 def _prescribed(problem, nodes):
     """The prescribed displacements ū at the positions ``nodes`` of Γc
     (zero where free, and for a discrete problem)."""
-    if problem.kind == "discrete" or problem.u_prescribed is None:
-        return np.zeros((len(nodes), problem.dim))
-    return np.asarray(problem.u_prescribed)[problem.contact_nodes[nodes]]
+    prescribed = getattr(problem, "u_prescribed", None)
+    if problem.kind == "discrete" or prescribed is None:
+        return np.zeros((len(nodes), problem_dim(problem)))
+    return np.asarray(prescribed)[problem.contact_nodes[nodes]]
 
 
 def node_displacement(problem, u, positions):
