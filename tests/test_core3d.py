@@ -347,10 +347,7 @@ def test_slab_reproduces_2d_to_discretisation_error():
 #: systems are solved on their free components by Cholesky
 #: (:mod:`solver.contact.frictionless.newton`) instead of an LU of the whole
 #: Jacobian: the same iterates up to round-off, so λ is compared to 1e-13
-#: (measured 1.4e-15) and the counts still exactly. Since the 2D tangent
-#: length is computed by hypot (obstacles that overflow, issue 34) the
-#: normals may differ in the last bit, which the thesis's full system
-#: (c = 1) carries to 1.5e-13 of λ: compared to 1e-12.
+#: (measured 1.4e-15) and the counts still exactly.
 BEFORE = {
     ("obstacle", "min", "nested"): (6, 10, [978.8525727410013,
                                             1768.1995460526564,
@@ -380,7 +377,7 @@ def test_2d_unchanged_bit_for_bit(exported, key):
                                 **kw)
     njev, nfev, lam = BEFORE[key]
     assert (result.njev, result.nfev) == (njev, nfev)
-    np.testing.assert_allclose(result.contact_force[10:14], lam, rtol=1e-12)
+    np.testing.assert_allclose(result.contact_force[10:14], lam, rtol=1e-13)
     assert result.condensation == ("none" if start == "full" else "contact")
     assert result.candidates is None
 

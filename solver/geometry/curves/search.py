@@ -145,9 +145,16 @@ def first_per_owner(owner, key, n):
 
 def obstacle_normals(curve, t):
     """Unit normals of the obstacle at ``t`` (and the tangent lengths; by
-    hypot, so that a fast parametrisation, y = 1e300·t, has a tangent)."""
+    hypot where the plain norm overflows or underflows, so that a fast
+    parametrisation, y = 1e300·t, has a tangent, and the others keep the
+    norm's last bit, on which the thesis's degenerate split depends)."""
     tangent = curve.derivative(t)
-    length = np.hypot(tangent[..., 0], tangent[..., 1])
+    with np.errstate(all="ignore"):
+        length = np.linalg.norm(tangent, axis=-1)
+    odd = ~np.isfinite(length) | (length == 0)
+    if np.any(odd):
+        length = np.where(odd, np.hypot(tangent[..., 0], tangent[..., 1]),
+                          length)
     with np.errstate(all="ignore"):
         normal = np.stack([tangent[..., 1], -tangent[..., 0]], axis=-1) \
             / length[..., None]
