@@ -83,6 +83,7 @@ def summary_of(result, problem, tol=None, **extra):
     summary = {
         "problem": problem.source,
         "kind": problem.kind,
+        "dim": int(problem.dim),
         "method": result.method,
         "gap": result.gap_mode,
         "system": "condensed" if result.get("condensed") else "full",
@@ -177,6 +178,7 @@ def friction_summary_of(result, problem, tol=None, **extra):
     summary = {
         "problem": problem.source,
         "kind": problem.kind,
+        "dim": int(problem.dim),
         "mode": "friction",
         "status": "converged" if result.success else "not_converged",
         "converged": bool(result.success),

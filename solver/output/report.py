@@ -90,7 +90,7 @@ def format_friction_result(summary, outdir):
         *verification_text(summary)]
     if summary["steps_completed"]:
         lines += [
-            f"last step         {summary['final_n_contact']} nodes in "
+            f"last step         {_nodes(summary['final_n_contact'])} in "
             f"contact: {summary['final_n_stick']} stick, "
             f"{summary['final_n_slip']} slip; max pressure "
             f"{_g(summary['final_max_contact_pressure'])}"]
@@ -102,7 +102,8 @@ def format_friction_result(summary, outdir):
 
 def _system_text(summary):
     if summary["system"] == "full":
-        return "full (the thesis's, in all unknowns)"
+        return ("full (the thesis's, in all unknowns)"
+                if _table1_applies(summary) else "full (in all unknowns)")
     candidates = summary.get("normal_candidates")
     if candidates:
         rounds = candidates["rounds"]
@@ -110,13 +111,43 @@ def _system_text(summary):
                 f"{candidates['n_candidates']} candidate nodes "
                 f"({len(rounds)} round{'s' if len(rounds) > 1 else ''}; "
                 "--system full: all unknowns)")
-    text = "condensed onto the contact boundary (--system full: the thesis's)"
+    text = ("condensed onto the contact boundary (--system full: "
+            + ("the thesis's)" if _table1_applies(summary) else
+               "all unknowns)"))
     levels = summary.get("levels") or []
     if len(levels) > 1:
         text += (f"\nnested start      {len(levels)} levels of "
                  f"{levels[0]['n_nodes']}..{levels[-1]['n_nodes']} contact "
                  f"nodes; J per level {[lv['njev'] for lv in levels]}")
     return text
+
+
+def _nodes(count):
+    """"1 node", "4 nodes"."""
+    return f"{count} node" + ("" if count == 1 else "s")
+
+
+def _counts_note(summary):
+    """What the J and F counts cover: a nested start's levels, and where
+    Table 1 applies (a 2D rigid obstacle: the nested start is 2D only) how
+    to get its counts."""
+    if summary["system"] == "full":
+        return "  (thesis Table 1 metrics)" if _table1_applies(summary) \
+            else ""
+    if summary.get("start") != "nested":
+        return ""
+    if _table1_applies(summary):
+        return "  (all levels; Table 1's: --system full)"
+    return "  (all levels)"
+
+
+def _table1_applies(summary):
+    """Whether the thesis's system and Tables 1 and 2 apply: a 2D body on
+    a rigid obstacle (gaps from the obstacle or the body), not two
+    bodies, a discrete problem or 3D."""
+    return (summary.get("kind") == "mesh"
+            and summary.get("gap") in ("obstacle", "body")
+            and summary.get("dim", 2) == 2)
 
 
 def _e(value):
@@ -160,9 +191,7 @@ def format_result(summary, outdir):
         f"({summary['message']})",
         f"iterations        {summary['iterations']}",
         f"evaluations       J {summary['n_jacobian']}, F "
-        f"{summary['n_residual']}  ("
-        + ("thesis Table 1 metrics)" if summary["system"] == "full" else
-           "all levels; Table 1's: --system full)"),
+        f"{summary['n_residual']}" + _counts_note(summary),
         f"system            {_system_text(summary)}",
         f"stopping test     {stopping_text(summary)}",
         f"final ||Phi||     {_e(summary['residual'])}",
