@@ -22,6 +22,12 @@ from solver import ParametricCurve, load_problem
 from solver.cli import main
 from solver import solve_friction, solve_frictionless
 from solver.contact import contact_geometry
+from solver.errors import InitialPenetrationWarning
+
+# Tests that place the obstacle inside the body on purpose expect the
+# warning (pytest.warns); any other initial penetration here is an error.
+pytestmark = pytest.mark.filterwarnings(
+    "error::solver.errors.InitialPenetrationWarning")
 
 METHODS = ("min", "fb")
 GAPS = ("obstacle", "body")
@@ -122,7 +128,10 @@ def test_every_contact_node_in_contact(block, method, gap):
     allowed): every free contact node ends in contact with u_n = s; the
     clamped corner (5, -10) is a support and never is."""
     problem = with_obstacle(block, "4.9 + 0*t")
-    result = solve_frictionless(problem, method=method, gap=gap)
+    with pytest.warns(InitialPenetrationWarning,
+                      match="penetrates the undeformed body at 10 contact "
+                            "nodes"):
+        result = solve_frictionless(problem, method=method, gap=gap)
     assert result.success, result.message
     mask = free(result)
     assert mask.sum() == 10 and not mask[0]
@@ -180,7 +189,8 @@ def test_zero_load_with_penetration(unloaded):
     """No load but an obstacle 0.1 inside the body: it pushes the body out
     (not u = 0)."""
     problem = with_obstacle(unloaded[1], "4.9 + 0*t")
-    result = solve_frictionless(problem)
+    with pytest.warns(InitialPenetrationWarning, match="deepest 0.1"):
+        result = solve_frictionless(problem)
     assert result.success and result.n_contact >= 1
     assert np.abs(result.u).max() > 0.05
 
