@@ -20,7 +20,26 @@ import numpy as np
 from .folder import atomic_path
 
 __all__ = ["write_summary", "write_result", "summary_of",
-           "friction_summary_of", "json_ready"]
+           "friction_summary_of", "json_ready", "frames_on_contact",
+           "result_arrays", "write_arrays"]
+
+
+def frames_on_contact(problem, geometry):
+    """The gaps, unit normals and tangents of ``geometry`` over all of Γc,
+    in the order of ``problem.contact_nodes``: ``gap`` (Nc,), ``normal``
+    (Nc, d) and ``tangents`` (Nc, d − 1, d), NaN at the contact nodes
+    that take no part (supports). The tangents are the frame of the
+    tangential fields of a friction run (``friction_traction``,
+    ``tangential_displacement``: component k along ``tangents[:, k]``);
+    in 2D the one tangent is the thesis's γ = (−ν_y, ν_x)."""
+    nc, d = problem.n_contact, geometry.normal.shape[1]
+    gap = np.full(nc, np.nan)
+    normal = np.full((nc, d), np.nan)
+    tangents = np.full((nc, d - 1, d), np.nan)
+    gap[geometry.index] = geometry.gap
+    normal[geometry.index] = geometry.normal
+    tangents[geometry.index] = geometry.tangents
+    return gap, normal, tangents
 
 
 def _number(value):
@@ -146,10 +165,11 @@ def write_summary(path, summary):
             stream.write(text + "\n")
 
 
-def write_result(path, result, problem):
-    """``result.npz``: fields along Γc, nodal displacement and history."""
+def result_arrays(result, problem):
+    """The arrays of ``result.npz`` of a frictionless solve: fields along
+    Γc, nodal displacement and the Newton history."""
     history = result.history
-    arrays = dict(
+    return dict(
         u=result.u, displacement=result.displacement,
         contact_nodes=(problem.contact_nodes if problem.kind == "mesh"
                        else np.arange(problem.n_contact)),
@@ -167,9 +187,18 @@ def write_result(path, result, problem):
         history_active=np.array(history["active"], dtype=np.int64),
         history_line_search_failed=np.array(history["line_search_failed"],
                                             dtype=bool))
+
+
+def write_arrays(path, arrays):
+    """``arrays`` as an ``.npz`` archive, written atomically."""
     with atomic_path(path) as tmp:
         with open(tmp, "wb") as stream:
             np.savez_compressed(stream, **arrays)
+
+
+def write_result(path, result, problem):
+    """``result.npz``: fields along Γc, nodal displacement and history."""
+    write_arrays(path, result_arrays(result, problem))
 
 
 def friction_summary_of(result, problem, tol=None, **extra):

@@ -37,8 +37,11 @@ CHUNK_BYTES = 1 << 24
 class StepWriter:
     """Stream the completed steps of a friction run into ``folder``."""
 
-    def __init__(self, folder, problem, total_steps):
+    def __init__(self, folder, problem, total_steps, tangents=None):
         self.folder, self.problem = folder, problem
+        #: (Nc, d − 1, d) tangent frames over Γc, if known: the step files
+        #: of a 3D run then hold the friction traction as a 3-vector
+        self.tangents = tangents
         self.total, self.count = int(total_steps), 0
         self.scratch = tempfile.mkdtemp(prefix=".tmp-steps-",
                                         dir=folder.path)
@@ -64,7 +67,8 @@ class StepWriter:
                 import meshio
 
                 with atomic_path(self.folder.file(name)) as tmp:
-                    meshio.write(tmp, step_mesh(self.problem, fields),
+                    meshio.write(tmp, step_mesh(self.problem, fields,
+                                                 self.tangents),
                                  file_format="vtu")
                 self.timesteps.append((float(fields["load_factor"]), name))
             self.count = k + 1

@@ -1,12 +1,13 @@
 """Outputs of a two-body (mortar) solve, :mod:`solver.contact.two_body`.
 
 ``result.npz``: the frictionless or friction arrays as for a rigid
-obstacle (friction: per step, first axis) plus ``traction`` (on the slave
+obstacle (the Newton history of a frictionless solve included; friction:
+per step, first axis) plus ``traction`` (on the slave
 surface, per slave node), ``mortar_D``, ``covered``, ``weighted_gap``,
 ``body`` (per node) and ``v`` (the solved variables). ``result.vtu``: both
 bodies in one file, with cell data ``body`` (ParaView: *Threshold* on it
-shows one body) and point data ``body`` and ``traction`` besides the usual
-fields (friction runs: the last completed step). Figures: the interface
+shows one body) and point data ``body`` and ``traction`` besides a rigid
+obstacle's fields (friction runs: the last completed step). Figures: the interface
 pressure λ_j and traction along the slave surface, and the deformed bodies.
 """
 
@@ -34,14 +35,15 @@ def _last(result, key):
 
 
 def write_two_body_result(path, result, problem):
-    """``result.npz`` (atomically)."""
-    arrays = {key: np.asarray(result[key]) for key in RESULT_KEYS
-              if result.get(key) is not None}
-    arrays.update(contact_nodes=problem.contact_nodes,
-                  converged=np.array(bool(result.success)))
-    with atomic_path(path) as tmp:
-        with open(tmp, "wb") as stream:
-            np.savez_compressed(stream, **arrays)
+    """``result.npz`` of a frictionless solve (atomically): the arrays of
+    a rigid obstacle's (:func:`~solver.output.files.result_arrays`,
+    the Newton history included) and the interface's."""
+    from .files import result_arrays, write_arrays
+
+    arrays = result_arrays(result, problem)
+    arrays.update({key: np.asarray(result[key]) for key in RESULT_KEYS
+                   if result.get(key) is not None})
+    write_arrays(path, arrays)
 
 
 def write_two_body_vtk(path, result, problem):
@@ -58,7 +60,8 @@ def write_two_body_vtk(path, result, problem):
             "contact_pressure": _on_nodes(problem, _last(result,
                                                          "contact_pressure")),
             "in_contact": _on_nodes(problem, _last(result, "in_contact"), 0,
-                                    np.int32)}
+                                    np.int32),
+            "initial_gap": _on_nodes(problem, result.gap, np.nan)}
     mesh = meshio.Mesh(_points(problem), _cells(problem), point_data=data,
                        cell_data={"body": [body[problem.cells[:, 0]]]})
     with atomic_path(path) as tmp:

@@ -7,14 +7,17 @@ Cells: triangles in 2D, tetrahedra (meshio ``"tetra"``) when the nodes have
 that ParaView's *Warp By Vector* applies it), and on the contact nodes (zero
 elsewhere) ``contact_pressure`` (λ_i / D_ii), ``in_contact``; friction steps
 add ``friction_traction``, ``stick`` and ``slip``; ``initial_gap`` is NaN off
-Γc. A contact field given per contact node as a vector (shape (Nc, k), e.g.
-the tangential traction in 3D) is written as a k-component point field; 2D
-files are unchanged by the 3D support.
+Γc. In 3D the friction traction, (Nc, 2) components in per-node tangent
+frames, is written as the 3-vector Σ_k g_k τ_k in x, y, z when the frames
+are given (:func:`step_mesh`); another contact field given per contact node
+as a vector (shape (Nc, k)) is written as a k-component point field. 2D
+files are unchanged by the 3D support: g_t is a scalar along γ.
 """
 
 import numpy as np
 
-__all__ = ["result_mesh", "step_mesh", "write_vtk", "write_pvd"]
+__all__ = ["result_mesh", "step_mesh", "traction_vectors", "write_vtk",
+           "write_pvd"]
 
 
 def _points(problem):
@@ -58,8 +61,20 @@ def result_mesh(problem, result):
     return meshio.Mesh(_points(problem), _cells(problem), point_data=data)
 
 
-def step_mesh(problem, fields):
-    """meshio.Mesh of one friction load step (``fields`` of the step)."""
+def traction_vectors(traction, tangents):
+    """The tangential traction as vectors in x, y, z: Σ_k g_k τ_k per
+    contact node from its components g (Nc, d − 1) in the tangent frames
+    ``tangents`` (Nc, d − 1, d); 0 where the frame is NaN (supports)."""
+    g = np.asarray(traction, float).reshape(len(tangents), -1)
+    return np.einsum("ik,ikd->id", g, np.nan_to_num(tangents))
+
+
+def step_mesh(problem, fields, tangents=None):
+    """meshio.Mesh of one friction load step (``fields`` of the step).
+    With the tangent frames over Γc (``tangents``, (Nc, d − 1, d)) a 3D
+    step's ``friction_traction`` is written as a 3-vector in x, y, z
+    (:func:`traction_vectors`), which ParaView shows as a vector; 2D
+    steps keep the scalar g_t along γ."""
     import meshio
 
     n = len(problem.nodes)
@@ -69,6 +84,9 @@ def step_mesh(problem, fields):
                               ("in_contact", 0, np.int32),
                               ("stick", 0, np.int32), ("slip", 0, np.int32)):
         data[name] = _on_nodes(problem, fields[name], fill, dtype)
+    if tangents is not None and np.shape(tangents)[-1] == 3:
+        data["friction_traction"] = _on_nodes(problem, traction_vectors(
+            fields["friction_traction"], tangents))
     cell_data = None
     if getattr(problem, "is_mortar", False):  # two bodies: the body,
         # the interface traction

@@ -13,7 +13,8 @@ import os
 
 import numpy as np
 
-from .files import (friction_summary_of, summary_of, write_result)
+from .files import (frames_on_contact, friction_summary_of, summary_of,
+                    write_result)
 from .stepfiles import StepWriter
 from .vtk import write_vtk
 
@@ -24,11 +25,17 @@ class StepOutputs:
     """The completed steps of a friction run streamed into ``folder``
     (:class:`~solver.output.stepfiles.StepWriter`): call it as the run's
     ``on_step``; :meth:`finish` writes ``result.npz`` and ``result.pvd``
-    of the completed steps, also after an interrupt."""
+    of the completed steps, also after an interrupt. Given the run's
+    ``geometry`` (``Plan.geometry``) at once, the step files of a 3D run
+    hold the friction traction as a 3-vector (the tangent frames turn its
+    components into x, y, z)."""
 
-    def __init__(self, folder, problem, total_steps):
+    def __init__(self, folder, problem, total_steps, geometry=None):
         self.folder, self.problem = folder, problem
-        self.writer = StepWriter(folder, problem, total_steps)
+        tangents = None if geometry is None else \
+            frames_on_contact(problem, geometry)[2]
+        self.writer = StepWriter(folder, problem, total_steps,
+                                 tangents=tangents)
 
     def __call__(self, fields):
         self.writer(fields)
@@ -40,19 +47,17 @@ class StepOutputs:
 
     def finish(self, geometry, result=None):
         """``result.npz`` and ``result.pvd`` of the completed steps, with
-        the per-node gaps and normals of ``geometry`` over Γc and, when
-        the run ended (``result``), its per-step counts and verdict."""
+        the per-node gaps, normals and tangent frames of ``geometry`` over
+        Γc (:func:`~solver.output.files.frames_on_contact`) and, when the
+        run ended (``result``), its per-step counts and verdict."""
         writer, problem = self.writer, self.problem
         nc = problem.n_contact
-        normal = np.full((nc, geometry.normal.shape[1]), np.nan)
-        normal[geometry.index] = geometry.normal
-        gap = np.full(nc, np.nan)
-        gap[geometry.index] = geometry.gap
+        gap, normal, tangents = frames_on_contact(problem, geometry)
         records = [] if result is None else result.records
         extra = dict(
             contact_nodes=(problem.contact_nodes if problem.kind == "mesh"
                            else np.arange(nc)),
-            gap=gap, normal=normal,
+            gap=gap, normal=normal, tangents=tangents,
             step_njev=np.array([r["njev"] for r in records[:writer.count]],
                                dtype=np.int64),
             step_nfev=np.array([r["nfev"] for r in records[:writer.count]],
@@ -84,7 +89,9 @@ def write_all(folder, problem, result, plots=False, tol=None,
         if key in result:
             summary[key] = result[key]
     if problem.is_mortar:
-        summary.update(interface_summary(problem, result))
+        summary.update(interface_summary(
+            problem, _with_saved_pressure(folder, result) if friction
+            else result))
     if not friction:
         if problem.is_mortar:
             from .two_body import write_two_body_result
@@ -146,6 +153,22 @@ def _saved_steps(folder, result):
         if key in result:
             steps[key] = result[key]
     return steps
+
+
+def _with_saved_pressure(folder, result):
+    """A friction result whose steps went to disk (the command line keeps
+    none in memory) with its contact pressures read back from
+    ``result.npz``, for :func:`interface_summary`."""
+    if result.get("contact_pressure") is not None:
+        return result
+    path = os.path.join(folder.path, "result.npz")
+    if not result.steps_completed or not os.path.exists(path):
+        return result
+    with np.load(path) as data:
+        pressure = data["contact_pressure"]
+    from scipy.optimize import OptimizeResult
+
+    return OptimizeResult(result, contact_pressure=pressure)
 
 
 def interface_summary(problem, result):
