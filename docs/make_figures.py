@@ -2,7 +2,8 @@
 
 Usage (from the repository root, after ``pip install .``)::
 
-    python docs/make_figures.py
+    python docs/make_figures.py            # into docs/figures/
+    python docs/make_figures.py --out DIR  # elsewhere (tests/test_make_figures.py)
 
 Exports the thesis block on the 454-element mesh with SfePy (``sfepy-run``),
 then solves it and the 2-DOF bar with the library and saves PNGs. Units as
@@ -10,6 +11,7 @@ everywhere in the figures (``solver.output.figures.UNITS``): lengths in mm,
 forces in N, pressures in MPa, plane strain per mm of thickness.
 """
 
+import argparse
 import subprocess
 import sys
 import tempfile
@@ -18,7 +20,7 @@ from types import SimpleNamespace
 
 import numpy as np
 
-from solver import load_problem, solve_friction, solve_frictionless, two_dof_bar
+from solver import load_problem, solve, two_dof_bar
 from solver.examples import two_dof_bar_closed_form
 from solver.output import figures, friction_figures
 
@@ -36,38 +38,42 @@ def export_block(folder, elements=454):
     return load_problem(npz)
 
 
-def main():
-    FIGURES.mkdir(parents=True, exist_ok=True)
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--out", type=Path, default=FIGURES,
+                        help="folder of the PNG files (default docs/figures)")
+    out = parser.parse_args(argv).out
+    out.mkdir(parents=True, exist_ok=True)
     plt = figures._pyplot()
     with tempfile.TemporaryDirectory() as folder:
         block = export_block(folder)
     for method in ("fb", "min"):
         # the thesis's full system: the histories that Table 1 compares
-        r = solve_frictionless(block, method=method, condense=False)
+        r = solve(block, method=method, system="full")
         plt.close(figures.plot_convergence(
-            r, FIGURES / f"frictionless_convergence_{method}.png"))
+            r, out / f"frictionless_convergence_{method}.png"))
     plt.close(figures.plot_deformed(block, r,
-                                    path=FIGURES / "frictionless_deformed.png"))
+                                    path=out / "frictionless_deformed.png"))
     plt.close(figures.plot_contact_pressure(
-        block, r, FIGURES / "frictionless_pressure.png"))
+        block, r, out / "frictionless_pressure.png"))
     bar = two_dof_bar()
     for fc, name in ((10.0, "10"), (0.5, "0.5")):
-        r = solve_friction(bar, fc, steps=100, formulation="thesis")
+        r = solve(bar, friction=fc, steps=100, formulation="thesis")
         exact = np.array([two_dof_bar_closed_form(k, fc)
                           for k in range(1, 101)])
         plt.close(friction_figures.plot_step_history(
-            bar, r, reference=exact, path=FIGURES / f"bar_fc{name}.png"))
-    r = solve_friction(block, 0.3, steps=100, formulation="thesis")
+            bar, r, reference=exact, path=out / f"bar_fc{name}.png"))
+    r = solve(block, friction=0.3, steps=100, formulation="thesis")
     plt.close(friction_figures.plot_friction_along_boundary(
-        block, r, path=FIGURES / "friction_tractions_fc0.3.png"))
+        block, r, path=out / "friction_tractions_fc0.3.png"))
     last = SimpleNamespace(displacement=r.displacement[-1],
                            in_contact=r.in_contact[-1])
     plt.close(figures.plot_deformed(
-        block, last, path=FIGURES / "friction_deformed_fc0.3.png",
+        block, last, path=out / "friction_deformed_fc0.3.png",
         title=f"after {r.steps_completed} load steps, f_c = 0.3, "
               f"{r.formulation} formulation"))
-    for path in sorted(FIGURES.glob("*.png")):
-        print(path.relative_to(ROOT))
+    for path in sorted(out.glob("*.png")):
+        print(path)
 
 
 if __name__ == "__main__":
