@@ -18,18 +18,23 @@ problem, which every stage holds). Stages:
   own choice, ``nmethods = 0``, took 4.8 s against 1 + 2.9 s at 4.8·10⁵
   DOFs), PARDISO with its own METIS order; no pivot check;
 * ``schur``: gap geometry (not timed), then the condensation of K onto Γc
-  alone (:func:`solver.contact.frictionless.driver.condense_onto_contact`: the
-  factorisation with the contact DOFs last and the dense S);
-* ``min``, ``fb``: ``solve_frictionless(problem, method, backend=...)``
+  alone (:func:`solver.contact.strategies.reduction.condense_onto_contact`:
+  the factorisation with the contact DOFs last and the dense S);
+* ``min``, ``fb``: ``solve(problem, method=..., backend=...)``
   with every other argument at its default (geometry, condensation,
   nested start, Newton, back-substitution, verification all timed); the
   solution is saved next to the problem for the peers to compare with;
-* ``friction``: ``solve_friction`` with f_c = 0.3, STEPS load steps,
+* ``friction``: ``solve(problem, friction=0.3, ...)``, STEPS load steps,
   projection formulation, φ_min and the lagged bound unless COULOMB
   ("lagged", "implicit") and METHOD ("min", "fb") say otherwise;
 * ``clarabel``, ``sfepy``: the peers of ``peers.py`` on the same K, f and
   gaps; ``agreement`` is their max-norm distance to our φ_min solution
   (relative).
+
+Only the public front solves (``solver.solve``, ``solver.contact_geometry``);
+the ``floor`` and ``schur`` stages measure what lies below it on purpose
+(a backend's factorisation, the condensation alone), so they import
+``solver.linalg`` and ``solver.contact.strategies.reduction``.
 """
 
 import json
@@ -43,7 +48,7 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 sys.path.insert(1, str(Path(__file__).resolve().parent.parent))
 
-from solver import load_problem, solve_friction, solve_frictionless  # noqa
+from solver import contact_geometry, load_problem, solve  # noqa: E402
 from solver.linalg import dof_ordering, get_backend  # noqa: E402
 
 
@@ -69,7 +74,6 @@ def floor(problem, backend):
 
 
 def schur(problem, backend):
-    from solver.contact import contact_geometry
     from solver.contact.strategies.reduction import condense_onto_contact
     geometry = contact_geometry(problem, "obstacle")
     get_backend(backend)
@@ -81,7 +85,7 @@ def schur(problem, backend):
 def frictionless(problem, method, backend, path):
     get_backend(backend)
     with Clock() as clock:
-        r = solve_frictionless(problem, method=method, backend=backend)
+        r = solve(problem, method=method, backend=backend)
     np.save(f"{path}.{method}.{backend}.npy", r.u)
     return {**clock.times, "J": r.njev, "F": r.nfev,
             "converged": bool(r.success), "contact": r.n_contact,
@@ -94,9 +98,9 @@ def frictionless(problem, method, backend, path):
 def friction(problem, backend, steps, coulomb="lagged", method="min"):
     get_backend(backend)
     with Clock() as clock:
-        r = solve_friction(problem, 0.3, steps=steps,
-                           formulation="projection", method=method,
-                           coulomb=coulomb, backend=backend)
+        r = solve(problem, friction=0.3, steps=steps,
+                  formulation="projection", method=method, coulomb=coulomb,
+                  backend=backend)
     screening = r.get("candidates") or {}
     return {**clock.times, "J": r.njev, "F": r.nfev,
             "converged": bool(r.success),
@@ -107,7 +111,6 @@ def friction(problem, backend, steps, coulomb="lagged", method="min"):
 
 def peer(problem, name, reference):
     import peers
-    from solver.contact import contact_geometry
 
     geometry = contact_geometry(problem, "obstacle")
     with Clock() as clock:

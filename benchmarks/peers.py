@@ -1,7 +1,7 @@
 """Independent solvers of the same frictionless problem, for the benchmark.
 
 Both take the problem's K, f and the gaps and normals of
-:func:`solver.contact.contact_geometry` (gap from the obstacle), i.e. the
+:func:`solver.contact_geometry` (gap from the obstacle), i.e. the
 linear complementarity problem
 
     K u = f − Cᵀλ,   λ ≥ 0,   s − C u ≥ 0,   λᵀ(s − C u) = 0,

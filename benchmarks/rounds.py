@@ -24,7 +24,7 @@ and (stage, backend), wall and CPU:
 Stages: ``min``, ``fb`` (frictionless, every default), ``friction``
 (``measure.py``'s: projection formulation, lagged bound, φ_min, f_c = 0.3,
 ``--friction-steps`` steps: issue 17's benchmark configuration) and
-``friction-fb`` (the same with φ_FB: the defaults of ``solve_friction`` and
+``friction-fb`` (the same with φ_FB: the defaults of ``solve(..., friction=)`` and
 of ``python -m solver X.npz --friction 0.3``).
 """
 

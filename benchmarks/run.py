@@ -22,7 +22,7 @@ One table row per size (markdown, printed as each size finishes):
   installed backend (superlu and cholmod with our nested dissection, the
   ordering timed; pardiso with its own METIS); **fastest** names
   the fastest of them *in this run*, the denominator of every ratio;
-* ``min``/``fb`` ``<backend>``: ``solve_frictionless`` (φ_min, φ_FB; every
+* ``min``/``fb`` ``<backend>``: ``solver.solve`` (φ_min, φ_FB; every
   argument but ``backend`` at its default: gap from the obstacle,
   condensed onto Γc, nested start, verification) with each backend, as
   "time (time / fastest floor)";

@@ -17,7 +17,7 @@ stage; ``processes.py``), which reports wall and CPU time and its peak RSS:
 * **floor** ``<backend>``: factorise K and solve K u = f once, each
   installed backend; **fastest**: the shortest floor in this run, the
   denominator of every ratio;
-* **solve**: ``solve_frictionless(problem, "min", backend=fastest)``, all
+* **solve**: ``solve(problem, method="min", backend=fastest)``, all
   else at its defaults (3D: condensed onto the normal DOFs of candidate
   nodes, :mod:`solver.contact.strategies.candidates`); **N_c in contact** and
   **candidates** (final) from it;
@@ -25,9 +25,9 @@ stage; ``processes.py``), which reports wall and CPU time and its peak RSS:
   --linear-solver fastest`` as a whole (start-up, loading, solve,
   verification, result folder): "end to end from the .npz";
   **imports**: ``python -c "import solver.cli"`` alone (its start-up);
-* **friction**: ``solve_friction`` with f_c = 0.3, ``--steps`` load steps
-  (default 10), projection form, ``--method`` and ``--bound`` (default
-  solve_friction's own: φ_FB, lagged; the lagged bound's stall at a/h 16
+* **friction**: ``solve(problem, friction=0.3, ...)``, ``--steps`` load
+  steps (default 10), projection form, ``--method`` and ``--bound``
+  (default solve's own: φ_FB, lagged; the lagged bound's stall at a/h 16
   is gone since ROLL18B, benchmarks/README.md), fastest backend (3D
   default: on candidate nodes, rollers included,
   :mod:`solver.contact.strategies.friction_candidates`), up to
@@ -152,10 +152,10 @@ def parse(argv):
     parser.add_argument("--max-friction-dofs", type=float, default=1.5e5)
     parser.add_argument("--bound", choices=("implicit", "lagged"),
                         default="lagged", help="the friction rows' "
-                        "Coulomb bound (default lagged, solve_friction's)")
+                        "Coulomb bound (default lagged, solve's)")
     parser.add_argument("--method", choices=("fb", "min"), default="fb",
                         help="the friction rows' NCP method (default fb, "
-                        "solve_friction's)")
+                        "solve's)")
     parser.add_argument("--threads", type=int)
     parser.add_argument("--log")
     args = parser.parse_args(argv)

@@ -4,8 +4,8 @@
 [--gamg R1.npz,...] [--blas libopenblas.so.0] [--log FILE]`` runs, for each problem, in fresh
 processes and ``--repeat`` times each (rounds over the configurations):
 
-- **serial**: ``solve_frictionless(problem, method="min",
-  candidates=True, start="free")`` with the fastest installed backend (the
+- **serial**: ``solve(problem, method="min", candidates=True,
+  start="free")`` with the fastest installed backend (the
   iteration the engine runs); with ``--serial-default`` also the serial
   default (nested start);
 - **petsc N**: ``mpiexec -n N`` of the engine's condensed φ_min solve
@@ -46,12 +46,12 @@ MPIEXEC = ["mpiexec", "--allow-run-as-root", "--oversubscribe", "--bind-to",
 def _serial(path, mode):
     import resource
 
-    from solver import load_problem, solve_frictionless
+    from solver import load_problem, solve
 
     problem = load_problem(path)
     clock = time.perf_counter()
     options = dict(candidates=True, start="free") if mode == "free" else {}
-    result = solve_frictionless(problem, method="min", **options)
+    result = solve(problem, method="min", **options)
     usage = resource.getrusage(resource.RUSAGE_SELF)
     return dict(time=time.perf_counter() - clock, njev=int(result.njev),
                 nit=int(result.nit), backend=result.linear_solver,

@@ -23,7 +23,7 @@ process holds the loaded problem):
   and solve K u = f once (``measure.py``'s floor: SuperLU and CHOLMOD with
   our nested dissection, the ordering timed; PARDISO with its METIS);
   **fastest**: the shortest floor in this run, every ratio's denominator;
-* **min**, **fb** ``<backend>``: ``solve_two_body(problem, method,
+* **min**, **fb** ``<backend>``: ``solve(problem, method=...,
   backend=...)``, every other argument at its default (mortar coupling,
   change of variables, condensed Newton with the nested start,
   verification, mapping back), "time (time / fastest floor)";
@@ -56,8 +56,7 @@ METHODS = ("min", "fb")
 def measure_stage(path, stage, backend):
     """One stage in this process (``--measure``): a dict for the JSON."""
     from measure import Clock, floor
-    from solver import load_problem
-    from solver import solve_two_body
+    from solver import load_problem, solve
     from solver.linalg import get_backend
 
     problem = load_problem(path)
@@ -68,7 +67,7 @@ def measure_stage(path, stage, backend):
     else:
         get_backend(backend)
         with Clock() as clock:
-            r = solve_two_body(problem, method=stage, backend=backend)
+            r = solve(problem, method=stage, backend=backend)
         levels = r.get("levels") or []
         out.update(clock.times, J=r.njev, F=r.nfev, converged=bool(r.success),
                    contact=int(r.n_contact), levels=len(levels),
