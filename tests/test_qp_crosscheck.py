@@ -11,7 +11,7 @@ import scipy.sparse as sp
 from conftest import MESHES, THESIS_MESHES, solve_block
 from solver import solve_frictionless
 from solver.contact import contact_geometry
-from solver.errors import InitialPenetrationWarning
+from solver.errors import InitialPenetrationWarning, PenetrationWarning
 from solver.problem import load_problem
 
 
@@ -58,15 +58,19 @@ def test_thesis_meshes(exported, n, gap):
 
 
 @pytest.mark.filterwarnings("error::solver.errors.InitialPenetrationWarning")
+@pytest.mark.filterwarnings("error::solver.errors.PenetrationWarning")
 def test_inclined_line_obstacle(tmp_path):
     """A straight obstacle at an angle, x = 5.1 + 0.02 t, y = t: the block's
     upper part reaches it, and below y = −5 it starts inside the block
     (x < 5 there): four contact nodes penetrate initially, which the
-    solver warns about and pushes out."""
+    solver warns about and pushes out, and the clamped corner (5, −10), a
+    support, stays inside the obstacle, which it warns about too."""
     path = tmp_path / "line.npz"
     solve_block(MESHES / "block_454.mesh", path, obstacle_x="5.1 + 0.02*t",
                 obstacle_y="t")
-    with pytest.warns(InitialPenetrationWarning,
-                      match=r"at 4 contact nodes \(13, 14, 15, 16\)"):
-        result = check(load_problem(path), "obstacle")
+    with pytest.warns(PenetrationWarning,
+                      match=r"1 contact node left out of contact as support"):
+        with pytest.warns(InitialPenetrationWarning,
+                          match=r"at 4 contact nodes \(13, 14, 15, 16\)"):
+            result = check(load_problem(path), "obstacle")
     assert result.n_contact >= 2
