@@ -2,7 +2,8 @@
 (``notebooks/README.md``) true.
 
 Each notebook's cells assert the claims made in its prose, so re-executing
-it checks them against the current code.
+it checks them against the current code; and every number in its prose
+must be one that the re-executed cells print (:mod:`notebook_prose`).
 """
 
 import re
@@ -12,6 +13,7 @@ import pytest
 from nbclient import NotebookClient
 
 from conftest import ROOT
+from notebook_prose import unbacked_numbers
 
 NOTEBOOKS = sorted((ROOT / "notebooks").glob("*.ipynb"))
 README = ROOT / "notebooks" / "README.md"
@@ -91,3 +93,4 @@ def test_notebook_runs(path, tmp_path, monkeypatch):
     assert expected
     written = {p.name for p in tmp_path.glob("*.png")}
     assert expected <= written, expected - written
+    assert unbacked_numbers(notebook, path.stem) == []
