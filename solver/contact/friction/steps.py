@@ -147,8 +147,8 @@ def load_step(shared, state, run, stream, kappa, steps, load,
         # Start with the contact forces of the previous step, as the full
         # system's Δu = 0 does: Γc moves as the unconstrained body.
         du = (w - state.w)[condensation.dofs]
-    x0 = system.initial_guess(state.g, du)
     system.set_step(state.u, load, state.p, step_friction, step_norm)
+    x0 = system.initial_guess(state.g, du)
     result = solve_ncp(system.residual, system.jacobian, x0, method=method,
                        tol=tol, max_iter=max_iter, options=shared.options,
                        error=system.error, scale=system.scale)
