@@ -144,8 +144,9 @@ def load_step(shared, state, run, stream, kappa, steps, load,
     du, w = None, None
     if condensation is not None:
         load, w = condensation.load(load)
-        # Start with the contact forces of the previous step, as the full
-        # system's Δu = 0 does: Γc moves as the unconstrained body.
+        # The predictor: Γc moves as the unconstrained body (the contact
+        # forces of the previous step); initial_guess puts its normal
+        # pairs on the complementarity set (contact_corrected).
         du = (w - state.w)[condensation.dofs]
     system.set_step(state.u, load, state.p, step_friction, step_norm)
     x0 = system.initial_guess(state.g, du)

@@ -406,7 +406,6 @@ class FrictionSystem:
                 x[self.n + 2 * self.m:] = np.maximum(-dut, 0)
         return x
 
-
     #: Passes of the primal-dual active set iteration of
     #: :meth:`contact_corrected`; without convergence the predictor is
     #: returned as it is (a start only).
@@ -422,24 +421,31 @@ class FrictionSystem:
         .. math::  λ + z \ge 0, \quad s − u_n + C_{nn} z \ge 0, \quad
                    (λ + z)^T (s − u_n + C_{nn} z) = 0,
 
-        where λ and s − u_n are those of the predictor. The predictor
-        moves Γc as the unconstrained body: it keeps the previous contact
-        forces and pushes the nodes in contact into the obstacle by the
-        step's whole free motion, far off the complementarity set, where
-        φ_FB's Newton step is only a poor model (it removed about 85 % of
-        the penetration per iteration: five Jacobians a step on the 454
-        block, against one when started on the set). The correction puts
-        every normal pair on the set, λ ≥ 0 ⊥ s − u_n ≥ 0; the tangential
-        forces keep their balance with g_t of the previous step.
+        where λ and s − u_n are those of the predictor.
+
+        Why: the predictor moves Γc as the unconstrained body, so it keeps
+        the previous contact forces and pushes the nodes in contact into
+        the obstacle by the step's whole free motion, far from the
+        complementarity set. There φ_FB is curved and its Newton step
+        removes only part of the penetration per iteration (φ_min's, which
+        is piecewise linear, lands on the set in one). Started on the set,
+        λ ≥ 0 ⊥ s − u_n ≥ 0, both methods meet φ_FB's curvature only where
+        the step changes the contact set; the tangential forces keep their
+        balance with g_t of the previous step (the correction adds normal
+        forces only).
 
         The linear complementarity problem (symmetric positive definite
         C_nn, m × m) is solved by the primal-dual active set method
         (Hintermüller, Ito & Kunisch, SIAM J. Optim. 13 (2002) 865-888),
-        started from the penetrating nodes: one or two passes of an
-        |A| × |A| solve (A, the contact set). Only on a condensed system
-        (dense S); the full system starts from Δu = 0 as in the thesis."""
+        started from the penetrating nodes: each pass one solve of the
+        size of the contact set. Only on a condensed system (dense S) and
+        for the projection formulation: the full system starts from
+        Δu = 0 as in the thesis, and the thesis's split, degenerate where
+        p = 0, keeps the predictor (its condensed Newton path is sensitive
+        to the start)."""
         du = np.asarray(du, float)
-        if not self.m or not isinstance(self._dense_stiffness(), np.ndarray):
+        if not self.m or self.formulation != "projection" \
+                or not isinstance(self._dense_stiffness(), np.ndarray):
             return du
         nr = self.n_rows
         lam = -self._force(du)[nr]
