@@ -127,3 +127,18 @@ def test_3d_huge_friction_implicit_bound_converges(sphere_4, steps):
         scale = np.abs(ref[key]).max()
         assert np.abs(fb[key] - ref[key]).max() <= 1e-8 * scale, key
     np.testing.assert_array_equal(fb.in_contact[-1], ref.in_contact[-1])
+
+
+def test_default_method_follows_the_formulation(exported):
+    """Issue 34.4: φ_min by default with the projection formulation (the
+    fewest Jacobians, benchmarks/README.md), the thesis's φ_FB with the
+    thesis's split (φ_min's Jacobian is singular there where p = 0:
+    tests/test_friction.py::test_thesis_split_is_singular_for_min)."""
+    block_118 = load_problem(exported(118)[0])
+    projection = solve_friction(block_118, 0.3, steps=25)
+    thesis = solve_friction(block_118, 0.3, steps=25, formulation="thesis")
+    assert projection.success and thesis.success
+    assert projection.method == "min" and thesis.method == "fb"
+    assert thesis.njev == solve_friction(block_118, 0.3, steps=25,
+                                         formulation="thesis",
+                                         method="fb").njev

@@ -173,6 +173,7 @@ def friction(args, problem, open_folder, emit, write_summary):
     once (steps/*.vtu and scratch arrays), result.npz at the end, also when
     the run stops early."""
     from ..contact import solve_friction
+    from ..contact.friction.driver import default_method
     from ..contact.friction.stream import MAX_LOAD_STEPS
 
     if _engine(args) == "petsc":
@@ -184,7 +185,7 @@ def friction(args, problem, open_folder, emit, write_summary):
 
     if getattr(problem, "is_mortar", False):
         return two_body(args, problem, open_folder, emit, write_summary)
-    args.method = args.method or "fb"
+    args.method = args.method or default_method(args.formulation)
     total = problem.n_load_steps(args.steps)
     if total > MAX_LOAD_STEPS:
         raise SolverError(f"the load path has {total} load steps; at most "
@@ -275,6 +276,7 @@ def two_body(args, problem, open_folder, emit, write_summary):
     frictionless or with ``--friction``: summary.json, result.npz,
     result.vtu (cell data ``body``), ``--plots`` interface.png and
     bodies.png. Options of a rigid obstacle (``--gap``) are refused."""
+    from ..contact.friction.driver import default_method
     from ..contact.two_body import solve_two_body
     from ..errors import SolverError
     from ..linalg import resolve
@@ -287,7 +289,8 @@ def two_body(args, problem, open_folder, emit, write_summary):
         raise SolverError("--gap applies to a rigid obstacle; two bodies "
                           "use the mortar's weighted gaps")
     friction = args.friction is not None
-    args.method = args.method or ("fb" if friction else "min")
+    args.method = args.method or (default_method(args.formulation)
+                                  if friction else "min")
     resolve(args.linear_solver)  # not installed: SolverError, exit 2
     options = dict(method=args.method, tol=args.tol, max_iter=args.max_iter,
                    gap_scale=args.gap_scale, condense=_condense(args),

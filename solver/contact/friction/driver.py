@@ -86,11 +86,19 @@ from .system import (COULOMB, FORMULATIONS, FrictionSystem,
 from ..frictionless.driver import contact_geometry, contact_stiffness
 from ..geometry import problem_dim
 
-__all__ = ["FORMULATIONS", "COULOMB", "FrictionSystem", "solve_friction"]
+__all__ = ["FORMULATIONS", "COULOMB", "FrictionSystem", "solve_friction",
+           "default_method"]
+
+
+def default_method(formulation):
+    """The Newton method of a friction run that names none: φ_FB for the
+    thesis's split (110)/(111), as in the thesis (φ_min's Jacobian is
+    singular there where p = 0), φ_min for the projection formulation."""
+    return "fb" if formulation == "thesis" else "min"
 
 
 def solve_friction(problem, friction, steps=None, formulation="projection",
-                   coulomb="lagged", method="fb", gap="obstacle", tol=1e-10,
+                   coulomb="lagged", method=None, gap="obstacle", tol=1e-10,
                    max_iter=100, gap_scale=None, options=None, progress=None,
                    geometry=None, condense=None, on_step=None,
                    keep_steps=True, backend="auto", rollers=None,
@@ -116,8 +124,13 @@ def solve_friction(problem, friction, steps=None, formulation="projection",
     coulomb : {"lagged", "implicit"}
         Friction bound from the previous step's pressure (thesis) or from
         the current one.
-    method : {"fb", "min"}
-        Newton method of each step (the thesis used φ_FB only).
+    method : {"min", "fb"}, optional
+        Newton method of each step. Default (None): :func:`default_method`,
+        φ_min for the projection formulation (it needs no more Jacobians
+        than φ_FB on any shipped friction problem, fewer on most:
+        benchmarks/README.md), the thesis's φ_FB for the thesis's split
+        (the thesis used φ_FB only; φ_min's Jacobian is singular on the
+        split where p = 0).
     gap : {"obstacle", "body"}
         As in :func:`solve_frictionless`.
     tol, max_iter, options
@@ -224,6 +237,7 @@ def solve_friction(problem, friction, steps=None, formulation="projection",
         ends the run without raising: see ``success`` and ``failed_step``.
     """
     _check_arguments(problem, friction, steps)
+    method = default_method(formulation) if method is None else method
     path = problem.load_steps(steps)
     steps = problem.n_load_steps(steps)
     start = time.perf_counter()

@@ -201,7 +201,7 @@ def friction_on_candidates(solve, problem, friction, geometry, margin,
     rounds = []
     clock = time.perf_counter()
     screen = solve_frictionless(  # step 1: the final load, no friction
-        problem, kwargs.get("method", "fb"), geometry=geometry, tol=tol,
+        problem, kwargs.get("method", "min"), geometry=geometry, tol=tol,
         max_iter=kwargs.get("max_iter", 100), backend=backend,
         condense=True, candidates=True, gap_scale=kwargs["gap_scale"],
         options=kwargs.get("options"))
