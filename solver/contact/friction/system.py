@@ -10,6 +10,7 @@ import scipy.linalg as sla_dense
 import scipy.sparse as sp
 
 from ...errors import SolverError
+from ...linalg.threads import single_blas_thread
 from ...ncp import stable_norm
 from .newton import ReducedJacobian, factorize
 from ..frictionless.driver import contact_stiffness, rotation
@@ -452,6 +453,12 @@ class FrictionSystem:
         gap = self.geometry.gap - (self.R @ (self.u_previous + du))[nr]
         if not (gap < 0.0).any() and not (lam > 0.0).any():
             return du  # nothing touches: the predictor is the step's answer
+        with single_blas_thread():  # Γc's size, as solve_ncp's algebra
+            return self._corrected(du, lam, gap)
+
+    def _corrected(self, du, lam, gap):
+        """:meth:`contact_corrected` once something touches."""
+        nr = self.n_rows
         C_n, M = self._normal_flexibility()
         q = gap - M @ lam
         rho = 1.0 / np.diagonal(M)
