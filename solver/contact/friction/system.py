@@ -86,6 +86,8 @@ class FrictionSystem:
         self.R, other, a, b = rotation(n, geometry)
         self.RT = self.R.T  # once: SciPy makes a new transpose per ``.T``
         self.x_rows, self.t_rows, self.n_rows = other, a, b  # X, Z, Y
+        #: condensed onto Γc: K is the dense S, no other rows
+        self.dense_schur = isinstance(K, np.ndarray) and not len(other)
         #: tangential unknowns: m(d − 1), node by node (the tangent basis)
         self.mt = len(a)
         #: the tangential unknowns with an equilibrium row: False at a
@@ -446,7 +448,7 @@ class FrictionSystem:
         to the start)."""
         du = np.asarray(du, float)
         if not self.m or self.formulation != "projection" \
-                or not isinstance(self._dense_stiffness(), np.ndarray):
+                or not self.dense_schur:
             return du
         nr = self.n_rows
         lam = -self._force(du)[nr]
@@ -477,15 +479,6 @@ class FrictionSystem:
             return du
         return du - self.RT @ (C_n @ (y - lam))
 
-    def _dense_stiffness(self):
-        """S of a condensed system (dense), else None."""
-        if self.reduced:
-            return self.T
-        S = getattr(self, "_S_dense", None)
-        if S is None and not len(self.x_rows) and self.n <= DENSE_START_MAX:
-            S = self._S_dense = self.K.toarray()
-        return S
-
     def _normal_flexibility(self):
         """(C[:, n], C[n, n]) of the flexibility C = R S⁻¹ Rᵀ, in rotated
         components (made once per system)."""
@@ -494,7 +487,8 @@ class FrictionSystem:
             if self.reduced:
                 C_n = self.flexibility()[:, self.n_rows]
             else:
-                factor = sla_dense.cho_factor(self._dense_stiffness(),
+                factor = sla_dense.cho_factor(self.K.toarray(),
+                                              overwrite_a=True,
                                               check_finite=False)
                 C_n = self.R @ sla_dense.cho_solve(
                     factor, self.R[self.n_rows].T.toarray(),
@@ -502,11 +496,6 @@ class FrictionSystem:
             C_n = np.ascontiguousarray(C_n)
             cached = self._normal_columns = (C_n, C_n[self.n_rows])
         return cached
-
-
-#: :meth:`FrictionSystem.contact_corrected` on systems of at most this many
-#: unknowns (a dense copy of S: the condensed systems).
-DENSE_START_MAX = 20000
 
 
 def project_disc(w, b, k):
