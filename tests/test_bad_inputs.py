@@ -532,24 +532,14 @@ def test_no_progress_status_5(exported, tmp_path, capsys):
     assert summary["ncp_status"] == 5
 
 
-def test_singular_jacobian_status_3_friction(tmp_path, capsys, monkeypatch):
-    """A friction run whose Newton system is singular ends with exit 3, no
-    completed step: the floating spring of the next test (its K check
-    switched off) pulled away, on the full system. The thesis's split
-    with φ_min, singular wherever p = 0, is refused before it starts."""
-    from solver.problem import ContactProblem
-
-    bar = two_dof_bar(load=(0.0, 1000.0))
-    bar.K = sp.csr_matrix(9e4 * np.array([[1.0, -1.0], [-1.0, 1.0]]))
-    path = save_problem(tmp_path / "float.npz", bar)
-    code, _, err = run([path, "--friction", "0.3", "--formulation",
-                        "thesis", "--method", "min", "-o",
-                        tmp_path / "refused"], capsys)
-    assert code == 2 and "singular where p = 0" in err
-    monkeypatch.setattr(ContactProblem, "check_stiffness", lambda self: self)
+def test_singular_jacobian_status_3_friction(exported, tmp_path, capsys):
+    """The thesis's split (110)/(111) with φ_min: J is singular where p = 0
+    (see test_friction); on the command line exit 3, no completed step."""
     out = tmp_path / "out"
-    err, summary = failed_run([path, "--friction", "0.3", "--system",
-                               "full", "--steps", "4"], capsys, out)
+    err, summary = failed_run([exported(118)[0], "--friction", "0.3",
+                               "--formulation", "thesis", "--method", "min",
+                               "--steps", "4"], capsys,
+                              out)
     assert "load step 1 of 4 did not converge" in err
     assert "singular Jacobian" in err and "0 completed steps kept" in err
     assert summary["steps_completed"] == 0 and summary["failed_step"] == 1

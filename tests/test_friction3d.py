@@ -175,7 +175,7 @@ def test_cli_3d_friction_run(tmp_path):
                          cwd=tmp_path,
                          capture_output=True, text=True, timeout=300)
     assert run.returncode == 0, run.stderr
-    out = tmp_path / "X-fc0.3-3steps-projection-lagged-fb"
+    out = tmp_path / "X-fc0.3-3steps-projection-lagged-min"
     with np.load(out / "result.npz") as result:
         assert result["friction_traction"].shape == (3, 25, 2)
         assert result["slip"][-1].sum() == 25

@@ -191,3 +191,30 @@ def test_support_table_is_the_fronts():
 
     section = README.split("### What works where", 1)[1]
     assert support_table() in section
+
+
+def test_default_friction_counts_quoted_beside_table2(exported):
+    """The prose below Table 2: the default friction run (condensed,
+    projection, φ_min) and φ_FB on the same system, their counts and their
+    agreement with the table's runs (the thesis's system, sparse LU)."""
+    import numpy as np
+
+    from solver import load_problem, solve_friction
+
+    problem = load_problem(exported(454)[0])
+    text = " ".join(README.split("### Table 2 of the thesis", 1)[1]
+                    .split("### Key figures", 1)[0].split())
+    counts = {"min": [], "fb": []}
+    for fc in (0.05, 0.3, 10.0):
+        default = solve_friction(problem, fc, steps=100)
+        assert default.method == "min" and default.success
+        full = solve_friction(problem, fc, steps=100, method="fb",
+                              condense=False)  # the table's column
+        scale = np.abs(full.u).max()
+        assert np.abs(default.u - full.u).max() <= 1e-10 * scale
+        counts["min"].append(f"{default.njev} / {default.nfev}")
+        fb = solve_friction(problem, fc, steps=100, method="fb")
+        counts["fb"].append(f"{fb.njev} / {fb.nfev}")
+    for method, (a, b, c) in counts.items():
+        assert f"{a}, {b} and {c}" in text, (method, a, b, c)
+    assert "the answer of the table's runs to 1e-10" in text

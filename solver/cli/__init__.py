@@ -62,9 +62,10 @@ def build_parser():
                         help="semismooth Newton method: damped Newton with "
                              "the min function (thesis §2.2.1) or the "
                              "Fischer-Burmeister method of De Luca, "
-                             "Facchinei and Kanzow (§2.2.2); default min "
-                             "without friction, fb with friction (as the "
-                             "thesis)")
+                             "Facchinei and Kanzow (§2.2.2); default min, "
+                             "fb with --formulation thesis (as the thesis; "
+                             "with the projection formulation min needs "
+                             "fewer Jacobians, benchmarks/README.md)")
     parser.add_argument("--gap", choices=("obstacle", "body"),
                         default=None,
                         help="gaps and normals from the obstacle's normals "

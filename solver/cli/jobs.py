@@ -139,7 +139,8 @@ def solve_job(args, problem, open_folder, emit, write_summary):
         result = plan.run()
     else:
         outputs = StepOutputs(folder, problem,
-                              problem.n_load_steps(args.steps))
+                              problem.n_load_steps(args.steps),
+                              geometry=plan.geometry)
         progress = Progress(problem.n_load_steps(args.steps))
         try:
             result = plan.run(progress=progress, on_step=outputs,

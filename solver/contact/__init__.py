@@ -12,7 +12,8 @@ by a change of variables (:mod:`.two_body`). The public front is
 """
 
 from .engine import SerialEngine
-from .friction.driver import COULOMB, FORMULATIONS, run_friction
+from .friction.driver import (COULOMB, FORMULATIONS, default_method,
+                              run_friction)
 from .friction.system import FrictionSystem
 from .frictionless.driver import run_frictionless
 from .frictionless.system import FrictionlessSystem
@@ -22,5 +23,6 @@ from .two_body import TwoBodyMap
 
 __all__ = ["SerialEngine", "GAP_MODES", "ContactGeometry",
            "contact_geometry", "FrictionlessSystem", "FrictionSystem",
-           "run_frictionless", "run_friction", "FORMULATIONS", "COULOMB",
+           "run_frictionless", "run_friction", "default_method", "FORMULATIONS",
+           "COULOMB",
            "ContactResult", "TwoBodyMap"]

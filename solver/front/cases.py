@@ -16,7 +16,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..contact import COULOMB, FORMULATIONS, GAP_MODES
+from ..contact import COULOMB, FORMULATIONS, GAP_MODES, default_method
 from ..errors import SolverError
 from ..linalg import BACKENDS
 
@@ -153,12 +153,6 @@ RULES = tuple(
              "the dual mortar is built for 2D interfaces only",
              lambda c, s, g: c.bodies == "two-body" and c.dim == 3,
              "two bodies"),
-        Rule("method", "friction with formulation='thesis'",
-             "the split formulation's Jacobian is singular where p = 0 (a "
-             "node out of contact) and φ_min has no gradient fallback: use "
-             "method='fb' (the thesis's) or formulation='projection'",
-             lambda c, s, g: c.contact == "friction" and s["method"] == "min"
-             and s["formulation"] == "thesis", "method='min'"),
         Rule("formulation", "3D",
              "the thesis's split formulation (Δu_t⁺, Δu_t⁻) is 2D-only; "
              "use formulation='projection'",
@@ -239,13 +233,15 @@ def resolve(case, options):
     given = given_options(options)
     s = dict(options)
     friction = case.contact == "friction"
-    s["method"] = s["method"] or ("fb" if friction else "min")
-    _choice("method", s["method"], METHODS)
+
     _choice("system", s["system"], SYSTEMS)
     if s["start"] is not None:
         _choice("start", s["start"], STARTS)
     s["formulation"] = s["formulation"] or "projection"
     _choice("formulation", s["formulation"], FORMULATIONS)
+    s["method"] = s["method"] or (default_method(s["formulation"])
+                                  if friction else "min")
+    _choice("method", s["method"], METHODS)
     s["coulomb"] = s["coulomb"] or "lagged"
     _choice("coulomb", s["coulomb"], COULOMB)
     if s["gap"] is not None:

@@ -85,9 +85,8 @@ def write_all(folder, problem, result, plots=False, tol=None,
                                       max_iter=max_iter)
     else:
         summary = summary_of(result, problem, tol=tol, max_iter=max_iter)
-    for key in ("engine", "excluded"):
-        if key in result:
-            summary[key] = result[key]
+    if "engine" in result:
+        summary["engine"] = result["engine"]
     if problem.is_mortar:
         summary.update(interface_summary(
             problem, _with_saved_pressure(folder, result) if friction

@@ -84,11 +84,22 @@ from .steps import GAP_WEIGHT, load_step, make_result, setup
 from .stream import MAX_LOAD_STEPS, StepStream
 from .system import COULOMB, FORMULATIONS, check_geometry
 
-__all__ = ["FORMULATIONS", "COULOMB", "run_friction", "check_friction"]
+__all__ = ["FORMULATIONS", "COULOMB", "run_friction", "check_friction",
+           "default_method"]
+
+
+def default_method(formulation):
+    """The Newton method of a friction run that names none: φ_FB for the
+    thesis's split (110)/(111), as in the thesis (φ_min's Jacobian is
+    singular there where p = 0), φ_min for the projection formulation
+    (started on the complementarity set, :meth:`FrictionSystem.
+    contact_corrected`, it needs no more Jacobians than φ_FB on any
+    shipped friction problem and fewer on most)."""
+    return "fb" if formulation == "thesis" else "min"
 
 
 def run_friction(problem, geometry, engine, friction, steps=None,
-                 formulation="projection", coulomb="lagged", method="fb",
+                 formulation="projection", coulomb="lagged", method="min",
                  tol=1e-10, max_iter=100, gap_scale=None, options=None,
                  progress=None, condense=True, on_step=None,
                  keep_steps=True, candidates=False, margin=None):
@@ -116,8 +127,9 @@ def run_friction(problem, geometry, engine, friction, steps=None,
     coulomb : {"lagged", "implicit"}
         Friction bound from the previous step's pressure (thesis) or from
         the current one.
-    method : {"fb", "min"}
-        Newton method of each step (the thesis used φ_FB only).
+    method : {"min", "fb"}
+        Newton method of each step (the thesis used φ_FB only; the front's
+        default is :func:`default_method`).
     tol, max_iter, options
         Per step: the stopping test is relative, ‖[E; min(A, k̄B)]‖₂
         (force units, :meth:`FrictionSystem.error`) ≤

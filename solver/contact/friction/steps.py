@@ -138,11 +138,12 @@ def load_step(shared, state, run, stream, kappa, steps, load,
     du = None
     load, w = space.load(load)
     if w is not None:
-        # Start with the contact forces of the previous step, as the full
-        # system's Δu = 0 does: Γc moves as the unconstrained body.
+        # The predictor: Γc moves as the unconstrained body (the contact
+        # forces of the previous step); initial_guess puts its normal
+        # pairs on the complementarity set (contact_corrected).
         du = space.restrict(w - state.w)
-    x0 = system.initial_guess(state.g, du)
     system.set_step(state.u, load, state.p, step_friction, step_norm)
+    x0 = system.initial_guess(state.g, du)
     result = solve_ncp(system.residual, shared.jacobian, x0, method=method,
                        tol=tol, max_iter=max_iter, options=shared.options,
                        error=system.error, scale=system.scale)

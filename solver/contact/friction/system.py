@@ -10,6 +10,7 @@ import scipy.linalg as sla_dense
 import scipy.sparse as sp
 
 from ...errors import SolverError
+from ...linalg.threads import single_blas_thread
 from ...ncp import stable_norm
 from ...linalg.dense import factorize
 from .newton import ReducedJacobian
@@ -86,6 +87,8 @@ class FrictionSystem:
         self.R, other, a, b = rotation(n, geometry)
         self.RT = self.R.T  # once: SciPy makes a new transpose per ``.T``
         self.x_rows, self.t_rows, self.n_rows = other, a, b  # X, Z, Y
+        #: condensed onto Γc: K is the dense S, no other rows
+        self.dense_schur = isinstance(K, np.ndarray) and not len(other)
         #: tangential unknowns: m(d − 1), node by node (the tangent basis)
         self.mt = len(a)
         #: the tangential unknowns with an equilibrium row: False at a
@@ -380,14 +383,107 @@ class FrictionSystem:
 
     def initial_guess(self, g_previous, du=None):
         """Each step starts from the previous solution: the same g_t and
-        Δu = 0 (or ``du``; the thesis's split then starts consistent,
-        Δu_t± = max(±ZRΔu, 0))."""
+        Δu = 0, or, given the step's predictor ``du`` (a condensed system:
+        Γc moving as the unconstrained body), that predictor with its
+        normal contact forces corrected (:meth:`contact_corrected`). The
+        thesis's split then starts consistent, Δu_t± = max(±ZRΔu, 0).
+        Call :meth:`set_step` first: the correction needs the step's
+        load."""
         x = np.zeros(self.n_unknowns)
         x[self.n:self.n + self.mt] = np.ravel(g_previous) / self.c_t
         if du is not None:
+            du = self.contact_corrected(du)
             x[:self.n] = du
             if self.formulation == "thesis":
                 dut = (self.R @ du)[self.t_rows]
                 x[self.n + self.m:self.n + 2 * self.m] = np.maximum(dut, 0)
                 x[self.n + 2 * self.m:] = np.maximum(-dut, 0)
         return x
+
+    #: Passes of the primal-dual active set iteration of
+    #: :meth:`contact_corrected`; without convergence the predictor is
+    #: returned as it is (a start only).
+    start_passes = 50
+
+    def contact_corrected(self, du):
+        r"""The predictor Δu of a condensed step with its normal contact
+        forces corrected: the normal contact problem of the step with the
+        friction tractions held at the previous step's, i.e. the increment
+        e = −C_{:,n} z (C = T⁻¹ = R S⁻¹ Rᵀ, the flexibility; z the change of
+        the normal forces) with
+
+        .. math::  λ + z \ge 0, \quad s − u_n + C_{nn} z \ge 0, \quad
+                   (λ + z)^T (s − u_n + C_{nn} z) = 0,
+
+        where λ and s − u_n are those of the predictor.
+
+        Why: the predictor moves Γc as the unconstrained body, so it keeps
+        the previous contact forces and pushes the nodes in contact into
+        the obstacle by the step's whole free motion, far from the
+        complementarity set. There φ_FB is curved and its Newton step
+        removes only part of the penetration per iteration (φ_min's, which
+        is piecewise linear, lands on the set in one). Started on the set,
+        λ ≥ 0 ⊥ s − u_n ≥ 0, both methods meet φ_FB's curvature only where
+        the step changes the contact set; the tangential forces keep their
+        balance with g_t of the previous step (the correction adds normal
+        forces only).
+
+        The linear complementarity problem (symmetric positive definite
+        C_nn, m × m) is solved by the primal-dual active set method
+        (Hintermüller, Ito & Kunisch, SIAM J. Optim. 13 (2002) 865-888),
+        started from the penetrating nodes: each pass one solve of the
+        size of the contact set. Only on a condensed system (dense S) and
+        for the projection formulation: the full system starts from
+        Δu = 0 as in the thesis, and the thesis's split, degenerate where
+        p = 0, keeps the predictor (its condensed Newton path is sensitive
+        to the start)."""
+        du = np.asarray(du, float)
+        if not self.m or self.formulation != "projection" \
+                or not self.dense_schur:
+            return du
+        nr = self.n_rows
+        lam = -self._force(du)[nr]
+        gap = self.geometry.gap - (self.R @ (self.u_previous + du))[nr]
+        if not (gap < 0.0).any() and not (lam > 0.0).any():
+            return du  # nothing touches: the predictor is the step's answer
+        with single_blas_thread():  # Γc's size, as solve_ncp's algebra
+            return self._corrected(du, lam, gap)
+
+    def _corrected(self, du, lam, gap):
+        """:meth:`contact_corrected` once something touches."""
+        nr = self.n_rows
+        C_n, M = self._normal_flexibility()
+        q = gap - M @ lam
+        rho = 1.0 / np.diagonal(M)
+        active = gap < 0.0
+        for _ in range(self.start_passes):
+            y = np.zeros(self.m)
+            if active.any():
+                y[active] = sla_dense.solve(M[np.ix_(active, active)],
+                                            -q[active], assume_a="pos",
+                                            check_finite=False)
+            following = y - rho * (q + M @ y) > 0.0
+            if np.array_equal(following, active):
+                break
+            active = following
+        else:
+            return du
+        return du - self.RT @ (C_n @ (y - lam))
+
+    def _normal_flexibility(self):
+        """(C[:, n], C[n, n]) of the flexibility C = R S⁻¹ Rᵀ, in rotated
+        components (made once per system)."""
+        cached = getattr(self, "_normal_columns", None)
+        if cached is None:
+            if self.reduced:
+                C_n = self.flexibility()[:, self.n_rows]
+            else:
+                factor = sla_dense.cho_factor(self.K.toarray(),
+                                              overwrite_a=True,
+                                              check_finite=False)
+                C_n = self.R @ sla_dense.cho_solve(
+                    factor, self.R[self.n_rows].T.toarray(),
+                    check_finite=False)
+            C_n = np.ascontiguousarray(C_n)
+            cached = self._normal_columns = (C_n, C_n[self.n_rows])
+        return cached
