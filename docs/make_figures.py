@@ -44,7 +44,7 @@ def main(argv=None):
                         help="folder of the PNG files (default docs/figures)")
     out = parser.parse_args(argv).out
     out.mkdir(parents=True, exist_ok=True)
-    plt = figures._pyplot()
+    plt = figures.pyplot()
     with tempfile.TemporaryDirectory() as folder:
         block = export_block(folder)
     for method in ("fb", "min"):

@@ -32,13 +32,13 @@ def full_solves(block):
 @pytest.fixture(autouse=True)
 def close_figures():
     yield
-    figures._pyplot().close("all")
+    figures.pyplot().close("all")
 
 
 def _render(fig, tmp_path, name="figure.png"):
     """Save (which also lays out and draws) and return the file."""
     path = tmp_path / name
-    figures._save(fig, path)
+    figures.save_png(fig, path)
     assert path.stat().st_size > 10_000
     return path
 

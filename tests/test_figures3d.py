@@ -34,9 +34,9 @@ def test_figure_saved_with_points_and_curve(tmp_path):
 
 
 def test_draws_into_given_axes_without_curve():
-    from solver.output.figures import _pyplot
+    from solver.output.figures import pyplot
 
-    fig, ax = _pyplot().subplots()
+    fig, ax = pyplot().subplots()
     assert pressure_vs_radius(ax, [0.0, 1.0], [2.0, 1.0]) is fig
     assert len(ax.lines) == 1
 

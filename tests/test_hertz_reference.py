@@ -16,7 +16,7 @@ import pytest
 
 from conftest import MESHES
 from solver import load_problem, save_problem, solve_frictionless
-from solver.output.figures import _pyplot
+from solver.output.figures import pyplot
 from solver.output.figures3d import plot_pressure_vs_radius
 from solver.output.hertz_reference import (first_contact, hertz_reference,
                                            symmetry_planes)
@@ -26,7 +26,7 @@ from test_export3d import SPHERE, export_module
 @pytest.fixture(autouse=True)
 def close_figures():
     yield
-    _pyplot().close("all")
+    pyplot().close("all")
 
 
 @pytest.fixture(scope="module")

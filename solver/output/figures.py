@@ -29,7 +29,7 @@ UNITS = ("lengths in mm, forces in N and pressures in MPa = N/mm², "
 TARGET_FRACTION = 0.12
 
 
-def _pyplot():
+def pyplot():
     """pyplot, on the Agg backend unless the caller (a notebook) already
     chose one by importing pyplot itself."""
     import sys
@@ -43,7 +43,7 @@ def _pyplot():
     return plt
 
 
-def _save(fig, path, dpi=120):
+def save_png(fig, path, dpi=120):
     """Save ``fig`` as PNG at ``path`` (atomically), if a path is given."""
     if path is not None:
         from .folder import atomic_path
@@ -53,7 +53,7 @@ def _save(fig, path, dpi=120):
     return fig
 
 
-def _legend_outside(ax, where="below", **kwargs):
+def legend_outside(ax, where="below", **kwargs):
     """A legend next to the axes, never over the data: ``"below"`` (under
     the x label) or ``"right"``."""
     kwargs.setdefault("fontsize", 8)
@@ -64,7 +64,7 @@ def _legend_outside(ax, where="below", **kwargs):
                      borderaxespad=0.0, **kwargs)
 
 
-def _arc_length(problem):
+def arc_length(problem):
     """Position of each contact node along Γc (mm), or its index for a
     discrete problem; returns (positions, axis label)."""
     if problem.kind == "mesh":
@@ -96,7 +96,7 @@ def zoom_window(x, loaded, fraction=0.5):
     return lo, hi
 
 
-def _outline(cells):
+def boundary_edges(cells):
     """Boundary edges of a triangulation: the edges of exactly one cell."""
     cells = np.asarray(cells)
     edges = np.sort(np.concatenate([cells[:, [0, 1]], cells[:, [1, 2]],
@@ -141,7 +141,7 @@ def plot_deformed(problem, result, scale=None, path=None, title=None):
     """
     from matplotlib.collections import LineCollection
 
-    plt = _pyplot()
+    plt = pyplot()
     u = np.asarray(result.displacement, dtype=float)
     if scale is None:
         scale = magnification(problem, u)
@@ -151,7 +151,7 @@ def plot_deformed(problem, result, scale=None, path=None, title=None):
     fig = plt.figure(figsize=(10, 7.5), layout="constrained")
     left, right = fig.subfigures(1, 2, width_ratios=(1.15, 1), wspace=0.02)
     ax, zoom = left.subplots(), right.subplots()
-    outline = _outline(problem.cells)
+    outline = boundary_edges(problem.cells)
     ax.add_collection(LineCollection(nodes[outline], colors="0.55", lw=1.0,
                                      linestyles="--", label="undeformed"))
     ax.triplot(xy[:, 0], xy[:, 1], problem.cells, color="0.6", lw=0.5)
@@ -211,14 +211,14 @@ def plot_deformed(problem, result, scale=None, path=None, title=None):
         if parts[1] is not None:
             title += f", gap from {parts[1]}"
     fig.suptitle(title)
-    return _save(fig, path)
+    return save_png(fig, path)
 
 
 def plot_displacement_arrows(problem, result, path=None):
     """Undeformed body with displacement directions (thesis Fig. 4, right),
     on a figure shaped like the body (the thesis block is tall, the Hertz
     half-cylinder wide), so that the colour bar is as tall as the body."""
-    plt = _pyplot()
+    plt = pyplot()
     u = result.displacement
     width, height = np.ptp(problem.nodes, axis=0)
     if height >= width:
@@ -237,7 +237,7 @@ def plot_displacement_arrows(problem, result, path=None):
     ax.margins(0.06)
     ax.set_title("undeformed body, displacement directions\n"
                  "(arrows magnified, colour = |u|)", fontsize=10)
-    return _save(fig, path)
+    return save_png(fig, path)
 
 
 def step_halvings(history, method):
@@ -279,7 +279,7 @@ def plot_convergence(result, path=None):
     halvings it tried."""
     from matplotlib.ticker import MaxNLocator
 
-    plt = _pyplot()
+    plt = pyplot()
     history = result.history
     k = np.arange(len(history["residual"]) + 1)
     residual = list(history["residual"]) + [result.residual]
@@ -293,7 +293,7 @@ def plot_convergence(result, path=None):
         for a, b in zip(starts, np.r_[starts[1:], len(k)]):
             top.semilogy(k[a:b], np.maximum(residual[a:b], 1e-300), "o-",
                          ms=4, label=f"{level[a]} contact nodes")
-        _legend_outside(top, "right", title="nested start,\nlevel of",
+        legend_outside(top, "right", title="nested start,\nlevel of",
                         title_fontsize=8)
     else:
         top.semilogy(k, np.maximum(residual, 1e-300), "o-", ms=4)
@@ -327,8 +327,8 @@ def plot_convergence(result, path=None):
     bottom.set_ylabel("halvings −log₂ α")
     bottom.set_xlabel("iteration k")
     if failed.any() or gradient.any():
-        _legend_outside(bottom, "right")
-    return _save(fig, path)
+        legend_outside(bottom, "right")
+    return save_png(fig, path)
 
 
 def carries_load(values, relative=1e-6):
@@ -383,8 +383,8 @@ def plot_contact_pressure(problem, result, path=None):
     below zero next to the contact zone. When the loaded nodes lie in less
     than half of Γc the main panel zooms onto them and a short panel below
     shows all of Γc (:func:`zoomed_axes`)."""
-    plt = _pyplot()
-    arc, xlabel = _arc_length(problem)
+    plt = pyplot()
+    arc, xlabel = arc_length(problem)
     pressure = np.asarray(result.contact_pressure, float)
     contact = np.asarray(result.in_contact, bool)
     loaded = contact | carries_load(pressure)
@@ -416,15 +416,15 @@ def plot_contact_pressure(problem, result, path=None):
     ax.set_title("contact pressure along Γc", fontsize=10)
     if whole is not None:
         finish_overview(ax, whole, window, xlabel, "p [MPa]")
-    _legend_outside(ax, "right")
-    return _save(fig, path)
+    legend_outside(ax, "right")
+    return save_png(fig, path)
 
 
 def write_figures(folder, problem, result):
     """Write the four figures into ``folder``; return their paths."""
     import os
 
-    plt = _pyplot()
+    plt = pyplot()
     paths = {}
     jobs = [("convergence", lambda p: plot_convergence(result, p)),
             ("contact_pressure",

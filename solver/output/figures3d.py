@@ -23,7 +23,7 @@ import os
 import numpy as np
 
 from ..verification import hertz_pressure
-from .figures import _pyplot, _save, carries_load, zoom_window
+from .figures import pyplot, save_png, carries_load, zoom_window
 from .hertz_reference import HertzReference, hertz_reference
 
 __all__ = ["hertz_pressure", "contact_radius", "pressure_vs_radius",
@@ -69,7 +69,7 @@ def pressure_vs_radius(target, radius, p, a=None, p0=None, title=None,
         raise ValueError("give both a and p0 for the Hertz curve, or neither")
     window = None
     if target is None or isinstance(target, (str, os.PathLike)):
-        plt = _pyplot()
+        plt = pyplot()
         path = target
         loaded = carries_load(p)
         if a is not None:
@@ -115,7 +115,7 @@ def pressure_vs_radius(target, radius, p, a=None, p0=None, title=None,
                         fontsize=9)
     if title:
         ax.set_title(title, fontsize=10)
-    return _save(fig, path) if path is not None else fig
+    return save_png(fig, path) if path is not None else fig
 
 
 def contact_radius(points, pressure, center=None, axis=None):
@@ -185,7 +185,7 @@ def write_figures3d(folder, problem, result, reference=None):
     name."""
     from .figures import plot_convergence
 
-    plt = _pyplot()
+    plt = pyplot()
     paths = {}
     jobs = [("convergence", lambda p: plot_convergence(result, p)),
             ("pressure_radius", lambda p: plot_pressure_vs_radius(

@@ -5,7 +5,7 @@ steps and the tractions along Γc, in the manner of the thesis's Fig. 18-27
 
 import numpy as np
 
-from .figures import (_arc_length, _legend_outside, _pyplot, _save,
+from .figures import (arc_length, legend_outside, pyplot, save_png,
                       carries_load, finish_overview, plot_deformed,
                       zoomed_axes)
 
@@ -105,7 +105,7 @@ def plot_step_history(problem, result, node=None, path=None,
     zero and the axes carry no offset (:func:`tidy_panel`). In 3D the
     friction panel shows |t| = D |g_t| and a third panel u_z is added.
     """
-    plt = _pyplot()
+    plt = pyplot()
     if node is None:
         chosen = history_nodes(problem, result)
     else:
@@ -181,7 +181,7 @@ def plot_step_history(problem, result, node=None, path=None,
     fig.suptitle(f"{labels[0]}: {settings}" if len(labels) == 1
                  and problem.kind != "mesh" else f"{labels[0]}\n{settings}"
                  if len(labels) == 1 else settings, fontsize=11)
-    return _save(fig, path)
+    return save_png(fig, path)
 
 
 def plot_friction_along_boundary(problem, result, step=-1, path=None):
@@ -189,8 +189,8 @@ def plot_friction_along_boundary(problem, result, step=-1, path=None):
     (thesis Fig. 23-27), stick and slip nodes marked. When the loaded
     nodes lie in less than half of Γc the main panel zooms onto them and
     a short panel below shows all of Γc (:func:`.figures.zoomed_axes`)."""
-    plt = _pyplot()
-    arc, label = _arc_length(problem)
+    plt = pyplot()
+    arc, label = arc_length(problem)
     p = np.asarray(result.contact_pressure[step], float)
     g = np.asarray(result.friction_traction[step], float)
     bound = np.asarray(result.friction_bound[step], float)
@@ -222,8 +222,8 @@ def plot_friction_along_boundary(problem, result, step=-1, path=None):
                  f"({result.formulation}, {result.coulomb})", fontsize=10)
     if whole is not None:
         finish_overview(ax, whole, window, label, "traction [MPa]")
-    _legend_outside(ax, "right")
-    return _save(fig, path)
+    legend_outside(ax, "right")
+    return save_png(fig, path)
 
 
 def write_friction_figures(folder, problem, result):
@@ -233,7 +233,7 @@ def write_friction_figures(folder, problem, result):
     import os
     from types import SimpleNamespace
 
-    plt = _pyplot()
+    plt = pyplot()
     paths = {}
     jobs = [("history", lambda p: plot_step_history(problem, result,
                                                      path=p))]

@@ -13,7 +13,7 @@ pressure λ_j and traction along the slave surface, and the deformed bodies.
 
 import numpy as np
 
-from .figures import _pyplot, _save
+from .figures import pyplot, save_png
 from .folder import atomic_path
 
 __all__ = ["RESULT_KEYS", "write_two_body_result", "write_two_body_vtk",
@@ -50,19 +50,19 @@ def write_two_body_vtk(path, result, problem):
     """``result.vtu``: both bodies, cell data ``body``."""
     import meshio
 
-    from .vtk import _cells, _on_nodes, _points, _vectors
+    from .vtk import vtk_cells, on_nodes, vtk_points, vtk_vectors
 
     n = len(problem.nodes)
     body = np.asarray(result.body)
-    data = {"u": _vectors(_last(result, "displacement"), n), "body": body,
-            "traction": _vectors(_on_nodes(problem, _last(result,
+    data = {"u": vtk_vectors(_last(result, "displacement"), n), "body": body,
+            "traction": vtk_vectors(on_nodes(problem, _last(result,
                                                           "traction")), n),
-            "contact_pressure": _on_nodes(problem, _last(result,
+            "contact_pressure": on_nodes(problem, _last(result,
                                                          "contact_pressure")),
-            "in_contact": _on_nodes(problem, _last(result, "in_contact"), 0,
+            "in_contact": on_nodes(problem, _last(result, "in_contact"), 0,
                                     np.int32),
-            "initial_gap": _on_nodes(problem, result.gap, np.nan)}
-    mesh = meshio.Mesh(_points(problem), _cells(problem), point_data=data,
+            "initial_gap": on_nodes(problem, result.gap, np.nan)}
+    mesh = meshio.Mesh(vtk_points(problem), vtk_cells(problem), point_data=data,
                        cell_data={"body": [body[problem.cells[:, 0]]]})
     with atomic_path(path) as tmp:
         meshio.write(tmp, mesh, file_format="vtu")
@@ -75,10 +75,10 @@ def plot_interface(problem, result, path=None, reference=None):
     Hertz's). When the loaded slave nodes lie in less than half of the
     surface the main panel zooms onto them and a short panel below shows
     all of it (:func:`.figures.zoomed_axes`)."""
-    from .figures import (_legend_outside, carries_load, finish_overview,
+    from .figures import (legend_outside, carries_load, finish_overview,
                           zoomed_axes)
 
-    plt = _pyplot()
+    plt = pyplot()
     xy = problem.nodes[problem.contact_nodes]
     arc = np.r_[0, np.cumsum(np.hypot(*np.diff(xy, axis=0).T))]
     pressure = np.asarray(_last(result, "contact_pressure"), float)
@@ -110,8 +110,8 @@ def plot_interface(problem, result, path=None, reference=None):
     if whole is not None:
         finish_overview(ax, whole, window, xlabel, "traction [MPa]",
                         what="the whole slave surface")
-    _legend_outside(ax, "right")
-    return _save(fig, path)
+    legend_outside(ax, "right")
+    return save_png(fig, path)
 
 
 def plot_bodies(problem, result, path=None):
@@ -119,7 +119,7 @@ def plot_bodies(problem, result, path=None):
     the bodies overlapping), coloured by body, the undeformed meshes faint;
     right: the interface zoomed, the deformed slave and master segments and
     the slave nodes in contact (stretched axes). Lengths in mm."""
-    plt = _pyplot()
+    plt = pyplot()
     displacement = _last(result, "displacement")
     moved = problem.nodes + displacement
     fig, (ax, zoom) = plt.subplots(1, 2, figsize=(11, 5),
@@ -164,7 +164,7 @@ def plot_bodies(problem, result, path=None):
     zoom.set_ylabel("y [mm]")
     zoom.set_title("interface, deformed (stretched axes)", fontsize=10)
     zoom.legend(fontsize=8)
-    return _save(fig, path)
+    return save_png(fig, path)
 
 
 def write_two_body_figures(folder, problem, result):
@@ -173,7 +173,7 @@ def write_two_body_figures(folder, problem, result):
 
     paths = {name: os.path.join(folder, f"{name}.png")
              for name in ("interface", "bodies")}
-    plt = _pyplot()
+    plt = pyplot()
     for name, plot in (("interface", plot_interface),
                        ("bodies", plot_bodies)):
         plt.close(plot(problem, result, paths[name]))

@@ -20,20 +20,20 @@ __all__ = ["result_mesh", "step_mesh", "traction_vectors", "write_vtk",
            "write_pvd"]
 
 
-def _points(problem):
+def vtk_points(problem):
     nodes = problem.nodes
     if nodes.shape[1] == 3:
         return nodes
     return np.c_[nodes, np.zeros(len(nodes))]
 
 
-def _cells(problem):
+def vtk_cells(problem):
     """meshio cell block: triangles in 2D, tetrahedra in 3D."""
     kind = "tetra" if problem.nodes.shape[1] == 3 else "triangle"
     return [(kind, problem.cells)]
 
 
-def _vectors(values, n):
+def vtk_vectors(values, n):
     """(n, 2) or (n, 3) vectors as (n, 3)."""
     values = np.asarray(values)
     if values.shape[1] == 3:
@@ -41,7 +41,7 @@ def _vectors(values, n):
     return np.c_[values, np.zeros(n)]
 
 
-def _on_nodes(problem, values, fill=0.0, dtype=float):
+def on_nodes(problem, values, fill=0.0, dtype=float):
     values = np.asarray(values)
     out = np.full((len(problem.nodes),) + values.shape[1:], fill,
                   dtype=dtype)
@@ -54,11 +54,11 @@ def result_mesh(problem, result):
     import meshio
 
     n = len(problem.nodes)
-    data = {"u": _vectors(result.displacement, n),
-            "contact_pressure": _on_nodes(problem, result.contact_pressure),
-            "in_contact": _on_nodes(problem, result.in_contact, 0, np.int32),
-            "initial_gap": _on_nodes(problem, result.gap, np.nan)}
-    return meshio.Mesh(_points(problem), _cells(problem), point_data=data)
+    data = {"u": vtk_vectors(result.displacement, n),
+            "contact_pressure": on_nodes(problem, result.contact_pressure),
+            "in_contact": on_nodes(problem, result.in_contact, 0, np.int32),
+            "initial_gap": on_nodes(problem, result.gap, np.nan)}
+    return meshio.Mesh(vtk_points(problem), vtk_cells(problem), point_data=data)
 
 
 def traction_vectors(traction, tangents):
@@ -78,24 +78,24 @@ def step_mesh(problem, fields, tangents=None):
     import meshio
 
     n = len(problem.nodes)
-    data = {"u": _vectors(fields["displacement"], n)}
+    data = {"u": vtk_vectors(fields["displacement"], n)}
     for name, fill, dtype in (("contact_pressure", 0.0, float),
                               ("friction_traction", 0.0, float),
                               ("in_contact", 0, np.int32),
                               ("stick", 0, np.int32), ("slip", 0, np.int32)):
-        data[name] = _on_nodes(problem, fields[name], fill, dtype)
+        data[name] = on_nodes(problem, fields[name], fill, dtype)
     if tangents is not None and np.shape(tangents)[-1] == 3:
-        data["friction_traction"] = _on_nodes(problem, traction_vectors(
+        data["friction_traction"] = on_nodes(problem, traction_vectors(
             fields["friction_traction"], tangents))
     cell_data = None
     if getattr(problem, "is_mortar", False):  # two bodies: the body,
         # the interface traction
         body = np.asarray(problem.body)
         data["body"] = body
-        data["traction"] = _vectors(_on_nodes(problem, fields["traction"]),
+        data["traction"] = vtk_vectors(on_nodes(problem, fields["traction"]),
                                     n)
         cell_data = {"body": [body[problem.cells[:, 0]]]}
-    return meshio.Mesh(_points(problem), _cells(problem), point_data=data,
+    return meshio.Mesh(vtk_points(problem), vtk_cells(problem), point_data=data,
                        cell_data=cell_data)
 
 

@@ -18,12 +18,12 @@ is data: Fig. 3 from the exported mesh, supports and load, Fig. 16 from the
 bar's computed load path.
 """
 
-from .common import DPI, FORCE, LENGTH, PRESSURE, UNITS, _position, _save  # noqa: F401
+from .common import DPI, FORCE, LENGTH, PRESSURE, UNITS, panel_position, save_png  # noqa: F401
 from .sketches import ncp_functions, boundary_conditions_sketch  # noqa: F401
-from .model import _outline, obstacle_for_display, contact_offset, model_problem  # noqa: F401
-from .frictionless import _nice_scale, deformed_and_directions, convergence, pressure_along_contact, mesh_comparison  # noqa: F401
-from .bar import load_increment, bar_sketch, BAR_QUANTITIES, _bar_values, bar_history  # noqa: F401
-from .friction import tractions_along_contact, _fit_y, tangential_displacement  # noqa: F401
+from .model import outline, obstacle_for_display, contact_offset, model_problem  # noqa: F401
+from .frictionless import nice_scale, deformed_and_directions, convergence, pressure_along_contact, mesh_comparison  # noqa: F401
+from .bar import load_increment, bar_sketch, BAR_QUANTITIES, bar_values, bar_history  # noqa: F401
+from .friction import tractions_along_contact, fit_y, tangential_displacement  # noqa: F401
 
 __all__ = ["LENGTH", "FORCE", "PRESSURE", "UNITS",
            "ncp_functions", "boundary_conditions_sketch", "model_problem",

@@ -4,7 +4,7 @@
 
 import numpy as np
 
-from .common import LENGTH, FORCE, _save, _pyplot
+from .common import LENGTH, FORCE, save_png, pyplot
 
 
 def load_increment(result, step, path=None, window=3):
@@ -12,7 +12,7 @@ def load_increment(result, step, path=None, window=3):
     discrete friction run (left) and, zoomed in on ``window`` steps either
     side of ``step`` (1-based κ), the increment Δu_κ from u_{κ−1} to u_κ
     (right)."""
-    plt = _pyplot()
+    plt = pyplot()
     u = np.asarray(result.displacement)[:, 0, :]  # point A, (steps, 2)
     fig, (full, zoom) = plt.subplots(1, 2, figsize=(10, 4.2))
     near = slice(max(step - 1 - window, 0), step + window)
@@ -45,14 +45,14 @@ def load_increment(result, step, path=None, window=3):
     zoom.legend(fontsize=8, loc="lower left")
     zoom.set_title(f"Fig. 16: one load step, κ = {step} (zoom)", fontsize=10)
     fig.tight_layout()
-    return _save(fig, path)
+    return save_png(fig, path)
 
 
 def bar_sketch(problem, path=None):
     """Fig. 17: the 2-DOF bar system as we reconstruct it: point A held by
     two springs of stiffness K_xx, K_yy, loaded by f, with the rigid
     obstacle at distance s along the normal ν (``two_dof_bar``)."""
-    plt = _pyplot()
+    plt = pyplot()
     K = problem.K.toarray()
     f = np.asarray(problem.f)
     s = float(problem.gap[0])
@@ -117,7 +117,7 @@ def bar_sketch(problem, path=None):
     ax.set_ylim(-1.3, 1.5)
     ax.set_title("Fig. 17: the 2-DOF bar system (our reconstruction of the "
                  "lost figure)", fontsize=10)
-    return _save(fig, path)
+    return save_png(fig, path)
 
 
 #: Quantity name -> (column of the closed form, label, thesis figure).
@@ -129,7 +129,7 @@ BAR_QUANTITIES = {
 }
 
 
-def _bar_values(problem, result, quantity):
+def bar_values(problem, result, quantity):
     lumped = float(np.asarray(problem.M.sum(axis=1)).ravel()[0])
     if quantity == "contact_force":
         return result.contact_force[:, 0]
@@ -151,9 +151,9 @@ def bar_history(problem, results, quantity, references=None, path=None,
     difference. Returns the Figure; ``fig.max_difference`` holds that
     difference (None if the curves differ).
     """
-    plt = _pyplot()
+    plt = pyplot()
     column, ylabel, number = BAR_QUANTITIES[quantity]
-    values = {fc: _bar_values(problem, r, quantity) for fc, r in
+    values = {fc: bar_values(problem, r, quantity) for fc, r in
               results.items()}
     stacked = np.array(list(values.values()))
     spread = float(np.ptp(stacked, axis=0).max())
@@ -179,4 +179,4 @@ def bar_history(problem, results, quantity, references=None, path=None,
     ax.set_title(f"Fig. {number}: point A, {len(stacked[0])} load steps",
                  fontsize=10)
     fig.max_difference = spread if same else None
-    return _save(fig, path)
+    return save_png(fig, path)

@@ -1,7 +1,7 @@
 """Units, saving and small helpers shared by the thesis figures."""
 
-from ..figures import _pyplot  # noqa: F401  (re-exported for the parts)
-from ..figures import _save as save_png
+from .. import figures
+from ..figures import pyplot  # noqa: F401  (re-exported for the parts)
 
 #: Units of the axis labels (see the module docstring).
 LENGTH, FORCE, PRESSURE = "mm", "N", "MPa"
@@ -14,11 +14,12 @@ UNITS = ("Units: lengths in mm, E in MPa, plane strain per unit thickness; "
 DPI = 100
 
 
-def _save(fig, path):
-    return save_png(fig, path, dpi=DPI)
+def save_png(fig, path):
+    """Save ``fig`` to ``path`` at :data:`DPI` (the thesis figures')."""
+    return figures.save_png(fig, path, dpi=DPI)
 
 
-def _position(problem, axis=1):
+def panel_position(problem, axis=1):
     """Coordinate ``axis`` of the nodes of Γc (y for the block's edge)."""
     return problem.nodes[problem.contact_nodes, axis]
 

@@ -4,15 +4,15 @@
 
 import numpy as np
 
-from .common import LENGTH, PRESSURE, _save, _position, _pyplot
+from .common import LENGTH, PRESSURE, save_png, panel_position, pyplot
 
 
 def tractions_along_contact(problem, result, step=-1, path=None, xlim=None):
     """Fig. 23 (25, 27): contact pressure p = λ/D and friction traction g_t
     along Γc at one load step, the Coulomb bound ±f_c p used in that step,
     stick and slip nodes marked."""
-    plt = _pyplot()
-    y = _position(problem)
+    plt = pyplot()
+    y = panel_position(problem)
     p = result.contact_pressure[step]
     g = result.friction_traction[step]
     bound = result.friction_bound[step]
@@ -45,10 +45,10 @@ def tractions_along_contact(problem, result, step=-1, path=None, xlim=None):
     ax.set_title(f"step {k} of {result.steps}, f_c = {result.friction:g} "
                  f"({result.formulation} formulation, {result.coulomb} "
                  "normal force)", fontsize=10)
-    return _save(fig, path)
+    return save_png(fig, path)
 
 
-def _fit_y(ax, x, arrays, xlim, margin=0.08):
+def fit_y(ax, x, arrays, xlim, margin=0.08):
     """y-limits of ``ax`` fitted to the values whose x lies in ``xlim``."""
     inside = (x >= xlim[0]) & (x <= xlim[1])
     values = np.concatenate([np.asarray(a)[inside] for a in arrays])
@@ -63,8 +63,8 @@ def tangential_displacement(problem, curves, path=None, xlim=None,
                             title=None):
     """Tangential displacement u_t of the nodes of Γc, one curve per entry
     of ``curves`` ({label: (values over Γc, style dict)})."""
-    plt = _pyplot()
-    y = _position(problem)
+    plt = pyplot()
+    y = panel_position(problem)
     fig, ax = plt.subplots(figsize=(8, 4.5))
     for label, (values, style) in curves.items():
         ax.plot(y, values, label=label, **style)
@@ -72,9 +72,9 @@ def tangential_displacement(problem, curves, path=None, xlim=None,
     ax.set_ylabel(f"tangential displacement u_t [{LENGTH}]")
     if xlim is not None:
         ax.set_xlim(*xlim)
-        _fit_y(ax, y, [values for values, _ in curves.values()], xlim)
+        fit_y(ax, y, [values for values, _ in curves.values()], xlim)
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8)
     if title:
         ax.set_title(title, fontsize=10)
-    return _save(fig, path)
+    return save_png(fig, path)

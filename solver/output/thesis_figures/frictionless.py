@@ -4,11 +4,11 @@
 
 import numpy as np
 
-from .common import LENGTH, PRESSURE, _save, _position, _pyplot
-from .model import _outline, obstacle_for_display, contact_offset
+from .common import LENGTH, PRESSURE, save_png, panel_position, pyplot
+from .model import outline, obstacle_for_display, contact_offset
 
 
-def _nice_scale(problem, displacement, fraction=0.1):
+def nice_scale(problem, displacement, fraction=0.1):
     """A round magnification making the largest displacement about
     ``fraction`` of the body's size."""
     u = np.abs(displacement).max()
@@ -35,9 +35,9 @@ def deformed_and_directions(problem, displacement, in_contact, scale=None,
     starred nodes lie on it up to ``fig.contact_offset`` (see
     :func:`contact_offset`); ``fig.scale`` is the magnification used.
     """
-    plt = _pyplot()
+    plt = pyplot()
     u = np.asarray(displacement)
-    scale = _nice_scale(problem, u) if scale is None else scale
+    scale = nice_scale(problem, u) if scale is None else scale
     xy = problem.nodes + scale * u
     fig, (left, right) = plt.subplots(1, 2, figsize=(8.5, 5.6))
     left.triplot(xy[:, 0], xy[:, 1], problem.cells, color="0.6", lw=0.5)
@@ -60,7 +60,7 @@ def deformed_and_directions(problem, displacement, in_contact, scale=None,
     nodes = problem.nodes
     size = np.hypot(u[:, 0], u[:, 1])
     direction = u / np.where(size > 0, size, 1.0)[:, None]
-    for a, b in _outline(problem):
+    for a, b in outline(problem):
         right.plot(*nodes[[a, b]].T, "-", color="0.6", lw=0.8)
     cells = np.asarray(problem.cells)
     spacing = np.median(np.linalg.norm(nodes[cells[:, 0]] - nodes[cells[:, 1]],
@@ -80,7 +80,7 @@ def deformed_and_directions(problem, displacement, in_contact, scale=None,
     if title:
         fig.suptitle(title, fontsize=11)
     fig.tight_layout()
-    return _save(fig, path)
+    return save_png(fig, path)
 
 
 def convergence(results, path=None, title=None):
@@ -88,7 +88,7 @@ def convergence(results, path=None, title=None):
     OptimizeResult}``, one column each) ‖Φ(x^k)‖ on top and the damping
     parameter α below, with the iterations where no decreasing α was found
     and the gradient steps marked."""
-    plt = _pyplot()
+    plt = pyplot()
     fig, axes = plt.subplots(2, len(results), figsize=(5 * len(results), 6),
                              sharex="col", squeeze=False)
     smallest = min(min(r.history["alpha"], default=1.0)
@@ -122,7 +122,7 @@ def convergence(results, path=None, title=None):
     if title:
         fig.suptitle(title, fontsize=11)
     fig.tight_layout()
-    return _save(fig, path)
+    return save_png(fig, path)
 
 
 def pressure_along_contact(problem, results, path=None, title=None,
@@ -133,8 +133,8 @@ def pressure_along_contact(problem, results, path=None, title=None,
     family): the thesis's consistent g_n = M⁻¹λ of (87)
     (``contact_pressure_consistent``), which spreads each nodal force over
     its neighbours and oscillates below zero next to the contact zone."""
-    plt = _pyplot()
-    y = _position(problem)
+    plt = pyplot()
+    y = panel_position(problem)
     fig, ax = plt.subplots(figsize=(8, 4.5))
     for i, (label, r) in enumerate(results.items()):
         color = f"C{i}"
@@ -154,7 +154,7 @@ def pressure_along_contact(problem, results, path=None, title=None,
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8, loc="upper left")
     ax.set_title(title or "contact pressure along Γc", fontsize=10)
-    return _save(fig, path)
+    return save_png(fig, path)
 
 
 def mesh_comparison(problems, results, path=None, xlim=None):
@@ -164,13 +164,13 @@ def mesh_comparison(problems, results, path=None, xlim=None):
     lumped pressure along Γc; bottom: the extent of the contact zone, from
     the first to the last node in contact, widened by half a node spacing
     on each side."""
-    plt = _pyplot()
+    plt = pyplot()
     fig, (top, bottom) = plt.subplots(
         2, 1, figsize=(8, 6), sharex=True,
         gridspec_kw=dict(height_ratios=[3, 1]))
     for i, (key, problem) in enumerate(problems.items()):
         r = results[key]
-        y = _position(problem)
+        y = panel_position(problem)
         top.plot(y, r.contact_pressure, "o-", ms=3, color=f"C{i}",
                  label=f"{key} elements ({r.n_contact} nodes in contact)")
         inside = np.flatnonzero(r.in_contact)
@@ -194,4 +194,4 @@ def mesh_comparison(problems, results, path=None, xlim=None):
         bottom.set_xlim(*xlim)
     bottom.grid(alpha=0.3, axis="x")
     fig.tight_layout()
-    return _save(fig, path)
+    return save_png(fig, path)

@@ -4,10 +4,10 @@
 
 import numpy as np
 
-from .common import LENGTH, FORCE, PRESSURE, _save, _pyplot
+from .common import LENGTH, FORCE, PRESSURE, save_png, pyplot
 
 
-def _outline(problem):
+def outline(problem):
     """Boundary edges of the triangle mesh (edges used by one cell)."""
     cells = np.asarray(problem.cells)
     edges = np.sort(np.r_[cells[:, [0, 1]], cells[:, [1, 2]],
@@ -68,11 +68,11 @@ def model_problem(problem, path=None, title="Fig. 3: the model problem "
     """Fig. 3: the body's outline, its supports (nodes with a fixed DOF),
     the point force (``meta['load']``), Γc and the obstacle; right, the
     initial gap s along Γc."""
-    plt = _pyplot()
+    plt = pyplot()
     fig, (ax, gap_ax) = plt.subplots(1, 2, figsize=(9, 5.5),
                                      gridspec_kw=dict(width_ratios=[1.3, 1]))
     nodes = problem.nodes
-    for a, b in _outline(problem):
+    for a, b in outline(problem):
         ax.plot(*nodes[[a, b]].T, "k-", lw=1.2)
     free = np.zeros(nodes.shape, bool)
     free[problem.dof_map[:, 0], problem.dof_map[:, 1]] = True
@@ -117,4 +117,4 @@ def model_problem(problem, path=None, title="Fig. 3: the model problem "
     gap_ax.set_xlim(0, None)
     gap_ax.grid(alpha=0.3)
     fig.tight_layout()
-    return _save(fig, path)
+    return save_png(fig, path)

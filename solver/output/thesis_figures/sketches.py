@@ -4,14 +4,14 @@
 
 import numpy as np
 
-from .common import _save, _pyplot
+from .common import save_png, pyplot
 
 
 def ncp_functions(path=None):
     """Fig. 1: a function of one variable with a kink and its
     subderivatives; beside it, the zero sets of φ_min (19) and φ_FB (20)
     (both are the complementarity corner a ≥ 0, b ≥ 0, ab = 0)."""
-    plt = _pyplot()
+    plt = pyplot()
     fig, (left, right) = plt.subplots(1, 2, figsize=(10, 4))
     x = np.linspace(-0.5, 2.5, 301)
     g = np.minimum(x, 2 - x)  # φ_min(x, 2 − x): kink at x = 1
@@ -47,13 +47,13 @@ def ncp_functions(path=None):
     right.set_title("NCP functions (19), (20): same zero set", fontsize=10)
     right.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.15))
     fig.tight_layout()
-    return _save(fig, path)
+    return save_png(fig, path)
 
 
 def boundary_conditions_sketch(path=None):
     """Fig. 2: a body Ω with ∂Ω_u (supported), ∂Ω_σ (loaded), Γc and the
     rigid obstacle Γo, the gap s and the frame (γ, ν) at a point of Γc."""
-    plt = _pyplot()
+    plt = pyplot()
     fig, ax = plt.subplots(figsize=(6, 4.5))
     t = np.linspace(0, 2 * np.pi, 400)
     body = np.c_[1.6 * np.cos(t), 1.0 * np.sin(t) + 1.2]
@@ -95,4 +95,4 @@ def boundary_conditions_sketch(path=None):
     ax.axis("off")
     ax.set_title("Fig. 2: boundary conditions of the contact problem",
                  fontsize=10)
-    return _save(fig, path)
+    return save_png(fig, path)
