@@ -182,7 +182,7 @@ def test_cli_3d_friction_run(tmp_path):
     assert (out / "history.png").is_file()  # 3D: the history figure only
     mesh = meshio.read(out / "steps" / "step_0003.vtu")
     assert mesh.cells[0].type == "tetra"
-    assert mesh.point_data["friction_traction"].shape == (75, 2)
+    assert mesh.point_data["friction_traction"].shape == (75, 3)  # x, y, z
     refused = subprocess.run([sys.executable, "-m", "solver", "X.npz",
                               "--friction", "0.3", "--steps", "3",
                               "--formulation", "thesis"],
