@@ -64,7 +64,7 @@ def test_newton_counts_agree_across_backends(row):
         J, F = map(int, counts.split("/"))
         assert 0 < int(finest.rstrip(")")) <= J <= F  # each J needs a Φ
     J, F = map(int, row["friction J/F"].split("/"))
-    assert 3 <= J <= F                          # one Jacobian per step at least
+    assert 0 < J <= F  # a step started on its solution takes none
 
 
 def test_memory_per_stage(row):
