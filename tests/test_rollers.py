@@ -22,6 +22,7 @@ mirror-symmetric (Kuhn's split of a box is not).
 
 import sys
 import types
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -32,6 +33,7 @@ from tet_elasticity import box, mesh_problem, rectangle, stiffness  # noqa: E402
 
 from solver import solve_friction, solve_frictionless
 from solver.contact import contact_geometry
+from solver.errors import PenetrationWarning  # noqa: E402
 from solver.contact.geometry import ROLLER_TOLERANCE, rotation  # noqa: E402
 from solver.geometry.curves.parametric import ParametricCurve  # noqa: E402
 
@@ -219,7 +221,8 @@ def test_quarter_without_rollers_is_the_old_answer(blocks3d):
     defect of issue 18 this fixes)."""
     whole, r_whole = blocks3d["whole"]
     problem, result = blocks3d["quarter"]
-    old = solve_frictionless(problem, "min", tol=1e-13, rollers=False)
+    with pytest.warns(PenetrationWarning):  # the supports, driven in
+        old = solve_frictionless(problem, "min", tol=1e-13, rollers=False)
     assert old.success
     xy = problem.nodes[problem.contact_nodes, :2]
     plane = (np.abs(xy) < 1e-12).any(axis=1)
@@ -417,8 +420,10 @@ def test_hertz_sphere_quarter_a_over_h_8(tmp_path):
 
     measures = {}
     for rollers in (False, True):
-        result = solve_frictionless(problem, "min", gap="obstacle",
-                                    rollers=rollers)
+        with warnings.catch_warnings():  # supports driven in, if False
+            warnings.simplefilter("ignore", PenetrationWarning)
+            result = solve_frictionless(problem, "min", gap="obstacle",
+                                        rollers=rollers)
         assert result.success and result.verification["passed"]
         P = 4 * np.nansum(result.contact_force * -result.normal[:, 2])
         a_h = (3 * P * R / (4 * E_star)) ** (1 / 3)
@@ -562,8 +567,9 @@ def test_rollers_false_is_the_old_answer_3d():
     issue 18's friction work), and then the answer differs from the whole
     model's."""
     part = block_3d("quarter")
-    old = solve_friction(part, FC, formulation="projection", method="min",
-                         steps=3, rollers=False)
+    with pytest.warns(PenetrationWarning):  # the supports, driven in
+        old = solve_friction(part, FC, formulation="projection",
+                             method="min", steps=3, rollers=False)
     assert old.success
     plane = (part.contact_dofs < 0).any(axis=1)
     assert (old.contact_force[-1][plane] == 0).all()
@@ -592,7 +598,8 @@ def test_half_friction_matches_the_whole_2d():
     assert result.friction_traction[-1][on_axis].item() == 0.0
     default = solve_friction(part, FC, **kwargs)
     assert np.array_equal(default.u, result.u)
-    support = solve_friction(part, FC, rollers=False, **kwargs)
+    with pytest.warns(PenetrationWarning):  # the axis node, driven in
+        support = solve_friction(part, FC, rollers=False, **kwargs)
     assert support.contact_force[-1][on_axis].item() == 0.0
     with pytest.raises(SolverError, match="split formulation does not "
                        "take roller") as info:

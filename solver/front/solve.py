@@ -250,8 +250,9 @@ def _warn_excluded(problem, result):
         f"contact as support{'s' if several else ''} ({names}) "
         f"penetrate{'' if several else 's'} {other} at the answer "
         f"(deepest {excluded['max_depth']:.3g}): a prescribed displacement "
-        "moves them there; let them take part (rollers=True) or correct "
-        "the supports", PenetrationWarning, stacklevel=3)
+        f"moves {'them' if several else 'it'} there; let "
+        f"{'them' if several else 'it'} take part (rollers=True) or "
+        "correct the supports", PenetrationWarning, stacklevel=3)
 
 
 def _chain(first, then):
