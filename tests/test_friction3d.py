@@ -198,12 +198,12 @@ def test_disc_jacobian_matches_finite_differences(coulomb):
     """The generalised Jacobian of the disc projection (stick: I; slip:
     b/|w|(I − ŵŵᵀ), ŵ ∂b) against central differences of the residual, at
     an iterate with stick and slip nodes (away from the kinks)."""
-    from solver.contact.friction.system import FrictionSystem
+    from solver.contact.friction.projection import ProjectionSystem
 
     problem, geometry, _, _ = dragged_block(np.radians(30.0), 0.05)
     lumped = np.asarray(problem.M.sum(axis=1)).ravel()[geometry.index]
-    system = FrictionSystem(problem.K, problem.f, geometry, lumped, 0.3,
-                            "projection", coulomb)
+    system = ProjectionSystem(problem.K, problem.f, geometry, lumped, 0.3,
+                              coulomb)
     m = system.m
     rng = np.random.default_rng(3)
     system.set_step(np.zeros(system.n), 1.0, rng.uniform(0.5, 1.5, m))

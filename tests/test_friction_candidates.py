@@ -219,8 +219,7 @@ def test_disc_direction_solves_the_whole_jacobian(dome, coulomb):
     condensation, local = condense_onto_contact(problem, geometry, "superlu")
     lumped = np.asarray(problem.M.sum(axis=1)).ravel()[geometry.index]
     system = DiscSystem(condensation.S, condensation.load(problem.f)[0],
-                        local, lumped, 0.3, "projection", coulomb, 100.0,
-                        100.0)
+                        local, lumped, 0.3, coulomb, 100.0, 100.0)
     rng = np.random.default_rng(18)
     m, n = system.m, system.n
     system.set_step(rng.normal(0, 1e-3, n), 0.5,

@@ -103,7 +103,7 @@ def test_disc_direction_with_rollers_solves_the_whole_jacobian(
     iterate where rollers stick, slip near the disc's edge and slip far
     from it (the last take dĝ from their own rows)."""
     from solver.contact.friction.disc import DiscSystem
-    from solver.contact.friction.system import FrictionSystem
+    from solver.contact.friction.projection import ProjectionSystem
     from solver.contact.strategies.reduction import condense_onto_contact
 
     problem = problems[part]
@@ -111,8 +111,7 @@ def test_disc_direction_with_rollers_solves_the_whole_jacobian(
     condensation, local = condense_onto_contact(problem, geometry, "superlu")
     lumped = np.asarray(problem.M.sum(axis=1)).ravel()[geometry.index]
     system = DiscSystem(condensation.S, condensation.load(problem.f)[0],
-                        local, lumped, FC, "projection", coulomb, 100.0,
-                        100.0)
+                        local, lumped, FC, coulomb, 100.0, 100.0)
     assert system.dense and system.rollers
     rng = np.random.default_rng(18)
     m, n, free = system.m, system.n, system.t_free
@@ -131,15 +130,15 @@ def test_disc_direction_with_rollers_solves_the_whole_jacobian(
     slip = ~np.all(jac.P == np.eye(2) * free.reshape(m, 1, 2), axis=(1, 2))
     assert (one_free & slip).any() and (one_free & ~slip).any()
     assert (one_free & jac.own).any() and (one_free & slip & ~jac.own).any()
-    JE, JA, JB = FrictionSystem.jacobian(system, x)
+    JE, JA, JB = ProjectionSystem.jacobian(system, x)
     # DiscSystem's projection rows are D(g − P(w)) (nodal forces): its
-    # residual, Jacobian and stopping measure are FrictionSystem's so
+    # residual, Jacobian and stopping measure are ProjectionSystem's so
     rows = sp.diags(np.concatenate([np.ones(JE.shape[0] - system.mt),
                                     system.lumped_t]))
-    mine, theirs = system.residual(x), FrictionSystem.residual(system, x)
+    mine, theirs = system.residual(x), ProjectionSystem.residual(system, x)
     np.testing.assert_array_equal(mine[0], rows @ theirs[0])
     assert system.error(*mine) == pytest.approx(
-        FrictionSystem.error(system, *theirs), rel=1e-14)
+        ProjectionSystem.error(system, *theirs), rel=1e-14)
     assert JE.shape[0] == free.sum() + system.mt
     for wa, wb in [(rng.uniform(-1, 0, m), rng.uniform(-1, 0, m)),
                    ((rng.random(m) < 0.5) * 1.0, None)]:

@@ -2,7 +2,7 @@
 (:mod:`solver.contact.friction.newton`) against the full Jacobian.
 
 Reference: the full Newton system J d = −Φ of the projection formulation
-(:meth:`FrictionSystem._jacobian`, sparse, solved densely here), which the
+(:meth:`ProjectionSystem._jacobian`, sparse, solved densely here), which the
 solver used before the reduction; the reduction is exact block elimination,
 so directions agree to round-off and the runs take the same Newton steps.
 """
@@ -13,7 +13,8 @@ import scipy.sparse as sp
 
 from solver import solve_friction
 from solver.contact.friction import newton as friction_newton
-from solver.contact.friction.system import FrictionSystem
+from solver.contact.friction.projection import ProjectionSystem
+from solver.contact.friction.split import SplitSystem
 from solver.problem import load_problem
 
 CASES = [(coulomb, method) for coulomb in ("lagged", "implicit")
@@ -67,9 +68,9 @@ def test_reduced_direction_is_the_full_newton_direction(
         seen[kind] += 1
         return solve(self, A, h, symmetric, kind)
 
-    solve = FrictionSystem._reduced_solve
+    solve = ProjectionSystem._reduced_solve
     monkeypatch.setattr(friction_newton._Combined, "direction", checked)
-    monkeypatch.setattr(FrictionSystem, "_reduced_solve", counted)
+    monkeypatch.setattr(ProjectionSystem, "_reduced_solve", counted)
     result = solve_friction(problem, 0.3, steps=30, formulation="projection",
                             coulomb=coulomb, method=method)
     assert result.success and result.condensed
@@ -93,7 +94,7 @@ def test_reduced_run_equals_full_run(exported, monkeypatch, method):
     problem = load_problem(exported(454)[0])
     kwargs = dict(steps=100, formulation="projection", method=method)
     ours = solve_friction(problem, 0.3, **kwargs)
-    monkeypatch.setattr(FrictionSystem, "reduced_newton", False)
+    monkeypatch.setattr(ProjectionSystem, "reduced_newton", False)
     full = solve_friction(problem, 0.3, **kwargs)
     assert ours.success and full.success
     for key in ("u", "contact_force", "friction_traction"):
@@ -117,10 +118,10 @@ def test_thesis_split_keeps_the_full_system(exported):
     lumped = np.asarray(problem.M.sum(axis=1)).ravel()[geometry.index]
     args = (condensation.S, condensation.load(problem.f)[0], local, lumped,
             0.3)
-    assert not FrictionSystem(*args, formulation="thesis").reduced
-    assert FrictionSystem(*args, formulation="projection").reduced
-    assert not FrictionSystem(problem.K, problem.f, geometry, lumped, 0.3,
-                              formulation="projection").reduced
+    assert not SplitSystem(*args).reduced
+    assert ProjectionSystem(*args).reduced
+    assert not ProjectionSystem(problem.K, problem.f, geometry, lumped,
+                                0.3).reduced
 
 
 @pytest.mark.parametrize("method", ["min", "fb"])
@@ -136,16 +137,16 @@ def test_implicit_dual_run_equals_full_run(exported, monkeypatch, method):
     kwargs = dict(steps=100, formulation="projection", coulomb="implicit",
                   method=method)
     seen = []
-    solve = FrictionSystem._reduced_solve
+    solve = ProjectionSystem._reduced_solve
 
     def counted(self, A, h, symmetric, kind):
         seen.append(kind)
         return solve(self, A, h, symmetric, kind)
 
-    monkeypatch.setattr(FrictionSystem, "_reduced_solve", counted)
+    monkeypatch.setattr(ProjectionSystem, "_reduced_solve", counted)
     ours = solve_friction(problem, 0.3, **kwargs)
     assert "dual" in seen
-    monkeypatch.setattr(FrictionSystem, "reduced_newton", False)
+    monkeypatch.setattr(ProjectionSystem, "reduced_newton", False)
     full = solve_friction(problem, 0.3, **kwargs)
     assert ours.success and full.success
     for key in ("u", "contact_force", "friction_traction"):
@@ -162,7 +163,7 @@ def test_implicit_dual_only_up_to_its_friction_limit(exported, monkeypatch):
     the lagged bound still takes the dual form at the same f_c."""
     problem = load_problem(exported(454)[0])
     f_c = 2.0 * friction_newton.DUAL_MAX_FRICTION
-    solve = FrictionSystem._reduced_solve
+    solve = ProjectionSystem._reduced_solve
     for coulomb in ("implicit", "lagged"):
         seen = []
 
@@ -170,7 +171,7 @@ def test_implicit_dual_only_up_to_its_friction_limit(exported, monkeypatch):
             seen.append(kind)
             return solve(self, A, h, symmetric, kind)
 
-        monkeypatch.setattr(FrictionSystem, "_reduced_solve", counted)
+        monkeypatch.setattr(ProjectionSystem, "_reduced_solve", counted)
         result = solve_friction(problem, f_c, steps=10,
                                 formulation="projection", coulomb=coulomb,
                                 method="min")

@@ -1,7 +1,8 @@
 """The start of a condensed friction step (issue 34, points 4 and 9).
 
 The condensed load step starts from the free-body predictor with its
-normal contact forces corrected (:meth:`FrictionSystem.contact_corrected`).
+normal contact forces corrected (:func:`solver.contact.friction.start.
+contact_corrected`).
 Independent references: the definition of the normal contact problem
 (Signorini's conditions λ ≥ 0, s − u_n ≥ 0, λ(s − u_n) = 0, checked on the
 start itself), the Lawson–Hanson non-negative least squares of SciPy on
@@ -18,7 +19,7 @@ from scipy.optimize import nnls
 from conftest import MESHES
 from test_export3d import SPHERE, export_module
 from solver import solve_friction
-from solver.contact.friction.system import FrictionSystem
+from solver.contact.friction import steps
 from solver.problem import load_problem
 
 
@@ -43,7 +44,7 @@ def _starts(monkeypatch):
     call: the system moves on from step to step), k̄, F and the normal
     flexibility C_nn = R_n S⁻¹ R_nᵀ (from S by NumPy's solve)."""
     seen = []
-    original = FrictionSystem.contact_corrected
+    original = steps.contact_corrected
 
     def state(system, du):
         nr = system.n_rows
@@ -61,7 +62,7 @@ def _starts(monkeypatch):
                          k=self.stiffness, F=max(self.load_norm, 1.0)))
         return out
 
-    monkeypatch.setattr(FrictionSystem, "contact_corrected", recorded)
+    monkeypatch.setattr(steps, "contact_corrected", recorded)
     return seen
 
 

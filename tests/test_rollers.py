@@ -615,14 +615,14 @@ def test_roller_friction_jacobian_matches_finite_differences(part, coulomb):
     an iterate with stick and slip nodes, rollers among both (away from
     the kinks); the shapes: one tangential equilibrium row per free
     tangent, a projection row per tangent (g_c ≡ 0 at e_c)."""
-    from solver.contact.friction.system import FrictionSystem
+    from solver.contact.friction.projection import ProjectionSystem
 
     problem = block_3d(part, n=2, nz=1)
     geometry = contact_geometry(problem, "obstacle", rollers=True)
     assert geometry.has_rollers
     lumped = np.asarray(problem.M.sum(axis=1)).ravel()[geometry.index]
-    system = FrictionSystem(problem.K, problem.f, geometry, lumped, FC,
-                            "projection", coulomb)
+    system = ProjectionSystem(problem.K, problem.f, geometry, lumped, FC,
+                              coulomb)
     m, mt, free = system.m, system.mt, system.t_free
     rng = np.random.default_rng(5)
     system.set_step(np.zeros(system.n), 1.0, rng.uniform(0.5, 1.5, m))

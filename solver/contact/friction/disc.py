@@ -1,10 +1,11 @@
 r"""The Newton system of a condensed 3D friction step with the tractions
-eliminated (projection onto the Coulomb disc; :mod:`.driver`).
+eliminated (projection onto the Coulomb disc, :mod:`.projection`).
 
 On the system condensed onto Γc or onto candidate nodes
-(:mod:`solver.contact.strategies.friction_candidates`: S dense n×n, n = 3m) the projection form has
-the unknowns x = [Δu; ĝ] (ĝ = g_t/c_t, 2m) and the rows (ĝ columns scaled
-by c_t, as in :meth:`FrictionSystem.jacobian`)
+(:mod:`solver.contact.strategies.friction_candidates`: S dense n×n,
+n = 3m) the projection form has the unknowns x = [Δu; ĝ] (ĝ = g_t/c_t,
+2m) and the rows (ĝ columns scaled by c_t, as in
+:meth:`~.system.FrictionSystem.jacobian`)
 
 .. math::
     (RS)_t\,dΔu − D_t c_t\,dĝ = −F_1, \qquad
@@ -26,11 +27,9 @@ one dense n×n system in dΔu:
     dΔu = \begin{bmatrix} −F_2 − (I − P_w) D_t^{-1} F_1 \\ −F_3
     \end{bmatrix},
 
-factorised by LAPACK: n³/3 flops instead of (5n/3)³/3 for the whole J
-(4.6× fewer), and no sparse matrix is built from the dense S. The
-direction is that of J d = −F up to round-off (tests compare it with the
-sparse J of :class:`FrictionSystem`); J is singular exactly when this
-matrix is.
+factorised by LAPACK: n³/3 flops instead of (5n/3)³/3 for the whole J,
+and no sparse matrix is built from the dense S. The direction is that of
+J d = −F up to round-off; J is singular exactly when this matrix is.
 
 Units of the projection rows. :class:`DiscSystem` returns them as nodal
 forces D(g − P(w)) (D = ``lumped_t``, the Γc area of the node), like the
@@ -38,14 +37,10 @@ equilibrium and normal rows, and not as tractions g − P(w): a row scaled
 by a positive constant leaves the Newton direction as it is (the matrix
 above is unchanged, F_2 is divided back), but the merit ‖Φ‖ of φ_min's
 damping and φ_FB's ψ then weigh every row in force units, as the stopping
-measure does (:meth:`FrictionSystem.error`). As tractions they weighed
-1/D more (1e5 on the Hertz sphere, R = 1, at a/h 16), and the damped
-Newton rejected full steps that cut the normal rows' residual 40-fold for
-tractions far beyond f_c p at nodes that go from stick to slip, then crept
-on with α ≈ 2⁻⁵…2⁻¹⁰ until the stall test stopped it (the lagged bound's
-stall at a/h 16, benchmarks/README.md; the same problem in mm instead of
-m stalled φ_FB with the implicit bound; tests/
-test_friction_candidates_rollers.py).
+measure does (:meth:`~.projection.ProjectionSystem.error`). As tractions
+they weigh 1/D more, and the damped Newton rejects full steps that the
+stopping measure would accept (benchmarks/README.md, "3D friction: the
+projection rows in force units").
 
 Rollers (nodes on symmetry planes, :mod:`~solver.contact.geometry`): a
 roller's constrained tangent e_c has no equilibrium row and w_c ≡ 0, so
@@ -62,27 +57,18 @@ import scipy.linalg as sla
 import scipy.sparse as sp
 
 from ...linalg.threads import blas_threads_for
-from .projection import block_diagonal, disc_derivative
-from .system import FrictionSystem
+from .projection import ProjectionSystem, block_diagonal, disc_derivative
 
-__all__ = ["DiscSystem", "DiscJacobian", "condensed_system"]
-
-
-def condensed_system(dim, formulation):
-    """The system class of a condensed run: :class:`DiscSystem` for the
-    projection form in 3D, else :class:`FrictionSystem`."""
-    return DiscSystem if dim == 3 and formulation == "projection" \
-        else FrictionSystem
+__all__ = ["DiscSystem", "DiscJacobian"]
 
 
-class DiscSystem(FrictionSystem):
-    """:class:`FrictionSystem` on a dense condensed S (3D projection form)
+class DiscSystem(ProjectionSystem):
+    """:class:`~.projection.ProjectionSystem` on a dense condensed S (3D)
     whose :meth:`jacobian` is a :class:`DiscJacobian`."""
 
     def __init__(self, K, *args, **kwargs):
         super().__init__(K, *args, **kwargs)
-        self.dense = isinstance(K, np.ndarray) and not len(self.x_rows) \
-            and self.formulation == "projection" and self.dim == 3
+        self.dense = self.dense_schur and self.dim == 3
         if self.dense:  # R sparse (per-node frames): R S and R's rows dense
             t = np.where(self.t_free, self.t_rows, 0)
             self.RS = np.asarray(self.R @ np.asarray(K, float))
@@ -94,15 +80,14 @@ class DiscSystem(FrictionSystem):
             self.R_n = self.R[self.n_rows].toarray()
 
     def _force(self, du):
-        """r = R(Ku − f_κ) (:meth:`FrictionSystem._force`), by BLAS on the
-        dense R S."""
+        """r = R(Ku − f_κ), by BLAS on the dense R S."""
         if not self.dense:
             return super()._force(du)
         return self._r_previous + self.RS @ du - self._Rf_step
 
     def bound(self, r, derivative=True):
-        """f_c p and its derivative rows (:meth:`FrictionSystem.bound`),
-        the rows dense (m × n) on the dense R S."""
+        """f_c p and its derivative rows, dense (m × n) on the dense
+        R S."""
         if not self.dense or self.coulomb == "lagged" or not derivative:
             return super().bound(r, derivative)
         active = (-r[self.n_rows] > 0.0) / self.lumped
@@ -110,8 +95,8 @@ class DiscSystem(FrictionSystem):
             -self.friction * active[:, None] * self.RS_n
 
     def residual(self, x):
-        """(E, A, B) of :meth:`FrictionSystem.residual` with the projection
-        rows g − P(w) in nodal force units, D(g − P(w)) (module
+        """(E, A, B) of :meth:`ProjectionSystem.residual` with the
+        projection rows in nodal force units, D(g − P(w)) (module
         docstring: the merit ‖Φ‖ of the line searches)."""
         E, A, B = super().residual(x)
         if self.dense:
@@ -119,7 +104,7 @@ class DiscSystem(FrictionSystem):
         return E, A, B
 
     def error(self, E, A, B):
-        """:meth:`FrictionSystem.error` (which weighs the projection rows
+        """:meth:`ProjectionSystem.error` (which weighs the projection rows
         by D itself) of the residual of :meth:`residual`."""
         if self.dense:
             E = E.copy()
@@ -137,10 +122,10 @@ class DiscJacobian:
     ``JB``, :meth:`combine`) at the iterate x of a :class:`DiscSystem`.
 
     ``P`` holds the per-node blocks ∂P/∂w with a roller's e_c columns
-    dropped (w_c ≡ 0 there, :meth:`FrictionSystem._slide`): its e_c row
+    dropped (w_c ≡ 0 there, :meth:`ProjectionSystem._slide`): its e_c row
     of the projection is then c_t dĝ_c = −F_2,c, the other rows do not
     see ĝ_c (ŵ_c = 0), and the Coulomb set is the disc cut to the free
-    tangents, as in :meth:`FrictionSystem._disc_jacobian`."""
+    tangents, as in :meth:`ProjectionSystem._disc_jacobian`."""
 
     def __init__(self, system, x):
         s = self.system = system

@@ -82,7 +82,7 @@ from ..geometry import contact_stiffness
 from ..strategies.reduction import reduction
 from .steps import GAP_WEIGHT, load_step, make_result, setup
 from .stream import MAX_LOAD_STEPS, StepStream
-from .system import COULOMB, FORMULATIONS, check_geometry
+from .system import COULOMB, FORMULATIONS
 
 __all__ = ["FORMULATIONS", "COULOMB", "run_friction", "check_friction",
            "default_method"]
@@ -92,9 +92,9 @@ def default_method(formulation):
     """The Newton method of a friction run that names none: φ_FB for the
     thesis's split (110)/(111), as in the thesis (φ_min's Jacobian is
     singular there where p = 0), φ_min for the projection formulation
-    (started on the complementarity set, :meth:`FrictionSystem.
-    contact_corrected`, it needs no more Jacobians than φ_FB on any
-    shipped friction problem and fewer on most)."""
+    (started on the complementarity set, :mod:`.start`, it needs no more
+    Jacobians than φ_FB on the shipped friction problems,
+    benchmarks/README.md)."""
     return "fb" if formulation == "thesis" else "min"
 
 
@@ -132,7 +132,7 @@ def run_friction(problem, geometry, engine, friction, steps=None,
         default is :func:`default_method`).
     tol, max_iter, options
         Per step: the stopping test is relative, ‖[E; min(A, k̄B)]‖₂
-        (force units, :meth:`FrictionSystem.error`) ≤
+        (force units, the system's ``error``) ≤
         tol·max(‖f‖₂, ‖f_κ‖₂, ‖λ⁺‖₂), with f the full load and f_κ the
         step's, so the verdict does not depend on units (nor, on the
         condensed system, the iterates); every converged step is then

@@ -71,8 +71,8 @@ class ReducedJacobian:
     from ``jac``: ``JA``, ``JB`` (for φ_FB's rule (31)) and
     :meth:`combine` (the Newton system with the NCP function's weights).
 
-    Built by :meth:`FrictionSystem.jacobian
-    <solver.contact.friction.system.FrictionSystem.jacobian>` at the
+    Built by :meth:`ProjectionSystem.jacobian
+    <solver.contact.friction.projection.ProjectionSystem.jacobian>` at the
     iterate ``x`` with the step's quantities there: ``stick`` and ``upper``
     masks of the projection, ``active`` (a_i, None if lagged)."""
 

@@ -1,20 +1,28 @@
-r"""The projection onto the Coulomb disc and its derivative, shared by
-the load step's sparse Jacobian (:mod:`.system`) and the condensed 3D
-direction (:mod:`.disc`).
-
-With w = g − c_t ZRΔu the projection form's row is g − P(w), P(w) =
-w·min(1, b/|w|) onto the disc |·| ≤ b = f_c p of R^{d−1} (Alart & Curnier,
+r"""The projection formulation of a load step (beyond the thesis):
+unknowns x = [Δu; ĝ] (ĝ = g_t/c_t) and the row g − P(w), w = g − c_t ZRΔu,
+the projection onto the disc |·| ≤ b = f_c p of R^{d−1} (Alart & Curnier,
 CMAME 92 (1991) 353; Hüeber, Stadler & Wohlmuth, SIAM J. Sci. Comput. 30
-(2008) 572). Its generalised derivative: at a stick node (|w| < b)
-∂P/∂w = I; at a slip node ∂P/∂w = (b/|w|)(I − ŵŵᵀ) and ∂P/∂b = ŵ. In 2D
-(d − 1 = 1) this is the clip onto [−b, b]. At a roller, w_c ≡ 0 along
-its constrained tangent e_c, so the e_c column of ∂P/∂w drops.
+(2008) 572), in place of the thesis's split; :mod:`.driver` says why.
+
+P(w) = w·min(1, b/|w|). Its generalised derivative: at a stick node
+(|w| < b) ∂P/∂w = I; at a slip node ∂P/∂w = (b/|w|)(I − ŵŵᵀ) and
+∂P/∂b = ŵ. In 2D (d − 1 = 1) this is the clip onto [−b, b]. At a roller,
+w_c ≡ 0 along its constrained tangent e_c, so the e_c column of ∂P/∂w
+drops and the row of g_c is g_c itself: the Coulomb set is the disc cut
+to the free tangents (an interval when one is free).
 """
 
 import numpy as np
+import scipy.linalg as sla_dense
 import scipy.sparse as sp
 
-__all__ = ["project_disc", "disc_derivative", "block_diagonal"]
+from ...linalg.dense import factorize
+from ...ncp import stable_norm
+from .newton import ReducedJacobian
+from .system import FrictionSystem
+
+__all__ = ["ProjectionSystem", "project_disc", "disc_derivative",
+           "block_diagonal"]
 
 
 def project_disc(w, b, k):
@@ -55,3 +63,140 @@ def block_diagonal(P):
     rows = np.repeat(np.arange(m * k).reshape(m, k), k, axis=1).ravel()
     cols = np.tile(np.arange(m * k).reshape(m, k), (1, k)).ravel()
     return sp.csr_matrix((P.ravel(), (rows, cols)), shape=(m * k, m * k))
+
+
+class ProjectionSystem(FrictionSystem):
+    """The projection formulation of one load step
+    (:class:`~.system.FrictionSystem`'s parameters). Condensed (dense S,
+    no other rows) in 2D without rollers, its Newton systems are solved on
+    the free components (:class:`~.newton.ReducedJacobian`)."""
+
+    formulation = "projection"
+    #: Solve the condensed Newton systems reduced to the free components
+    #: (:mod:`.newton`); False: the full J (the reference of the tests).
+    reduced_newton = True
+
+    def __init__(self, K, *args, **kwargs):
+        super().__init__(K, *args, **kwargs)
+        RK, R, other, a = self.RK, self.R, self.x_rows, self.t_rows
+        m, mt = self.m, self.mt
+        Zt = sp.csr_matrix((m, mt))
+        Dt, free = sp.diags(self.lumped_t, format="csr"), a
+        #: ZR with a roller's e_c rows 0 (it moves no tangential DOF)
+        self._Rt = R[a]
+        if self.rollers:
+            free = a[self.t_free]
+            Dt = Dt[self.t_free]
+            self._Rt = sp.diags(self.t_free.astype(float)) @ R[
+                np.where(self.t_free, a, 0)]
+        self._JE_fixed = sp.bmat([
+            [RK[other], sp.csr_matrix((len(other), mt))],
+            [RK[free], -Dt]], format="csr")
+        self._JA = sp.hstack([-RK[self.n_rows], Zt], format="csr")
+        self._JB = sp.hstack([-self.gap_scale * R[self.n_rows], Zt],
+                             format="csr")
+        self.reduced = (self.reduced_newton and self.dim == 2
+                        and not self.rollers and self.dense_schur)
+        if self.reduced:
+            RS = R @ np.asarray(K, float)
+            self.T = np.ascontiguousarray((R @ RS.T).T)  # R S Rᵀ
+            self.RK = RS  # dense: residuals by BLAS, not CSR of a dense S
+            self._factor = None  # (kind, matrix, solve) of the last one
+            self._flexibility = None  # T⁻¹, made when first needed
+
+    @property
+    def n_unknowns(self):
+        return self.n + self.mt
+
+    def residual(self, x):
+        """(E, A, B): E the equilibrium rows X, Z (none along a roller's
+        e_c) and g − P(w), A = λ ⊥ B = c(s − YRu)."""
+        du, g = x[:self.n], self.traction(x)
+        _, rx, tangential, lam, gap, b = self._shared_rows(du, g)
+        w = self._slide(g, du)
+        P = np.clip(w, -b, b) if self.dim == 2 else \
+            project_disc(w, b, self.dim - 1)
+        return np.concatenate([rx, tangential, g - P]), lam, gap
+
+    def _slide(self, g, du):
+        """w = g − c_t ZRΔu, 0 along a roller's e_c (g − P(w) = 0 then
+        makes g_c = 0)."""
+        w = g - self.c_t * (self.R @ du)[self.t_rows]
+        return np.where(self.t_free, w, 0.0) if self.rollers else w
+
+    def jacobian(self, x):
+        """:meth:`FrictionSystem.jacobian`, or on the condensed 2D system
+        the same Jacobian as a :class:`~.newton.ReducedJacobian`."""
+        if not self.reduced:
+            return super().jacobian(x)
+        du, g = x[:self.n], self.traction(x)
+        r = self._force(du)
+        b, _ = self.bound(r, derivative=False)
+        w = g - self.c_t * (self.R @ du)[self.t_rows]
+        stick = np.abs(w) < b
+        active = None if self.coulomb == "lagged" else \
+            (-r[self.n_rows] > 0.0).astype(float)
+        return ReducedJacobian(self, x, stick, ~stick & (w >= 0), active)
+
+    def _jacobian(self, x):
+        du, g = x[:self.n], self.traction(x)
+        b, db = self.bound(self._force(du))
+        if self.dim != 2 or self.rollers:
+            return self._disc_jacobian(du, g, b, db)
+        # the clip g − clip(w, −b, b), w = g − c_t ZRΔu
+        w = g - self.c_t * (self.R @ du)[self.t_rows]
+        stick = np.abs(w) < b
+        upper = ~stick & (w >= 0)
+        rows_du = sp.diags(stick.astype(float)) @ (self.c_t * self._Rt)
+        if db is not None:
+            sign = np.where(upper, -1.0, 1.0) * (~stick)
+            rows_du = rows_du + sp.diags(sign) @ db
+        J3 = sp.hstack([rows_du, sp.diags((~stick).astype(float))],
+                       format="csr")
+        return sp.vstack([self._JE_fixed, J3], format="csr"), self._JA, \
+            self._JB
+
+    def _disc_jacobian(self, du, g, b, db):
+        """(JE, JA, JB) of the projection onto the disc (any d, module
+        docstring: ∂P/∂w, ∂P/∂b = ŵ; at a roller the e_c column drops)."""
+        k, m = self.dim - 1, self.m
+        P, stick, _, slip_hat = disc_derivative(
+            self._slide(g, du).reshape(m, k), b,
+            self.t_free if self.rollers else None)
+        blocks = block_diagonal(P)
+        rows_du = blocks @ (self.c_t * self._Rt)
+        if db is not None:  # −∂P/∂b db = −ŵ db at slip nodes
+            rows_du = rows_du - sp.diags(slip_hat.ravel()) @ sp.csr_matrix(
+                db[np.repeat(np.arange(m), k)])
+        J3 = sp.hstack([rows_du, sp.identity(m * k) - blocks],
+                       format="csr")
+        return sp.vstack([self._JE_fixed, J3], format="csr"), self._JA, \
+            self._JB
+
+    def error(self, E, A, B):
+        """Stopping measure in force units (cf. FrictionlessSystem.error):
+        the projection rows (tractions) as nodal forces D(g − P(w))."""
+        k, c = self.stiffness, self.gap_scale
+        head = len(self.x_rows) + int(self.t_free.sum())  # equilibrium rows
+        E = np.concatenate([E[:head], self.lumped_t * E[head:]])
+        pairs = np.minimum(A, k / c * B)
+        return float(np.hypot(stable_norm(E), stable_norm(pairs)))
+
+    def _reduced_solve(self, A, h, symmetric, kind):
+        """A⁻¹h for the reduced Newton matrix A of ``kind`` ("primal" or
+        "dual", :mod:`.newton`; None if singular); the
+        factorisation is reused while A is unchanged."""
+        cached = self._factor
+        if cached is None or cached[0] != kind \
+                or cached[1].shape != A.shape \
+                or not np.array_equal(cached[1], A):
+            cached = self._factor = (kind, A, factorize(A, symmetric))
+        return None if cached[2] is None else cached[2](h)
+
+    def flexibility(self):
+        """C = T⁻¹ = R S⁻¹ Rᵀ (dense 2m×2m, computed once)."""
+        if self._flexibility is None:
+            factor = sla_dense.cho_factor(self.T, check_finite=False)
+            self._flexibility = sla_dense.cho_solve(
+                factor, np.eye(len(self.T)), check_finite=False)
+        return self._flexibility

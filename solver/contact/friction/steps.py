@@ -19,8 +19,10 @@ import scipy.sparse.linalg as sla
 
 from ...ncp import MESSAGES, solve_ncp, stable_norm
 from ..result import ContactResult
-from .disc import condensed_system
-from .system import FrictionSystem
+from .disc import DiscSystem
+from .projection import ProjectionSystem
+from .split import SplitSystem
+from .start import contact_corrected
 from ..geometry import contact_stiffness
 from ..verify import (describe_failure, force_scale, unit_free_options,
                      verification_tolerance, verify_contact,
@@ -112,11 +114,14 @@ def setup(problem, geometry, space, friction, formulation, coulomb, method,
     if space.condensed:  # φ_FB's (26) unit-free, as frictionless
         options = unit_free_options(method, options, reference_norm,
                                     stiffness, geometry.gap)
-        kind = condensed_system(geometry.dim, formulation)
+    if formulation == "thesis":
+        kind = SplitSystem
+    elif space.condensed and geometry.dim == 3:
+        kind = DiscSystem  # the tractions eliminated
     else:
-        kind = FrictionSystem
+        kind = ProjectionSystem
     system = kind(space.K, space.load(problem.f)[0], space.geometry, lumped,
-                  friction, formulation, coulomb, gap_scale, stiffness)
+                  friction, coulomb, gap_scale, stiffness)
     jacobian = space.jacobian(system)
     return SimpleNamespace(
         system=system, space=space, jacobian=jacobian,
@@ -137,12 +142,9 @@ def load_step(shared, state, run, stream, kappa, steps, load,
     step_norm = max(shared.reference_norm, stable_norm(load))
     du = None
     load, w = space.load(load)
-    if w is not None:
-        # The predictor: Γc moves as the unconstrained body (the contact
-        # forces of the previous step); initial_guess puts its normal
-        # pairs on the complementarity set (contact_corrected).
-        du = space.restrict(w - state.w)
     system.set_step(state.u, load, state.p, step_friction, step_norm)
+    if w is not None:  # the predictor: Γc moves as the unconstrained body
+        du = contact_corrected(system, space.restrict(w - state.w))
     x0 = system.initial_guess(state.g, du)
     result = solve_ncp(system.residual, shared.jacobian, x0, method=method,
                        tol=tol, max_iter=max_iter, options=shared.options,

@@ -1,0 +1,98 @@
+r"""The start of a condensed load step: the step's predictor Δu (Γc moving
+as the unconstrained body) with its normal contact forces corrected.
+
+The normal contact problem of the step is solved with the friction
+tractions held at the previous step's, i.e. the increment
+e = −C_{:,n} z (C = R S⁻¹ Rᵀ, the flexibility; z the change of the normal
+forces) with
+
+.. math::  λ + z \ge 0, \quad s − u_n + C_{nn} z \ge 0, \quad
+           (λ + z)^T (s − u_n + C_{nn} z) = 0,
+
+where λ and s − u_n are those of the predictor.
+
+Why: the predictor keeps the previous contact forces and pushes the nodes
+in contact into the obstacle by the step's whole free motion, far from the
+complementarity set. There φ_FB is curved and its Newton step removes only
+part of the penetration per iteration (φ_min's, which is piecewise linear,
+lands on the set in one). Started on the set, λ ≥ 0 ⊥ s − u_n ≥ 0, both
+methods meet φ_FB's curvature only where the step changes the contact set;
+the tangential forces keep their balance with g_t of the previous step
+(the correction adds normal forces only).
+
+The linear complementarity problem (symmetric positive definite C_nn,
+m × m) is solved by the primal-dual active set method (Hintermüller, Ito &
+Kunisch, SIAM J. Optim. 13 (2002) 865-888), started from the penetrating
+nodes: each pass one solve of the size of the contact set. Only on a
+condensed system (dense S) and for the projection formulation: the full
+system starts from Δu = 0 as in the thesis, and the thesis's split,
+degenerate where p = 0, keeps the predictor (its condensed Newton path is
+sensitive to the start).
+"""
+
+import numpy as np
+import scipy.linalg as sla
+
+from ...linalg.threads import single_blas_thread
+
+__all__ = ["contact_corrected", "START_PASSES"]
+
+#: Passes of the primal-dual active set iteration; without convergence
+#: the predictor is returned as it is (a start only).
+START_PASSES = 50
+
+
+def contact_corrected(system, du):
+    """The predictor ``du`` of a condensed projection ``system``'s step
+    (after its :meth:`~.system.FrictionSystem.set_step`) with its normal
+    contact forces corrected (module docstring); ``du`` itself where the
+    correction does not apply or nothing touches."""
+    du = np.asarray(du, float)
+    if not system.m or system.formulation != "projection" \
+            or not system.dense_schur:
+        return du
+    nr = system.n_rows
+    lam = -system._force(du)[nr]
+    gap = system.geometry.gap - (system.R @ (system.u_previous + du))[nr]
+    if not (gap < 0.0).any() and not (lam > 0.0).any():
+        return du  # nothing touches: the predictor is the step's answer
+    with single_blas_thread():  # Γc's size, as solve_ncp's algebra
+        return _corrected(system, du, lam, gap)
+
+
+def _corrected(system, du, lam, gap):
+    """:func:`contact_corrected` once something touches."""
+    C_n, M = _normal_flexibility(system)
+    q = gap - M @ lam
+    rho = 1.0 / np.diagonal(M)
+    active = gap < 0.0
+    for _ in range(START_PASSES):
+        y = np.zeros(system.m)
+        if active.any():
+            y[active] = sla.solve(M[np.ix_(active, active)], -q[active],
+                                  assume_a="pos", check_finite=False)
+        following = y - rho * (q + M @ y) > 0.0
+        if np.array_equal(following, active):
+            break
+        active = following
+    else:
+        return du
+    return du - system.RT @ (C_n @ (y - lam))
+
+
+def _normal_flexibility(system):
+    """(C[:, n], C[n, n]) of the flexibility C = R S⁻¹ Rᵀ, in rotated
+    components (made once per system and kept on it)."""
+    cached = getattr(system, "normal_flexibility", None)
+    if cached is None:
+        nr = system.n_rows
+        if system.reduced:
+            C_n = system.flexibility()[:, nr]
+        else:
+            factor = sla.cho_factor(system.K.toarray(), overwrite_a=True,
+                                    check_finite=False)
+            C_n = system.R @ sla.cho_solve(factor, system.R[nr].T.toarray(),
+                                           check_finite=False)
+        C_n = np.ascontiguousarray(C_n)
+        cached = system.normal_flexibility = (C_n, C_n[nr])
+    return cached
