@@ -30,8 +30,8 @@ along e_c; its λ is the force along n'); it is marked ``oblique``, and
 friction, whose Coulomb cone such a projection does not preserve, refuses
 it. A node whose normal lies along its constrained directions (|ν_f| <
 :data:`OBLIQUE_MIN`) cannot touch in its free directions: it is a
-support. Its frame, as every roller's: the constrained directions e_c first among the tangents, then
-the tangents orthonormal in the free subspace, then ν with ν_c set to 0
+support. Its frame, as every roller's: the constrained directions e_c
+first among the tangents, then the tangents orthonormal in the free subspace, then ν with ν_c set to 0
 exactly (renormalised); its row DOFs ``dofs`` hold −1 for the e_c rows
 (they act on no unknown: u_c is prescribed), the free DOFs (in component
 order) for the others, the normal last. ``node_dofs`` keeps the node's
@@ -276,7 +276,7 @@ def node_displacement(problem, u, positions):
 def _geometry_3d(problem, gap, nodes):
     """3D: the obstacle surface's closest point ("obstacle": ν = −its
     outward normal there) or the ray along the body's outward normal
-    ("body": ν = that normal); the 3D contract of issue 18."""
+    ("body": ν = that normal)."""
     points = problem.nodes[problem.contact_nodes[nodes]]
     if gap == "obstacle":
         s, normal, foot = problem.obstacle.gap_along_obstacle_normal(points)
@@ -335,8 +335,8 @@ def rotation(n, geometry):
     """
     dofs = geometry.dofs
     d = dofs.shape[1]
-    keep = np.ones(n, bool)  # a mask, not np.setdiff1d: that sorts by
-    keep[geometry.free_dofs()] = False  # hashing, 0.2 s at 4.8e5 DOFs
+    keep = np.ones(n, bool)  # a mask: np.setdiff1d would sort
+    keep[geometry.free_dofs()] = False
     other = np.flatnonzero(keep)
     Q = geometry.rotation()  # (m, d, d): Q[i, r, c] at (dofs[i, r],
     # node_dofs[i, c])
@@ -361,9 +361,7 @@ def rotate_stiffness(K, R, dofs):
     ``dofs`` symmetrised, and K̂ = K with those rows replaced by X and
     those columns by Xᵀ. The rows and columns ``dofs`` of K̂ are thus
     exactly symmetric; elsewhere K̂ is K itself. Equal to ½(RKRᵀ +
-    (RKRᵀ)ᵀ) to rounding (tests/test_rotate_stiffness.py) in one pass over
-    K: 0.13 s at 9.2·10⁵ DOFs, where two sparse products, a transpose and
-    a sum took 1.5 s (PETSc engine, :mod:`solver.contact.strategies.candidates`).
+    (RKRᵀ)ᵀ) to rounding, in one pass over K.
     """
     K = sp.csr_matrix(K)
     n = K.shape[0]

@@ -1,10 +1,10 @@
 r"""Scales of the stopping test and verification of a computed answer.
 
-Units (issue 16)
-----------------
+Units
+-----
 A solver's verdict must not depend on the units the user chose. The
-stopping test of :func:`solve_frictionless` and :func:`solve_friction` is
-therefore relative to the problem's own force scale,
+stopping test of the contact drivers is therefore relative to the
+problem's own force scale,
 
 .. math::  \|[E;\ \min(λ, \bar k (s − u_n))]\|_2 \le \mathrm{tol}\cdot
            F, \qquad F = \max(\|f\|_2, \|λ^+\|_2),
@@ -34,8 +34,8 @@ at most tol_v·F (lengths through F/k̄); and the equilibrium residual
 
 where f_c = Σ_i (−λ_i ν_i + Σ_k t_ik τ_ik) are the contact forces on the
 body (t_i the nodal friction force, τ_ik the tangents of node i: in 2D the
-one γ_i = (−ν_y, ν_x), in 3D two; any d). The last one catches a factorisation that is
-too inaccurate for the problem (a nearly free rigid body mode, cond(K) ~
+one γ_i = (−ν_y, ν_x), in 3D two; any d). The last one catches a
+factorisation that is too inaccurate for the problem (a nearly free rigid body mode, cond(K) ~
 1e13), where the condensed system is solved to tol but the displacement
 recovered from it violates equilibrium and the contact conditions.
 tol_v = max(:data:`VERIFY_FACTOR`·tol, :data:`VERIFY_FLOOR`): the measures
@@ -71,9 +71,8 @@ def force_scale(load_norm, lam):
 #: ρ of φ_FB's descent test (26) in unit-free form (Φ in units of the
 #: force scale F, x in units of F/k̄). The thesis's ρ = 1e-8 in its units
 #: (N, mm) is 8e-20 in these on the §4 block and 8e-19 on the §6 bar; a
-#: larger unit-free ρ (1e-8 itself, or F with lengths in mm) rejects good
-#: Newton steps near degenerate stick/slip nodes, and the bar stalled at
-#: load step 47. 1e-20 is as lenient as the thesis on both.
+#: larger unit-free ρ rejects good Newton steps near degenerate stick/slip
+#: nodes (the bar stalls). 1e-20 is as lenient as the thesis on both.
 UNIT_FREE_RHO = 1e-20
 
 

@@ -105,8 +105,9 @@ def run_friction(problem, geometry, engine, friction, steps=None,
                  keep_steps=True, candidates=False, margin=None):
     r"""Quasi-static Coulomb friction in load steps (thesis §5, (110)/(111)).
 
-    The driver behind :func:`solver.solve` with ``friction``; every option
-    arrives resolved and checked (:mod:`solver.front`).
+    The driver behind :func:`solver.solve` with ``friction``, whose
+    docstring explains the options; every option arrives resolved and
+    checked (:mod:`solver.front`). Here:
 
     Parameters
     ----------
@@ -121,56 +122,36 @@ def run_friction(problem, geometry, engine, friction, steps=None,
         Number of load steps κc; step κ applies κ/κc · f (default 100).
         A problem with a ``load_path`` follows its stages instead (their
         steps, loads and friction multipliers); ``steps`` must then be None.
-    formulation : {"projection", "thesis"}
-        The projection form (see module; in 3D onto the Coulomb disc) or
-        the thesis's split (110)/(111), which reproduces Table 2 (2D only).
-    coulomb : {"lagged", "implicit"}
-        Friction bound from the previous step's pressure (thesis) or from
-        the current one.
-    method : {"min", "fb"}
-        Newton method of each step (the thesis used φ_FB only; the front's
-        default is :func:`default_method`).
     tol, max_iter, options
         Per step: the stopping test is relative, ‖[E; min(A, k̄B)]‖₂
         (force units, the system's ``error``) ≤
         tol·max(‖f‖₂, ‖f_κ‖₂, ‖λ⁺‖₂), with f the full load and f_κ the
-        step's, so the verdict does not depend on units (nor, on the
-        condensed system, the iterates); every converged step is then
-        verified (:func:`~solver.contact.verify.verify_contact`: finite,
-        penetration, λ ≥ 0, complementarity, Coulomb bound |t| ≤ f_c λ on
-        nodal forces, equilibrium of the system solved), and the last one
-        also against the original K and f when condensed. A step that
-        fails verification ends the run like one that does not converge
-        (its record says ``verified`` False, status 6).
+        step's; every converged step is then verified
+        (:func:`~solver.contact.verify.verify_contact`, the Coulomb bound
+        |t| ≤ f_c λ on nodal forces included), and the last one also
+        against the original K and f when condensed. A step that fails
+        verification ends the run like one that does not converge (status
+        6).
     gap_scale : float, optional
         c of the gap rows: default 1 (the thesis) on the full system,
         :data:`GAP_WEIGHT`·k̄ on the condensed one (every row of Φ then in
         force units, so that its iterates do not depend on the units).
-    progress : callable, optional
-        ``progress(step_record)`` after every completed step.
     condense : bool
         True: factorise K once and solve every step's system condensed
-        exactly onto Γc (the projection form's Newton systems then reduced
-        to the free components or to the contact constraints,
-        :mod:`~solver.contact.friction.newton`); False: the system in all
-        unknowns, one sparse LU per iteration (faithful mode; the
-        iteration counts of Table 2).
+        exactly onto Γc; False: the system in all unknowns, one sparse LU
+        per iteration (the iteration counts of Table 2).
     on_step : callable, optional
         ``on_step(fields)`` once per completed step, in order, with that
-        step's arrays (the per-step keys listed under Returns, without the
-        first axis). On the condensed system the displacements of up to 32
-        steps are recovered in one batched solve, so calls may lag the
-        steps by up to 32; an exception (KeyboardInterrupt included) still
+        step's arrays. On the condensed system the displacements of up to
+        :data:`~.stream.BATCH` steps are recovered in one solve, so calls
+        may lag the steps; an exception (KeyboardInterrupt included) still
         delivers every completed step before it propagates.
     keep_steps : bool
-        Keep the per-step arrays in the result (default). False keeps only
-        the records, so that memory does not grow with the number of steps
-        (stream them with ``on_step`` instead).
+        Keep the per-step arrays in the result (default); False keeps only
+        the records (stream the steps with ``on_step`` instead).
     candidates : bool
-        Condense onto the d DOFs of candidate nodes only, enlarged until
-        no other node penetrates
-        (:mod:`~solver.contact.strategies.friction_candidates`; result keys
-        ``condensation`` "candidates" and ``candidates``).
+        Condense onto the d DOFs of candidate nodes only
+        (:mod:`~solver.contact.strategies.friction_candidates`).
     margin : float, optional
         The candidates' round-0 gap margin δ₀.
 
@@ -178,24 +159,11 @@ def run_friction(problem, geometry, engine, friction, steps=None,
     -------
     ContactResult
         ``success``, ``message``, ``steps_completed``, ``failed_step``
-        (None or κ), totals ``njev``, ``nfev``, ``nit``, ``time``; per step
-        (arrays, first axis = completed steps): ``load_factor``,
-        ``displacement`` (nodal), ``u`` (reduced), ``contact_force`` λ,
-        ``contact_pressure`` (lumped λ/D, ≥ 0), ``contact_pressure_consistent``
-        (M⁻¹λ, thesis (87)), ``friction_traction`` g_t ((Nc,) per step in
-        2D, (Nc, d − 1) in the tangent basis ``geometry.tangents`` in 3D;
-        so is ``tangential_displacement``),
-        ``friction_bound`` f_c p used in the step (p_{κ−1} if lagged),
-        ``tangential_displacement``, ``in_contact``, ``stick``, ``slip``
-        (over all nodes of Γc; supports are never in contact), and
-        ``records``: a list of dicts (κ, converged, verified, status, njev,
-        nfev, nit, n_contact, n_stick, n_slip, error, relative (the
-        stopping measure over its scale), message); per contact node
-        (steps share them): ``gap`` s and ``normal`` ν (NaN at supports);
-        ``verification`` (the worst of every completed step's checks, plus
-        the last step's against the original K and f) and ``stopping``
-        (that of the step with the largest relative measure, with its
-        ``step``); ``linear_solver`` (what factorised K).
+        (None or κ), totals ``njev``, ``nfev``, ``nit``, ``time``, the
+        per-step arrays (first axis: the completed steps) and the per-step
+        ``records`` listed in docs/results.md ("A friction run"),
+        ``verification`` (the worst of every completed step's checks) and
+        ``stopping`` (that of the step with the largest relative measure).
     """
     path = problem.load_steps(steps)
     steps = problem.n_load_steps(steps)

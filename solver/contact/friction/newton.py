@@ -1,5 +1,5 @@
 r"""The Newton system of a condensed friction step, solved on the free
-components only (projection formulation; :mod:`solver.contact.friction.driver`).
+components only (the projection formulation, :mod:`.projection`).
 
 On the system condensed onto Γc (K → S, dense 2m×2m) the Jacobian of the
 projection formulation, in the rotated displacement v = RΔu (R of (58)-(60),
@@ -32,17 +32,13 @@ Usually few nodes touch Γ₂ and F is most of Γc. The same system is then
 solved in the forces q = T dv (:meth:`_Combined._dual`): a free row fixes
 q_j (or ties it to dv_j, φ_FB), dv = C q with the flexibility C = T⁻¹
 (once per run), and what is left is a system on the contact constraints
-(fixed components K, plus φ_FB's mixed normal rows), of size 40-70 against
-|F| ≈ 580 on the 1.2·10⁵-DOF block (m = 312). Whichever is smaller is
-solved (with the implicit bound only for f_c ≤ :data:`DUAL_MAX_FRICTION`:
-100 load steps there, f_c = 0.3, cost 9.2 floors through M_FF, an LU of
-order ≈ 580 per iteration). Nothing larger than S is formed, no 3m×3m matrix is factorised,
-and an unchanged reduced matrix reuses its factorisation (rare in
-practice: the contact set moves from step to step). The direction is that
-of the full Newton system J d = −Φ up to round-off (tests: backward error
-≤ 2e-15, and 2e-12 for φ_FB with the implicit bound through C); J is
-singular exactly when the reduced matrix is (the eliminated pivots c_t, 1,
-w_b c and D c_t are non-zero).
+(fixed components K, plus φ_FB's mixed normal rows), often ten times
+smaller than F. Whichever is smaller is solved (with the implicit bound
+only for f_c ≤ :data:`DUAL_MAX_FRICTION`). Nothing larger than S is
+formed, no 3m×3m matrix is factorised, and an unchanged reduced matrix
+reuses its factorisation. The direction is that of the full Newton system
+J d = −Φ up to round-off; J is singular exactly when the reduced matrix is
+(the eliminated pivots c_t, 1, w_b c and D c_t are non-zero).
 
 This is the primal-dual active set structure of Hüeber, Stadler & Wohlmuth
 (2008), applied to the condensed system.
@@ -61,8 +57,7 @@ DUAL = True
 #: put q_t,i = h_t,i − k_i q_n,i into the dual system: the error of the
 #: computed q_n,i (through the explicit C = T⁻¹, ~cond(T)·eps) reaches q_t,i
 #: times f_c. Up to f_c = 1 that is no worse than the lagged bound's dual
-#: form; with f_c = 10⁶ (454 block) it stalled at a relative residual of
-#: 2e-10 where the primal form converges, so larger f_c solve M_FF.
+#: form; larger f_c solve M_FF (benchmarks/README.md).
 DUAL_MAX_FRICTION = 1.0
 
 
@@ -253,7 +248,7 @@ class _Combined:
 
 def _row_blocks(system):
     """(T_t, T_n): T's tangential and normal rows, copied once per system
-    (T is fixed; gathering them cost 0.7 ms per gradient at 1.2e5 DOFs)."""
+    (T is fixed)."""
     blocks = getattr(system, "_row_blocks", None)
     if blocks is None or blocks[0] is not system.T:
         blocks = (system.T, np.ascontiguousarray(system.T[system.t_rows]),

@@ -1,14 +1,14 @@
-r"""One load step of the friction driver :func:`~.driver.solve_friction`
-(thesis §5, (110)/(111); the projection form of :mod:`.driver`).
+r"""One load step of the friction driver :func:`~.driver.run_friction`.
 
-:func:`setup` builds what every step shares (the system, condensed onto Γc
-with one factorisation of K or the full one; D, M and the scales);
-:func:`load_step` solves step κ with the project's Newton
+:func:`setup` builds what every step shares (the system of the
+formulation, condensed onto Γc with one factorisation of K or the full
+one; D, M and the scales); :func:`load_step` starts step κ
+(:mod:`.start`), solves it with the project's Newton
 (:func:`~solver.ncp.solve_ncp`), verifies it
 (:func:`~solver.contact.verify.verify_contact`), records it and hands its
 fields to the :class:`~.stream.StepStream`; :func:`make_result` makes the
-:class:`~solver.contact.result.ContactResult`, after checking the last step against the
-original K and f.
+:class:`~solver.contact.result.ContactResult`, after checking the last
+step against the original K and f.
 """
 
 import time
@@ -32,13 +32,9 @@ __all__ = ["GAP_WEIGHT", "STOPPING_TEST", "setup", "load_step",
            "make_result"]
 
 #: c = GAP_WEIGHT·k̄ on the condensed system. Any c ∝ k̄ makes the
-#: iterates independent of the units. With 1e-5·k̄ (close to the thesis's
-#: c = 1 in N, mm) φ_FB took 30 % fewer Jacobians on the projection form
-#: (75 against 108 on the 118 block, f_c = 0.3, 25 steps), but the thesis's
-#: split, condensed, stalled at a relative residual of 1e-9 (454 block,
-#: f_c = 0.05, step 26): Φ then weighs the gaps 1e5 times less than the
-#: stopping test does. c = k̄ (as frictionless) converged in every case
-#: measured.
+#: iterates independent of the units; c = k̄ (as frictionless) weighs the
+#: gaps as the stopping test does (benchmarks/README.md: a smaller c
+#: stalled the thesis's split).
 GAP_WEIGHT = 1.0
 
 #: A step's fields over Γc, in the order of the result's keys.

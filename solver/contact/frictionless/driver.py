@@ -28,13 +28,12 @@ frame puts the constrained directions among the tangents, see
 :mod:`solver.contact.geometry`); the λ of such a node is that of the half
 (quarter) of the whole model's node it stands for. Any other node with a
 Dirichlet DOF is a support: its λ is 0 in the nodal arrays, which cover
-every node of Γc in ``problem.contact_nodes`` order. Friction runs
-(:func:`solve_friction`) keep every node with a Dirichlet DOF a support.
+every node of Γc in ``problem.contact_nodes`` order.
 
 Optionally the gap rows are scaled, B = c(s − YRu) with c > 0 (same solution,
 other Newton path); c = 1 is the thesis.
 
-Three ways to solve it (:func:`solve_frictionless`):
+Three ways to solve it (:func:`run_frictionless`):
 
 * 2D default: condensed onto every DOF of Γc (S of size 2Nc), started by
   nested iteration over ever coarser node subsets of Γc
@@ -45,18 +44,10 @@ Three ways to solve it (:func:`solve_frictionless`):
   enlarged and re-solved if a non-candidate penetrates), from the free
   start. The nested start coarsens by taking every other node along the
   ordered curve Γc; a contact surface has no such order, so 3D uses the
-  free start (λ = 0) instead.
+  free start (λ = 0) instead. In 2D the normal candidates would take
+  the same Newton steps (benchmarks/README.md), but the nested start is
+  built on the (x, y) condensation.
 * ``condense=False``: the thesis's system in all Ñ unknowns.
-
-In 2D the (x, y) condensation onto all of Γc stays the default. Measured
-on the thesis blocks 118/454/1878 (gap from the obstacle, free start,
-every node a candidate): the normal-only condensation takes the same
-Newton counts as the (x, y) one (φ_min 3/5/6 J, φ_FB 8/11/14 J) and the
-same u to 2e-14 (the tangential rows are linear and stay satisfied from
-the free start on), but the nested start, the 2D default, is built on the
-(x, y) condensation and its answers are kept bit for bit; with the
-default margin the candidates grow once on those blocks (one more
-factorisation), which a 2D Γc of 10²-10³ nodes does not need to save.
 """
 
 import time
@@ -85,8 +76,9 @@ def run_frictionless(problem, geometry, engine, method="min", tol=1e-10,
                      margin=None):
     r"""Solve the frictionless contact problem (67) by semismooth Newton.
 
-    The driver behind :func:`solver.solve` for frictionless contact; every
-    option arrives resolved and checked (:mod:`solver.front`).
+    The driver behind :func:`solver.solve` for frictionless contact, whose
+    docstring explains the options; every option arrives resolved and
+    checked (:mod:`solver.front`). Here:
 
     Parameters
     ----------
@@ -96,8 +88,6 @@ def run_frictionless(problem, geometry, engine, method="min", tol=1e-10,
         (:func:`~solver.contact.geometry.contact_geometry`).
     engine
         Does the linear algebra (:mod:`solver.contact.engine`).
-    method : {"min", "fb"}
-        φ_min damped Newton (§2.2.1) or Fischer–Burmeister (§2.2.2).
     tol : float
         Relative tolerance, independent of units: stop when
         ‖[E; min(λ, k̄(s − u_n))]‖₂ ≤ tol·F with the force scale
@@ -119,8 +109,6 @@ def run_frictionless(problem, geometry, engine, method="min", tol=1e-10,
         c in B = c(s − YRu), see :class:`FrictionlessSystem`. Default: 1 on
         the full system (the thesis), the contact stiffness k̄ (gaps in force
         units, see :mod:`solver.contact.strategies.nested`) condensed.
-    options : dict, optional
-        Method options of :func:`solver.ncp.solve_ncp`.
     condense : bool
         True: factorise K once, with the contact DOFs last, and iterate on
         the same system (67) condensed exactly onto Γc
@@ -143,30 +131,18 @@ def run_frictionless(problem, geometry, engine, method="min", tol=1e-10,
     -------
     ContactResult
         The NCP result (``success``, ``status``, ``message``, ``nit``,
-        ``njev``, ``nfev``, ``history``, ``residual``) plus ``u`` (reduced),
-        ``displacement`` (nodal, (n_nodes, d); for a discrete problem the
-        contact nodes' (Nc, d)), and over all nodes of Γc: ``contact_force``
-        λ, ``contact_pressure`` p_i = max(λ_i, 0) / D_ii with the lumped
-        boundary matrix D_ii = Σ_j M_ij (a nodal force per unit length; λ
-        is ≥ 0 by complementarity up to the tolerance, cut off at 0 here
-        as in the friction bound), ``contact_pressure_consistent`` M⁻¹λ (the
-        thesis's g_n = −p of (87); it oscillates, negative outside the
-        contact zone),
-        ``gap`` s and ``normal`` ν (NaN at supports), ``normal_displacement``
-        u_n, ``in_contact``; and ``complementarity`` = max|min(λ, s − u_n)|,
-        ``n_contact``, ``gap_mode``, ``gap_scale`` (c used), ``condensed``,
+        ``njev``, ``nfev``, ``history``) plus the answer's arrays over all
+        nodes of Γc (docs/results.md, "A frictionless solve") and what ran:
         ``condensation`` ("contact": every DOF of Γc; "normal candidates";
-        "none": the full system), ``candidates`` (None, or the screening
-        dict of :func:`~solver.contact.strategies.candidates.
-        solve_on_candidates`), ``start``, ``levels`` (per-level counts of a
-        nested start, coarsest first, else []; ``nit``, ``njev`` and
-        ``nfev`` then count all levels), ``time``, ``linear_solver`` (what
-        factorised K); ``stopping`` (dict: ``test``, the formula; ``tol``;
-        ``scale``, F at the answer; ``absolute``; ``relative``) and
-        ``verification`` (dict of :func:`~solver.contact.verify.
-        verify_contact`). An answer that meets the stopping test but fails
-        verification is reported with ``success`` False and ``status`` 6,
-        its history kept.
+        "none": the full system), ``candidates`` (None, or the screening of
+        :func:`~solver.contact.strategies.candidates.solve_on_candidates`),
+        ``start``, ``levels`` (per-level counts of a nested start, coarsest
+        first; ``nit``, ``njev`` and ``nfev`` then count all levels),
+        ``linear_solver``, ``stopping`` (``test``, ``tol``, ``scale`` F,
+        ``absolute``, ``relative``) and ``verification``
+        (:func:`~solver.contact.verify.verify_contact`). An answer that
+        meets the stopping test but fails verification is reported with
+        ``success`` False and ``status`` 6, its history kept.
     """
     clock = time.perf_counter()
     load_norm = stable_norm(problem.f)

@@ -23,11 +23,10 @@ on the free components F (ρ = 0 on the rows X). ρ ≥ 0 for φ_min (w_b = 0
 there) and φ_FB (w_a, w_b ≤ 0, thesis (30)), so the matrix is a principal
 submatrix of the symmetric positive definite T plus a non-negative
 diagonal: one Cholesky factorisation of at most the size of S, against an
-LU of the whole 2Nc × 2Nc Jacobian assembled from sparse blocks (the path
-this replaces: about 40 % of the Newton time was that assembly). The
-direction is that of J d = −Φ up to round-off (tests: backward error
-≤ 1e-14); J is singular exactly when the reduced matrix is (the
-eliminated pivots c w_b are non-zero, else None). This is the primal-dual
+LU of the whole 2Nc × 2Nc Jacobian assembled from sparse blocks. The
+direction is that of J d = −Φ up to round-off; J is singular exactly when
+the reduced matrix is (the eliminated pivots c w_b are non-zero, else
+None). This is the primal-dual
 active set structure (Hintermüller, Ito & Kunisch 2002) of the condensed
 system; :mod:`solver.contact.friction.newton` does the same with friction.
 
@@ -40,10 +39,9 @@ of T), the free normal components solve
           ĥ = h_Y − T_{YX} z, \quad z = T_{XX}^{-1} h_X,
 
 and v_X = z − C v_Y. A Newton system then costs a Cholesky factorisation
-of the free normals' order, |F|³/3, instead of (|X| + |F|)³/3 (φ_FB's
-finest level at 4.8·10⁵ DOFs: 624 against 1248 unknowns, 8× fewer flops
-per iteration; φ_min's F is the open part of Γc only). The elimination is
-exact; the direction agrees with the unreduced one to round-off (tests).
+of the free normals' order, |F|³/3, instead of (|X| + |F|)³/3 (in 2D
+half the unknowns, 8 times fewer flops; φ_min's F is the open part of Γc
+only). The elimination is exact.
 """
 
 import warnings
@@ -79,8 +77,7 @@ class CondensedJacobian:
         RS = R @ S
         self.T = np.ascontiguousarray((R @ RS.T).T)  # R S Rᵀ
         self.R, self.x_rows, self.y_rows = R, x_rows, y_rows
-        #: Rᵀ made once (SciPy builds a new transpose on every ``R.T``:
-        #: 0.2-0.5 ms, twice per φ_FB iteration); the same product
+        #: Rᵀ made once (SciPy builds a new transpose on every ``R.T``)
         self.RT = R.T
         self.JA, self.JB, self.c = JA, JB, float(gap_scale)
         self.n = S.shape[0]

@@ -1,9 +1,9 @@
 r"""Frictionless contact condensed onto the normal DOFs of candidate nodes.
 
-Scale (issue 18, part 6). A dense Schur complement on every DOF of Γc has
-(d·Nc)² entries: in 3D, with Nc = 10⁴-10⁵, it does not fit. Without
-friction the tangential contact forces are zero, so only the normal
-unknown of a node that can touch the obstacle needs to stay:
+Scale. A dense Schur complement on every DOF of Γc has (d·Nc)² entries:
+in 3D, with Nc = 10⁴-10⁵, it does not fit. Without friction the
+tangential contact forces are zero, so only the normal unknown of a node
+that can touch the obstacle needs to stay:
 
 1. Rotate K and f into the node frames, K̂ = R K Rᵀ, f̂ = R f (R of
    :func:`~solver.contact.geometry.rotation`; K̂ is as sparse as K and
@@ -25,41 +25,26 @@ contact nodes (all of them when the gaps are equal, as on a flat punch),
 where a, the *approach*, is the largest prescribed nodal displacement: a
 body driven by prescribed displacements moves up to about that far
 towards the obstacle before it deforms, and without a every node it then
-reaches beyond the 5 % would be found only after a first factorisation
-(two instead of one, the rule for displacement-driven problems). In 2D the
-default is every free contact node (δ₀ = ∞): Γc is a curve, its normals
-are a few hundred to a few thousand unknowns (625 at 4.8·10⁵ DOFs, S of
-3 MB), and one factorisation replaces the screening's two (the refined
-thesis blocks always grew once: 4.2-4.8 s against 8.2-9.2 s end to end
-at 4.8·10⁵ DOFs, PARDISO, measured in one process). After a
-round's solve, every non-candidate is checked: its remaining gap s − u_n
-must be ≥ −tol_v·F/k̄ (the verification's length scale,
-:mod:`solver.contact.verify`). If one penetrates, the candidate set grows
-by every node whose remaining gap is at most ρ = the deepest penetration
-(the violators and a ring as thick as the worst of them) and K̂ is
-factorised again with the larger Schur set. If none penetrates the answer
-is exact for the whole of Γc: λ = 0 with a non-negative gap satisfies the
-contact conditions at every non-candidate and the candidates satisfy them
-by the solve, so the KKT conditions of the full problem hold (the problem
-is a strictly convex QP: the answer is unique). An active set that merely
-touches the last candidates is therefore not re-solved: the check above
-is the exact condition, the "border" only a heuristic for it. At most
-:data:`MAX_ROUNDS` rounds.
+reaches beyond the 5 % would be found only after a first factorisation.
+In 2D the default is every free contact node (δ₀ = ∞): Γc is a curve, its
+normals are a few thousand unknowns at most, and one factorisation
+replaces the screening's two. After a round's solve, every non-candidate
+is checked: its remaining gap s − u_n must be ≥ −tol_v·F/k̄ (the
+verification's length scale, :mod:`solver.contact.verify`). If one
+penetrates, the candidate set grows by every node whose remaining gap is
+at most ρ = the deepest penetration (the violators and a ring as thick as
+the worst of them) and K̂ is factorised again with the larger Schur set.
+If none penetrates the answer is exact for the whole of Γc: λ = 0 with a
+non-negative gap satisfies the contact conditions at every non-candidate
+and the candidates satisfy them by the solve, so the KKT conditions of
+the full problem hold (the problem is a strictly convex QP: the answer is
+unique). At most :data:`MAX_ROUNDS` rounds.
 
-Measured (PARDISO, this 2-core machine under load from other jobs, so
-±50 %): a 40×40×20-cell tetrahedral block on a paraboloid bump (tests/
-test_core3d.py's ``dome_block``; 100 860 DOFs, Nc = 1681, 49 nodes in
-contact), factorisation floor (factor K + one solve) 18-26 s. Normal
-candidates (125, one round): 27-29 s end to end, ratio 1.1-1.4, peak RSS
-1.8 GB. Every DOF of Γc (3·1681 = 5043 unknowns, ``candidates=False``):
-143 s against a floor of 54 s in the same run (ratio 2.6), 4.0 GB. The
-normal-candidate condensation is therefore the 3D default; at 13 230 DOFs
-(20×20×10) it costs 1.2× (PARDISO), 1.7× (CHOLMOD), 1.4× (SuperLU) the
-floor of the same backend. Newton on the sparse full system
-(``condense=False``) costs one sparse LU of the Ñ×Ñ Jacobian per
-iteration (at 13 230 DOFs: 17.9 s for 4 iterations against 1.6 s
-condensed); it is the fallback when even the candidates' S would not fit
-(m ≳ 10⁴).
+The normal candidates are the 3D default: condensing every DOF of Γc
+costs a few times more, and Newton on the sparse full system
+(``condense=False``, one sparse LU of the Ñ×Ñ Jacobian per iteration) is
+the fallback when even the candidates' S would not fit (m ≳ 10⁴); the
+measurements are in benchmarks/README.md ("Candidate screening").
 
 References
 ----------

@@ -1,68 +1,54 @@
-r"""Coulomb friction condensed onto the candidate nodes (issue 18, part 6).
+r"""Coulomb friction condensed onto the candidate nodes.
 
-The condensed friction run (:mod:`solver.contact.friction.driver`) works on the
-Schur complement S of K on every DOF of Γc: in 3D a dense (3Nc)² matrix
-(Nc = 10³-10⁴ on a refined surface), whose Newton systems cost (5Nc)³. A
-node that never touches carries no force (λ = 0, so the Coulomb disc
-f_c p has radius 0 and t = 0), so only the d DOFs of the nodes that can
-touch need to stay: the *candidates*. The run here is the same run
-(:func:`~solver.contact.friction.driver.solve_friction`, condensed, projection
-form) on the geometry of the candidates only, S of size 3m, m ≪ Nc.
+The condensed friction run (:mod:`solver.contact.friction.driver`) works
+on the Schur complement S of K on every DOF of Γc: in 3D a dense (3Nc)²
+matrix (Nc = 10³-10⁴ on a refined surface), whose Newton systems cost
+(5Nc)³. A node that never touches carries no force (λ = 0, so the Coulomb
+disc f_c p has radius 0 and t = 0), so only the d DOFs of the nodes that
+can touch need to stay: the *candidates*. The run here is the same run
+(:func:`~solver.contact.friction.driver.run_friction`, condensed,
+projection form) on the geometry of the candidates only, S of size 3m,
+m ≪ Nc; its dense Newton systems cost (5m)³/3 flops.
 
 Choosing them (the rule of :mod:`solver.contact.strategies.candidates`):
 
 1. Screening at the final load: the frictionless problem (67) at the last
-   load of the path, on the normal candidates (:func:`~solver.contact.frictionless.driver.run_frictionless`,
-   one factorisation of K̂ with one unknown per node), gives every node's
+   load of the path, on the normal candidates, gives every node's
    remaining gap s − u_n and its contact set. The first friction
    candidates are that contact set and :data:`RINGS` rings of its
    neighbours along the contact triangles (the default when the problem
-   has them), or the nodes with s − u_n ≤ δ (``margin``; default without
-   triangles :data:`RING_FRACTION` of its range); the initial-gap rule of
-   :func:`initial_candidates` if the screening has no contact. The
-   neighbour rings follow the mesh: on the Hertz sphere the gap rule took
-   2.6× the nodes in contact at a/h 16 (670 for 257; the Newton systems
-   cost the cube of that), two rings 1.4× (no enlargement needed at
-   a/h 16 or 32).
-2. The load steps on the candidates (K factorised with their 3m DOFs last,
-   :func:`~solver.contact.frictionless.driver.condense_onto_contact`), each
-   step's non-candidates checked as the step is delivered: s − u_n ≥
-   −tol_v·F/k̄ (:mod:`solver.contact.verify`). A penetration enlarges the
-   set (:func:`enlarge_candidates`: every node with s − u_n ≤ the deepest
-   penetration) and the run restarts.
+   has them: the rings follow the mesh, a gap margin takes more nodes),
+   or the nodes with s − u_n ≤ δ (``margin``; default without triangles
+   :data:`RING_FRACTION` of its range); the initial-gap rule of
+   :func:`initial_candidates` if the screening has no contact.
+2. The load steps on the candidates (K factorised with their 3m DOFs
+   last), each step's non-candidates checked as the step is delivered:
+   s − u_n ≥ −tol_v·F/k̄ (:mod:`solver.contact.verify`). A penetration
+   enlarges the set (:func:`enlarge_candidates`) and the run restarts.
 
-Roller nodes (symmetry planes, :mod:`~solver.contact.geometry`) are
-candidates like any other node: the run on the candidates' geometry keeps
-their frames, and their friction lives in the free tangent(s) as in the
-run on every contact DOF (:mod:`solver.contact.friction.driver`, :mod:`solver.contact.friction.disc`); a
-non-candidate roller's tangential displacement is read on its own DOFs
+Roller nodes (symmetry planes) are candidates like any other node: their
+friction lives in the free tangent(s) as in the run on every contact DOF;
+a non-candidate roller's tangential displacement is read on its own DOFs
 (its constrained component is 0).
-
-The Newton systems of a step have 5m unknowns (3m displacements, 2m
-tractions) and are dense (S is): :func:`solver.ncp.solve_ncp` factorises
-them by LAPACK, (5m)³/3 flops, instead of (5Nc)³/3 on every contact DOF.
 
 Exactness. A step whose non-candidates all keep s − u_n ≥ 0 (to the
 tolerance) solves the full problem's step: at a non-candidate λ = 0,
-t = 0 and the Coulomb radius f_c p is 0 (p, lagged or implicit, is 0 there:
-the node was never in contact), so its contact and Coulomb conditions
-hold; the candidates satisfy theirs by the solve, and the condensation
-onto them is exact for forces acting on them only. If every step passes,
-the whole path is the full problem's (each step from the same previous
-state). If step κ fails, the run **restarts from the first step** with the
-larger set: friction is path-dependent, and restarting gives the new
-candidates the same history (the zero state) as the full problem, so the
-new run is exact by the same argument without transplanting a state from
-one condensation to another. Steps 1 … κ − 1 of the failed run were
-already exact (the check is per step); the restart repeats them (≤ the
-run's Newton cost again) and those already delivered to ``on_step`` are
-not delivered twice. The check sees a step when it is delivered (the
-condensed run recovers displacements in batches of
-:data:`~solver.contact.friction.stream.BATCH`), so a failure may be found up to a
-batch late; that costs time, not exactness. The screening at the final
-load makes a restart rare (none in the Hertz runs of benchmarks/
-README.md). After :data:`~solver.contact.strategies.candidates.MAX_ROUNDS` rounds the
-last run takes every node (today's path: exact without a check).
+t = 0 and the Coulomb radius f_c p is 0 (p, lagged or implicit, is 0
+there: the node was never in contact), so its contact and Coulomb
+conditions hold; the candidates satisfy theirs by the solve, and the
+condensation onto them is exact for forces acting on them only. If every
+step passes, the whole path is the full problem's. If step κ fails, the
+run **restarts from the first step** with the larger set: friction is
+path-dependent, and restarting gives the new candidates the same history
+(the zero state) as the full problem, so the new run is exact by the same
+argument without transplanting a state from one condensation to another.
+Steps already delivered to ``on_step`` are not delivered twice. The check
+sees a step when it is delivered (in batches of
+:data:`~solver.contact.friction.stream.BATCH`), so a failure may be found
+up to a batch late; that costs time, not exactness. The screening at the
+final load makes a restart rare. After
+:data:`~solver.contact.strategies.candidates.MAX_ROUNDS` rounds the last
+run takes every node (exact without a check).
 
 References
 ----------
@@ -263,7 +249,7 @@ def _tangential(geometry, outside, u):
     """Tangential displacements (…, k, d − 1) of the nodes ``outside`` for
     reduced u (…, Ñ): the tangents on the node's own DOFs ``node_dofs``
     (a roller's Dirichlet component reads 0, so its e_c component is 0, as
-    :meth:`FrictionSystem.tangential` gives)."""
+    the load step's system gives)."""
     u = np.asarray(u, float)
     padded = np.concatenate([u, np.zeros(u.shape[:-1] + (1,))], axis=-1)
     return np.einsum("ikj,...ij->...ik", geometry.tangents[outside],

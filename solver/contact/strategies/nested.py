@@ -3,14 +3,14 @@ r"""Nested iteration on Γc: a coarse-to-fine start for the condensed system.
 From the cold start λ = 0 (u = K⁻¹f) every penetrating node looks active.
 On the condensed frictionless system, Newton with φ_min is the primal-dual
 active set method, and it releases only part of that excess per iteration,
-so its count grows like log Nc (10 Jacobians at 1.2·10⁵ DOFs, 11 at
-9·10⁵). Nested iteration (full multigrid's start; Hüeber and Wohlmuth use it
+so its count grows like log Nc (benchmarks/README.md, "Nested start").
+Nested iteration (full multigrid's start; Hüeber and Wohlmuth use it
 for their active set contact solver) removes that growth: solve the same
 contact problem with constraints at every other node of Γc, then at every
 other of those, …, down to a handful of nodes; solve the coarsest from cold
 and each finer level from the one below it. Each level then starts with
-the active set of the coarser one and needs a fixed number of iterations
-(measured: φ_min 1-2 Jacobians per level, φ_FB 5-8), and a level of m nodes
+the active set of the coarser one and needs a fixed number of iterations,
+and a level of m nodes
 costs O(m³), so all coarser levels together cost less than one more
 iteration on the finest.
 
