@@ -1,4 +1,4 @@
-r"""Two elastic bodies in contact (issue 19): dual mortar → nodewise NCP.
+r"""Two elastic bodies in contact: dual mortar → nodewise NCP.
 
 With the dual mortar coupling of :mod:`solver.geometry.mortar` (D
 diagonal, M sparse, nodal slave normals n_j, weighted gaps g̃⁰_j) the

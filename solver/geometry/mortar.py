@@ -1,4 +1,4 @@
-r"""Dual mortar coupling of two 2D bodies on a line interface (issue 19).
+r"""Dual mortar coupling of two 2D bodies on a line interface.
 
 Reference configuration, small deformation and small sliding: everything
 here is computed once, on the undeformed interface.

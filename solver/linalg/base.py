@@ -21,8 +21,7 @@ factorisation (Sylvester's law of inertia; :func:`check_pivots`).
 
 ``auto`` (:func:`resolve`) takes the first installed of :data:`AUTO_ORDER`:
 PARDISO, whose Schur-complement mode builds S inside the factorisation
-(measured 2-4× faster than the SuperLU path, 0.1-5 s from 3·10⁴ to 9·10⁵
-DOFs), then CHOLMOD (supernodal Cholesky), then SuperLU (no extra
+(the fastest, benchmarks/README.md), then CHOLMOD (supernodal Cholesky), then SuperLU (no extra
 dependency). The rule is fixed: nothing is timed at run time.
 """
 

@@ -122,10 +122,9 @@ def _cholmod_library():
 
 def solve_columns(F, sys, B):
     """``cholmod_l_solve(sys, L, B)`` for the dense (n, k) array B in one
-    call, or None if that is not possible (then use kvxopt's
-    ``cholmod.solve``, which calls it once per column: 23 ms per column
-    against 5-7 ms here at 1.2·10⁵ DOFs, k = 32, where CHOLMOD's
-    supernodal sweeps run as BLAS-3)."""
+    call (CHOLMOD's supernodal sweeps as BLAS-3), or None if that is not
+    possible (then use kvxopt's ``cholmod.solve``, which calls it once per
+    column)."""
     api = ctypes.pythonapi
     api.PyCapsule_GetName.restype = ctypes.c_char_p
     api.PyCapsule_GetName.argtypes = [ctypes.py_object]

@@ -2,10 +2,9 @@ r"""Fill-reducing orderings for the sparse factorisations of K.
 
 * :func:`nested_dissection` orders the nodes of a mesh by geometric nested
   dissection (George 1973; recursive coordinate bisection with vertex
-  separators), a fill-reducing ordering that SciPy's SuperLU does not offer.
-  On the refined thesis block it gives 30-40 % fewer factor nonzeros than
-  SuperLU's COLAMD (SciPy's default) and, ordering included, a 1.3-3.9×
-  faster solve from 3·10⁴ to 9·10⁵ DOFs (``benchmarks/README.md``).
+  separators), a fill-reducing ordering that SciPy's SuperLU does not offer:
+  fewer factor nonzeros than SuperLU's COLAMD and a faster solve
+  (benchmarks/README.md).
 * :func:`dof_ordering` lifts it to the DOFs and puts a given set (the
   contact DOFs) last, so that the trailing block of the factors is the
   Schur complement on that set (:mod:`solver.linalg.superlu`,
@@ -18,8 +17,7 @@ import scipy.sparse.csgraph as csgraph
 
 __all__ = ["LEAF_SIZE", "nested_dissection", "dof_ordering"]
 
-#: Subdomains of at most this many nodes are not bisected further; 16 was
-#: the fastest of 16/64/256 on the refined thesis block (480k DOFs).
+#: Subdomains of at most this many nodes are not bisected further.
 LEAF_SIZE = 16
 
 
@@ -34,7 +32,6 @@ def nested_dissection(points, edges, leaf=LEAF_SIZE):
     nodes or subdomains): per level one integer sort of the active nodes
     (by subdomain and by a coordinate rank computed once) and one pass
     over the edges still inside a subdomain (duplicates removed first).
-    About 1 s for 2.4·10⁵ nodes (the 4.8·10⁵-DOF block).
 
     Parameters
     ----------

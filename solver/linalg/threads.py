@@ -2,18 +2,14 @@
 
 The Newton iterations on the condensed systems factorise dense matrices of
 at most the size of S (2Nc ≤ 2·10³): there, OpenBLAS's threads cost more
-than they save, and on a loaded machine much more. Measured on the 2-core
-benchmark machine under load (``benchmarks/README.md``, "after PERF17"):
-a Cholesky factorisation of order 600 took 8 ms of CPU with one thread and
-430 ms with two (spinning threads waiting for a core), an LU 7 ms and
-44 ms; at order 1780, 62 ms and 400 ms. :func:`single_blas_thread` sets
+than they save, and on a loaded machine much more (spinning threads
+waiting for a core; benchmarks/README.md). :func:`single_blas_thread` sets
 the bundled OpenBLAS of NumPy and SciPy (the ``*.libs`` directories of
 their wheels) to one thread inside a ``with`` block and restores the
 previous count after it; the sparse factorisations of K (PARDISO's MKL,
 CHOLMOD's own OpenBLAS) keep their threads. Where no such library is
 found (another BLAS, another platform) it does nothing. Entering and
-leaving cost a few microseconds (ctypes calls; threadpoolctl's discovery
-took 0.12 s per process).
+leaving cost a few microseconds (ctypes calls, no threadpoolctl).
 """
 
 import contextlib

@@ -1,22 +1,19 @@
-r"""The contact solve on PETSc under MPI (``--engine petsc``; issue 20).
+r"""The contact solve on PETSc under MPI (``--engine petsc``).
 
 ``mpiexec -n N python -m solver X.npz --engine petsc [options]`` runs the
 same solves as the serial engine with PETSc (petsc4py, mpi4py) doing the
 linear algebra on N ranks. Nothing here is imported unless the petsc engine
 is asked for, and importing this package needs neither petsc4py nor MPI.
 
-Design (docs/mpi.md):
+Design (docs/mpi.md has the reasons and the measurements):
 
 * **Rank 0 drives, every rank computes.** Rank 0 reads the ``.npz``, runs
   the project's own code (geometry, the φ_min / φ_FB Newton of
   :mod:`solver.ncp`, verification, output); each collective linear-algebra
   step (scatter K, factorise, solve, Schur complement) is a command that
   rank 0 broadcasts and all ranks execute together
-  (:class:`~solver.mpi.service.Service`). Rank 0 reads and scatters because K
-  itself fits one machine far beyond the size at which its factorisation
-  does not (a 2D K of 10⁷ DOFs is ≈ 2.5 GB; its factors are ≈ 10× that);
-  PETSc's parallel ``MatLoad`` of a converted file is the alternative when
-  it stops fitting (measured 1.6 s for 4.8·10⁵ DOFs; not built).
+  (:class:`~solver.mpi.service.Service`). K itself fits one machine far
+  beyond the size at which its factorisation does not.
 * **Layout** (:mod:`~solver.mpi.layout`): rows partitioned by nodes, block
   size = dimension: every node of the mesh keeps its ``dim`` rows (a
   Dirichlet DOF becomes an identity row), so a node's DOFs, and a contact

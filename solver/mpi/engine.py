@@ -46,11 +46,9 @@ def service():
 
 #: glibc's ``mallopt`` parameters (malloc.h) and the engine's settings:
 #: mmap allowed again (glibc's default count), blocks of 32 MB and more
-#: mmapped, and the heap trimmed when 32 MB lie free at its top. glibc's
-#: own 128 kB thresholds (which a ``mallopt`` call also stops adapting)
-#: gave the same peak memory but unmapped and faulted in every n-vector:
-#: 460k against 300k page faults and ≈ 0.6 s more system time per rank
-#: at 4.8·10⁵ DOFs (benchmarks/README.md, "Fourth quiet re-measurement").
+#: mmapped, and the heap trimmed when 32 MB lie free at its top (glibc's
+#: own 128 kB thresholds unmap and fault in every n-vector; docs/mpi.md,
+#: "Memory per rank").
 M_TRIM_THRESHOLD, M_MMAP_THRESHOLD, M_MMAP_MAX = -1, -3, -4
 SETTINGS = {M_TRIM_THRESHOLD: 32 << 20, M_MMAP_THRESHOLD: 32 << 20,
             M_MMAP_MAX: 65536}
@@ -63,7 +61,7 @@ def restore_malloc():
     load-time constructors: from then on glibc never unmaps or trims, and
     every array the process ever freed (reading the problem, rotating and
     padding K, the scatter's buffers) stays in its resident memory under
-    MUMPS's factor (MEM20C, benchmarks/README.md). Sets :data:`SETTINGS`;
+    MUMPS's factor. Sets :data:`SETTINGS`;
     returns whether it could (False off glibc)."""
     import ctypes
     import ctypes.util

@@ -19,8 +19,8 @@ is a new factorisation (as the serial backends'), K is not scattered again.
 
 ``block=k`` instead keeps one factorisation of K and forms S = ((K⁻¹)_cc)⁻¹
 from columns K⁻¹e_c, k at a time (``MatMatSolve`` with sparse right-hand
-sides, ICNTL(20)); issue 20's first version, slower: at 4.8·10⁵ DOFs the
-solves took 62-76 s on 1 rank and 156-197 s on 2 (benchmarks/README.md).
+sides, ICNTL(20)): the engine's first way, slower (benchmarks/README.md,
+"PETSc engine"), kept for comparison.
 """
 
 import numpy as np

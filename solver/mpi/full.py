@@ -2,7 +2,7 @@ r"""The semismooth Newton on the full system (67), each Newton system by KSP.
 
 For candidate sets too large for a dense Schur complement. The Newton
 iteration is the project's (:func:`solver.ncp.solve_ncp` on rank 0, on
-:class:`~solver.contact.frictionless.driver.FrictionlessSystem`, the iterates of
+:class:`~solver.contact.frictionless.system.FrictionlessSystem`, the iterates of
 the serial ``condense=False``); its Newton systems J d = −Φ are solved on
 all ranks through the structured-Jacobian hook of :mod:`solver.ncp.newton`
 (``combine`` → ``direction``). In the node frames, v = Rd (R orthogonal),
@@ -30,10 +30,9 @@ __all__ = ["full_jacobian", "ksp_statistics", "rigid_modes", "CG_RTOL"]
 CG_RTOL = 1e-12
 
 #: GAMG's Chebyshev smoothers: eigenvalue bounds estimated by CG with a
-#: 1.5 safety factor on the largest. PETSc's defaults (GMRES estimate, 1.1)
-#: and a factor of 1.2 made the preconditioner indefinite on some φ_FB
-#: Newton systems of the refined block, whose rows with w_a → 0 carry large
-#: diagonal shifts (KSP_DIVERGED_INDEFINITE_PC, measured). A Newton system
+#: 1.5 safety factor on the largest: PETSc's defaults made the
+#: preconditioner indefinite on φ_FB Newton systems whose rows with
+#: w_a → 0 carry large diagonal shifts. A Newton system
 #: on which CG still fails is solved by MUMPS (counted in the summary's
 #: ``ksp_fallbacks``; its iteration count is recorded as 0).
 GAMG_OPTIONS = {"mg_levels_ksp_chebyshev_esteig": "0,0.2,0,1.5",

@@ -54,9 +54,7 @@ class Layout:
         increasing, as every exported problem has it), so each reduced row
         is copied as it is into its padded row and only its column indices
         are renumbered: one pass over the entries, 32-bit indices, no COO
-        triples (0.05 s at 4.8·10⁵ DOFs where they took 0.29 s, and their
-        64-bit temporaries reached 3.5 GB on rank 0 at 3.06·10⁶). Another
-        numbering goes through COO."""
+        triples. Another numbering goes through COO."""
         A = sp.csr_matrix(A, dtype=np.float64)
         if not A.has_canonical_format:
             A = A.copy()

@@ -10,14 +10,11 @@ i.e. F_{n_i} ≤ 0 where v_{n_i} = s_i (λ_i = −F_{n_i} ≥ 0) and F = 0
 elsewhere. ``vinewtonrsls`` (reduced-space active set Newton, Benson &
 Munson 2006) solves it with MUMPS LU on each reduced Jacobian. It is an
 independent solver of the same problem (tests: same u as the project's
-Newton); measured with PETSc 3.18 it converges in 7-12 iterations from
-2·10³ to 4.8·10⁵ DOFs but refactorises every iteration, so it is not the
-engine's method. ``vinewtonssls`` rescales the Jacobian in place: it gets
-its own copy of K̂ here. Stopping: ‖F‖ ≤ rtol·‖f̂‖ (absolute, so that the
-round-off floor, ≈ 2·10⁻¹³‖f̂‖ on the refined block, is not asked for);
-full Newton steps (``basic`` line search: the VI is linear; backtracking
-failed at that floor on the refined block and took more iterations on the
-thesis blocks, measured 8/10 against 4/6).
+Newton), but it refactorises every iteration, so it is not the engine's
+method (benchmarks/README.md). ``vinewtonssls`` rescales the Jacobian in
+place: it gets its own copy of K̂ here. Stopping: ‖F‖ ≤ rtol·‖f̂‖
+(absolute, so that the round-off floor is not asked for); full Newton
+steps (``basic`` line search: the VI is linear).
 """
 
 import numpy as np

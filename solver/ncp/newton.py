@@ -15,10 +15,8 @@ function φ (:mod:`solver.ncp.functions`) it is the square nonsmooth system
   search gives up, records it in ``history["line_search_failed"]`` and takes
   the full step, as the thesis reports doing once (§4). The thesis does not
   give its bound; ``alpha_min`` = 2⁻¹⁰ reproduces its behaviour on the §4
-  block (exactly one failed search per solve, 4/6/7 Jacobians on the
-  118/454/1878 meshes against its 6/8/10). With bounds below 2⁻¹⁶ the search
-  instead accepts tiny steps (α ≈ 2⁻¹⁶…2⁻⁴⁰) that barely decrease ‖Φ‖ and
-  the count grows past 20 (measured);
+  block (one failed search per solve; smaller bounds accept tiny steps
+  that barely decrease ‖Φ‖, README's Table 1);
 - ``method="fb"``: the method of De Luca, Facchinei and Kanzow (1996), thesis
   §2.2.2: merit ψ = ½‖Φ_FB‖² (24); Newton direction unless J d = −Φ is
   singular or fails the descent test ∇ψᵀd ≤ −ρ‖d‖ᵖ (26), then d = −∇ψ =
@@ -79,16 +77,14 @@ MESSAGES = {
 #: Stagnation (status 5): an iteration makes progress when ‖Φ‖ or the
 #: stopping measure falls below STALL_DECREASE times its best value so far
 #: (or the step moves x by more than round-off); STALL_ITERATIONS
-#: iterations in a row without progress stop the run. On the thesis's
-#: meshes (frictionless and every friction step, both methods, all systems)
-#: the longest run without progress that still converged was 14 iterations
-#: (φ_FB's gradient phases); 30 leaves a margin of two.
+#: iterations in a row without progress stop the run: twice the longest
+#: such run that still converged on the thesis's meshes (φ_FB's gradient
+#: phases).
 STALL_ITERATIONS = 30
 STALL_DECREASE = 0.9
 
 #: A relative residual below this is at round-off level: when a run stalls
-#: there, its message says that tol is below what floating point reaches
-#: (measured: 1e-16…1e-14 on the thesis's meshes with tol = 1e-300).
+#: there, its message says that tol is below what floating point reaches.
 ROUNDOFF_LEVEL = 1e-12
 
 #: Options of each method (thesis §2.2 and (32)).
@@ -109,11 +105,9 @@ TIE_RTOL = 1e-12
 
 
 #: A vector at least this long (a mesh-sized load or displacement) is
-#: normed with one BLAS thread: OpenBLAS splits its dot product over the
-#: threads, which on the loaded 2-core machine took 4 ms of CPU for 1.2·10⁵
-#: entries (spinning threads) against 0.1 ms with one; the verification of
-#: a 1.2·10⁵-DOF answer spent 40 ms in five such norms. Shorter vectors
-#: (Γc's, in the Newton loops) keep the call free of the thread switch.
+#: normed with one BLAS thread (:mod:`solver.linalg.threads`: OpenBLAS's
+#: threads cost more than they save on it). Shorter vectors (Γc's, in the
+#: Newton loops) keep the call free of the thread switch.
 SINGLE_THREAD_NORM = 1 << 14
 
 

@@ -1,5 +1,5 @@
 r"""Figures of a 3D solve: the contact pressure against the radius, with the
-Hertz profile (issue 18, part 7).
+Hertz profile.
 
 For a sphere pressed on a half-space (Hertz 1882; Johnson, *Contact
 Mechanics*, 1985, §4.2) the pressure is

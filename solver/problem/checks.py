@@ -161,24 +161,12 @@ def check_positive_definite(A, name="K", order=None, backend="auto"):
     positive definite (numerically: no LDLᵀ pivot below
     :data:`~solver.linalg.PIVOT_RTOL` of the largest).
 
-    One sparse factorisation by ``backend`` (default: the first installed,
-    :func:`solver.linalg.factorize`), whose pivots
+    One sparse factorisation of the symmetric A by ``backend`` (default:
+    the first installed, :func:`solver.linalg.factorize`), whose pivots
     every backend checks the same way (:func:`solver.linalg.check_pivots`),
     with the elimination ``order`` if given (e.g.
-    :func:`solver.linalg.dof_ordering`; PARDISO uses its own). SuperLU,
-    the check's backend before, took 18.7 s and 4.2 GB at 9.2·10⁵ DOFs
-    where PARDISO takes 5.7 s.
-
-    Parameters
-    ----------
-    A : sparse matrix
-        Symmetric (the loader checks it).
-    name : str
-        The matrix's key prefix for the message (``"K"`` or ``"M"``).
-    order : (n,) int array, optional
-        Elimination order.
-    backend : str
-        :data:`solver.linalg.BACKENDS` name or ``"auto"``.
+    :func:`solver.linalg.dof_ordering`; PARDISO uses its own). ``name`` is
+    the matrix's key prefix for the message (``"K"`` or ``"M"``).
     """
     from ..linalg import factorize
     factorize(A, order, name=name, backend=backend)

@@ -31,7 +31,7 @@ class ContactProblem:
     :mod:`solver.problem.surface_spec`) and ``contact_faces`` holds the
     contact triangles.
 
-    Two elastic bodies (format version 4, 2D, issue 19): ``body`` gives
+    Two elastic bodies (format version 4, 2D): ``body`` gives
     each node's body, ``mortar_slave`` and ``mortar_master`` the interface
     segments (body on the left of a→b) and ``mortar_*_pair`` their pair;
     ``obstacle`` is None and ``contact_nodes`` are the slave nodes. All

@@ -16,7 +16,7 @@ Two kinds of problem share the format:
     from reduced DOFs to nodes, the contact nodes and a rigid obstacle.
     Gaps and normals are computed by the solver (thesis §2.1). In 2D (the
     thesis's §4 body) triangles, contact nodes ordered along Γc and an
-    obstacle curve Γo(t); in 3D (issue 18, version 3) tetrahedra, the
+    obstacle curve Γo(t); in 3D (version 3) tetrahedra, the
     contact surface as outward triangles ``contact_faces`` and an obstacle
     surface given by a JSON spec (``obstacle_surface``).
 ``kind = "discrete"``
@@ -35,10 +35,9 @@ Versions
 --------
 Version 1 is the 2D layout. Version 3 adds 3D (d = 3) and is written for
 both dimensions; a 2D file of version 3 has exactly the keys of version 1.
-Version 2 was never written: the number is skipped so that "format v3"
-names this layout in issue 18, and a file marked 2 reads like a 2D file of
+Version 2 was never written; a file marked 2 reads like a 2D file of
 version 1 or 3. Files of all three versions load unchanged; only version 3
-may carry d = 3. Version 4 (issue 19) adds two elastic bodies in contact
+may carry d = 3. Version 4 adds two elastic bodies in contact
 (2D only): ``body`` per node and the interface segments ``mortar_slave``,
 ``mortar_master`` (with optional pair indices) instead of an obstacle; a
 file without them has exactly the keys of version 3, and versions 1 to 3

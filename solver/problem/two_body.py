@@ -1,6 +1,6 @@
 """Validation of the two-body keys of a 2D mesh file (format version 4).
 
-Issue 19: two elastic bodies in one mesh, in contact through an interface
+Two elastic bodies in one mesh, in contact through an interface
 given as slave and master segments (dual mortar, Wohlmuth 2000; Popp, Gee
 & Wall, IJNME 79, 2009). The file carries the bodies of the nodes and the
 segments; the solver computes the mortar matrices D, M and the weighted

@@ -13,7 +13,7 @@ two equations for the unknowns *k* and *t*, with two choices of ν:
   *B*, :math:`(\Gamma_o(t) - B)\cdot\Gamma_o'(t) = 0`; of all foot points the
   nearest one is taken.
 * :func:`gap_along_normals` -- "measured from the body" (§2.1.2, (4)-(6)):
-  ν is the body's outward normal at *B* (from :mod:`solver.geometry.curves.normals`), and
+  ν is the body's outward normal at *B* (from :mod:`.normals`), and
   *t* is a root of :math:`h(t) = (\Gamma_o(t) - B) \times \nu`; of all roots
   the one with the smallest :math:`|k|` is taken.
 
@@ -31,23 +31,10 @@ and (6) print :math:`|k|/|\nu|`), and the sign rule of §2.1.1 for choosing the
 normal from the sign of *k* is replaced by "ν points from the body towards
 the obstacle", which makes :math:`s \ge 0` for a node outside the obstacle.
 
-Numerical method
-----------------
-Both problems are one-dimensional in *t*. The parameter is sampled on a
-window (:func:`parameter_window`), a scalar function of *t* is evaluated at
-all samples for all nodes at once (vectorised), every sign change between
-consecutive samples gives a bracket, all brackets of all nodes are refined
-together by Chandrupatla's bracketing root finder
-(:func:`scipy.optimize.elementwise.find_root`, to machine precision), and per
-node the best root is chosen. Roots closer together than the sample spacing
-may be missed (a normal line touching the obstacle tangentially is such a
-case; it is rejected anyway, see ``min_cosine``).
-
-
-The search lives in :mod:`solver.geometry.curves.search`, the checks and
-messages in :mod:`solver.geometry.checks`, the two gaps in
-:mod:`solver.geometry.curves.closest` and :mod:`solver.geometry.curves.rays`;
-this module gathers them.
+Both problems are one-dimensional in *t*, solved for all nodes at once by
+the sampled bracketing search of :mod:`.search`; the checks and messages
+are in :mod:`solver.geometry.checks`, the two gaps in :mod:`.closest` and
+:mod:`.rays`.
 """
 
 from .rays import gap_along_normals

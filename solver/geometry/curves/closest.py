@@ -18,17 +18,11 @@ def gap_from_obstacle(points, curve, body_normals, *, window=None,
     r"""Gaps measured from the obstacle: nearest obstacle point (§2.1.1).
 
     For every node *B* the nearest point :math:`\Gamma_o(t)` of the obstacle
-    is found among the foot points,
-    :math:`f(t) = (\Gamma_o(t) - B)\cdot\Gamma_o'(t) = 0` with *f* rising
-    through zero (local minima of the distance); then
-    :math:`B + k\nu = \Gamma_o(t)` holds with ν the obstacle's normal (1)-(2).
-    ν is normalised (7) and oriented from the body towards the obstacle:
-    the rigid obstacle lies on one side of Γo, so one orientation of its
-    normal serves every node, the one with :math:`\nu \cdot n > 0` for the
-    body's outward normals *n* (summed over the nodes: a node past a corner
-    of the body, whose own *n* barely faces the obstacle, keeps the sign of
-    its gap), and :math:`s = (\Gamma_o(t) - B)\cdot\nu` (signed |k|,
-    errata to (3)).
+    among the foot points :math:`f(t) = (\Gamma_o(t) - B)\cdot\Gamma_o'(t)
+    = 0` (*f* rising through zero: local minima of the distance); ν is the
+    obstacle's normal there (1)-(2), normalised (7) and oriented from the
+    body towards the obstacle, and :math:`s = (\Gamma_o(t) - B)\cdot\nu`
+    (signed |k|, errata to (3)).
 
     Parameters
     ----------
@@ -97,8 +91,7 @@ def gap_from_obstacle(points, curve, body_normals, *, window=None,
     # ν from the body towards the obstacle: the obstacle is rigid and lies
     # on one side of Γo, so one orientation of the curve's normal serves all
     # nodes, the one most body normals agree with (a node past a corner of
-    # the body, whose own normal barely faces the obstacle, keeps the sign
-    # of its gap right).
+    # the body, whose own normal barely faces the obstacle, keeps its sign).
     side = np.sign(np.sum(cosine))
     orient = np.sign(cosine) if side == 0 else np.full(n, side)
     normal *= orient[:, None]
@@ -164,8 +157,6 @@ def _window_ends(points, curve, t, best_d2, end_d2, window, curve_ends,
     perpendicular to the obstacle)."""
     t0, t1 = window
     n = len(points)
-    # An end of the window closer than every interior foot point wins; it is
-    # accepted only if it is itself a foot point (distance perpendicular).
     end_d2 = np.where(np.isfinite(end_d2), end_d2, np.inf)
     at_end = np.full(n, -1)
     for side in (0, 1):

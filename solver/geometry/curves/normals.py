@@ -18,7 +18,7 @@ as in (14), and the unit tangent at node *i* is
 :math:`T_i = X'(s_i) / |X'(s_i)|`. The normal is *T* rotated by ±90°; which
 of the two is outward follows from the mesh (:func:`outward_sign`).
 
-Accuracy (measured on arcs of a circle, see ``tests/test_normals.py``): away
+Accuracy (on arcs of a circle, ``tests/test_normals.py``): away
 from the two ends (middle half of the chain) the normals converge with order
 4 in the node spacing *h* for smoothly graded nodes (order 3 if the spacing
 jumps from node to node). At the ends the natural end condition
@@ -57,24 +57,9 @@ CORNER_ANGLE = 30.0
 
 
 def chord_parameters(points):
-    """Cumulative chord length along an ordered chain of points.
-
-    Parameters
-    ----------
-    points : (n, 2) array
-        Ordered points.
-
-    Returns
-    -------
-    (n,) float array
-        ``s[0] = 0`` and ``s[i+1] = s[i] + |points[i+1] - points[i]|``.
-
-    Raises
-    ------
-    GeometryError
-        If two consecutive points coincide (the parameter would not
-        increase strictly).
-    """
+    """Cumulative chord length along the ordered (n, 2) ``points``: ``s[0]
+    = 0``, ``s[i+1] = s[i] + |points[i+1] - points[i]|``. GeometryError if
+    two consecutive points coincide (s would not increase strictly)."""
     points = np.asarray(points, dtype=float)
     step = np.diff(points, axis=0)
     chords = np.hypot(step[:, 0], step[:, 1])  # no overflow, no underflow
@@ -205,8 +190,7 @@ def outward_sign(nodes, cells, chain):
         raise GeometryError(f"node index out of range [0, {n})")
     # Only triangles with two vertices on the chain can have a chain edge
     # as a side (and every triangle with that side has both): sorting
-    # their sides alone gives the same counts as sorting all of the mesh's
-    # (0.6-0.9 s at 9.2e5 DOFs, now negligible).
+    # their sides alone gives the same counts as sorting all of the mesh's.
     on = np.zeros(n, dtype=bool)
     on[chain] = True
     cells = cells[on[cells].sum(axis=1) >= 2]
@@ -283,8 +267,7 @@ def boundary_normals(nodes, cells, chain, corner_angle=CORNER_ANGLE):
         cubic splines (:func:`spline_normals`) oriented by
         :func:`outward_sign`, one spline per smooth piece of Γc between
         corners (:func:`corners`); a corner node gets the bisector of its
-        two one-sided normals. For the thesis block (Γc the edge x = 5) they
-        are exactly (1, 0).
+        two one-sided normals.
 
     Raises
     ------

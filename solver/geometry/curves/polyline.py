@@ -2,15 +2,12 @@ r"""Piecewise linear rigid obstacles given as points.
 
 A polyline Γo through points P_0, …, P_n is parametrised by arc length t
 (t_0 = 0 at P_0), so it offers the interface of
-:class:`solver.geometry.curves.parametric.ParametricCurve` (``point``, ``derivative``,
+:class:`~.parametric.ParametricCurve` (``point``, ``derivative``,
 ``second_derivative``, ``t_range``) and the gap functions of
-:mod:`solver.geometry.curves` work with it unchanged. The tangent jumps at the inner
-vertices (kinks); there ``derivative`` returns the tangent of the segment
-that starts at the vertex. A nearest point that falls on a kink has no
-unique normal: :func:`solver.geometry.curves.gap_from_obstacle` then reports the node
-(the normal line "misses" the obstacle's smooth part), while
-:func:`solver.geometry.curves.gap_along_normals` (normals from the body) is well
-defined everywhere.
+:mod:`solver.geometry.curves` work with it unchanged. The tangent jumps at
+the inner vertices (kinks); there ``derivative`` returns the tangent of the
+segment that starts at the vertex, and a nearest point on a kink takes the
+direction from the node to it as its normal.
 """
 
 import numpy as np

@@ -7,7 +7,10 @@ samples for all nodes at once, every sign change between consecutive samples
 gives a bracket, all brackets of all nodes are refined together by
 Chandrupatla's bracketing root finder
 (:func:`scipy.optimize.elementwise.find_root`, to machine precision), and
-per node the best root is chosen (:func:`first_per_owner`).
+per node the best root is chosen (:func:`first_per_owner`). Roots closer
+together than the sample spacing may be missed (a normal line touching the
+obstacle tangentially is such a case; it is rejected anyway, see
+:data:`MIN_COSINE`).
 """
 
 import numpy as np
@@ -58,14 +61,11 @@ def parameter_window(points, curve, window=None, samples=DEFAULT_SAMPLES):
         Whether ``t0`` / ``t1`` are true ends of the obstacle (ends of
         ``curve.t_range``) rather than ends of an artificial window.
 
-    Notes
-    -----
     Without an explicit interval the window is fitted to the body's extent
-    (:func:`solver.geometry.curves.window.fit_window`), starting from ``t_range`` or, for
-    an unbounded curve, from :math:`[-L, L]`,
-    :math:`L = 2 \max_i |B_i - \Gamma_o(0)| + 1`: it does not depend on how
-    fast the parametrisation runs. When a normal line of the body meets the
-    obstacle far from the body, pass an interval.
+    (:func:`~.window.fit_window`, from ``t_range`` or
+    :func:`~.window.start_window`): it does not depend on how fast the
+    parametrisation runs. When a normal line of the body meets the obstacle
+    far from the body, pass an interval.
     """
     points = np.asarray(points, dtype=float)
     t_range = curve.t_range
@@ -96,7 +96,6 @@ def parameter_window(points, curve, window=None, samples=DEFAULT_SAMPLES):
                 f"search interval {tuple(window)} does not overlap the "
                 f"obstacle's t_range {t_range}")
     return (t0, t1), ends
-
 
 
 def search_setup(points, vectors, curve, window, samples):

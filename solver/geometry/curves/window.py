@@ -1,7 +1,7 @@
 r"""The interval of the obstacle parameter *t* searched for the gaps.
 
 The gaps of thesis §2.1 are roots in *t* of a function sampled on a window
-(:mod:`solver.geometry.curves`). The window must contain every root that matters, and
+(:mod:`.search`). The window must contain every root that matters, and
 be small enough for the samples to separate the roots: it should follow the
 **geometry**, not the speed of the parametrisation. The thesis's parabola
 :math:`[5.05 + 0.005t^2, t]` and the same curve run a hundred times slower,
@@ -124,26 +124,11 @@ def _shrink(curve, disc, window, samples):
 
 
 def fit_window(points, curve, window, fixed, samples):
-    """Grow and shrink ``window`` to the part of the obstacle near the body
-    (module docstring).
-
-    Parameters
-    ----------
-    points : (n, 2) array, n >= 1
-        The contact nodes.
-    curve : ParametricCurve or PolylineCurve
-        The obstacle.
-    window : (float, float)
-        The starting window (``t_range``, or :func:`start_window`).
-    fixed : (bool, bool)
-        Whether the ends are true ends of the obstacle (never grown past).
-    samples : int
-        Samples per window.
-
-    Returns
-    -------
-    (t0, t1) : (float, float)
-    """
+    """(t0, t1): the starting ``window`` (``t_range``, or
+    :func:`start_window`) grown and shrunk to the part of the obstacle
+    ``curve`` near the contact nodes ``points`` (module docstring), with
+    ``samples`` per window; ``fixed`` (bool, bool): the ends that are true
+    ends of the obstacle (never grown past)."""
     disc = _Disc(points)
     grown, left = _grow(curve, disc, window, fixed, samples)
     fitted, runs = _shrink(curve, disc, grown, samples)

@@ -1,4 +1,4 @@
-r"""Rigid obstacle surfaces in 3D, built from a spec (issue 18, part 3).
+r"""Rigid obstacle surfaces in 3D, built from a spec.
 
 The 3D counterpart of the obstacle curve :math:`\Gamma_o(t)` of thesis §4.
 A surface is described by a JSON-serialisable **spec** (stored in problem

@@ -1,4 +1,4 @@
-r"""Outward normals of the body's contact surface in 3D (issue 18, part 4).
+r"""Outward normals of the body's contact surface in 3D.
 
 The 3D counterpart of :mod:`solver.geometry.curves.normals` (thesis §2.1.3): the
 contact surface is a set of triangles (the ``contact_faces`` of a format-3
