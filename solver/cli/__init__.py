@@ -2,24 +2,8 @@
 
 A thin layer over the library: it parses and checks the arguments, then
 :mod:`solver.cli.run` solves and writes the outputs. Nothing it does ends in
-a traceback (``--debug`` shows one); each outcome has its exit code:
-
-==== ==================================================================
-code meaning
-==== ==================================================================
-0    converged (or ``--info`` printed)
-1    internal error (a bug: please report it with ``--debug``'s output)
-2    bad input or usage: nothing written
-3    not converged: the outputs are written, ``summary.json`` says
-     ``"status": "not_converged"`` (a friction run keeps its completed
-     steps)
-4    an output could not be written (disk full, permission, closed
-     standard output); ``summary.json`` says ``"status": "failed"`` where
-     it could still be written
-130  interrupted (Ctrl-C); 143 terminated (SIGTERM), 129 hang-up: the
-     completed work is written, ``summary.json`` says ``"interrupted"``
-141  standard output closed early (as a tool killed by SIGPIPE)
-==== ==================================================================
+a traceback (``--debug`` shows one); each outcome has its exit code
+(:data:`~solver.cli.codes.EXIT_CODES_TEXT`, the table of ``--help``).
 """
 
 import argparse
@@ -70,7 +54,8 @@ def build_parser():
                         default=None,
                         help="gaps and normals from the obstacle's normals "
                              "(§2.1.1) or from the body's spline normals "
-                             "(§2.1.2-2.1.3); default obstacle; not for two bodies (mortar weighted gaps)")
+                             "(§2.1.2-2.1.3); default obstacle; not for "
+                             "two bodies (mortar weighted gaps)")
     parser.add_argument("--search-interval", nargs=2, type=_real,
                         metavar=("T0", "T1"),
                         help="obstacle parameter interval searched for the "

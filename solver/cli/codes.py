@@ -1,5 +1,6 @@
-"""The command line's exit codes and limits (the table of
-:mod:`solver.cli`), in one place for the parser, the run and the job."""
+"""The command line's exit codes and limits, in one place for the parser
+(whose ``--help`` ends with :data:`EXIT_CODES_TEXT`), the run and the
+job."""
 
 import signal
 

@@ -1,7 +1,7 @@
 """One run of the command line: load, solve, write, and say how it ended.
 
 :func:`run` turns every outcome into an exit code and at most one line on
-stderr (see :mod:`solver.cli` for the table): input errors (2), a solve that
+stderr (:mod:`~solver.cli.codes`): input errors (2), a solve that
 does not converge (3), an output that cannot be written (4), an interrupt
 (128 + signal number), a closed standard output (141), and anything
 unexpected (1, an internal error). The output folder is locked for the run,

@@ -44,7 +44,8 @@ import scipy.sparse as sp
 
 from ..errors import SolverError
 from ..geometry.checks import warn_penetration
-from ..geometry.frames import frames, roller_frames, tangent_basis
+from ..geometry.frames import (ROLLER_TOLERANCE, frames, roller_frames,
+                               tangent_basis)
 
 __all__ = ["GAP_MODES", "ROLLER_TOLERANCE", "OBLIQUE_MIN", "ContactGeometry",
            "contact_geometry", "problem_dim", "rotation", "rotate_stiffness",
@@ -52,9 +53,6 @@ __all__ = ["GAP_MODES", "ROLLER_TOLERANCE", "OBLIQUE_MIN", "ContactGeometry",
 
 #: How gaps and normals are found (thesis §2.1.1 / §2.1.2).
 GAP_MODES = ("obstacle", "body")
-
-#: A node with Dirichlet components c is a roller when |ν_c| ≤ this.
-ROLLER_TOLERANCE = 1e-8
 
 #: A node with Dirichlet components whose normal keeps less than this
 #: length in its free components is a support (module docstring).

@@ -240,12 +240,8 @@ class TwoBodyMap:
 
     def result(self, result, friction=None, steps=None):
         """The drivers' ``result`` on the equivalent problem mapped back to
-        u: ``u`` (reduced, over both bodies), ``displacement`` (nodal),
-        ``v`` (the solved variables), per slave node ``contact_pressure``
-        λ_j ≥ 0 (the dual multiplier, z_j / D_jj), ``traction`` (Nc, 2) on
-        the slave surface, −λ_j n_j + g_t,j τ_j, ``covered``, ``mortar_D``,
-        ``body``, ``variant`` and ``weighted_gap``; friction runs per step
-        (first axis)."""
+        u, with the two-body fields (docs/results.md, "Two bodies, added";
+        ``contact_pressure`` is the dual multiplier λ_j = z_j / D_jj)."""
         problem = self.problem
         extra = dict(covered=self.covered, mortar_D=self.coupling.D,
                      body=_body(problem), variant=self.coupling.variant,

@@ -116,25 +116,18 @@ def verify_contact(K, f, u, dofs, normal, gap, lam, stiffness, tol_v,
 
     Parameters
     ----------
-    K : sparse (Ñ, Ñ)
-        The original reduced stiffness (never the condensed one).
-    f : (Ñ,) array
-        The load of the answer (a load step's f_κ).
-    u : (Ñ,) array
-        The reduced displacement.
+    K, f, u
+        The original reduced stiffness (never the condensed one), the load
+        of the answer (a load step's f_κ) and the reduced displacement.
     dofs : (Nca, d) int
         Reduced DOFs (x, y[, z]) of the contact nodes
         (``ContactGeometry.node_dofs``); −1 at a roller's Dirichlet
         component, along which ν is 0: the reaction there is the
         support's, left out of f_c.
-    normal, gap : (Nca, d), (Nca,)
-        ν and s at those nodes.
-    lam : (Nca,)
-        Normal contact forces reported by the solver.
-    stiffness : float
-        k̄ (force per unit gap).
-    tol_v : float
-        :func:`verification_tolerance`.
+    normal, gap, lam : (Nca, d), (Nca,), (Nca,)
+        ν, s and the normal contact forces reported by the solver.
+    stiffness, tol_v : float
+        k̄ (force per unit gap) and :func:`verification_tolerance`.
     friction_force, friction_bound : (Nca,) or (Nca, d − 1), (Nca,), optional
         Nodal friction force t_i = D_ii g_t,i (its components along the
         tangents; a scalar per node in 2D) and its Coulomb bound

@@ -33,7 +33,10 @@ import numpy as np
 
 from ..errors import SolverError
 
-__all__ = ["tangent_basis", "frames", "roller_frames"]
+__all__ = ["ROLLER_TOLERANCE", "tangent_basis", "frames", "roller_frames"]
+
+#: A node with Dirichlet components c is a roller when |ν_c| ≤ this.
+ROLLER_TOLERANCE = 1e-8
 
 
 def tangent_basis(normal):

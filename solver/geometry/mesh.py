@@ -13,18 +13,8 @@ __all__ = ["boundary_edges", "order_along_boundary", "is_boundary_chain"]
 
 
 def boundary_edges(cells):
-    """Edges that belong to exactly one triangle, as sorted node pairs.
-
-    Parameters
-    ----------
-    cells : (n_cells, 3) int array
-        Triangle connectivity.
-
-    Returns
-    -------
-    (n_edges, 2) int64 array
-        Each row ``(a, b)`` with ``a < b``, rows in lexicographic order.
-    """
+    """Edges that belong to exactly one triangle of ``cells`` (n, 3): an
+    int64 array of rows ``(a, b)``, ``a < b``, in lexicographic order."""
     cells = np.asarray(cells, dtype=np.int64)
     edges = np.concatenate([cells[:, [0, 1]], cells[:, [1, 2]],
                             cells[:, [2, 0]]])
@@ -50,30 +40,12 @@ def is_boundary_chain(chain, cells):
 
 
 def order_along_boundary(nodes, cells, coordinates=None):
-    """Order a set of boundary nodes into one open chain along the boundary.
-
-    Parameters
-    ----------
-    nodes : int array
-        The (unordered) nodes of a connected, open piece of the boundary,
-        e.g. the vertices of the SfePy facet region ``Gamma_c``.
-    cells : (n_cells, 3) int array
-        Triangle connectivity of the whole mesh.
-    coordinates : (n_nodes, 2) array, optional
-        If given, the chain starts at the end with the smaller ``y`` (then
-        smaller ``x``), so that the order does not depend on node numbering.
-
-    Returns
-    -------
-    int64 array
-        ``nodes`` reordered so that consecutive entries share a boundary
-        edge.
-
-    Raises
-    ------
-    ValueError
-        If the nodes do not form one open chain of boundary edges.
-    """
+    """``nodes`` (the unordered nodes of a connected, open piece of the
+    boundary of the triangles ``cells``, e.g. SfePy's region ``Gamma_c``)
+    reordered into one chain whose consecutive entries share a boundary
+    edge; with ``coordinates`` it starts at the end with the smaller ``y``
+    (then ``x``), whatever the node numbering. ValueError if the nodes do
+    not form one open chain of boundary edges."""
     nodes = np.unique(np.asarray(nodes, dtype=np.int64))
     if len(nodes) < 2:
         return nodes

@@ -12,6 +12,7 @@ were built in mm, MPa and N, as ``sfepy_problems/`` does.
 
 import numpy as np
 
+from ..geometry.mesh import boundary_edges
 from .scene import moved_obstacle, obstacle_in_box
 
 __all__ = ["UNITS", "magnification", "carries_load", "zoom_window",
@@ -94,15 +95,6 @@ def zoom_window(x, loaded, fraction=0.5):
     if hi - lo >= fraction * whole:
         return None
     return lo, hi
-
-
-def boundary_edges(cells):
-    """Boundary edges of a triangulation: the edges of exactly one cell."""
-    cells = np.asarray(cells)
-    edges = np.sort(np.concatenate([cells[:, [0, 1]], cells[:, [1, 2]],
-                                    cells[:, [2, 0]]]), axis=1)
-    unique, count = np.unique(edges, axis=0, return_counts=True)
-    return unique[count == 1]
 
 
 def magnification(problem, displacement, fraction=TARGET_FRACTION):

@@ -38,16 +38,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..geometry.frames import ROLLER_TOLERANCE
+
 __all__ = ["R_TOLERANCE", "HertzReference", "symmetry_planes",
            "first_contact", "hertz_reference"]
 
 #: Relative difference allowed between meta R (or R* with a spherical
 #: obstacle) and each curvature radius of the initial gap.
 R_TOLERANCE = 0.1
-
-#: A node with Dirichlet components k is a roller when |ν_k| ≤ this (the
-#: solver's tolerance, :data:`solver.contact.geometry.ROLLER_TOLERANCE`).
-ROLLER_TOLERANCE = 1e-8
 
 
 @dataclass(frozen=True)
@@ -108,25 +106,12 @@ def _size(problem):
 
 
 def symmetry_planes(problem, normal=None, tol=1e-9):
-    """The symmetry planes of a half or quarter model, from its rollers.
-
-    Parameters
-    ----------
-    problem : ContactProblem (3D or 2D mesh)
-    normal : (Nc, d) array, optional
-        Contact normals at the contact nodes (a solve's ``normal``); given,
-        a group of nodes whose normals have a component along its fixed
-        axis is a support, not a mirror, and is skipped.
-    tol : float
-        The nodes of a plane x_k = c agree in x_k to ``tol`` × the model's
-        size.
-
-    Returns
-    -------
-    tuple of (k, c)
-        One entry per axis k along which some contact nodes have their only
-        Dirichlet component, all of them on the plane x_k = c.
-    """
+    """The symmetry planes of a half or quarter model, from its rollers:
+    a tuple of (k, c), one per axis k along which some contact nodes have
+    their only Dirichlet component, all of them on the plane x_k = c (to
+    ``tol`` times the model's size). Given the contact ``normal`` (Nc, d)
+    of a solve, a group whose normals have a component along its fixed
+    axis is a support, not a mirror, and is skipped."""
     fixed = np.asarray(problem.contact_dofs) < 0
     points = problem.nodes[problem.contact_nodes]
     only = fixed.sum(axis=1) == 1
@@ -154,28 +139,16 @@ def _tangents(axis):
 
 def first_contact(points, gap, normal, planes=(), in_contact=None,
                   least=12):
-    """Where a smooth convex contact starts: the vertex of the initial gap.
+    """Where a smooth convex contact starts: the vertex of the initial gap
+    (module docstring) of the contact nodes ``points`` (m, 3) with their
+    ``gap`` and unit ``normal`` (NaN rows ignored), mirrored in the
+    symmetry ``planes``. The fit uses the nodes whose gap is at most the
+    largest of those ``in_contact`` at the end, and at least ``least``.
 
-    Parameters
-    ----------
-    points : (m, 3) array
-        The contact nodes.
-    gap, normal : (m,) and (m, 3) arrays
-        Their initial gaps and unit normals (body towards obstacle); NaN
-        rows are ignored.
-    planes : tuple of (k, c)
-        Symmetry planes: the data are mirrored in each.
-    in_contact : (m,) bool array, optional
-        The nodes in contact at the end; the fit uses the nodes whose gap
-        is at most the largest of theirs, and at least ``least`` nodes.
-
-    Returns
-    -------
-    (center, axis, radii) or (None, None, reason)
-        ``center``: the obstacle point at the vertex; ``axis``: the normal
-        there (the mean normal of the fitted nodes, in the symmetry
-        planes); ``radii``: the two principal curvature radii of the gap.
-        On failure ``reason`` says why the first contact is not a point.
+    Returns (center, axis, radii): the obstacle point at the vertex, the
+    normal there (the mean normal of the fitted nodes) and the gap's two
+    principal curvature radii; or (None, None, reason) saying why the first
+    contact is not a point.
     """
     points = np.asarray(points, float)
     gap = np.asarray(gap, float)
@@ -243,24 +216,11 @@ def _obstacle_radius(problem, R):
 
 
 def hertz_reference(problem, result):
-    """The Hertz curve (or none) for a 3D frictionless solve, and why.
-
-    Parameters
-    ----------
-    problem : ContactProblem
-        A 3D problem; ``meta`` names R, E, nu for a curve.
-    result : ContactResult or mapping
-        Needs ``contact_force``, ``gap`` and ``normal`` (per contact node),
-        ``in_contact``.
-
-    Returns
-    -------
-    HertzReference
-        ``center``, ``axis`` of the contact (or None), the symmetry planes
-        and copies, P, and Hertz's a and p0 when a curve can be drawn,
-        with a one-line ``note`` that says why it is drawn as it is or why
-        not. The module docstring explains each step.
-    """
+    """The :class:`HertzReference` (a curve, or none and why) of a 3D
+    frictionless solve: ``problem``'s ``meta`` names R, E, nu; ``result``
+    (a ContactResult or mapping) holds ``contact_force``, ``gap``,
+    ``normal`` and ``in_contact`` per contact node. The module docstring
+    explains each step."""
     from ..verification import hertz_point_contact
 
     if getattr(problem, "dim", 2) != 3:

@@ -9,6 +9,7 @@ import scipy.sparse as sp
 from ..errors import ProblemError
 from ..geometry.curves.parametric import ParametricCurve, check_interval
 from ..geometry.curves.polyline import PolylineCurve
+from ..ncp import stable_norm
 from .checks import check_positive_definite
 from .format import FORMAT_VERSION
 from .surface_spec import surface_spec_text
@@ -21,7 +22,8 @@ __all__ = ["ContactProblem", "validate_arrays"]
 class ContactProblem:
     r"""A contact problem as the solver sees it (one ``.npz`` file).
 
-    Array meanings and shapes are those of :data:`KEYS`; K and M are
+    Array meanings and shapes are those of
+    :data:`~solver.problem.format.KEYS`; K and M are
     :class:`scipy.sparse.csr_matrix`. Construct it directly (the arrays are
     validated by :meth:`validate`) or with :func:`load_problem`.
 
@@ -146,14 +148,9 @@ class ContactProblem:
 
     def set_search_interval(self, t0, t1):
         """Search the obstacle parameter for the gaps in ``[t0, t1]``
-        (``--search-interval``; see :func:`solver.geometry.curves.parameter_window`).
-
-        Raises
-        ------
-        ProblemError
-            For a discrete problem (no obstacle) or unless t0 < t1 are
-            finite.
-        """
+        (``--search-interval``; :func:`solver.geometry.curves.
+        parameter_window`); ProblemError without an obstacle curve or unless
+        t0 < t1 are finite."""
         if self.kind != "mesh":
             raise ProblemError("search interval: a discrete problem has no "
                                "obstacle (its gaps are given)")
@@ -200,20 +197,15 @@ class ContactProblem:
         return repr(self.obstacle)
 
     def check_stiffness(self):
-        """Check that K is positive definite (see
-        :func:`check_positive_definite`).
+        """Check that K is positive definite
+        (:func:`~.checks.check_positive_definite`; ProblemError
+        ``"K_data: K is not positive definite (...)"``).
 
         Costs one sparse factorisation of K in a fill-reducing order
         (:func:`solver.linalg.dof_ordering`); the solvers call it before
         iterating (the condensed ones get it from the factorisation they
         need anyway). The result is remembered for the K object checked
-        (replace ``problem.K``, do not modify it in place).
-
-        Raises
-        ------
-        ProblemError
-            ``"K_data: K is not positive definite (...)"``.
-        """
+        (replace ``problem.K``, do not modify it in place)."""
         if self._checked is not self.K:
             from ..linalg import dof_ordering
             check_positive_definite(self.K, "K", dof_ordering(self))
@@ -314,10 +306,10 @@ class ContactProblem:
             "contact_nodes": int(self.n_contact),
             "contact_nodes_free": int(active.sum()),
             "K_nnz": int(self.K.nnz),
-            # scaled by the largest entry: K's entries may reach 1e300
-            "K_norm_fro": _norm(sp.csr_matrix(self.K).data),
+            # no overflow of the squares: K's entries may reach 1e300
+            "K_norm_fro": stable_norm(sp.csr_matrix(self.K).data),
             "K_norm_max": float(abs(self.K).max()),
-            "f_norm": _norm(self.f),
+            "f_norm": stable_norm(self.f),
             "M_sum": float(self.M.sum()),
         }
         if self.kind == "mesh" and self.dim == 3:
@@ -356,20 +348,8 @@ class ContactProblem:
         return info
 
 
-def _norm(values):
-    """‖values‖₂ without overflow of the squares."""
-    values = np.asarray(values, dtype=float)
-    top = float(np.abs(values).max(initial=0.0))
-    return top * float(np.linalg.norm(values / top)) if top > 0 else 0.0
-
-
 def validate_arrays(arrays):
     """Validate a dict of ``.npz`` arrays and build a
-    :class:`ContactProblem`.
-
-    Raises
-    ------
-    ProblemError
-        Naming the first key found missing, unexpected or malformed.
-    """
+    :class:`ContactProblem` (ProblemError naming the first key found
+    missing, unexpected or malformed)."""
     return ContactProblem(**validate_fields(arrays))

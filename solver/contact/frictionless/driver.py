@@ -1,52 +1,25 @@
-r"""The frictionless discrete contact system (thesis §3.2, (56)-(69), (87)).
-
-Unknown: the reduced displacement vector u (Ñ entries). At each contact node
-i with DOFs (a_i, …), unit normal ν_i (from the body towards the obstacle)
-and tangents (2D: γ_i = (−ν_y, ν_x); 3D: τ_1, τ_2 of
-:func:`solver.geometry.frames.tangent_basis`), the rotation **R** maps the
-nodal vector to (tangential, normal) components (58)-(60); R is the
-identity elsewhere (:func:`~solver.contact.geometry.rotation`).
-**X** keeps every row except the normal rows of contact nodes and **Y** keeps
-only those (66). The system (67) is the mixed NCP
-
-.. math::
-    X(RKu − Rf) = 0, \quad
-    A(u) = −Y(RKu − Rf) \ge 0,\ B(u) = s − YRu \ge 0,\ A^T B = 0,
-
-(the thesis's (69) is the same with φ_min and signs flipped; its
-"−Y(RKu + Rf)" is a typo for −Y(RKu − Rf)). A is the normal contact force
-λ at each contact node, B the remaining gap. The contact stress (87) is
-g_n = M⁻¹Y(RKu − Rf) = −M⁻¹λ; we report the contact pressure p = M⁻¹λ ≥ 0
-(so g_n = −p), solving with the sparse M, never inverting it. Everything
-here works from the :class:`ContactGeometry` (DOFs, gaps, frames) and is
-the same in 2D and 3D.
+r"""The frictionless driver: the system (67) of :mod:`.system` solved by
+semismooth Newton, its answer verified and reported over every node of Γc.
 
 The contact nodes whose DOFs are all free take part, and by default
-(``rollers=True``) also the *rollers*: nodes on a symmetry plane of a half
-or quarter model, whose Dirichlet components have no share in ν (their
-frame puts the constrained directions among the tangents, see
-:mod:`solver.contact.geometry`); the λ of such a node is that of the half
-(quarter) of the whole model's node it stands for. Any other node with a
-Dirichlet DOF is a support: its λ is 0 in the nodal arrays, which cover
-every node of Γc in ``problem.contact_nodes`` order.
-
-Optionally the gap rows are scaled, B = c(s − YRu) with c > 0 (same solution,
-other Newton path); c = 1 is the thesis.
+(``rollers=True``) also the *rollers* (:mod:`solver.contact.geometry`):
+nodes on a symmetry plane of a half or quarter model, whose λ is that of
+the half (quarter) of the whole model's node it stands for. Any other node
+with a Dirichlet DOF is a support: its λ is 0 in the nodal arrays, which
+cover every node of Γc in ``problem.contact_nodes`` order. We report the
+contact pressure p = M⁻¹λ ≥ 0 of (87) (g_n = −p), solving with the sparse
+M, never inverting it, and its lumped form λ_i / D_ii.
 
 Three ways to solve it (:func:`run_frictionless`):
 
 * 2D default: condensed onto every DOF of Γc (S of size 2Nc), started by
   nested iteration over ever coarser node subsets of Γc
-  (:mod:`solver.contact.strategies.nested`), which keeps the Newton iterations on the
-  full Γc at a fixed small number.
+  (:mod:`solver.contact.strategies.nested`), which keeps the Newton
+  iterations on the full Γc at a fixed small number.
 * 3D default: condensed onto the *normal* DOF of *candidate* nodes only
-  (:mod:`solver.contact.strategies.candidates`: one unknown per node that can touch,
-  enlarged and re-solved if a non-candidate penetrates), from the free
-  start. The nested start coarsens by taking every other node along the
-  ordered curve Γc; a contact surface has no such order, so 3D uses the
-  free start (λ = 0) instead. In 2D the normal candidates would take
-  the same Newton steps (benchmarks/README.md), but the nested start is
-  built on the (x, y) condensation.
+  (:mod:`solver.contact.strategies.candidates`), from the free start λ = 0
+  (the nested start coarsens along the ordered curve Γc; a contact surface
+  has no such order).
 * ``condense=False``: the thesis's system in all Ñ unknowns.
 """
 

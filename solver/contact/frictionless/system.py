@@ -1,9 +1,23 @@
 r"""The frictionless system (67) of thesis §3.2 as residual and Jacobian
-for :func:`solver.ncp.solve_ncp`: E = X(RKu − Rf) = 0, A = λ = −Y(RKu −
-Rf) ≥ 0, B = c(s − YRu) ≥ 0, A ⊥ B, on the full K or on a dense Schur
-complement (then its Newton systems are solved on the free components,
-:mod:`.newton`). :func:`~.driver.solve_frictionless`
-drives it."""
+for :func:`solver.ncp.solve_ncp`.
+
+Unknown: the reduced displacement vector u (Ñ entries). At each contact
+node the rotation **R** maps the nodal vector to (tangential, normal)
+components (58)-(60) (:func:`~solver.contact.geometry.rotation`); **X**
+keeps every row except the normal rows of contact nodes and **Y** keeps
+only those (66). The system (67) is the mixed NCP
+
+.. math::
+    X(RKu − Rf) = 0, \quad
+    A(u) = −Y(RKu − Rf) \ge 0,\ B(u) = c(s − YRu) \ge 0,\ A^T B = 0,
+
+A the normal contact force λ, B the remaining gap scaled by c > 0 (the
+same solution, another Newton path; c = 1 is the thesis). The thesis's
+(69) is the same with φ_min and signs flipped; its "−Y(RKu + Rf)" is a typo
+for −Y(RKu − Rf). On the full K or on a dense Schur complement (then its
+Newton systems are solved on the free components, :mod:`.newton`); the
+same in 2D and 3D.
+"""
 
 import numpy as np
 import scipy.sparse as sp
@@ -17,24 +31,11 @@ __all__ = ["FrictionlessSystem"]
 
 
 class FrictionlessSystem:
-    """Residual and Jacobian of (67) for :func:`solver.ncp.solve_ncp`.
-
-    Parameters
-    ----------
-    K : sparse (Ñ, Ñ)
-        Reduced stiffness.
-    f : (Ñ,) array
-        Load vector.
-    geometry : ContactGeometry
-    gap_scale : float
-        c in B = c(s − YRu); 1 is the thesis.
-    stiffness : float, optional
-        k̄ of :meth:`error` (default: mean of diag K at the contact DOFs; a
-        condensed system passes that of the full K).
-    load_norm : float, optional
-        ‖f‖₂ of :meth:`scale` (default: of ``f``; a condensed system or a
-        coarse level passes that of the problem's load).
-    """
+    """Residual and Jacobian of (67) for :func:`solver.ncp.solve_ncp` on
+    the reduced stiffness K (Ñ, Ñ) (sparse, or a dense S), the load f and
+    the ``geometry``; ``gap_scale`` is c. ``stiffness`` k̄ of :meth:`error`
+    and ``load_norm`` ‖f‖₂ of :meth:`scale` default to those of K and f; a
+    condensed system or a coarse level passes the problem's."""
 
     def __init__(self, K, f, geometry, gap_scale=1.0, stiffness=None,
                  load_norm=None):

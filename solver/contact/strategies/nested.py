@@ -69,23 +69,12 @@ COARSEST = 8
 class ContactLevel:
     """One level of the hierarchy: the condensed problem on a node subset.
 
-    Attributes
-    ----------
-    nodes : (m,) int
-        The level's nodes, as positions in the finest level's node list.
-    S : (dm, dm) float
-        Schur complement of K on the level's DOFs (the d DOFs of node i →
-        d·i, …, d·i + d − 1; d = 2 in use; node by node, fewer at a
-        roller).
-    w : (dm,) float
-        The unconstrained displacement K⁻¹f at those DOFs.
-    geometry : ContactGeometry
-        Gaps and normals at the level's nodes, renumbered to its DOFs.
-    keep : (m,) bool or None
-        Which of this level's nodes the next coarser level keeps (None on
-        the coarsest).
-    X : (dm − dm', dm') float or None
-        S_rr⁻¹S_rk: prolongation of a coarser level's u to the dropped DOFs.
+    Attributes: ``nodes`` (positions in the finest level's node list),
+    ``S`` (the Schur complement of K on the level's DOFs, node by node),
+    ``w`` (K⁻¹f there), ``geometry`` (renumbered to the level's DOFs),
+    ``keep`` (which nodes the next coarser level keeps; None on the
+    coarsest) and ``X`` (S_rr⁻¹S_rk, the prolongation of a coarser level's
+    u to the dropped DOFs).
     """
 
     def __init__(self, nodes, S, w, geometry):
@@ -117,18 +106,9 @@ def _owner(geometry):
 def contact_levels(S, w, geometry, coarsest=COARSEST):
     """The hierarchy, finest first: level 0 is (S, w, geometry) itself, each
     next level keeps every other node along Γc (and the last one) until at
-    most ``coarsest`` nodes remain.
-
-    Parameters
-    ----------
-    S : (dm, dm) dense array
-        Schur complement of K on the free contact DOFs
-        (:class:`solver.linalg.Condensation`).
-    w : (dm,) array
-        K⁻¹f at those DOFs.
-    geometry : ContactGeometry
-        Renumbered to the condensed DOFs (:func:`condense_onto_contact`).
-    """
+    most ``coarsest`` nodes remain. S: the Schur complement of K on the
+    free contact DOFs, w: K⁻¹f there, ``geometry`` renumbered to them
+    (:func:`~.reduction.condense_onto_contact`)."""
     m = len(geometry.gap)
     levels = [ContactLevel(np.arange(m), S, np.asarray(w, float), geometry)]
     with single_blas_thread():  # dense, at most the size of S
@@ -157,12 +137,9 @@ def solve_nested(levels, method="min", tol=1e-10, max_iter=100,
     """Solve the condensed frictionless system level by level, coarsest
     (from λ = 0) to finest (from the prolonged coarser solution).
 
-    ``tol`` is relative, as in :func:`solve_frictionless`: error ≤ tol·F
-    with :meth:`FrictionlessSystem.error` and the force scale F =
-    max(‖f‖₂, ‖λ⁺‖₂) of :meth:`FrictionlessSystem.scale`, ‖f‖₂ =
-    ``load_norm`` (the problem's load; default: that of the finest level's
-    condensed load) on every level. Every level checks that its residual
-    and iterate are finite (status 4 otherwise, as for any NCP solve).
+    ``tol`` is relative, as in :func:`~..frictionless.driver.
+    run_frictionless`, with ‖f‖₂ = ``load_norm`` (the problem's load;
+    default: that of the finest level's condensed load) on every level.
     ``max_iter`` bounds the iterations of all levels together: once spent,
     the last iterate is prolonged to the finest level and reported there as
     not converged (status 1). A coarse level that stops for another reason
@@ -170,15 +147,11 @@ def solve_nested(levels, method="min", tol=1e-10, max_iter=100,
     solves the finest level (no penetration, or no load), no coarse level
     runs.
 
-    Returns
-    -------
-    (OptimizeResult, FrictionlessSystem)
-        The finest level's NCP result and system. ``nit``, ``njev`` and
-        ``nfev`` count every level, and ``history`` holds every level's
-        iterations in order, with ``history["level"]`` the number of
-        contact nodes of the level of each iteration; ``levels`` lists,
-        coarsest first, dicts with ``n_nodes``, ``nit``, ``njev``,
-        ``nfev``, ``success`` and ``time`` for each level that ran.
+    Returns (OptimizeResult, FrictionlessSystem) of the finest level;
+    ``nit``, ``njev``, ``nfev`` and ``history`` count every level
+    (``history["level"]``: the number of contact nodes of each iteration's
+    level), ``levels`` lists, coarsest first, each level's ``n_nodes``,
+    ``nit``, ``njev``, ``nfev``, ``success`` and ``time``.
     """
     fine = levels[0]
     fine_system = _system(fine, gap_scale, stiffness, load_norm)

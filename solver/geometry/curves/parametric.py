@@ -5,13 +5,9 @@ The thesis (§4) describes its obstacle by two expressions in a parameter *t*,
 .. math::  \Gamma_o(t) = [\,5.05 + 0.005\,t^2,\; t\,],
 
 and needs the curve and its derivative to compute gaps and normals (§2.1,
-(1)-(7)). Here the two expressions are given as text (they travel inside the
-``.npz`` problem file), parsed **without** :func:`eval`: the text is parsed by
-:func:`ast.parse` and every node is checked against a whitelist (numbers, the
-variable ``t``, the constants ``pi`` and ``e``, ``+ - * / **``, unary signs and
-a fixed set of elementary functions). The checked tree is translated node by
-node into a SymPy expression, which gives exact derivatives; numerical
-evaluation goes through :func:`sympy.lambdify` of that expression only.
+(1)-(7)). Here the two expressions are text (they travel inside the
+``.npz`` problem file), parsed safely into SymPy expressions with exact
+derivatives by :mod:`solver.geometry.expression`.
 
 Example
 -------
@@ -51,16 +47,10 @@ def check_interval(name, interval):
 
 
 def check_derivative(derivative, text, symbol):
-    """The constants of a derivative must be finite in double precision, as
-    those of the expression are: 1e308*t**2 is finite, its derivative
-    2e308*t is infinite everywhere, and the gap search found "no tangent"
-    at every node.
-
-    Raises
-    ------
-    ExpressionError
-        Naming the expression and its derivative.
-    """
+    """ExpressionError (naming the expression and its derivative) unless
+    the constants of a derivative are finite in double precision, as those
+    of the expression are: 1e308*t**2 is finite, its derivative 2e308*t is
+    infinite everywhere."""
     try:
         check_constants(derivative, text, symbol)
     except ExpressionError as exc:

@@ -120,24 +120,11 @@ class Surface:
         raise NotImplementedError
 
     def gap_along_obstacle_normal(self, points):
-        r"""Gaps measured from the obstacle (3D §2.1.1): the closest point.
-
-        Parameters
-        ----------
-        points : (m, 3) array
-            Body points (the undeformed contact nodes).
-
-        Returns
-        -------
-        gap : (m,) array
-            Signed distance to the closest point, :math:`(x - q)\cdot n(q)`,
-            positive outside the obstacle.
-        nu : (m, 3) array
-            Unit contact direction from the body towards the obstacle,
-            :math:`-n(q)`.
-        foot : (m, 3) array
-            The closest points *q*.
-        """
+        r"""Gaps measured from the obstacle (3D §2.1.1) at the body
+        ``points`` (m, 3): (gap, ν, foot), the signed distance
+        :math:`(x - q)\cdot n(q)` to the closest point *q* (positive
+        outside the obstacle), the unit contact direction :math:`-n(q)`
+        and *q*."""
         raise NotImplementedError
 
     def gap_along_rays(self, points, directions):
@@ -147,24 +134,10 @@ class Surface:
         surfaces the one Newton reaches from the closest point, which is
         that one unless the surface folds back within the gap).
 
-        Parameters
-        ----------
-        points : (m, 3) array
-        directions : (m, 3) or (3,) array
-            The body's outward normals (normalised here).
-
-        Returns
-        -------
-        gap : (m,) array
-            τ: positive when the obstacle lies ahead along *d*.
-        foot : (m, 3) array
-            The intersection points.
-
-        Raises
-        ------
-        GapError
-            (a :class:`~solver.errors.SolverError`) naming the number of
-            nodes whose ray misses the surface or grazes it.
+        ``directions`` (m, 3) or (3,) are the body's outward normals
+        (normalised here). Returns (τ, the intersection points): τ > 0 when
+        the obstacle lies ahead along *d*. GapError naming the number of
+        nodes whose ray misses the surface or grazes it.
         """
         raise NotImplementedError
 

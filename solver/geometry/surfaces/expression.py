@@ -1,10 +1,9 @@
 r"""A surface map :math:`c(s, t) = (x(s,t), y(s,t), z(s,t))` from three
 expressions, with exact first and second derivatives.
 
-The expressions are parsed by the obstacle parser
-(:func:`solver.geometry.curves.parametric.parse_expression`, whitelisted AST, no
-:func:`eval`) in two variables; SymPy differentiates them exactly and
-:func:`sympy.lambdify` makes NumPy functions of both. A graph
+The expressions are parsed by :mod:`solver.geometry.expression` in two
+variables; SymPy differentiates them exactly and :func:`sympy.lambdify`
+makes NumPy functions of both. A graph
 :math:`z = h(x, y)` is the map :math:`c(x, y) = (x, y, h(x, y))` with the
 parameters named ``x`` and ``y``.
 
@@ -36,24 +35,11 @@ def _lambdify(expr, symbols):
 
 
 class SurfaceMap:
-    r"""The map :math:`c(s, t)` and its derivatives up to order two.
-
-    Parameters
-    ----------
-    texts : (str, str, str)
-        Expressions of the three coordinates.
-    variables : (str, str)
-        Names of the two parameters, ``("s", "t")`` or ``("x", "y")``.
-    fields : (str, str, str)
-        Names of the spec fields holding ``texts``, for error messages.
-
-    Raises
-    ------
-    ExpressionError
-        One line naming the field: a bad expression, a derivative too
-        large, or a map that does not depend on both parameters (a curve
-        or a point, not a surface).
-    """
+    r"""The map :math:`c(s, t)` and its derivatives up to order two, from
+    the three coordinates' expressions ``texts`` in the two ``variables``
+    (``("s", "t")`` or ``("x", "y")``). ExpressionError naming the spec
+    field (``fields``): a bad expression, a derivative too large, or a map
+    that does not depend on both parameters (not a surface)."""
 
     def __init__(self, texts, variables=("s", "t"), fields=("x", "y", "z")):
         symbols = [sympy.Symbol(v, real=True) for v in variables]

@@ -1,6 +1,6 @@
 r"""Outward normals of the body's contact surface in 3D.
 
-The 3D counterpart of :mod:`solver.geometry.curves.normals` (thesis §2.1.3): the
+The 3D counterpart of :mod:`solver.geometry.curves.normals` (§2.1.3): the
 contact surface is a set of triangles (the ``contact_faces`` of a format-3
 problem), oriented so that the right-hand rule gives the body's outward
 normal. Three nodal normals:
@@ -25,17 +25,14 @@ normal. Three nodal normals:
     *n* jet gives order *n*). Where the 2-ring has fewer than 12 nodes or the
     fit is ill-conditioned, a quadratic jet (order 2; 7 nodes), else the
     angle-weighted normal. Exact on a plane. As the 2D splines end at
-    corners (:data:`solver.geometry.curves.normals.CORNER_ANGLE`), neighbours whose
-    angle-weighted normal turns by more than that angle from the node's are
+    corners (:data:`~solver.geometry.curves.normals.CORNER_ANGLE`),
+    neighbours whose angle-weighted normal turns by more than that angle from the node's are
     left out of its fit: next to an edge of the body the fit is one-sided,
     and a node on the edge keeps its angle-weighted normal.
 
-Accuracy measured on the unit sphere (a refined icosahedron with every
-node jittered by up to a quarter of the edge length and projected back;
-``tests/test_surface_normals.py``): largest angle error at 2562 / 10242
-nodes (edge 0.08 / 0.04) 1.7e-2 / 9.2e-3 rad angle-weighted (order 1),
-3.6e-4 / 4.9e-5 rad smooth (order 3); on a spherical cap, boundary nodes
-included, the smooth normals stay third order.
+On a jittered sphere the angle-weighted normals converge with order 1
+and the smooth ones with order 3, boundary nodes of a cap included
+(``tests/test_surface_normals.py``; the errors in benchmarks/README.md).
 
 Orientation: the normals follow the faces' orientation; an inward-oriented
 face set gives inward normals (a surface patch alone cannot tell inside from
@@ -130,26 +127,12 @@ def _check_orientation(faces, n):
 
 
 def surface_normals(nodes, faces, contact_nodes, weighting="angle"):
-    """Unit outward body normals at ``contact_nodes``, shape (Nc, 3).
-
-    Parameters
-    ----------
-    nodes : (n, 3) array
-    faces : (n_f, 3) int array
-        Contact-surface triangles (global node ids), right-hand rule gives
-        the outward normal.
-    contact_nodes : (Nc,) int array
-    weighting : {"angle", "area", "smooth"}
-        See the module docstring.
-
-    Raises
-    ------
-    ProblemError
-        Bad shapes or ids, an unknown weighting.
-    GeometryError
-        Zero-area or inconsistently oriented faces, a contact node on no
-        face (or whose facet normals cancel).
-    """
+    """Unit outward body normals (Nc, 3) at ``contact_nodes`` of the
+    contact-surface triangles ``faces`` (node ids, the right-hand rule
+    giving the outward normal), ``weighting`` of the module docstring.
+    ProblemError for bad shapes or ids or an unknown weighting;
+    GeometryError for zero-area or inconsistently oriented faces, or a
+    contact node on no face (or whose facet normals cancel)."""
     if weighting not in WEIGHTINGS:
         raise ProblemError(f"normal weighting: unknown {weighting!r} "
                            f"(known: {', '.join(WEIGHTINGS)})")

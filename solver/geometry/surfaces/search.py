@@ -135,23 +135,10 @@ def _newton_direction(surface_map, u, x, lower, upper):
 
 
 def closest_points(surface_map, points, lower, upper, start):
-    """Safeguarded projected Newton for the closest points (module doc).
-
-    Parameters
-    ----------
-    surface_map : SurfaceMap
-    points : (m, 3) array
-    lower, upper : (2,) or (m, 2) arrays
-        The parameter box (per point or shared).
-    start : (m, 2) array
-        Start parameters inside the box.
-
-    Returns
-    -------
-    u : (m, 2) array
-        Parameters of the closest points.
-    converged : (m,) bool array
-    """
+    """Safeguarded projected Newton for the closest points (module
+    docstring) of ``points`` (m, 3) on ``surface_map`` from the ``start``
+    parameters (m, 2) in the box [``lower``, ``upper``] (shared or per
+    point): (u (m, 2), converged (m,) bool)."""
     m = len(points)
     lower = np.broadcast_to(np.asarray(lower, float), (m, 2))
     upper = np.broadcast_to(np.asarray(upper, float), (m, 2))
