@@ -1,4 +1,4 @@
-r"""The Hertz sphere study of issue 18: one row per mesh, measured against
+r"""The Hertz sphere study: one row per mesh, measured against
 Hertz's closed form (Johnson, *Contact Mechanics*, 1985, §4.2; see
 :mod:`solver.verification`).
 
@@ -15,11 +15,9 @@ traction over node i's hat function; exact for a uniform pressure, the
 patch test). The consistent M⁻¹λ, the L² projection of the traction onto
 the surface hat functions, is the better approximation only where the
 traction is smooth: Hertz's profile has an infinite slope at r = a, and
-the projection's Gibbs overshoot there spreads inwards (measured at a/h 16,
-``notebooks/three_d.ipynb``: RMS 6.2 % of p0, largest nodal pressure
-+6.3 %, against 2.2 % and +0.8 % lumped; its fitted a and p0 are a little
-closer, +0.13 % and +0.36 % against −0.42 % and +0.51 %).
-The lumped pressure stays the default; ``pressure=`` selects the other.
+the projection's Gibbs overshoot there spreads inwards (a larger RMS
+error and peak, ``notebooks/three_d.ipynb``). The lumped pressure stays
+the default; ``pressure=`` selects the other.
 
 What the rows can reach: Hertz's theory (a paraboloid on a half-space) is
 itself off a true sphere by O((a/R)²) (Sneddon's solution,

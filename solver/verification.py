@@ -56,7 +56,7 @@ import functools
 import numpy as np
 
 __all__ = ["hertz_line_contact", "hertz_pressure", "fit_semi_ellipse",
-           "cattaneo_mindlin_stick_half_width", "contact_resultants",
+           "cattaneo_mindlin_stick_half_width",
            "zone_of", "hertz_point_contact", "cattaneo_mindlin_stick_radius",
            "contact_radius_from_moment", "fit_hertz_profile",
            "sphere_flat_contact", "sphere_flat_pressure"]
@@ -105,19 +105,6 @@ def cattaneo_mindlin_stick_half_width(a, Q, P, friction):
     if ratio >= 1:
         raise ValueError(f"Q/(f_c P) = {ratio:.3g} >= 1: full sliding")
     return a * np.sqrt(1.0 - ratio)
-
-
-def contact_resultants(contact_force, friction_force, normal):
-    """Total normal and tangential force on the body from nodal λ, t, ν.
-
-    The obstacle acts on the body with −λν (normal) and t γ (friction along
-    the tangent γ = (−ν_y, ν_x)). Returns the (x, y) resultant.
-    """
-    normal = np.asarray(normal, float)
-    tangent = np.c_[-normal[:, 1], normal[:, 0]]
-    force = (-np.asarray(contact_force)[:, None] * normal
-             + np.asarray(friction_force)[:, None] * tangent)
-    return np.nansum(force, axis=0)
 
 
 def zone_of(x, mask):

@@ -2,27 +2,15 @@ r"""The engine: who does the linear algebra of a contact solve.
 
 The drivers (:mod:`.frictionless.driver`, :mod:`.friction.driver`) and the
 strategies (:mod:`.strategies`) never factorise K themselves: they ask an
-*engine* for what they need, the way a qpsolvers-style front hands a
-problem to a backend. An engine has
-
-* ``name`` ("serial", "petsc") and ``linear_solver`` (what factorises K,
-  recorded in the result);
-* :meth:`~SerialEngine.condensation` — K condensed onto a set of DOFs (S,
-  the condensed load, the back-substitution;
-  :class:`solver.linalg.Condensation`'s interface);
-* :meth:`~SerialEngine.normal_condensation` — K̂ = RKRᵀ condensed onto the
-  normal DOFs of candidate nodes, one factorisation per candidate set
-  (:class:`~.strategies.candidates.NormalCondensation`'s interface);
-* :meth:`~SerialEngine.full_jacobian` — the Jacobian callable of the full
-  system's Newton (the system's own, whose Newton steps SciPy's sparse LU
-  solves, or one whose Newton systems another engine solves), after
-  checking that K is positive definite;
-* :meth:`~SerialEngine.summary` — what the engine reports (None here).
-
-:class:`SerialEngine` runs in this process on one of the
-:mod:`solver.linalg` backends; :class:`solver.mpi.engine.PetscEngine` on
-the ranks of ``mpiexec``. Nothing else in the contact code knows which.
-"""
+*engine*, the way a qpsolvers-style front hands a problem to a backend,
+for K condensed onto a set of DOFs (:meth:`~SerialEngine.condensation`),
+K̂ = RKRᵀ condensed onto candidate normal DOFs
+(:meth:`~SerialEngine.normal_condensation`) or the full system's Jacobian
+(:meth:`~SerialEngine.full_jacobian`), and report ``name``,
+``linear_solver`` and :meth:`~SerialEngine.summary`. :class:`SerialEngine`
+runs in this process on a :mod:`solver.linalg` backend;
+:class:`solver.mpi.engine.PetscEngine` on the ranks of ``mpiexec``.
+Nothing else in the contact code knows which."""
 
 from ..linalg import Condensation, resolve
 

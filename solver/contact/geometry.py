@@ -2,42 +2,33 @@ r"""Per-node contact frames and gaps: all the contact systems see (§2.1).
 
 A :class:`ContactGeometry` holds, at the free contact nodes, the DOFs, the
 initial gap s along the unit normal ν (from the body towards the obstacle)
-and the d − 1 tangents (:func:`solver.geometry.frames.tangent_basis`; in 2D
-the thesis's γ = (−ν_y, ν_x)). :func:`rotation` builds the sparse **R** of
-(58)-(60) from them for any d: at contact node i with DOFs (a_i, …, c_i)
-its rows are the tangents, then the normal, so that (Ru) holds the
-tangential components first and the normal one last; R is the identity
-elsewhere. The contact systems never ask the dimension anything else.
+and the d − 1 tangents (:func:`solver.geometry.frames.tangent_basis`).
+:func:`rotation` builds the sparse **R** of (58)-(60) from them for any d:
+at contact node i its rows are the tangents, then the normal; R is the
+identity elsewhere. The contact systems never ask the dimension anything
+else.
 
 Rollers (symmetry planes). A contact node on a symmetry plane of a half
 or quarter model has a Dirichlet DOF, u_c = 0, along the plane's normal
-e_c. It touches the obstacle like any other node when its contact normal
-ν lies in the plane, |ν_c| ≤ :data:`ROLLER_TOLERANCE` for every
-constrained component c: the constraint then acts only along a tangent,
-where a frictionless contact exerts no force, and the node's normal
-contact force is half (quarter) that of the whole model there. Such a
-node is a *roller*; with ``contact_geometry(..., rollers=True)`` it takes
-part in contact, otherwise (and always when every DOF is fixed) it is a
-support with λ = 0.
+e_c. When its contact normal lies in the plane (|ν_c| ≤
+:data:`ROLLER_TOLERANCE`) the constraint acts only along a tangent, where
+a frictionless contact exerts no force, and the node's normal contact
+force is half (quarter) that of the whole model there. Such a *roller*
+takes part with ``contact_geometry(..., rollers=True)``; otherwise (and
+always when every DOF is fixed) it is a support with λ = 0.
 
-Oblique nodes. When a constrained direction has a share of ν (|ν_c| >
-:data:`ROLLER_TOLERANCE`, e.g. a plane-strain slab, u_z = 0, against an
-obstacle tilted in z), the contact condition s − ν·u ≥ 0 reads, with the
-prescribed ū_c, s' − n'·u_f ≥ 0 on the free components: n' = ν_f/|ν_f|,
-s' = (s − ν_c·ū_c)/|ν_f|. The node takes part with that normal and gap
-(exact for frictionless contact: the support carries the force's part
-along e_c; its λ is the force along n'); it is marked ``oblique``, and
-friction, whose Coulomb cone such a projection does not preserve, refuses
-it. A node whose normal lies along its constrained directions (|ν_f| <
-:data:`OBLIQUE_MIN`) cannot touch in its free directions: it is a
-support. Its frame, as every roller's: the constrained directions e_c
-first among the tangents, then the tangents orthonormal in the free subspace, then ν with ν_c set to 0
-exactly (renormalised); its row DOFs ``dofs`` hold −1 for the e_c rows
-(they act on no unknown: u_c is prescribed), the free DOFs (in component
-order) for the others, the normal last. ``node_dofs`` keeps the node's
-own (x, y[, z]) DOFs (−1 = Dirichlet), the columns of R. For a node
-whose DOFs are all free the two are the same and nothing changes.
-"""
+Oblique nodes. When a constrained direction has a share of ν (e.g. a
+plane-strain slab, u_z = 0, against an obstacle tilted in z), s − ν·u ≥ 0
+reads, with the prescribed ū_c, s' − n'·u_f ≥ 0 on the free components:
+n' = ν_f/|ν_f|, s' = (s − ν_c·ū_c)/|ν_f|. The node takes part with that
+normal and gap (exact without friction: the support carries the force's
+part along e_c); it is marked ``oblique``, and friction, whose Coulomb
+cone such a projection does not preserve, refuses it. A node whose normal
+lies along its constrained directions (|ν_f| < :data:`OBLIQUE_MIN`) is a
+support. A roller's frame (:func:`solver.geometry.frames.roller_frames`)
+has the e_c first among the tangents, ν with ν_c set to 0; its row DOFs
+``dofs`` hold −1 for the e_c rows (u_c is prescribed), ``node_dofs`` its
+own (x, y[, z]) DOFs, the columns of R."""
 
 import numpy as np
 import scipy.sparse as sp
@@ -73,36 +64,25 @@ class ContactGeometry:
     ----------
     index : (Nca,) int
         Rows of ``problem.contact_dofs`` (positions along Γc) of the nodes.
-    dofs : (Nca, d) int
-        The reduced DOF of each row of the node's frame (tangents, then
-        the normal): −1 for a roller's constrained tangents e_c. Equal to
-        ``node_dofs`` for a node whose DOFs are all free.
-    node_dofs : (Nca, d) int
-        The node's own reduced DOFs (x, y[, z]), −1 where Dirichlet.
-    gap : (Nca,) float
-        Initial signed gap s along ``normal`` (negative = penetration).
-    normal : (Nca, d) float
-        Unit normals ν from the body towards the obstacle.
+    dofs, node_dofs : (Nca, d) int
+        The reduced DOF of each row of the node's frame (tangents, then the
+        normal; −1 for a roller's constrained tangents e_c), and the node's
+        own DOFs (x, y[, z]; −1 where Dirichlet): equal for a free node.
+    gap, normal, tangents : (Nca,), (Nca, d), (Nca, d − 1, d) float
+        Initial signed gap s along the unit normal ν (from the body towards
+        the obstacle; s < 0: penetration) and orthonormal tangents.
     foot : (Nca,) or (Nca, d) float, or None
         Where the gap is measured to: the obstacle parameter t (2D) or the
         point on the obstacle surface (3D).
-    mode : str
-        ``"obstacle"``, ``"body"`` or ``"given"`` (discrete problems).
-    dim : int
-        d, the number of columns of ``normal``.
-    tangents : (Nca, d − 1, d) float
-        Orthonormal tangents (default :func:`tangent_basis` of ``normal``).
-    rollers : (Nca,) bool
-        Nodes with a Dirichlet component (``node_dofs`` has a −1).
-    oblique : (Nca,) bool
-        Rollers whose constrained directions had a share of the normal
-        (module docstring): gap and normal projected.
+    mode, dim : str, int
+        ``"obstacle"``, ``"body"`` or ``"given"`` (discrete problems); d.
+    rollers, oblique : (Nca,) bool
+        Nodes with a Dirichlet component; those whose constrained directions
+        had a share of the normal (gap and normal projected).
     excluded : dict
-        The nodes of Γc that take no part: ``index`` (positions along
-        Γc), ``reason`` (one string per node), ``gap`` and ``normal``
-        (NaN where not computed), for the check that they do not
-        penetrate (:func:`solver.contact.verify.verify_excluded`).
-    """
+        The nodes of Γc that take no part: ``index``, ``reason``, ``gap`` and
+        ``normal`` (NaN where not computed), for
+        :func:`solver.contact.verify.verify_excluded`."""
 
     def __init__(self, index, dofs, gap, normal, foot=None, mode="given",
                  tangents=None, node_dofs=None, oblique=None):

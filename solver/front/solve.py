@@ -43,53 +43,46 @@ def solve(problem, *, friction=None, method=None, system="auto", start=None,
         steps (thesis §5). Without it the problem is frictionless (67).
     method : {"min", "fb"}
         Damped Newton with φ_min (§2.2.1) or the Fischer–Burmeister method
-        (§2.2.2). Default "min" frictionless, "fb" with friction.
+        (§2.2.2). Default "min"; "fb" for the thesis's friction formulation.
     system : {"auto", "condensed", "full"}
         "condensed": factorise K once and iterate on the system condensed
         exactly onto Γc; "full": the thesis's system in all unknowns, one
-        sparse LU per Newton iteration (the iteration counts of Tables 1
-        and 2). "auto": condensed, but full for the thesis's friction
-        formulation.
+        sparse LU per Newton iteration (the counts of Tables 1 and 2).
+        "auto": condensed, but full for the thesis's friction formulation.
     start : {"nested", "free"}, frictionless only
         "nested" (the 2D default when condensed onto Γc): solve on ever
         coarser subsets of Γc first; "free": from no contact force,
         u = K⁻¹f. The full system starts from the thesis's u = 0.
-    formulation : {"projection", "thesis"}, friction only
+    formulation, coulomb : friction only
         The projection onto the Coulomb set (default; 2D and 3D) or the
-        thesis's split (110)/(111) (2D).
-    coulomb : {"lagged", "implicit"}, friction only
-        The friction bound from the previous step's normal force (the
-        thesis, default) or from the current one.
+        thesis's split (110)/(111) (2D); the bound from the previous step's
+        normal force ("lagged", the thesis, default) or the current one
+        ("implicit").
     steps : int, friction only
         Load steps (default 100); a problem with a load path uses its own.
     gap : {"obstacle", "body"}, rigid obstacle only
         Gaps and normals from the obstacle (§2.1.1, default) or along the
         body's normals (§2.1.2-2.1.3).
-    backend : {"auto", "superlu", "pardiso", "cholmod"}
-        The serial engine's sparse direct solver (:mod:`solver.linalg`).
-    engine : {"serial", "petsc"} or an engine object, optional
-        "petsc": the PETSc engine on the ranks of ``mpiexec`` (call inside
-        :func:`solver.mpi.engine.spmd`; docs/mpi.md).
-    ksp : {"mumps", "gamg"}, petsc engine with the full system only
-        Each Newton system by MUMPS or by CG + GAMG.
+    backend, engine, ksp
+        The serial engine's sparse direct solver ("auto", "superlu",
+        "pardiso", "cholmod"; :mod:`solver.linalg`); "petsc" for the PETSc
+        engine on the ranks of ``mpiexec`` (inside
+        :func:`solver.mpi.engine.spmd`; docs/mpi.md) or an engine object;
+        its full system's Newton systems by "mumps" or CG + "gamg".
     tol : float
-        Relative tolerance of the stopping test (units-free; see
+        Relative tolerance of the stopping test (units-free;
         :mod:`solver.contact.verify`). Default 1e-10.
     max_iter : int
         Newton iterations at most (per load step with friction; all levels
         and rounds of a frictionless solve together).
     gap_scale : float, optional
-        c in the gap rows c(s − u_n): the same solution, another Newton
-        path.
+        c in the gap rows c(s − u_n): the same solution, another path.
     search_interval : (t0, t1), 2D rigid obstacle only
-        The obstacle parameter interval searched for the gaps (sets it on
-        ``problem``'s obstacle).
-    candidates : bool, optional
+        The obstacle parameter interval searched for the gaps.
+    candidates, margin : optional
         Condense onto the contact nodes that can touch only (default: in
         3D, and on the petsc engine without friction), enlarged until no
-        other node penetrates.
-    margin : float, optional
-        The candidates' screening margin, a length.
+        other node penetrates; the screening margin, a length.
     rollers : bool, optional
         Whether contact nodes with Dirichlet components (symmetry planes)
         take part in contact as rollers (default True), or are supports.
@@ -100,21 +93,18 @@ def solve(problem, *, friction=None, method=None, system="auto", start=None,
     options : dict, optional
         Options of the Newton method (:func:`solver.ncp.solve_ncp`).
     geometry : ContactGeometry, optional
-        Precomputed gaps and frames (:func:`solver.contact.
-        contact_geometry`).
-    progress, on_step : callable, optional, friction only
-        Called with each completed step's record, and with its fields.
-    keep_steps : bool, friction only
-        Keep the per-step arrays in the result (default True).
+        Precomputed gaps and frames (:func:`solver.contact.contact_geometry`).
+    progress, on_step, keep_steps : friction only
+        Called with each completed step's record, and with its fields;
+        keep the per-step arrays in the result (default True).
 
     Returns
     -------
     ContactResult
         ``success``, ``status``, ``message``, counts (``nit``, ``njev``,
-        ``nfev``), the answer (``u``, ``displacement``, ``contact_force``,
-        ``contact_pressure``, …; per load step with friction), its
-        ``verification`` and ``stopping`` test, and what ran
-        (``linear_solver``, ``condensation``, ``start``, ``engine``).
+        ``nfev``), the answer (docs/results.md; per load step with
+        friction), its ``verification`` and ``stopping`` test, and what
+        ran (``linear_solver``, ``condensation``, ``start``, ``engine``).
 
     Raises
     ------
@@ -122,8 +112,7 @@ def solve(problem, *, friction=None, method=None, system="auto", start=None,
         For an option that does not apply to the problem or a bad value
         (one line naming it); :class:`~solver.errors.ProblemError` if K
         is not positive definite or the geometry cannot be built. A solve
-        that does not converge raises nothing: see ``success``.
-    """
+        that does not converge raises nothing: see ``success``."""
     given = dict(locals())
     given.pop("problem")
     return prepare(problem, **given).run()

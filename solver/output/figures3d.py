@@ -1,14 +1,13 @@
 r"""Figures of a 3D solve: the contact pressure against the radius, with the
 Hertz profile.
 
-For a sphere pressed on a half-space (Hertz 1882; Johnson, *Contact
-Mechanics*, 1985, §4.2) the pressure is
+For a sphere pressed on a half-space (Hertz; a and p_0 of
+:func:`solver.verification.hertz_point_contact`) the pressure is
 
 .. math::  p(r) = p_0 \sqrt{1 - r^2/a^2} \quad (r \le a),
-           \qquad p(r) = 0 \quad (r > a),
+           \qquad p(r) = 0 \quad (r > a).
 
-with :math:`a = (3PR/(4E^*))^{1/3}`, :math:`p_0 = 3P/(2\pi a^2)`. The figure
-draws the nodal pressures against their distance *r* from the axis of the
+The figure draws the nodal pressures against their distance *r* from the axis of the
 contact and, given *a* and :math:`p_0`, that curve (:func:`pressure_vs_radius`
 from arrays; :func:`plot_pressure_vs_radius` from a problem and its result;
 :func:`write_figures3d` for ``--plots``). Which curve, which axis and why
@@ -34,31 +33,15 @@ __all__ = ["hertz_pressure", "contact_radius", "pressure_vs_radius",
 def pressure_vs_radius(target, radius, p, a=None, p0=None, title=None,
                        xlabel="distance from the contact axis r [mm]",
                        zoom=False):
-    """Nodal contact pressure against the radius, with the Hertz curve.
-
-    Parameters
-    ----------
-    target : matplotlib Axes, path or None
-        Axes to draw into, or a path to save a new figure at (PNG), or
-        None for a new figure that is not saved.
-    radius, p : (m,) arrays
-        Distance of each contact node from the contact axis, and its
-        pressure (contact force over nodal area).
-    a, p0 : float, optional
-        Hertz contact radius and peak pressure; both or neither. Given, the
-        curve :math:`p_0\\sqrt{1 - r^2/a^2}` is drawn over [0, 1.2 max(a, r)]
-        and *a* is marked.
-    title : str, optional
-    xlabel : str
-        What the radius is measured from.
-    zoom : bool
-        With a new figure: when the loaded nodes (and *a*) lie within less
-        than half of the radii, the main panel shows [0, that radius] and
-        a short panel below all radii (:func:`.figures.zoom_window`).
-
-    Returns
-    -------
-    matplotlib.figure.Figure
+    """The Figure of the nodal contact pressures ``p`` against their
+    distance ``radius`` from the contact axis, drawn into ``target`` (an
+    Axes, or a path to save a new figure at, or None). Given Hertz's ``a``
+    and ``p0`` (both or neither), the curve :math:`p_0\\sqrt{1 - r^2/a^2}`
+    over [0, 1.2 max(a, r)], *a* marked. ``xlabel`` says what the radius
+    is measured from. With ``zoom`` and a new figure, when the loaded
+    nodes (and *a*) lie within less than half of the radii, the main panel
+    shows [0, that radius] and a short panel below all radii
+    (:func:`.figures.zoom_window`).
     """
     radius = np.asarray(radius, dtype=float).ravel()
     p = np.asarray(p, dtype=float).ravel()
@@ -119,23 +102,11 @@ def pressure_vs_radius(target, radius, p, a=None, p0=None, title=None,
 
 
 def contact_radius(points, pressure, center=None, axis=None):
-    """Distance of each point from the contact axis.
-
-    Parameters
-    ----------
-    points : (m, 3) array
-        The contact nodes.
-    pressure : (m,) array
-        Their pressures.
-    center : (3,) array, optional
-        A point of the axis; default the node of largest pressure (the
-        axis of a Hertz-like contact, also in a quarter model, where a
-        centroid would miss the axis).
-    axis : (3,) array, optional
-        Direction of the axis; default the direction in which the loaded
-        nodes (p > 0) spread least (the normal of a flat contact patch),
-        or z with fewer than three loaded nodes.
-    """
+    """Distance of each contact node ``points`` (m, 3) from the contact
+    axis through ``center`` (default the node of largest ``pressure``: the
+    axis of a Hertz-like contact, also in a quarter model, where a
+    centroid would miss it) along ``axis`` (default the direction in which
+    the loaded nodes spread least, or z with fewer than three)."""
     points = np.asarray(points, dtype=float)
     pressure = np.asarray(pressure, dtype=float)
     if center is None:

@@ -50,31 +50,13 @@ R_TOLERANCE = 0.1
 
 @dataclass(frozen=True)
 class HertzReference:
-    """What the pressure-against-radius figure draws.
-
-    Attributes
-    ----------
-    center, axis : (3,) arrays or None
-        A point of the contact axis on the obstacle, and its unit
-        direction (from the body towards the obstacle); None when the
-        first contact is not a point (the radius is then measured from the
-        node of largest pressure).
-    planes : tuple of (int, float)
-        The symmetry planes x_k = c found, as (k, c).
-    copies : int
-        2 ** len(planes): the copies of the model in the whole body.
-    force : float or None
-        P of the whole body along the axis.
-    radius : float or None
-        R* used (None: no curve).
-    curvature_radii : tuple of float
-        The initial gap's principal curvature radii at the centre.
-    a, p0 : float or None
-        Hertz's contact radius and peak pressure; None when no curve is
-        drawn.
-    note : str
-        Why the curve is drawn as it is, or why not (for the title).
-    """
+    """What the pressure-against-radius figure draws: ``center`` and
+    ``axis`` of the contact (None when the first contact is not a point),
+    the symmetry ``planes`` (k, c) and the model's ``copies`` in the whole
+    body (2 ** len(planes)), the whole body's ``force`` P along the axis,
+    the ``radius`` R* used and the gap's ``curvature_radii``, Hertz's ``a``
+    and ``p0`` (None: no curve), and a ``note`` for the title: why the
+    curve is drawn as it is, or why not."""
 
     center: np.ndarray = None
     axis: np.ndarray = None

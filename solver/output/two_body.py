@@ -1,14 +1,8 @@
-"""Outputs of a two-body (mortar) solve, :mod:`solver.contact.two_body`.
-
-``result.npz``: the frictionless or friction arrays as for a rigid
-obstacle (the Newton history of a frictionless solve included; friction:
-per step, first axis) plus ``traction`` (on the slave
-surface, per slave node), ``mortar_D``, ``covered``, ``weighted_gap``,
-``body`` (per node) and ``v`` (the solved variables). ``result.vtu``: both
-bodies in one file, with cell data ``body`` (ParaView: *Threshold* on it
-shows one body) and point data ``body`` and ``traction`` besides a rigid
-obstacle's fields (friction runs: the last completed step). Figures: the interface
-pressure λ_j and traction along the slave surface, and the deformed bodies.
+"""Outputs of a two-body (mortar) solve, :mod:`solver.contact.two_body`:
+the arrays and VTK fields of docs/results.md ("Two bodies, added"; both
+bodies in one ``result.vtu``, cell data ``body``), and the figures of the
+interface pressure λ_j and traction along the slave surface and of the
+deformed bodies.
 """
 
 import numpy as np

@@ -1,17 +1,11 @@
 """VTK output for ParaView (written with meshio): the deformed body of a
 frictionless solve (``result.vtu``) and one file per load step of a
-friction run with a ``result.pvd`` index.
-
-Cells: triangles in 2D, tetrahedra (meshio ``"tetra"``) when the nodes have
-3 coordinates. Point data: ``u`` (displacement, 3 components in 2D too, so
-that ParaView's *Warp By Vector* applies it), and on the contact nodes (zero
-elsewhere) ``contact_pressure`` (λ_i / D_ii), ``in_contact``; friction steps
-add ``friction_traction``, ``stick`` and ``slip``; ``initial_gap`` is NaN off
-Γc. In 3D the friction traction, (Nc, 2) components in per-node tangent
-frames, is written as the 3-vector Σ_k g_k τ_k in x, y, z when the frames
-are given (:func:`step_mesh`); another contact field given per contact node
-as a vector (shape (Nc, k)) is written as a k-component point field. 2D
-files are unchanged by the 3D support: g_t is a scalar along γ.
+friction run with a ``result.pvd`` index; the point data are listed in
+docs/results.md ("VTK"). Cells: triangles in 2D, tetrahedra (meshio
+``"tetra"``) in 3D. A contact field given per contact node as a vector
+(shape (Nc, k)) is written as a k-component point field; the 3D friction
+traction, components in per-node tangent frames, as the 3-vector
+Σ_k g_k τ_k when the frames are given (:func:`step_mesh`).
 """
 
 import numpy as np

@@ -31,18 +31,11 @@ Notation (thesis §3.2): Ñ reduced DOFs (Dirichlet DOFs eliminated), Nc
 contact nodes. The thesis orders contact nodes first; this format does not
 need to: ``contact_dofs`` says where each contact node's DOFs are.
 
-Versions
---------
-Version 1 is the 2D layout. Version 3 adds 3D (d = 3) and is written for
-both dimensions; a 2D file of version 3 has exactly the keys of version 1.
-Version 2 was never written; a file marked 2 reads like a 2D file of
-version 1 or 3. Files of all three versions load unchanged; only version 3
-may carry d = 3. Version 4 adds two elastic bodies in contact
-(2D only): ``body`` per node and the interface segments ``mortar_slave``,
-``mortar_master`` (with optional pair indices) instead of an obstacle; a
-file without them has exactly the keys of version 3, and versions 1 to 3
-load unchanged. Only version 4 may carry the two-body keys
-(:mod:`solver.problem.two_body` checks them).
+Versions (docs/npz-format.md, "Versions"): 1 is the 2D layout, 3 adds 3D
+(d = 3), 4 two elastic bodies in contact (2D; ``body`` per node and the
+interface segments ``mortar_slave``, ``mortar_master`` instead of an
+obstacle, :mod:`solver.problem.two_body`); 2 was never written. A file
+without the newer keys reads the same under every version.
 
 Keys (format version 4)
 -----------------------

@@ -11,7 +11,8 @@ within :data:`COORDINATE_LIMIT` (shared with the obstacles, defined in
 as large as its distance from the origin (a body of size 20 shifted by
 1e17 has no two distinct node positions left), a contact boundary of at
 least two nodes, no two consecutive contact nodes at one point, no
-zero-area triangle on Γc (:func:`solver.geometry.curves.normals.boundary_normals`).
+zero-area triangle on Γc
+(:func:`~solver.geometry.curves.normals.boundary_normals`).
 Failures raise :class:`~solver.errors.ProblemError` naming the key and the
 nodes. A two-body file (``mortar_slave``, format version 4) has no obstacle
 and its slave chain is checked by :mod:`solver.problem.two_body`.
@@ -52,12 +53,9 @@ def _check_coordinates(nodes):
 
 
 def validate_mesh(arrays, n, contact_dofs):
-    """The mesh keys, the geometry and the obstacle of a ``mesh`` file.
-
-    Returns the fields nodes, cells, dof_map, u_prescribed, contact_nodes
-    and obstacle (and in 3D contact_faces) of a
-    :class:`~solver.problem.ContactProblem`.
-    """
+    """The mesh keys, the geometry and the obstacle of a ``mesh`` file: the
+    fields nodes, cells, dof_map, u_prescribed, contact_nodes, obstacle
+    (3D: contact_faces) of a :class:`~solver.problem.ContactProblem`."""
     d = contact_dofs.shape[1]
     nodes = check_array(arrays, "nodes", "float", 2, (None, d))
     n_nodes = len(nodes)

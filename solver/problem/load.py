@@ -17,24 +17,13 @@ __all__ = ["load_problem", "save_problem"]
 
 
 def load_problem(path):
-    """Read and validate a problem file.
+    """The :class:`ContactProblem` of the ``.npz`` file at ``path`` (written
+    by :func:`save_problem`), read safely (:mod:`.archive`) and validated.
 
-    Parameters
-    ----------
-    path : str or os.PathLike
-        A ``.npz`` file written by :func:`save_problem`.
-
-    Returns
-    -------
-    ContactProblem
-
-    Raises
-    ------
-    ProblemError
-        If the file cannot be read, is not an ``.npz`` archive, holds pickled
-        objects or members the format does not name, declares sizes its
-        dimensions do not allow, or any key is missing, unexpected or
-        malformed.
+    ProblemError if the file cannot be read, is not an ``.npz`` archive,
+    holds pickled objects or members the format does not name, declares
+    sizes its dimensions do not allow, or any key is missing, unexpected
+    or malformed.
     """
     path = os.fspath(path)
     try:

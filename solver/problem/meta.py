@@ -58,17 +58,10 @@ def _float(text):
 
 
 def parse_meta(text):
-    """Parse the ``meta`` text into a dict.
-
-    Raises
-    ------
-    ProblemError
-        ``"meta: ..."`` if the text is not a JSON object, nests deeper than
-        :data:`~solver.problem.format.MAX_META_DEPTH`, holds NaN, Infinity,
-        an overflowing number, an integer of more than
-        :data:`~solver.problem.format.MAX_INT_DIGITS` digits, or a string
-        that is not valid Unicode (a lone surrogate).
-    """
+    """The ``meta`` text as a dict; ProblemError ``"meta: ..."`` for each
+    of the module docstring's hostile inputs (limits
+    :data:`~solver.problem.format.MAX_META_DEPTH`,
+    :data:`~solver.problem.format.MAX_INT_DIGITS`)."""
     depth = _depth(text)
     if depth > MAX_META_DEPTH:
         _fail(f"nests {depth} levels deep (at most {MAX_META_DEPTH})")

@@ -12,11 +12,7 @@ instead of exiting 0:
   factorisation with the pivot test every solver applies;
 * the gaps and normals of the obstacle (thesis §2.1) in the solve's gap
   mode at every contact node that can take part (every node with a free
-  DOF, as a frictionless solve takes them; a 2D friction run leaves out
-  the nodes with a Dirichlet component), by the geometry functions the
-  solvers call (:func:`solver.geometry.curves.gap_from_obstacle`,
-  :func:`~solver.geometry.curves.gap_along_normals`, the surface's
-  ``gap_along_obstacle_normal`` and ``gap_along_rays``). Cheap next to the
+  DOF), by the geometry functions the solvers call. Cheap next to the
   factorisation: one search over the contact nodes.
 
 A discrete problem carries its gaps, and a two-body problem's mortar gaps
@@ -43,21 +39,9 @@ def checks_made(problem, gap="obstacle"):
 
 
 def refusals(problem, gap="obstacle"):
-    """The one-line reasons for which a solve of ``problem`` would stop
-    before iterating (empty: it would start).
-
-    Parameters
-    ----------
-    problem : ContactProblem
-        A validated problem (from :func:`~solver.problem.load_problem`).
-    gap : {"obstacle", "body"}
-        The gap mode of the solve (``--gap``).
-
-    Returns
-    -------
-    list of str
-        Each as the solve would print it after ``error:``.
-    """
+    """The one-line reasons (each as the solve would print it after
+    ``error:``) for which a solve of ``problem`` in the ``gap`` mode would
+    stop before iterating; empty: it would start."""
     if gap not in GAP_MODES:
         raise SolverError(f"gap mode must be one of {GAP_MODES}, got {gap!r}")
     found = []

@@ -41,14 +41,12 @@ tangential equilibrium row. c_t > 0 only changes the Newton path.
 
 In 3D (any d) g_t ∈ R^{d−1} per node, in the tangent basis
 ``geometry.tangents``, and the clip becomes the projection onto the disc
-|g_t| ≤ f_c p (Alart & Curnier 1991; Hüeber, Stadler & Wohlmuth 2008):
-``friction_traction`` is then (Nc, d − 1). The thesis's split is 2D-only
-(it splits a scalar slip) and is refused there, and with roller nodes. The
-reduced Newton of :mod:`.newton` is 2D-only: in 3D each Newton
-step of the condensed system is solved with the tractions eliminated
-(:mod:`.disc`), by default on the candidate nodes only
-(:mod:`solver.contact.strategies.friction_candidates`; ``candidates=False``: every DOF of the free
-contact nodes); the full system takes a sparse LU of its whole Jacobian.
+|g_t| ≤ f_c p (:mod:`.projection`). The thesis's split is 2D-only (it
+splits a scalar slip) and refuses roller nodes. The condensed Newton
+systems are reduced in 2D (:mod:`.newton`) and have the tractions
+eliminated in 3D (:mod:`.disc`, by default on the candidate nodes,
+:mod:`solver.contact.strategies.friction_candidates`); the full system
+takes a sparse LU of its whole Jacobian.
 
 Rollers (symmetry planes, :mod:`~solver.contact.geometry`): at a contact
 node with u_c = 0 along the plane normal e_c and ν in the plane, the row
@@ -105,55 +103,30 @@ def run_friction(problem, geometry, engine, friction, steps=None,
                  keep_steps=True, candidates=False, margin=None):
     r"""Quasi-static Coulomb friction in load steps (thesis §5, (110)/(111)).
 
-    The driver behind :func:`solver.solve` with ``friction``, whose
+    The driver behind :func:`solver.solve` with ``friction`` f_c, whose
     docstring explains the options; every option arrives resolved and
-    checked (:mod:`solver.front`). Here:
+    checked (:mod:`solver.front`), on the ``geometry`` of the contact nodes
+    that take part, with ``engine``'s linear algebra. Here:
 
-    Parameters
-    ----------
-    problem : ContactProblem
-    geometry : ContactGeometry
-        Gaps and frames of the contact nodes that take part.
-    engine
-        Does the linear algebra (:mod:`solver.contact.engine`).
-    friction : float
-        Coefficient of friction f_c ≥ 0.
-    steps : int, optional
-        Number of load steps κc; step κ applies κ/κc · f (default 100).
-        A problem with a ``load_path`` follows its stages instead (their
-        steps, loads and friction multipliers); ``steps`` must then be None.
-    tol, max_iter, options
-        Per step: the stopping test is relative, ‖[E; min(A, k̄B)]‖₂
-        (force units, the system's ``error``) ≤
-        tol·max(‖f‖₂, ‖f_κ‖₂, ‖λ⁺‖₂), with f the full load and f_κ the
-        step's; every converged step is then verified
-        (:func:`~solver.contact.verify.verify_contact`, the Coulomb bound
-        |t| ≤ f_c λ on nodal forces included), and the last one also
-        against the original K and f when condensed. A step that fails
-        verification ends the run like one that does not converge (status
-        6).
-    gap_scale : float, optional
-        c of the gap rows: default 1 (the thesis) on the full system,
-        :data:`GAP_WEIGHT`·k̄ on the condensed one (every row of Φ then in
-        force units, so that its iterates do not depend on the units).
-    condense : bool
-        True: factorise K once and solve every step's system condensed
-        exactly onto Γc; False: the system in all unknowns, one sparse LU
-        per iteration (the iteration counts of Table 2).
-    on_step : callable, optional
-        ``on_step(fields)`` once per completed step, in order, with that
-        step's arrays. On the condensed system the displacements of up to
-        :data:`~.stream.BATCH` steps are recovered in one solve, so calls
-        may lag the steps; an exception (KeyboardInterrupt included) still
-        delivers every completed step before it propagates.
-    keep_steps : bool
-        Keep the per-step arrays in the result (default); False keeps only
-        the records (stream the steps with ``on_step`` instead).
-    candidates : bool
-        Condense onto the d DOFs of candidate nodes only
-        (:mod:`~solver.contact.strategies.friction_candidates`).
-    margin : float, optional
-        The candidates' round-0 gap margin δ₀.
+    ``steps`` κc: step κ applies κ/κc · f (default 100); a problem with a
+    ``load_path`` follows its stages (steps, loads, friction multipliers)
+    and takes no ``steps``. ``tol``, ``max_iter``, ``options`` are per step:
+    ‖[E; min(A, k̄B)]‖₂ (the system's ``error``) ≤
+    tol·max(‖f‖₂, ‖f_κ‖₂, ‖λ⁺‖₂); every converged step is then verified
+    (:func:`~solver.contact.verify.verify_contact`, the Coulomb bound
+    |t| ≤ f_c λ included), the last one also against the original K and f
+    when condensed, and a step that fails ends the run (status 6).
+    ``gap_scale`` c defaults to 1 on the full system, :data:`GAP_WEIGHT`·k̄
+    condensed (Φ then in force units: iterates independent of the units).
+    ``condense``: every step's system condensed exactly onto Γc (one
+    factorisation of K), or in all unknowns (the counts of Table 2).
+    ``on_step(fields)`` is called once per completed step, in order; on the
+    condensed system up to :data:`~.stream.BATCH` steps late (their
+    displacements recovered in one solve), and an exception (KeyboardInterrupt
+    included) still delivers every completed step first. ``keep_steps``
+    False keeps only the records. ``candidates``: condense onto the d DOFs of
+    candidate nodes only (:mod:`~solver.contact.strategies.
+    friction_candidates`, round-0 margin ``margin``).
 
     Returns
     -------
@@ -163,8 +136,7 @@ def run_friction(problem, geometry, engine, friction, steps=None,
         per-step arrays (first axis: the completed steps) and the per-step
         ``records`` listed in docs/results.md ("A friction run"),
         ``verification`` (the worst of every completed step's checks) and
-        ``stopping`` (that of the step with the largest relative measure).
-    """
+        ``stopping`` (that of the step with the largest relative measure)."""
     path = problem.load_steps(steps)
     steps = problem.n_load_steps(steps)
     start = time.perf_counter()

@@ -26,26 +26,13 @@ class FrictionSystem:
     """Residual and Jacobian of one load step, for :func:`solver.ncp.
     solve_ncp`: the part both formulations share.
 
-    Parameters
-    ----------
-    K, f : reduced stiffness and full load.
-    geometry : ContactGeometry
-        Gaps and normals at the free contact nodes and the rollers (the
-        projection form only: a roller's g_t is 0 along its constrained
-        tangents e_c and that tangential equilibrium row is left out, so
-        that its Coulomb set is the disc cut to the free tangents,
-        :mod:`solver.contact.friction.driver`).
-    lumped : (Nca,) array
-        D_ii = Σ_j M_ij at the free contact nodes.
-    friction : float
-        f_c ≥ 0.
-    coulomb : {"lagged", "implicit"}
-    gap_scale : float
-        c in the normal pair's B = c(s − YRu) (1 = thesis).
-    stiffness : float, optional
-        k̄ of the stopping measure and of c_t (default: mean of diag K at
-        the contact DOFs; a condensed system passes that of the full K).
-    """
+    K and f are the reduced stiffness and the full load; ``geometry`` holds
+    the gaps and frames of the free contact nodes and (projection form only)
+    the rollers; ``lumped`` D_ii = Σ_j M_ij there; ``friction`` f_c ≥ 0;
+    ``coulomb`` "lagged" or "implicit"; ``gap_scale`` c of the normal pair's
+    B = c(s − YRu) (1 = thesis); ``stiffness`` k̄ of the stopping measure and
+    of c_t (default: mean of diag K at the contact DOFs; a condensed system
+    passes that of the full K)."""
 
     #: "thesis" or "projection" (:data:`FORMULATIONS`)
     formulation = None

@@ -51,54 +51,25 @@ def run_frictionless(problem, geometry, engine, method="min", tol=1e-10,
 
     The driver behind :func:`solver.solve` for frictionless contact, whose
     docstring explains the options; every option arrives resolved and
-    checked (:mod:`solver.front`). Here:
+    checked (:mod:`solver.front`), on the ``geometry`` of the contact nodes
+    that take part, with ``engine``'s linear algebra. Here:
 
-    Parameters
-    ----------
-    problem : ContactProblem
-    geometry : ContactGeometry
-        Gaps and frames of the contact nodes that take part
-        (:func:`~solver.contact.geometry.contact_geometry`).
-    engine
-        Does the linear algebra (:mod:`solver.contact.engine`).
-    tol : float
-        Relative tolerance, independent of units: stop when
-        ‖[E; min(λ, k̄(s − u_n))]‖₂ ≤ tol·F with the force scale
-        F = max(‖f‖₂, ‖λ⁺‖₂) of the iterate (:mod:`solver.contact.verify`;
-        :meth:`FrictionlessSystem.error`, :meth:`FrictionlessSystem.scale`).
-        Scaling K and f by any factor, or all lengths, gives the same
-        verdict; the condensed and nested solves (c = k̄) also take the
-        same iterates. The full system's thesis choice c = 1 compares a
-        force with a length in φ(λ, c(s − u_n)), so its Newton path (not
-        its verdict or answer) depends on the units. A converged answer is
-        then verified (see Returns).
-    max_iter : int
-        Maximum number of Newton iterations (all levels of a nested start
-        and all rounds of candidates together).
-    x0 : (Ñ,) array, optional
-        Starting displacement (``start="x0"``; read on the condensed DOFs
-        only when condensed).
-    gap_scale : float, optional
-        c in B = c(s − YRu), see :class:`FrictionlessSystem`. Default: 1 on
-        the full system (the thesis), the contact stiffness k̄ (gaps in force
-        units, see :mod:`solver.contact.strategies.nested`) condensed.
-    condense : bool
-        True: factorise K once, with the contact DOFs last, and iterate on
-        the same system (67) condensed exactly onto Γc
-        (:class:`~solver.contact.strategies.reduction.CondensedSystem`): a
-        solve costs about one factorisation of K. False: the thesis's
-        system in all Ñ unknowns, one sparse LU of the Jacobian per
-        iteration (faithful mode; the iteration counts of Table 1).
-    start : {"nested", "free", "x0", "zero"}
-        "nested": the nested start on ever coarser subsets of Γc
-        (:func:`solver.contact.strategies.nested.solve_nested`); "free":
-        no contact force, u = K⁻¹f; "x0": from ``x0``; "zero": the
-        thesis's u = 0 (the full system).
-    candidates : bool
-        Condense onto the normal DOFs of candidate nodes only
-        (:mod:`solver.contact.strategies.candidates`).
-    margin : float, optional
-        The candidates' round-0 screening margin δ₀, a length.
+    ``tol`` is relative to the force scale F of the iterate
+    (:mod:`solver.contact.verify`): scaling K and f by any factor, or all
+    lengths, gives the same verdict, and the condensed and nested solves
+    (c = k̄) take the same iterates; the full system's thesis choice c = 1
+    compares a force with a length in φ(λ, c(s − u_n)), so its Newton path
+    (not its verdict or answer) depends on the units. ``gap_scale`` c
+    defaults to 1 on the full system, k̄ condensed. ``condense``: factorise K
+    once and iterate on (67) condensed exactly onto Γc
+    (:class:`~solver.contact.strategies.reduction.CondensedSystem`), or the
+    thesis's system in all Ñ unknowns, one sparse LU per iteration (the
+    counts of Table 1). ``start``: "nested" (:mod:`~solver.contact.
+    strategies.nested`), "free" (λ = 0, u = K⁻¹f), "x0" (from ``x0``, read on
+    the condensed DOFs when condensed) or "zero" (the thesis's u = 0).
+    ``candidates``: condense onto the normal DOFs of candidate nodes only
+    (:mod:`~solver.contact.strategies.candidates`, screening margin
+    ``margin``). ``max_iter`` counts all levels and rounds together.
 
     Returns
     -------
@@ -107,16 +78,13 @@ def run_frictionless(problem, geometry, engine, method="min", tol=1e-10,
         ``njev``, ``nfev``, ``history``) plus the answer's arrays over all
         nodes of Γc (docs/results.md, "A frictionless solve") and what ran:
         ``condensation`` ("contact": every DOF of Γc; "normal candidates";
-        "none": the full system), ``candidates`` (None, or the screening of
-        :func:`~solver.contact.strategies.candidates.solve_on_candidates`),
-        ``start``, ``levels`` (per-level counts of a nested start, coarsest
-        first; ``nit``, ``njev`` and ``nfev`` then count all levels),
-        ``linear_solver``, ``stopping`` (``test``, ``tol``, ``scale`` F,
-        ``absolute``, ``relative``) and ``verification``
-        (:func:`~solver.contact.verify.verify_contact`). An answer that
-        meets the stopping test but fails verification is reported with
-        ``success`` False and ``status`` 6, its history kept.
-    """
+        "none": the full system), ``candidates`` (the screening of
+        :func:`~solver.contact.strategies.candidates.solve_on_candidates`, or
+        None), ``start``, ``levels`` (per-level counts of a nested start),
+        ``linear_solver``, ``stopping`` and ``verification``
+        (:func:`~solver.contact.verify.verify_contact`). An answer that meets
+        the stopping test but fails verification is reported with ``success``
+        False and ``status`` 6, its history kept."""
     clock = time.perf_counter()
     load_norm = stable_norm(problem.f)
     stiffness = contact_stiffness(problem.K, geometry)

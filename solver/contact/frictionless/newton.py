@@ -57,21 +57,9 @@ __all__ = ["CondensedJacobian"]
 class CondensedJacobian:
     """The structured Jacobian of (67) on a dense S that
     :func:`solver.ncp.solve_ncp` accepts from ``jac``: ``JA``, ``JB`` (for
-    φ_FB's rule (31)) and :meth:`combine`.
-
-    Parameters
-    ----------
-    S : (n, n) array
-        The condensed stiffness (symmetric positive definite).
-    R : sparse (n, n)
-        The rotation, orthogonal.
-    x_rows, y_rows : int arrays
-        The rows X and Y of (66).
-    JA, JB : (len(y_rows), n) arrays
-        −YRS and −cYR.
-    gap_scale : float
-        c.
-    """
+    φ_FB's rule (31)) and :meth:`combine`. ``S`` is the condensed stiffness
+    (SPD), ``R`` the orthogonal rotation, ``x_rows``, ``y_rows`` the rows X
+    and Y of (66), ``JA``, ``JB`` the dense −YRS and −cYR, ``gap_scale`` c."""
 
     def __init__(self, S, R, x_rows, y_rows, JA, JB, gap_scale):
         RS = R @ S

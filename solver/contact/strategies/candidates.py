@@ -117,21 +117,11 @@ def normal_line(geometry, nodes):
 
 
 class NormalCondensation:
-    """K̂ = RKRᵀ of ``problem`` condensed onto candidate normal DOFs.
-
-    Parameters
-    ----------
-    problem : ContactProblem
-    geometry : ContactGeometry
-        Every contact node that takes part (any d; a roller's normal row
-        ``dofs[i, -1]`` is one of its free DOFs, its e_c rows are not in
-        R, :func:`~solver.contact.geometry.rotation`).
-    backend : str
-        :mod:`solver.linalg` backend name (resolved).
-
-    Call :meth:`factorize` with the candidates (positions in ``geometry``)
-    for each round; K̂ and f̂ are built once.
-    """
+    """K̂ = RKRᵀ of ``problem`` condensed onto candidate normal DOFs of
+    the nodes of ``geometry`` (any d; a roller's normal row ``dofs[i, -1]``
+    is one of its free DOFs), by the :mod:`solver.linalg` ``backend``. Call
+    :meth:`factorize` with the candidates (positions in ``geometry``) for
+    each round; K̂ and f̂ are built once."""
 
     def __init__(self, problem, geometry, backend):
         self.problem, self.geometry = problem, geometry

@@ -6,12 +6,9 @@ imported here only; nothing here prints or calls ``plt.show()``. The
 notebooks in ``notebooks/`` call these functions and list which thesis
 figure each file stands for (``notebooks/README.md``).
 
-Units (one convention, every axis label uses it). The thesis gives no
-units; its numbers (E = 2·10⁵, a 10 × 20 block, F = 4000) read naturally as
-**lengths in mm, E in MPa, plane strain per unit thickness**: a nodal force
-(F, the contact force λ_i, the friction force t_i) is in N per mm of
-thickness, written [N]; pressures and tractions (p = λ_i/D_ii with
-D_ii = Σ_j M_ij in mm, g_t) are in N/mm² = MPa.
+Units: those of :data:`solver.output.figures.UNITS` (the thesis gives
+none; its numbers, E = 2·10⁵, a 10 × 20 block, F = 4000, read naturally as
+mm, MPa and N per mm of thickness).
 
 Sketches (Fig. 1, 2, 3, 16, 17) are drawn from the problem data where there
 is data: Fig. 3 from the exported mesh, supports and load, Fig. 16 from the
