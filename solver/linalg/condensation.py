@@ -32,30 +32,15 @@ _MADE = {}  # id(K) -> the last Condensation of that K (dropped with K)
 
 
 class Condensation:
-    r"""K of ``problem`` condensed onto the DOFs ``dofs``.
+    r"""K of ``problem`` condensed onto the DOFs ``dofs`` (in the order
+    wanted), factorised by ``backend`` ("auto", "superlu", "pardiso",
+    "cholmod"; the factorisation checks that K is positive definite), or
+    given as ``factorization`` (K factorised with ``dofs`` last and its S:
+    the PETSc engine's; ``backend`` is then only its name).
 
-    Parameters
-    ----------
-    problem : ContactProblem
-    dofs : (m,) int array
-        Reduced DOFs to condense onto, in the order wanted.
-    backend : str
-        Linear solver: "auto" (default), "superlu", "pardiso" or "cholmod"
-        (:mod:`solver.linalg.base`). The factorisation checks that K is
-        positive definite.
-    factorization : Factor, optional
-        K already factorised with ``dofs`` last and its S (the PETSc
-        engine's); ``backend`` is then only its name.
-
-    Attributes
-    ----------
-    S : (m, m) array
-    factorization : :class:`~solver.linalg.base.Factor`
-    backend : str
-        The backend used.
-    n_solves : int
-        Solves with K so far (proportional loads reuse them).
-    """
+    Attributes: ``S`` (m, m), ``factorization``
+    (:class:`~solver.linalg.base.Factor`), ``backend`` (the one used),
+    ``n_solves`` (solves with K so far: proportional loads reuse them)."""
 
     def __init__(self, problem, dofs, backend="auto", factorization=None):
         self.dofs = np.asarray(dofs, np.int64).ravel()

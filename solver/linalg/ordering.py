@@ -22,31 +22,17 @@ LEAF_SIZE = 16
 
 
 def nested_dissection(points, edges, leaf=LEAF_SIZE):
-    """Fill-reducing node ordering by geometric nested dissection.
+    """Fill-reducing node ordering by geometric nested dissection: the
+    ``points`` (n, d) in elimination order, from the graph ``edges`` (m, 2)
+    (e.g. of the mesh cells; repeats allowed).
 
     Every subdomain (all nodes at first) with more than ``leaf`` nodes is
     split at the median of the coordinate in which it is most spread out;
     the nodes of the upper half that share an edge with the lower half form
     the separator, which is ordered after both halves (recursively). All
-    subdomains of one level are split at once (vectorised; no loop over
-    nodes or subdomains): per level one integer sort of the active nodes
-    (by subdomain and by a coordinate rank computed once) and one pass
-    over the edges still inside a subdomain (duplicates removed first).
-
-    Parameters
-    ----------
-    points : (n, d) array
-        Node coordinates.
-    edges : (m, 2) int array
-        Graph edges (e.g. the edges of the mesh cells; repeats allowed).
-    leaf : int
-        Size below which a subdomain is not split.
-
-    Returns
-    -------
-    (n,) int array
-        The nodes in elimination order.
-    """
+    subdomains of one level are split at once (vectorised): per level one
+    integer sort of the active nodes (by subdomain and by a coordinate rank
+    computed once) and one pass over the edges still inside a subdomain."""
     points = np.asarray(points, float)
     n = len(points)
     i, j = _unique_edges(edges, n)

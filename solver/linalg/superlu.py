@@ -54,26 +54,12 @@ def order_with_last(A, last):
 class Factorization(Factor):
     r"""PKPᵀ = LDLᵀ of a symmetric positive definite matrix (SuperLU).
 
-    Parameters
-    ----------
-    A : sparse (n, n)
-        Symmetric.
-    order : (n,) int array, optional
-        Elimination order (e.g. :func:`~solver.linalg.dof_ordering`);
-        default: SuperLU's minimum degree on A + Aᵀ (reverse Cuthill-McKee
-        with ``schur`` last if ``schur`` is given).
-    name : str
-        Key prefix of A for error messages (``"K"`` or ``"M"``).
-    check : bool
-        Check the pivots (default); False skips reading U (a bare solver).
-    schur : (m,) int array, optional
-        The Schur set c; ``order`` is made to end with it.
-
-    Raises
-    ------
-    ProblemError
-        ``"{name}_data: {name} is not positive definite (...)"``.
-    """
+    ``A`` sparse symmetric; ``order`` the elimination order (e.g.
+    :func:`~solver.linalg.dof_ordering`; default SuperLU's minimum degree on
+    A + Aᵀ, or reverse Cuthill-McKee with the Schur set ``schur`` last);
+    ``name`` the key prefix of A for messages; ``check`` False skips reading
+    U (a bare solver). ProblemError ``"{name}_data: {name} is not positive
+    definite (...)"``."""
 
     backend = NAME
 

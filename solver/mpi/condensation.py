@@ -1,16 +1,9 @@
-r"""The PETSc engine's condensations: the serial drivers' interfaces on
-one distributed MUMPS factorisation (:class:`~solver.mpi.factor.
-PetscFactor`, in MUMPS's Schur mode).
-
-:class:`PetscCondensation` is :class:`solver.linalg.Condensation` (K
-condensed onto the DOFs of Γc: S, the condensed load, the
-back-substitution) on it; :class:`PetscNormalCondensation` is
-:class:`solver.contact.strategies.candidates.NormalCondensation` (K̂ =
-RKRᵀ condensed onto candidate normal DOFs, one factorisation per
-candidate set) on it, K̂ scattered once for every candidate set. The
-serial drivers and strategies run unchanged on them
-(:class:`~solver.mpi.engine.PetscEngine` hands them out).
-"""
+r"""The PETSc engine's condensations: :class:`PetscCondensation` has the
+interface of :class:`solver.linalg.Condensation`,
+:class:`PetscNormalCondensation` that of :class:`solver.contact.strategies.candidates.NormalCondensation`,
+both on one distributed MUMPS factorisation in its Schur mode
+(:class:`~solver.mpi.factor.PetscFactor`), so that the serial drivers and
+strategies run unchanged on them."""
 
 import numpy as np
 
@@ -33,14 +26,11 @@ class PetscCondensation(Condensation):
 
 
 class PetscNormalCondensation:
-    """:class:`solver.contact.strategies.candidates.NormalCondensation`'s interface
-    (``R``, ``normal_rows``, ``factorize(nodes)``, ``displacement(u_n)``)
-    on one distributed MUMPS factor (:class:`PetscFactor`), so that the
-    serial screening rounds (:func:`~solver.contact.strategies.candidates.
-    solve_on_candidates`) run unchanged. K̂ = RKRᵀ is built and scattered
-    once (:meth:`rotated`); each
-    round's candidate set is a new Schur-mode factorisation (``block``
-    None) or only new solves (``block`` = k)."""
+    """:class:`solver.contact.strategies.candidates.NormalCondensation`'s
+    interface on one distributed MUMPS factor: K̂ = RKRᵀ is built and
+    scattered once (:meth:`rotated`); each round's candidate set is a new
+    Schur-mode factorisation (``block`` None) or only new solves (``block``
+    = k)."""
 
     def __init__(self, svc, layout, problem, geometry, block=SCHUR_BLOCK):
         self.svc, self.layout, self.block = svc, layout, block

@@ -1,24 +1,14 @@
 r"""Is K positive definite? MUMPS's answer after its factorisation.
 
-The serial backends refuse a K that is singular or indefinite from the
-pivots of their LDLᵀ (:func:`solver.linalg.base.check_pivots`: a pivot
-≤ :data:`~solver.linalg.PIVOT_RTOL` of the largest). MUMPS factorises
-the padded K̂ as a general symmetric matrix (SYM = 2, which is
-right with a Schur set on several ranks, docs/mpi.md) and does not stop
-at such pivots, so without a check a floating body "converged" on the
-engine. Here the same test is asked of MUMPS (Users' Guide 5.5,
-sections 5.1.2, 6.1-6.2 and 8):
-
-- **null pivots**: ICNTL(24) = 1 with CNTL(3) = PIVOT_RTOL: a pivot
-  below PIVOT_RTOL‖K̂‖ is counted, INFOG(28);
-- **negative pivots**: the inertia of the LDLᵀ, INFOG(12);
-- **errors**: INFOG(1) < 0, with INFOG(2) (−10: numerically singular;
-  −8, −9, −13, −19, −20: memory).
-
+The serial backends refuse a singular or indefinite K from the pivots of
+their LDLᵀ (:func:`solver.linalg.base.check_pivots`). MUMPS factorises
+the padded K̂ as a general symmetric matrix (SYM = 2, docs/mpi.md) and
+does not stop at such pivots, so the same test is asked of it (Users'
+Guide 5.5, sections 5.1.2, 6.1-6.2 and 8): null pivots below
+PIVOT_RTOL‖K̂‖ counted (ICNTL(24) = 1, CNTL(3), INFOG(28)), negative
+pivots (the inertia, INFOG(12)) and errors (INFOG(1) < 0 with INFOG(2)).
 Under a Schur set these count the eliminated unknowns only; S itself is
-factorised by a dense Cholesky on rank 0
-(:class:`~solver.mpi.factor.PetscFactor`), which fails for the rest.
-"""
+factorised by a dense Cholesky on rank 0, which fails for the rest."""
 
 import ctypes
 

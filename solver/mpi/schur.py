@@ -2,21 +2,12 @@ r"""MUMPS's own Schur mode through ``libpetsc`` (ctypes; no build step).
 
 petsc4py 3.18 binds neither ``MatFactorSetSchurIS`` nor
 ``MatFactorCreateSchurComplement``; both are plain C functions of the
-shared ``libpetsc`` that petsc4py itself loaded, so they are called here
-with ctypes on the petsc4py objects' ``handle`` pointers (PETSc 3.18's
-``include/petscmat.h``: ``PetscErrorCode MatFactorSetSchurIS(Mat, IS)``,
-``MatFactorCreateSchurComplement(Mat, Mat*, MatFactorSchurStatus*)``).
-
-With a Schur set c, MUMPS eliminates every other unknown and returns
-S = K_cc − K_ci K_ii⁻¹ K_ic (thesis (63)-(66): the condensation onto the
-contact unknowns) from the *factorisation itself*: no right-hand-side
-solves (MUMPS Users' Guide 5.5, ICNTL(19)). PETSc 3.18's MUMPS interface
-accepts it on several ranks when the whole Schur set is given on rank 0
-(the complement is then centralised on the host, ICNTL(19) = 1; a set
-spread over ranks is "not yet supported"). A later ``MatSolve`` with the
-factor still solves with the whole K (PETSc condenses, solves with S,
-expands: ICNTL(26)).
-"""
+shared ``libpetsc`` that petsc4py loaded, called here with ctypes on the
+petsc4py objects' ``handle`` pointers (PETSc 3.18's ``petscmat.h``).
+With a Schur set c, MUMPS returns S = K_cc − K_ci K_ii⁻¹ K_ic (thesis
+(63)-(66)) from the *factorisation itself*, no solves (Users' Guide 5.5,
+ICNTL(19)); PETSc accepts it on several ranks when the whole set is given
+on rank 0 (centralised on the host, ICNTL(19) = 1)."""
 
 import ctypes
 

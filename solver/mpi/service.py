@@ -1,29 +1,19 @@
 r"""Rank 0 drives, every rank computes: the command service of the engine.
 
-Rank 0 runs the project's serial code (geometry, Newton, output). Each
-collective step is a *command*: rank 0 sends its name and a small
+Each collective step is a *command*: rank 0 sends its name and a small
 payload to every rank (:meth:`Service.call`), every other rank waits idle
-in :meth:`Service.serve` and runs the same handler, and large data (K, load
-vectors) travel inside the handler by scatter and gather. A handler's
-exception on any rank is gathered after it and raised on rank 0 as one
-:class:`EngineError`, or :class:`EngineInputError` for bad input (the CLI
-then prints one line and exits with its code; the workers return to
-waiting), so a fault never leaves a rank blocked in a later collective. A
-rank that failed while the others are stuck in one of PETSc's collective
-calls aborts them all after :data:`ABORT_AFTER` s. ``stop`` ends the
-workers with rank 0's exit code; a worker that loses rank 0 aborts the
-communicator (no hang).
+in :meth:`Service.serve` and runs the same handler, and large data travel
+inside the handler by scatter and gather. A handler's exception on any
+rank is raised on rank 0 as one :class:`EngineError` (or
+:class:`EngineInputError` for bad input), so a fault never leaves a rank
+blocked in a later collective; a rank that failed while the others are
+stuck in one of PETSc's collective calls aborts them all after
+:data:`ABORT_AFTER` s. ``stop`` ends the workers with rank 0's exit code.
 
-Signals (:data:`STOP_SIGNALS`: SIGINT, SIGTERM, SIGHUP) never cut a command
-short: rank 0 holds back one that arrives during a command and delivers it
-to its own handler once every rank has finished the command, so that the
-workers are waiting for the next command and ``stop`` reaches them at
-once. A worker does not die of such a signal (``mpiexec`` signals every
-rank, and a rank that dies makes it kill the others at once, rank 0 before
-it has written its outputs): it reports the signal with the command it is
-in, or with the next one, and rank 0 then acts on it as if it had received
-it itself.
-"""
+Signals (:data:`STOP_SIGNALS`) never cut a command short: rank 0 holds
+back one that arrives during a command until every rank has finished it,
+and a worker reports its own to rank 0 instead of dying (``mpiexec``
+would then kill the others at once); docs/mpi.md, "Stopping a run"."""
 
 import signal
 import sys

@@ -1,16 +1,11 @@
-"""Result files of a solve: ``summary.json``, ``result.npz`` and VTK.
+"""Result files of a solve: ``summary.json``, ``result.npz`` and VTK,
+each written to a temporary name in the output folder and renamed when
+complete (docs/results.md lists their contents).
 
-Every file is written to a temporary name in the output folder and renamed
-when complete, so an interrupted run never leaves a half-written file.
-
-``summary.json`` is strict JSON whatever the solve produced: the summary
-dicts (:func:`summary_of`, :func:`friction_summary_of`) hold plain numbers,
-which may be infinite or NaN when a legal but extreme problem overflows
-(a gap scale of 1e300, say), and :func:`write_summary` writes every
-non-finite float, at any depth (per-step records included), as the string
-``"inf"``, ``"-inf"`` or ``"nan"`` (:func:`json_ready`). A reader tells
-them from numbers by their type.
-"""
+``summary.json`` is strict JSON whatever the solve produced: a legal but
+extreme problem may overflow to infinite or NaN numbers, which
+:func:`write_summary` writes, at any depth, as the strings ``"inf"``,
+``"-inf"`` or ``"nan"`` (:func:`json_ready`)."""
 
 import json
 import math
@@ -26,12 +21,9 @@ __all__ = ["write_summary", "write_result", "summary_of",
 
 def frames_on_contact(problem, geometry):
     """The gaps, unit normals and tangents of ``geometry`` over all of Γc,
-    in the order of ``problem.contact_nodes``: ``gap`` (Nc,), ``normal``
-    (Nc, d) and ``tangents`` (Nc, d − 1, d), NaN at the contact nodes
-    that take no part (supports). The tangents are the frame of the
-    tangential fields of a friction run (``friction_traction``,
-    ``tangential_displacement``: component k along ``tangents[:, k]``);
-    in 2D the one tangent is the thesis's γ = (−ν_y, ν_x)."""
+    in the order of ``problem.contact_nodes`` (NaN at the nodes that take no
+    part): ``gap`` (Nc,), ``normal`` (Nc, d) and ``tangents`` (Nc, d − 1, d),
+    the frame of a friction run's tangential fields."""
     nc, d = problem.n_contact, geometry.normal.shape[1]
     gap = np.full(nc, np.nan)
     normal = np.full((nc, d), np.nan)
@@ -49,11 +41,9 @@ def _number(value):
 
 
 def json_ready(value):
-    """``value`` with every float made strict JSON: finite floats stay,
-    non-finite ones become the strings ``"inf"``, ``"-inf"``, ``"nan"``;
-    NumPy scalars and arrays become Python numbers and lists, tuples
-    lists; dicts and lists are converted at any depth (new objects: the
-    input is not modified)."""
+    """``value`` with every float made strict JSON (non-finite ones as
+    ``"inf"``, ``"-inf"``, ``"nan"``), NumPy scalars and arrays as Python
+    numbers and lists, at any depth (new objects)."""
     if isinstance(value, dict):
         return {key: json_ready(item) for key, item in value.items()}
     if isinstance(value, (list, tuple)):

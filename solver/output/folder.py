@@ -1,14 +1,11 @@
 """The output folder of one run: locked, never overwriting the input,
 cleared of an earlier run's files, and marked with the run's status.
 
-A run's ``summary.json`` is written first with ``"status": "running"`` and
-last with the final status (``converged``, ``not_converged``, ``failed``,
-``interrupted``) and the list of files the run wrote, so a folder is either
+``summary.json`` is written first with ``"status": "running"`` and last
+with the final status and the files the run wrote, so a folder is either
 complete or says that it is not, even after ``kill -9``. Every file is
-written to a temporary name and renamed when complete, with the permissions
-the umask allows (as ``open`` would create it), never the 0600 of
-:func:`tempfile.mkstemp`.
-"""
+written to a temporary name and renamed when complete, with the
+permissions the umask allows (never the 0600 of :func:`tempfile.mkstemp`)."""
 
 import contextlib
 import fcntl

@@ -11,14 +11,11 @@ __all__ = ["obstacle_in_box", "closest_on_polyline", "moved_obstacle"]
 
 def obstacle_in_box(curve, low, high, samples=1201):
     """Points of a 2D obstacle curve inside the box [low, high] (corners,
-    (2,) each), NaN rows where the curve leaves it.
-
-    The parameter window starts from ``curve.t_range`` or, for an
-    unbounded curve, from [−L, L] with L = 2 max |corner − Γo(0)| + 1, is
-    doubled while the curve has not left the box at both ends, then
-    narrowed to the samples inside, so that the drawn part spans the box
-    however fast the parametrisation runs. A polyline's vertices are
-    always among the samples (its kinks stay sharp)."""
+    (2,) each), NaN rows where the curve leaves it: the parameter window
+    (from ``t_range``, or as :func:`solver.geometry.curves.window.start_window`)
+    is doubled while the curve has not left the box at both ends, then
+    narrowed to the samples inside, however fast the parametrisation runs. A
+    polyline's vertices are always among the samples (its kinks stay sharp)."""
     low, high = np.asarray(low, float), np.asarray(high, float)
 
     def inside(points):
@@ -79,15 +76,12 @@ def moved_obstacle(problem, displacement, scale, points):
     by (scale − 1) ũ(O), ũ the displacement of the closest point of the
     deformed Γc (linear between its nodes, the end node's beyond its ends).
 
-    Drawn with the body at X + scale·u, each gap keeps its true length
-    and direction: the deformed node X + u and its obstacle point O become
-    X + scale·u and O + (scale − 1)·u, the same vector apart (the distance
-    to the whole moved curve differs only by its change of shape over the
-    gap's length). So nodes in contact lie on the moved obstacle and no
-    drawn node crosses it, while a body at X + scale·u with the obstacle
-    left in place crosses it by (scale − 1) times each node's displacement
-    towards it. The obstacle's drawn shape changes where u varies along
-    Γc: the price of a consistent picture, stated in the legend."""
+    Drawn with the body at X + scale·u, each gap keeps its true length and
+    direction: the deformed node X + u and its obstacle point O become
+    X + scale·u and O + (scale − 1)·u, the same vector apart. So nodes in
+    contact lie on the moved obstacle and no drawn node crosses it; the
+    obstacle's drawn shape changes where u varies along Γc (the legend says
+    so)."""
     u = np.asarray(displacement, float)
     gc = problem.contact_nodes
     chain = problem.nodes[gc] + u[gc]

@@ -1,21 +1,15 @@
 """Friction steps written to disk as they complete (bounded memory).
 
-:class:`StepWriter` receives each completed load step (the ``on_step``
-callback of :func:`solver.contact.solve_friction`), writes its VTK file
-``steps/step_NNNN.vtu`` at once and its arrays into one memory-mapped
-``.npy`` scratch file per field (preallocated for every step of the run, so
-memory stays bounded whatever the step count). :meth:`StepWriter.finish`
-then writes ``result.npz`` of the completed steps, streamed from the
-scratch files into the archive, and the ParaView index ``result.pvd``; a run
-that stops early (not converged, interrupted, disk full) finishes the same
-way with the steps it completed.
-
-The archive's members are stored, not deflated (as ``np.savez``): the
-steps' floating-point arrays shrink by only about a seventh when deflated,
-and deflating costs more time than anything else in :meth:`finish`, which
-an interrupted run must complete before it is killed (under ``mpiexec``,
-one second after the ranks get SIGTERM; docs/mpi.md).
-"""
+:class:`StepWriter` receives each completed load step (a friction run's
+``on_step``), writes its VTK file ``steps/step_NNNN.vtu`` at once and its
+arrays into one memory-mapped ``.npy`` scratch file per field
+(preallocated for every step of the run). :meth:`StepWriter.finish` then
+streams ``result.npz`` of the completed steps from the scratch files and
+writes the ParaView index ``result.pvd``; a run that stops early finishes
+the same way with the steps it completed. The archive's members are
+stored, not deflated: deflating would shrink them by only a seventh and
+cost more time than anything else in :meth:`finish`, which an interrupted
+run must complete before it is killed (docs/mpi.md, "Stopping a run")."""
 
 import os
 import shutil

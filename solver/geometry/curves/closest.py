@@ -26,44 +26,31 @@ def gap_from_obstacle(points, curve, body_normals, *, window=None,
 
     Parameters
     ----------
-    points : (n, 2) array
-        Contact nodes *B* (undeformed).
-    curve : ParametricCurve
-        The obstacle.
-    body_normals : (n, 2) or (2,) array
-        Outward normals of the body at the nodes (any length); used only to
-        orient ν and to reject grazing configurations.
-    window : (float, float), optional
-        Parameter interval searched; see :func:`parameter_window` for the
-        default.
-    samples : int
-        Number of samples of *t* in the window; local minima of the distance
-        closer together than the sample spacing may be missed.
-    min_cosine : float
-        Smallest accepted :math:`|\nu\cdot n|`.
-    node_ids : sequence, optional
-        Labels of the nodes for error messages (default: their index).
+    points, curve, body_normals
+        The contact nodes *B* (n, 2), undeformed; the obstacle; the body's
+        outward normals there ((n, 2) or (2,), any length: they only orient
+        ν and reject grazing configurations).
+    window, samples
+        The parameter interval searched (default :func:`parameter_window`)
+        and its number of samples of *t* (minima of the distance closer
+        together than the sample spacing may be missed).
+    min_cosine, node_ids
+        The smallest accepted :math:`|\nu\cdot n|`; the nodes' labels for
+        error messages (default: their index).
 
     Returns
     -------
-    gap : (n,) float array
-        Signed gaps *s*; negative for a node past the obstacle.
-    normal : (n, 2) float array
-        Unit obstacle normals ν at the nearest points, pointing from the body
-        towards the obstacle: the contact direction.
-    t : (n,) float array
-        Parameters of the nearest points.
+    (gap, normal, t): the signed gaps *s* (negative past the obstacle), the
+    unit obstacle normals ν (the contact direction) and the parameters of
+    the nearest points.
 
     Raises
     ------
     GapError
-        If for some node the nearest point is an end of the obstacle (its
-        ``t_range``) where the distance is not perpendicular to the
-        obstacle, or an end of an artificial window (the window is too
-        small), or ν is nearly perpendicular to the body normal
-        (:math:`|\nu\cdot n| <` ``min_cosine``; e.g. the obstacle runs
-        along the body normal), or the obstacle has no tangent there.
-    """
+        If for some node the nearest point is an end of the obstacle where the
+        distance is not perpendicular to it, or an end of an artificial
+        window (too small), or :math:`|\nu\cdot n| <` ``min_cosine``, or the
+        obstacle has no tangent there."""
     points, body, (t0, t1), ts, curve_ends = search_setup(
         points, body_normals, curve, window, samples)
     if not len(points):  # no free contact node: nothing to measure

@@ -85,25 +85,14 @@ def _check_points(points):
 
 
 def spline_tangents(points):
-    r"""Unit tangents of the natural cubic spline through ordered points.
+    r"""Unit tangents (n, 2) of the natural cubic spline through the
+    ordered ``points`` (n ≥ 2, the nodes of Γc along the boundary), pointing
+    from ``points[0]`` towards ``points[-1]``.
 
     The spline is parametrised by cumulative chord length and fitted to
     ``x(s)`` and ``y(s)`` separately with natural end conditions
     (thesis (8)-(14), but parametric instead of :math:`y = P(x)`, which is
-    singular on vertical edges). With two points the natural spline is the
-    straight segment.
-
-    Parameters
-    ----------
-    points : (n, 2) array, n >= 2
-        The nodes of Γc in their order along the boundary.
-
-    Returns
-    -------
-    (n, 2) float array
-        Unit tangents at the points, pointing in the direction of the chain
-        (from ``points[0]`` towards ``points[-1]``).
-    """
+    singular on vertical edges). With two points it is the straight segment."""
     points = _check_points(points)
     s = chord_parameters(points)
     # Scaled to unit length first: coordinates of 1e-300 or 1e300 would
@@ -116,24 +105,11 @@ def spline_tangents(points):
 
 
 def spline_normals(points, sign=1):
-    r"""Unit normals of the natural cubic spline through ordered points.
-
-    Parameters
-    ----------
-    points : (n, 2) array, n >= 2
-        The nodes of Γc in their order along the boundary.
-    sign : {1, -1}
-        ``1``: the normal is the tangent rotated clockwise,
-        :math:`(T_y, -T_x)`, i.e. it points to the right of the direction of
-        travel; ``-1``: rotated counter-clockwise, :math:`(-T_y, T_x)`. For
-        outward normals pass :func:`outward_sign` (or use
-        :func:`boundary_normals`).
-
-    Returns
-    -------
-    (n, 2) float array
-        Unit normals at the points.
-    """
+    r"""Unit normals (n, 2) of the natural cubic spline through the ordered
+    ``points``: ``sign`` 1 turns the tangent clockwise, :math:`(T_y, -T_x)`
+    (to the right of the direction of travel), −1 counter-clockwise; for
+    outward normals pass :func:`outward_sign` (or use
+    :func:`boundary_normals`)."""
     if sign not in (1, -1):
         raise ValueError(f"sign must be 1 or -1, got {sign!r}")
     tangent = spline_tangents(points)
@@ -141,37 +117,18 @@ def spline_normals(points, sign=1):
 
 
 def outward_sign(nodes, cells, chain):
-    r"""Which rotation of the chain's tangent points out of the body.
+    r"""Which rotation of the chain's tangent points out of the body: 1 if
+    the outward normal is the tangent turned clockwise, :math:`(T_y, -T_x)`
+    (the body lies left of the direction of travel), −1 if counter-clockwise.
 
-    Every edge ``(chain[i], chain[i+1])`` must be a boundary edge, i.e. a side
-    of exactly one triangle; the third vertex *c* of that triangle lies inside
-    the body. With the edge vector :math:`e = X_b - X_a`, the clockwise
-    rotation :math:`(e_y, -e_x)` points outward iff
-    :math:`(X_c - X_a) \cdot (e_y, -e_x) < 0`.
-
-    Parameters
-    ----------
-    nodes : (n_nodes, 2) array
-        Mesh node coordinates.
-    cells : (n_cells, 3) int array
-        Triangle connectivity.
-    chain : (n,) int array, n >= 2
-        Indices of the boundary nodes of Γc, in their order along Γc.
-
-    Returns
-    -------
-    int
-        ``1`` if the outward normal is the tangent rotated clockwise
-        (:math:`(T_y, -T_x)`, the body lies to the left of the direction of
-        travel), ``-1`` if it is rotated counter-clockwise.
-
-    Raises
-    ------
-    GeometryError
-        If the chain has fewer than 2 nodes, an edge of the chain is not a side
-        of exactly one triangle, a triangle on Γc has zero area, or the edges
-        disagree about the side of the body (the message names the nodes).
-    """
+    ``chain`` (n ≥ 2) lists the nodes of Γc in order; every edge
+    ``(chain[i], chain[i+1])`` must be a side of exactly one of the triangles
+    ``cells`` (a boundary edge), whose third vertex *c* lies inside the body:
+    with :math:`e = X_b - X_a`, :math:`(e_y, -e_x)` points outward iff
+    :math:`(X_c - X_a) \cdot (e_y, -e_x) < 0`. GeometryError (naming the
+    nodes) if the chain has fewer than 2 nodes, an edge is not a boundary
+    edge, a triangle on Γc has zero area, or the edges disagree about the
+    side of the body."""
     nodes = np.asarray(nodes, dtype=float)
     cells = np.asarray(cells, dtype=np.int64)
     chain = np.asarray(chain, dtype=np.int64)
@@ -247,34 +204,14 @@ def corners(points, angle=CORNER_ANGLE):
 
 
 def boundary_normals(nodes, cells, chain, corner_angle=CORNER_ANGLE):
-    r"""Unit outward normals of Γc at the chain nodes (thesis §2.1.3).
-
-    Parameters
-    ----------
-    nodes : (n_nodes, 2) array
-        Mesh node coordinates.
-    cells : (n_cells, 3) int array
-        Triangle connectivity.
-    chain : (n,) int array, n >= 2
-        Indices of the contact nodes, ordered along Γc (either direction).
-    corner_angle : float
-        Turning angle (degrees) above which a node is a corner.
-
-    Returns
-    -------
-    (n, 2) float array
-        Unit outward normals at ``nodes[chain]``, from parametric natural
-        cubic splines (:func:`spline_normals`) oriented by
-        :func:`outward_sign`, one spline per smooth piece of Γc between
-        corners (:func:`corners`); a corner node gets the bisector of its
-        two one-sided normals.
-
-    Raises
-    ------
-    GeometryError
-        Naming the nodes: a chain of one node, two consecutive nodes at the
-        same point, a zero-area triangle on Γc.
-    """
+    r"""Unit outward normals (n, 2) of Γc at ``nodes[chain]`` (thesis
+    §2.1.3), ``chain`` ordered along Γc (either direction) on the triangles
+    ``cells``: parametric natural cubic splines (:func:`spline_normals`)
+    oriented by :func:`outward_sign`, one spline per smooth piece of Γc
+    between corners (:func:`corners`, turning by more than ``corner_angle``
+    degrees); a corner node gets the bisector of its two one-sided normals.
+    GeometryError naming the nodes for a chain of one node, two consecutive
+    nodes at the same point, a zero-area triangle on Γc."""
     nodes = np.asarray(nodes, dtype=float)
     chain = np.asarray(chain, dtype=np.int64)
     if chain.ndim == 1 and len(chain) >= 2 and 0 <= chain.min() \

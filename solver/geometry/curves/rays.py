@@ -26,41 +26,17 @@ def gap_along_normals(points, normals, curve, *, window=None,
 
     with :math:`k = (\Gamma_o(t) - B)\cdot\nu`. The intersection with the
     smallest :math:`|k|` is taken and :math:`s = k`: positive when the
-    obstacle lies ahead along the outward normal, negative when behind
-    (errata to (6): the distance is :math:`|k|\,|\nu|`).
+    obstacle lies ahead along the outward normal (errata to (6): the
+    distance is :math:`|k|\,|\nu|`).
 
-    Parameters
-    ----------
-    points : (n, 2) array
-        Contact nodes *B* (undeformed).
-    normals : (n, 2) or (2,) array
-        Outward normals of the body at the nodes, e.g. from
-        :func:`solver.geometry.curves.normals.boundary_normals`; normalised here.
-    curve : ParametricCurve
-        The obstacle.
-    window, samples, min_cosine, node_ids
-        As in :func:`gap_from_obstacle`; ``min_cosine`` bounds
-        :math:`|\nu_o\cdot\nu|` with :math:`\nu_o` the obstacle's normal at
-        the intersection (rejects grazing intersections).
-
-    Returns
-    -------
-    gap : (n,) float array
-        Signed gaps ``s = k``.
-    normal : (n, 2) float array
-        The unit body normals ν (the contact direction, from the body towards
-        the obstacle).
-    t : (n,) float array
-        Parameters of the intersection points.
-
-    Raises
-    ------
-    GapError
-        If the normal line of some node does not meet the obstacle inside
-        the window (changes of sign of *h* between samples), or meets it at a
-        grazing angle (:math:`|\nu_o\cdot\nu| <` ``min_cosine``, e.g. an
-        obstacle line parallel to the normal).
-    """
+    ``points`` (n, 2) are the undeformed contact nodes, ``normals`` the
+    body's outward normals there (e.g. :func:`~.normals.boundary_normals`,
+    normalised here), ``curve`` the obstacle; the other arguments as in
+    :func:`~.closest.gap_from_obstacle`, ``min_cosine`` bounding
+    :math:`|\nu_o\cdot\nu|` at the intersection. Returns (gap, normal, t):
+    s = k, the unit body normals ν (the contact direction) and the
+    parameters of the intersections. GapError if a normal line does not meet
+    the obstacle inside the window or meets it at a grazing angle."""
     points, nu, (t0, t1), ts, curve_ends = search_setup(
         points, normals, curve, window, samples)
     if not len(points):  # no free contact node: nothing to measure
