@@ -40,19 +40,9 @@ ROLLER_TOLERANCE = 1e-8
 
 
 def tangent_basis(normal):
-    """Unit tangents of the unit normals ``normal``.
-
-    Parameters
-    ----------
-    normal : (m, d) array, d = 2 or 3
-        Unit normals (rows).
-
-    Returns
-    -------
-    (m, d − 1, d) array
-        Orthonormal tangents, orthogonal to the normal: in 2D exactly
-        γ = (−ν_y, ν_x); in 3D (τ_1, τ_2) of the module docstring.
-    """
+    """Orthonormal tangents (m, d − 1, d) of the unit normals ``normal``
+    (m, d), d = 2 or 3: in 2D exactly γ = (−ν_y, ν_x); in 3D (τ_1, τ_2) of
+    the module docstring."""
     nu = np.asarray(normal, dtype=float)
     if nu.ndim != 2 or nu.shape[1] not in (2, 3):
         raise SolverError(f"normals must have shape (m, 2) or (m, 3), got "
@@ -77,22 +67,10 @@ def frames(normal, tangents=None):
 
 
 def roller_frames(normal, fixed):
-    """Frames of roller nodes: ν with its constrained components set to 0
-    and renormalised, and tangents with the constrained directions first
-    (module docstring).
-
-    Parameters
-    ----------
-    normal : (m, d) array
-        Unit normals, |ν_c| small at the constrained components.
-    fixed : (m, d) bool
-        The constrained components (at least one, at most d − 1 per row).
-
-    Returns
-    -------
-    (normal (m, d), tangents (m, d − 1, d))
-        Vectorised per pattern of ``fixed`` (at most 2^d − 2 patterns).
-    """
+    """Frames of roller nodes (module docstring): (normal, tangents) with
+    ν's constrained components (``fixed`` (m, d): at least one, at most
+    d − 1 per row) set to 0 and renormalised, and the constrained directions
+    first among the tangents; vectorised per pattern of ``fixed``."""
     nu = np.array(normal, dtype=float)
     nu[fixed] = 0.0
     nu /= np.linalg.norm(nu, axis=1)[:, None]

@@ -135,78 +135,56 @@ def solve_ncp(fun, jac, x0, method="min", tol=1e-10, max_iter=100,
 
     Parameters
     ----------
-    fun : callable
-        ``fun(x) -> (E, A, B)``: equality residual and the complementary
-        pair (thesis (15)).
-    jac : callable
-        ``jac(x) -> (JE, JA, JB)``: their Jacobians, sparse, n columns each.
+    fun, jac : callable
+        ``fun(x) -> (E, A, B)``: the equality residual and the complementary
+        pair (thesis (15)); ``jac(x) -> (JE, JA, JB)``: their Jacobians,
+        sparse or dense with n columns, or a structured Jacobian (module
+        docstring).
     x0 : (n,) array
         Starting point.
     method : {"min", "fb"}
         Damped Newton with φ_min (thesis §2.2.1) or the Fischer–Burmeister
         method of De Luca, Facchinei and Kanzow (§2.2.2).
     tol : float
-        Relative tolerance of the stopping test
-
-        .. math::  \mathrm{error}(x) \le \mathrm{tol} \cdot
-                   \mathrm{scale}(x),
-
-        with error = ‖Φ(x)‖₂ (thesis Step 1) and scale = 1 unless the
-        callables below are given. The test is exactly as invariant under a
-        change of units as the caller's ``error`` and ``scale``: when both
-        are homogeneous of the same degree in the problem's units (forces,
-        for the contact systems of :mod:`solver.contact`), the verdict and
+        Relative tolerance of the stopping test error(x) ≤ tol·scale(x), with
+        error = ‖Φ(x)‖₂ (thesis Step 1) and scale = 1 unless the callables
+        below are given. When both are homogeneous of the same degree in the
+        problem's units (forces, for :mod:`solver.contact`), the verdict and
         the iterates do not depend on the units. A scale of 0 demands an
         exact zero residual.
     max_iter : int
         Maximum number of Newton iterations (Jacobian evaluations).
     options : dict, optional
-        Method options, see :data:`DEFAULT_OPTIONS`: ``alpha_min`` (min);
-        ``rho``, ``p``, ``beta``, ``max_halvings``, ``z`` and ``typical``
-        (fb; ``z(gamma)`` returns the direction of rule (31) for the
-        boolean mask γ; ``typical`` = (force, length), typical sizes of Φ
-        and of x: the descent test (26) ∇ψᵀd ≤ −ρ‖d‖ᵖ is then applied to
-        Φ/force and x/length, ∇ψᵀd/force² ≤ −ρ(‖d‖/length)ᵖ, so that it
-        does not depend on units; None, the thesis's (26) as printed, in
-        the problem's own units).
+        Method options, :data:`DEFAULT_OPTIONS`: ``alpha_min`` (min); ``rho``,
+        ``p``, ``beta``, ``max_halvings``, ``z`` (``z(gamma)``: the direction
+        of rule (31) on the boolean mask γ) and ``typical`` (fb; (force,
+        length), typical sizes of Φ and of x: the descent test (26) is then
+        applied to Φ/force and x/length, ∇ψᵀd/force² ≤ −ρ(‖d‖/length)ᵖ,
+        independent of units; None: the thesis's (26) as printed).
     callback : callable, optional
         ``callback(x, record)`` after every iteration.
-    error : callable, optional
-        ``error(E, A, B) -> float``, the measure of the stopping test. Use it
-        when the rows of Φ have different units (forces and gaps): the
-        iteration itself (directions, line search) still works with Φ.
-    scale : callable, optional
-        ``scale(E, A, B) -> float ≥ 0``, the problem's own size at x in the
-        units of ``error`` (e.g. the load's norm), making ``tol`` relative.
+    error, scale : callable, optional
+        ``error(E, A, B) -> float``, the measure of the stopping test, for
+        rows of Φ in different units (the iteration itself still works with
+        Φ); ``scale(E, A, B) -> float ≥ 0``, the problem's own size at x in
+        the units of ``error``, making ``tol`` relative.
 
     Returns
     -------
     OptimizeResult
-        ``x``, ``success``, ``status`` (see :data:`MESSAGES`), ``message``,
-        ``nit`` (iterations), ``njev`` (Jacobian evaluations), ``nfev``
-        (residual evaluations, line search included), ``fun`` (Φ at x),
-        ``residual`` (‖Φ(x)‖), ``error`` (the stopping measure at x),
-        ``stopping`` (dict: ``test``, the formula; ``tol``; ``scale``, its
-        value at x; ``absolute``, the stopping measure at x; ``relative`` =
-        absolute / scale), ``method``, ``time`` (wall seconds) and
-        ``history``: a dict of per-iteration lists ``residual`` (‖Φ‖
-        before the step), ``error`` (the stopping measure before the step),
-        ``merit`` (ψ = ½‖Φ‖²), ``alpha`` (step length), ``step``
-        ("newton" or "gradient"), ``active`` (rows with A_i > B_i, i.e.
-        predicted contacts) and ``line_search_failed``.
+        ``x``, ``success``, ``status`` (:data:`MESSAGES`), ``message``,
+        ``nit``, ``njev``, ``nfev`` (line search included), ``fun`` (Φ at x),
+        ``residual`` (‖Φ(x)‖), ``error``, ``stopping`` (``test``, ``tol``,
+        ``scale``, ``absolute``, ``relative``), ``method``, ``time`` and
+        ``history``: per-iteration lists ``residual``, ``error`` (before the
+        step), ``merit`` (ψ = ½‖Φ‖²), ``alpha``, ``step`` ("newton" or
+        "gradient"), ``active`` (rows with A_i > B_i) and
+        ``line_search_failed``.
 
-    Notes
-    -----
-    Besides ``max_iter`` the run ends without converging when it stops
-    making progress (status 5): the step leaves x unchanged, or neither
-    ‖Φ‖ nor the stopping measure has fallen below
-    :data:`STALL_DECREASE` times its best value for
-    :data:`STALL_ITERATIONS` iterations in a row. A tol below what floating
-    point reaches (say 1e-300) thus ends in status 5 within a few dozen
-    iterations whatever ``max_iter``; the message says when the residual
-    is at round-off level. A residual, x or scale that is not finite
-    (overflow, NaN) ends the run with status 4.
-    """
+    Besides ``max_iter`` a run ends without converging when it stops making
+    progress (status 5: :data:`STALL_ITERATIONS`; a tol below what floating
+    point reaches ends so, and the message says when the residual is at
+    round-off level) or meets a non-finite residual, x or scale (status 4)."""
     if method not in NCP_FUNCTIONS:
         raise ValueError(f"unknown method {method!r}; use one of "
                          f"{NCP_FUNCTIONS}")

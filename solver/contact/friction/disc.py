@@ -1,11 +1,9 @@
 r"""The Newton system of a condensed 3D friction step with the tractions
 eliminated (projection onto the Coulomb disc, :mod:`.projection`).
 
-On the system condensed onto Γc or onto candidate nodes
-(:mod:`solver.contact.strategies.friction_candidates`: S dense n×n,
+On the system condensed onto Γc or onto candidate nodes (S dense n×n,
 n = 3m) the projection form has the unknowns x = [Δu; ĝ] (ĝ = g_t/c_t,
-2m) and the rows (ĝ columns scaled by c_t, as in
-:meth:`~.system.FrictionSystem.jacobian`)
+2m) and the rows (ĝ columns scaled by c_t)
 
 .. math::
     (RS)_t\,dΔu − D_t c_t\,dĝ = −F_1, \qquad
@@ -17,38 +15,32 @@ with P_w the per-node 2×2 blocks ∂P/∂w of the projection onto the disc
 last term at slip nodes with the implicit bound only) and N = diag(w_a)JA
 + diag(w_b)JB the NCP rows of the normal pairs (Hüeber, Stadler & Wohlmuth
 2008; Alart & Curnier 1991). D_t c_t is a positive diagonal, so the first
-row gives dĝ = D_t⁻¹c_t⁻¹((RS)_t dΔu + F_1) exactly (once dΔu is known, a
-slip node with |b|/|w| ≤ 1/2 takes dĝ from its own projection row
-instead, where I − P_w is invertible: exact for b = 0), and what is left is
-one dense n×n system in dΔu:
+row gives dĝ = D_t⁻¹c_t⁻¹((RS)_t dΔu + F_1) exactly (a slip node with
+|b|/|w| ≤ 1/2 takes dĝ from its own projection row instead, where I − P_w
+is invertible: exact for b = 0), and what is left is one dense n×n system
+in dΔu:
 
 .. math::
     \begin{bmatrix} P_u + (I − P_w) D_t^{-1} (RS)_t \\ N \end{bmatrix}
     dΔu = \begin{bmatrix} −F_2 − (I − P_w) D_t^{-1} F_1 \\ −F_3
     \end{bmatrix},
 
-factorised by LAPACK: n³/3 flops instead of (5n/3)³/3 for the whole J,
-and no sparse matrix is built from the dense S. The direction is that of
-J d = −F up to round-off; J is singular exactly when this matrix is.
+factorised by LAPACK: n³/3 flops instead of (5n/3)³/3 for the whole J.
+The direction is that of J d = −F up to round-off; J is singular exactly
+when this matrix is.
 
-Units of the projection rows. :class:`DiscSystem` returns them as nodal
-forces D(g − P(w)) (D = ``lumped_t``, the Γc area of the node), like the
-equilibrium and normal rows, and not as tractions g − P(w): a row scaled
-by a positive constant leaves the Newton direction as it is (the matrix
-above is unchanged, F_2 is divided back), but the merit ‖Φ‖ of φ_min's
-damping and φ_FB's ψ then weigh every row in force units, as the stopping
-measure does (:meth:`~.projection.ProjectionSystem.error`). As tractions
-they weigh 1/D more, and the damped Newton rejects full steps that the
-stopping measure would accept (benchmarks/README.md, "3D friction: the
-projection rows in force units").
+Units of the projection rows: :class:`DiscSystem` returns them as nodal
+forces D(g − P(w)) (D = ``lumped_t``), like the equilibrium and normal
+rows. The Newton direction is the same, but the merit ‖Φ‖ of the line
+searches then weighs every row in force units, as the stopping measure
+does; as tractions they weigh 1/D more, and the damped Newton rejects full
+steps that the stopping measure would accept (benchmarks/README.md, "3D
+friction: the projection rows in force units").
 
-Rollers (nodes on symmetry planes, :mod:`~solver.contact.geometry`): a
-roller's constrained tangent e_c has no equilibrium row and w_c ≡ 0, so
-its projection row is c_t dĝ_c = −F_2,c (ĝ_c stays 0), ∂P/∂w loses the
-e_c column (no other row sees ĝ_c) and (RS)_t, R_t have zero rows there.
-The matrix above keeps the free tangents' rows only: m_f + m rows for the
-n = m_f + m condensed DOFs (m_f free tangents), square as without rollers.
-"""
+Rollers: a roller's constrained tangent e_c has no equilibrium row and
+w_c ≡ 0, so its projection row is c_t dĝ_c = −F_2,c (ĝ_c stays 0), ∂P/∂w
+loses the e_c column and (RS)_t, R_t have zero rows there. The matrix
+above keeps the free tangents' rows only: square as without rollers."""
 
 import warnings
 
@@ -119,13 +111,9 @@ class DiscSystem(ProjectionSystem):
 
 class DiscJacobian:
     """The structured Jacobian of :func:`solver.ncp.solve_ncp` (``JA``,
-    ``JB``, :meth:`combine`) at the iterate x of a :class:`DiscSystem`.
-
-    ``P`` holds the per-node blocks ∂P/∂w with a roller's e_c columns
-    dropped (w_c ≡ 0 there, :meth:`ProjectionSystem._slide`): its e_c row
-    of the projection is then c_t dĝ_c = −F_2,c, the other rows do not
-    see ĝ_c (ŵ_c = 0), and the Coulomb set is the disc cut to the free
-    tangents, as in :meth:`ProjectionSystem._disc_jacobian`."""
+    ``JB``, :meth:`combine`) at the iterate x of a :class:`DiscSystem`;
+    ``P`` holds the per-node blocks ∂P/∂w, a roller's e_c columns dropped
+    (module docstring)."""
 
     def __init__(self, system, x):
         s = self.system = system

@@ -1,18 +1,15 @@
 r"""Nested iteration on Γc: a coarse-to-fine start for the condensed system.
 
-From the cold start λ = 0 (u = K⁻¹f) every penetrating node looks active.
-On the condensed frictionless system, Newton with φ_min is the primal-dual
-active set method, and it releases only part of that excess per iteration,
-so its count grows like log Nc (benchmarks/README.md, "Nested start").
-Nested iteration (full multigrid's start; Hüeber and Wohlmuth use it
-for their active set contact solver) removes that growth: solve the same
+From the cold start λ = 0 (u = K⁻¹f) every penetrating node looks active;
+Newton with φ_min, the primal-dual active set method here, releases only
+part of that excess per iteration, so its count grows like log Nc.
+Nested iteration (full multigrid's start; Hüeber and Wohlmuth use it for
+their active set contact solver) removes that growth: solve the same
 contact problem with constraints at every other node of Γc, then at every
-other of those, …, down to a handful of nodes; solve the coarsest from cold
-and each finer level from the one below it. Each level then starts with
-the active set of the coarser one and needs a fixed number of iterations,
-and a level of m nodes
-costs O(m³), so all coarser levels together cost less than one more
-iteration on the finest.
+other of those, …, down to a handful of nodes; solve the coarsest from
+cold and each finer level from the one below it, whose active set it
+starts with. A level of m nodes costs O(m³), so all coarser levels
+together cost less than one more iteration on the finest.
 
 The coarse problems are exact, not a coarser mesh: level ℓ + 1 keeps the
 nodes ``keep`` of level ℓ and condenses the others (r) out of its Schur
@@ -21,26 +18,17 @@ complement with no contact force on them,
 .. math:: S_{ℓ+1} = S_{kk} − S_{kr} S_{rr}^{-1} S_{rk}, \qquad
           w_{ℓ+1} = (w_ℓ)_k,
 
-where w = K⁻¹f is the unconstrained displacement (so the condensed load is
-g̃ = S w). A level's solution u_k is prolonged to level ℓ by that same
-equilibrium: u_r = w_r − S_{rr}^{-1}S_{rk}(u_k − w_k), the exact fine
-displacement of the coarse solution, whose forces act at the kept nodes
-only. Level ℓ's system is (67) with K → S_ℓ, f → S_ℓ w_ℓ.
+w = K⁻¹f the unconstrained displacement (g̃ = S w). A level's solution is
+prolonged by that same equilibrium: u_r = w_r − S_{rr}^{-1}S_{rk}(u_k −
+w_k). Level ℓ's system is (67) with K → S_ℓ, f → S_ℓ w_ℓ, its gap rows
+scaled by k̄ (force units: with c = 1 φ_min's line search, comparing ‖Φ‖,
+rejects good steps from such a start; the solution is the same for every
+c).
 
-Units matter here: from such a start only a few nodes change, and φ_min's
-line search compares ‖Φ‖ before and after. With the thesis's B = s − YRu
-(c = 1) the gap rows are lengths and the force rows dwarf them, so the
-search rejects good steps; the nested solve therefore scales the gap rows
-by the contact stiffness k̄ (force units, :func:`contact_stiffness`) unless
-told otherwise. The solution is the same for every c.
-
-Dimension: the arithmetic works for any d (d DOFs per node), but the
-coarsening keeps every other node *in the order of Γc*, which is the
-order along the boundary curve in 2D and means nothing on a 3D contact
-surface (``problem.contact_nodes`` has no order there). 3D therefore uses
-the free start (:func:`solver.contact.solve_frictionless`); a spatial
-coarsening (one node per cell of ever coarser grids) would be the 3D
-counterpart, not built.
+The coarsening keeps every other node *in the order of Γc*, the order
+along the boundary curve in 2D, which a 3D contact surface does not have:
+3D uses the free start (a spatial coarsening would be its counterpart,
+not built).
 
 References
 ----------
@@ -48,8 +36,7 @@ S. Hüeber, B. Wohlmuth: A primal-dual active set strategy for non-linear
 multibody contact problems. Comput. Methods Appl. Mech. Engrg. 194 (2005)
 3147-3166.
 M. Hintermüller, K. Ito, K. Kunisch: The primal-dual active set strategy as
-a semismooth Newton method. SIAM J. Optim. 13 (2002) 865-888.
-"""
+a semismooth Newton method. SIAM J. Optim. 13 (2002) 865-888."""
 
 import time
 

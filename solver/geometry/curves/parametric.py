@@ -63,26 +63,12 @@ def check_derivative(derivative, text, symbol):
 class ParametricCurve:
     r"""A rigid obstacle :math:`\Gamma_o(t) = (x(t), y(t))`, thesis §4.
 
-    Parameters
-    ----------
-    x, y : str
-        Expressions in ``t`` for the two coordinates (see
-        :func:`parse_expression` for what is allowed).
-    t_range : (float, float) or None
-        Admissible parameter interval ``[t0, t1]``; ``None`` means the whole
-        real line.
-    search_interval : (float, float) or None
-        Interval of *t* searched for the gaps (intersected with
-        ``t_range``); ``None``: found from the body's extent
-        (:func:`solver.geometry.curves.parameter_window`).
-
-    Attributes
-    ----------
-    x_text, y_text : str
-        The expressions as given (stored back into problem files verbatim).
-    x_expr, y_expr : sympy.Expr
-        The parsed expressions.
-    """
+    ``x``, ``y``: expressions in ``t`` (:func:`parse_expression`), kept as
+    given in ``x_text``, ``y_text`` (stored back into problem files verbatim)
+    and parsed in ``x_expr``, ``y_expr``; ``t_range``: the admissible
+    interval (None: the real line); ``search_interval``: the interval of *t*
+    searched for the gaps (None: found from the body's extent,
+    :func:`solver.geometry.curves.parameter_window`)."""
 
     def __init__(self, x, y, t_range=None, search_interval=None):
         self.x_text, self.y_text = x, y

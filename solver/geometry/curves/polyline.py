@@ -20,22 +20,12 @@ __all__ = ["PolylineCurve"]
 
 
 class PolylineCurve:
-    """A polyline obstacle, parametrised by arc length.
-
-    Parameters
-    ----------
-    points : (n + 1, 2) array_like
-        Vertices, n ≥ 1 segments of positive length, coordinates within
-        :data:`~solver.geometry.checks.COORDINATE_LIMIT` (as the body's).
-    search_interval : (float, float) or None
-        Arc-length interval searched for the gaps (default: all of it).
-
-    Attributes
-    ----------
-    points : (n + 1, 2) float array
-    t_range : (0.0, L)
-        L = total length.
-    """
+    """A polyline obstacle through the vertices ``points`` (n + 1, 2),
+    parametrised by arc length, ``t_range`` (0, total length): n ≥ 1
+    segments of positive length, coordinates within
+    :data:`~solver.geometry.checks.COORDINATE_LIMIT` (as the body's);
+    ``search_interval`` is the arc-length interval searched for the gaps
+    (default: all of it)."""
 
     def __init__(self, points, search_interval=None):
         points = np.asarray(points, dtype=float)

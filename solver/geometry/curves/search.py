@@ -37,36 +37,17 @@ CHUNK = 2 ** 20
 
 
 def parameter_window(points, curve, window=None, samples=DEFAULT_SAMPLES):
-    r"""The interval of the obstacle parameter *t* that is searched.
+    r"""The interval of the obstacle parameter *t* searched at the contact
+    nodes ``points`` (n, 2): ((t0, t1), ends), ``ends`` saying whether t0 / t1
+    are true ends of the obstacle (of ``curve.t_range``) rather than of an
+    artificial window.
 
-    Parameters
-    ----------
-    points : (n, 2) array
-        The contact nodes.
-    curve : ParametricCurve or PolylineCurve
-        The obstacle.
-    window : (float, float), optional
-        Explicit interval ``(t0, t1)``; default ``curve.search_interval``
-        (set by the problem file's ``obstacle_search_interval`` or
-        ``--search-interval``). Intersected with ``curve.t_range`` if the
-        curve has one.
-    samples : int
-        Samples per window while fitting it.
-
-    Returns
-    -------
-    (t0, t1) : (float, float)
-        The window.
-    ends : (bool, bool)
-        Whether ``t0`` / ``t1`` are true ends of the obstacle (ends of
-        ``curve.t_range``) rather than ends of an artificial window.
-
-    Without an explicit interval the window is fitted to the body's extent
-    (:func:`~.window.fit_window`, from ``t_range`` or
-    :func:`~.window.start_window`): it does not depend on how fast the
-    parametrisation runs. When a normal line of the body meets the obstacle
-    far from the body, pass an interval.
-    """
+    ``window``: an explicit interval, default ``curve.search_interval`` (the
+    problem file's ``obstacle_search_interval`` or ``--search-interval``),
+    intersected with ``t_range``. Without one the window is fitted to the
+    body's extent with ``samples`` per window (:func:`~.window.fit_window`):
+    it does not depend on how fast the parametrisation runs. When a normal
+    line of the body meets the obstacle far from the body, pass an interval."""
     points = np.asarray(points, dtype=float)
     t_range = curve.t_range
     if window is None:
