@@ -1,29 +1,21 @@
 r"""The one interface of the sparse direct solvers, and the choice of one.
 
 A backend module (:mod:`~solver.linalg.superlu`, :mod:`~solver.linalg.pardiso`,
-:mod:`~solver.linalg.cholmod`) has ``NAME``, ``EXTRA`` (the pip extra that
-installs it), ``LICENCE``, ``USES_ORDER`` (whether it takes our fill-reducing
-order, :func:`solver.linalg.dof_ordering`), ``available()`` and
-``factorize(A, order=None, schur=None, name="K", check=True)``, which returns
-a :class:`Factor` of the symmetric positive definite A.
-
-A :class:`Factor` does three things: :meth:`~Factor.solve` A x = b (one or
-many right-hand sides), and, when factorised with ``schur=c`` (an index set),
-the Schur complement on c,
+:mod:`~solver.linalg.cholmod`) has ``NAME``, ``EXTRA`` (its pip extra),
+``LICENCE``, ``USES_ORDER`` (whether it takes our fill-reducing order),
+``available()`` and ``factorize(A, order=None, schur=None, name="K",
+check=True)``, which returns a :class:`Factor` of the SPD A: solves
+A x = b and, factorised with ``schur=c``, gives the Schur complement
 
 .. math:: S = A_{cc} − A_{ci} A_{ii}^{-1} A_{ic}  \quad (dense, m×m),
 
-the condensed right-hand side g̃ = b_c − A_ci A_ii⁻¹ b_i
-(:meth:`~Factor.condensed_rhs`) and the back-substitution for the interior
-unknowns, u_i = A_ii⁻¹(b_i − A_ic u_c) (:meth:`~Factor.back_substitute`).
-Positive definiteness is checked on construction from the pivots of the
-factorisation (Sylvester's law of inertia; :func:`check_pivots`).
-
-``auto`` (:func:`resolve`) takes the first installed of :data:`AUTO_ORDER`:
-PARDISO, whose Schur-complement mode builds S inside the factorisation
-(the fastest, benchmarks/README.md), then CHOLMOD (supernodal Cholesky), then SuperLU (no extra
-dependency). The rule is fixed: nothing is timed at run time.
-"""
+the condensed right-hand side g̃ = b_c − A_ci A_ii⁻¹ b_i and the
+back-substitution u_i = A_ii⁻¹(b_i − A_ic u_c). Positive definiteness is
+checked from the pivots of the factorisation (Sylvester's law of inertia,
+:func:`check_pivots`). ``auto`` (:func:`resolve`) takes the first
+installed of :data:`AUTO_ORDER`: PARDISO (S inside the factorisation, the
+fastest), CHOLMOD, SuperLU (no extra dependency); nothing is timed at run
+time."""
 
 import importlib
 

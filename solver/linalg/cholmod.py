@@ -1,29 +1,20 @@
 r"""CHOLMOD backend (SuiteSparse) through kvxopt's ``cholmod`` module.
 
-``pip install '.[cholmod]'`` installs kvxopt (GPL-3.0, a maintained fork of
-CVXOPT with wheels; CHOLMOD's supernodal module is GPL too). Y. Chen, T. A.
-Davis, W. W. Hager, S. Rajamanickam, *Algorithm 887: CHOLMOD, supernodal
-sparse Cholesky factorization and update/downdate*, ACM TOMS 35 (2008);
-CHOLMOD User Guide (``cholmod.symbolic``/``numeric``/``solve`` are
-``cholmod_analyze``/``cholmod_factorize``/``cholmod_solve``).
+``pip install '.[cholmod]'`` installs kvxopt (GPL-3.0, a maintained fork
+of CVXOPT). Y. Chen, T. A. Davis, W. W. Hager, S. Rajamanickam, *Algorithm
+887: CHOLMOD, supernodal sparse Cholesky factorization and
+update/downdate*, ACM TOMS 35 (2008); CHOLMOD User Guide.
 
-PAPᵀ = LLᵀ, supernodal, in our order P (``nmethods = 1``: the user order
-only; ``postorder = False``: kept as given, so that the Schur set c stays
-last). A non-positive pivot stops ``numeric`` (ArithmeticError, or a
-factor that ``cholmod.diag`` refuses as singular; then SuperLU's LDLᵀ
-names the inertia, :func:`~solver.linalg.superlu.refuse`); otherwise the
-pivots diag(L)² go through
-:func:`~solver.linalg.base.check_pivots`.
-
-S = L₂₂L₂₂ᵀ with L₂₂ the trailing block of L, read in place from the
-factor (:mod:`~solver.linalg.cholmod_struct`; kvxopt hands out L only by
-emptying the factor) and checked against L's diagonal from ``cholmod.diag``
-(no extra solve). Should that read fail, L₂₂⁻¹
-is computed instead by forward substitution (``sys = 4``) on the unit
-vectors of c in blocks of at most m²/n columns (no dense array larger than
-S) and inverted: m sweeps over L, O(m·nnz(L)), ten times slower at 10⁵
-DOFs.
-"""
+PAPᵀ = LLᵀ, supernodal, in our order P (``nmethods = 1``, ``postorder =
+False``: the Schur set c stays last). A non-positive pivot stops
+``numeric`` (then SuperLU's LDLᵀ names the inertia,
+:func:`~solver.linalg.superlu.refuse`); otherwise the pivots diag(L)² go
+through :func:`~solver.linalg.base.check_pivots`. S = L₂₂L₂₂ᵀ with L₂₂
+the trailing block of L, read in place from the factor
+(:mod:`~solver.linalg.cholmod_struct`) and checked against L's diagonal;
+should that read fail, L₂₂⁻¹ is computed by forward substitution
+(``sys = 4``) on the unit vectors of c in blocks of at most m²/n columns
+and inverted, an order of magnitude slower."""
 
 import numpy as np
 import scipy.linalg as dense

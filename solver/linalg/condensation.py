@@ -7,16 +7,12 @@ With c = the DOFs of the free contact nodes and i the others, K u = f + Pᵀr
           \quad g̃ = f_c − K_{ci}K_{ii}^{-1}f_i,
 
 the stiffness of the body seen from Γc (its inverse is the Neumann-to-
-Dirichlet map, the "influence coefficients" of the contact literature).
-Contact acts only on these DOFs, so the thesis's systems (67) and
-(110)/(111) are *exactly* the same systems with K replaced by the dense
-2Nc×2Nc matrix S and f by g̃: the Newton iterations then cost dense algebra
-of the size of Γc, and the whole solve costs about one factorisation of K
-and two solves (Wriggers, *Computational Contact Mechanics*, 2006, §6.2.2;
-Dostál, *Optimal Quadratic Programming Algorithms*, 2009, for the
-dual/condensed view). One factorisation, with its S, serves every Newton
-iteration and every load step; nothing here forms a dense Ñ×Ñ array.
-"""
+Dirichlet map). Contact acts only on these DOFs, so the thesis's systems
+(67) and (110)/(111) are *exactly* the same with K → S (dense, 2Nc×2Nc)
+and f → g̃: one factorisation of K, with its S, serves every Newton
+iteration and every load step (Wriggers, *Computational Contact
+Mechanics*, 2006, §6.2.2; Dostál, *Optimal Quadratic Programming
+Algorithms*, 2009)."""
 
 import weakref
 

@@ -1,32 +1,21 @@
 r"""Intel oneMKL PARDISO backend, through ctypes on the ``mkl`` wheel.
 
-``pip install '.[mkl]'`` (Intel Simplified Software Licence) puts MKL's
-single dynamic library ``libmkl_rt.so.*`` in the environment's ``lib/``
-(``~/.local/lib`` for a user install; Linux only here);
-it is loaded with ctypes and set to the LP64 interface (32-bit MKL_INT,
-``MKL_Set_Interface_Layer``). pypardiso does not expose the Schur mode.
+``pip install '.[mkl]'`` (Intel Simplified Software Licence) puts
+``libmkl_rt.so.*`` in the environment's ``lib/`` (Linux only here); it is
+loaded with ctypes and set to the LP64 interface. pypardiso does not
+expose the Schur mode.
 
-Settings (oneMKL Developer Reference, "pardiso", "pardiso iparm Parameter",
-"pardiso_getdiag"): ``mtype = 2`` (real symmetric positive definite; the
-upper triangle in CSR with sorted columns), ``iparm[0] = 1`` (our values),
-``iparm[1] = 2`` (METIS nested dissection), ``iparm[34] = 1`` (zero-based
-indices), ``iparm[55] = 1`` (``pardiso_getdiag`` may read the pivots) and,
-for a Schur set c, ``iparm[35] = 2`` with ``perm[c] = 1``: phase 22
-factorises all of A *and* returns the dense Schur complement S on c (rows
-in increasing index order) in the ``x`` argument. Phase 331 (forward
-substitution only) then leaves the condensed right-hand side g̃ in the c
-rows, and phase 333 (backward only) with u_c put in those rows gives the
-interior unknowns: :meth:`~PardisoFactor.condensed_rhs` and
-:meth:`~PardisoFactor.back_substitute` cost one triangular sweep each.
-
-Positive definiteness: PARDISO stops with error -4 (zero pivot) on a non-
-positive pivot (then SuperLU's LDLᵀ names the inertia,
-:func:`~solver.linalg.superlu.refuse`); otherwise the n pivots
-(``pardiso_getdiag``'s ``df``, those of S included) go through
-:func:`~solver.linalg.base.check_pivots`.
-PARDISO keeps its own copy of the values (the upper triangle passed here,
-half of A, kept alive as long as the factor).
-"""
+Settings (oneMKL Developer Reference, "pardiso", "pardiso iparm
+Parameter", "pardiso_getdiag"): ``mtype = 2`` (real SPD; the upper
+triangle in CSR with sorted columns), ``iparm[1] = 2`` (METIS nested
+dissection), ``iparm[34] = 1`` (zero-based), ``iparm[55] = 1`` (pivots
+readable) and, for a Schur set c, ``iparm[35] = 2`` with ``perm[c] = 1``:
+phase 22 factorises all of A *and* returns the dense S on c. Phase 331
+(forward only) then leaves g̃ in the c rows, and phase 333 (backward only)
+with u_c in those rows gives the interior unknowns: one triangular sweep
+each. A non-positive pivot stops PARDISO with error -4 (SuperLU's LDLᵀ
+then names the inertia); otherwise the pivots (``pardiso_getdiag``) go
+through :func:`~solver.linalg.base.check_pivots`."""
 
 import ctypes
 import glob

@@ -1,24 +1,15 @@
 r"""SuperLU backend (SciPy's ``splu``): no extra dependency, BSD licence.
 
 PKPᵀ = LDLᵀ with SuperLU in symmetric mode, diagonal pivots only
-(``diag_pivot_thresh=0``) and our ordering P (``NATURAL`` on the permuted
-matrix), so that U = DLᵀ (X. S. Li, *An overview of SuperLU*, ACM TOMS 31
-(2005); SuperLU Users' Guide §2.7, ``SymmetricMode``). A is positive
-definite iff every pivot D_kk > 0 (Sylvester's law of inertia), checked by
-:func:`~solver.linalg.base.check_pivots`. The factorisation is that of
-Cholesky up to the first non-positive pivot, hence backward stable where it
-matters.
-
-With the Schur set c ordered last, the trailing blocks of the factors give
-S = L₂₂U₂₂ (= U₂₂ᵀD₂₂⁻¹U₂₂ in exact arithmetic; L₂₂U₂₂ is what the
-project has always used, and the condensed thesis split with φ_FB is
-sensitive even to that round-off). SciPy exposes the factors only as
-copies (``SuperLU.U``/``.L`` build new CSC matrices): this backend reads
-them once, for the pivots and the trailing blocks, and drops them at once
-— the one backend that copies its factors, transiently (about half the
-factorisation's time). PARDISO builds S inside the factorisation and
-CHOLMOD's trailing block is read in place.
-"""
+(``diag_pivot_thresh=0``) and our ordering P, so that U = DLᵀ (X. S. Li,
+*An overview of SuperLU*, ACM TOMS 31 (2005); SuperLU Users' Guide §2.7).
+A is positive definite iff every pivot D_kk > 0 (Sylvester's law of
+inertia, :func:`~solver.linalg.base.check_pivots`); the factorisation is
+Cholesky's up to the first non-positive pivot, hence backward stable where
+it matters. With the Schur set c last the trailing blocks give
+S = L₂₂U₂₂ (the condensed thesis split with φ_FB is sensitive even to the
+round-off of U₂₂ᵀD₂₂⁻¹U₂₂). SciPy exposes the factors only as copies:
+they are read once, for the pivots and the trailing blocks, and dropped."""
 
 import numpy as np
 import scipy.sparse as sp

@@ -1,14 +1,11 @@
 """The ``meta`` key: a JSON object parsed safely.
 
-The metadata of a problem file (material E, ν, plane; load; mesh name; see
-:data:`~solver.problem.format.KEYS`) is JSON text written by
-``save_problem``. A hostile file can make :func:`json.loads` recurse
-without bound (deeply nested lists), return integers of thousands of digits
-(which overflow every float conversion), the non-standard constants
-``NaN`` and ``Infinity`` (which ``--info --json`` would echo as invalid
-JSON) or strings with lone surrogates (which cannot be printed). Each is
-refused here with a one-line :class:`~solver.errors.ProblemError`.
-"""
+The metadata of a problem file (material E, ν, plane; load; mesh name) is
+JSON text. A hostile file can make :func:`json.loads` recurse without
+bound, return integers of thousands of digits (which overflow every float
+conversion), the non-standard ``NaN`` and ``Infinity`` (invalid JSON for
+``--info --json``) or strings with lone surrogates (which cannot be
+printed); each is refused with a one-line ProblemError."""
 
 import json
 import math

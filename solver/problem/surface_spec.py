@@ -23,19 +23,10 @@ KEY = "obstacle_surface"
 
 
 def obstacle_surface(text):
-    """The obstacle of a 3D problem from the text of its spec.
-
-    Returns
-    -------
-    Surface
-        ``surface_from_spec(spec)``.
-
-    Raises
-    ------
-    ProblemError
-        ``"obstacle_surface: ..."``, one line: not a JSON object, no or an
-        unknown ``kind``, or a field the surface module refuses.
-    """
+    """The obstacle :class:`~solver.geometry.surfaces.Surface` of a 3D
+    problem from the text of its spec; ProblemError ``"obstacle_surface:
+    ..."`` (one line) for text that is not a JSON object, no or an unknown
+    ``kind``, or a field the surface module refuses."""
     spec = parse_json(text, KEY)
     kind = spec.get("kind")
     if kind not in SURFACE_KINDS:

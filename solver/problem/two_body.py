@@ -1,26 +1,14 @@
 """Validation of the two-body keys of a 2D mesh file (format version 4).
 
-Two elastic bodies in one mesh, in contact through an interface
-given as slave and master segments (dual mortar, Wohlmuth 2000; Popp, Gee
-& Wall, IJNME 79, 2009). The file carries the bodies of the nodes and the
-segments; the solver computes the mortar matrices D, M and the weighted
-gaps from them (``solver.geometry.mortar``). Checked here, each failure a
-one-line :class:`~solver.errors.ProblemError` naming the key:
-
-* ``body``: ids 0 … B−1, each used; no triangle joins two bodies;
-* ``mortar_slave``, ``mortar_master``: boundary edges of the mesh, the body
-  on the LEFT of a→b (outward normal (t_y, −t_x)/|t|), checked against the
-  third vertex of the one triangle each bounds; none twice;
-* pairs: every pair has slave and master segments; per pair the slave
-  segments lie in one body, the master segments in another;
-* ``contact_nodes``: the slave nodes, pair by pair, each pair's slave
-  segments forming one open chain listed in their direction;
-* ``K`` couples no two bodies (block-diagonal);
-* ``meta``: ``bodies``, ``slave_body``, ``master_body``
-  (:func:`solver.problem.meta.check_bodies`).
-
-2D only: the format does not define 3D interfaces yet.
-"""
+Two elastic bodies in one mesh, in contact through an interface given as
+slave and master segments (dual mortar, Wohlmuth 2000; Popp, Gee & Wall,
+IJNME 79, 2009); the solver computes the mortar matrices D, M and the
+weighted gaps from them (:mod:`solver.geometry.mortar`). The rules checked
+here are those of docs/npz-format.md ("Two bodies"): body ids, segments
+that are boundary edges with the body on their left, pairs, the slave
+chains in ``contact_nodes``, a block-diagonal K and the ``meta`` fields
+(:func:`solver.problem.meta.check_bodies`); each failure a one-line
+:class:`~solver.errors.ProblemError` naming the key. 2D only."""
 
 import numpy as np
 
@@ -184,14 +172,11 @@ def check_block_diagonal(K, dof_map, body):
 
 
 def validate_two_body(arrays, fields, K, meta):
-    """The two-body keys of a 2D mesh file.
-
-    ``fields`` are those of :func:`solver.problem.geometry.validate_mesh`
-    (nodes, cells, dof_map, contact_nodes). Returns the fields ``body``,
+    """The two-body keys of a 2D mesh file, given the ``fields`` of
+    :func:`solver.problem.geometry.validate_mesh`: ``body``,
     ``mortar_slave``, ``mortar_master``, ``mortar_slave_pair``,
     ``mortar_master_pair`` (absent keys: None; the pair indices of a
-    two-body file without them: zeros).
-    """
+    two-body file without them: zeros)."""
     out = dict.fromkeys(TWO_BODY)
     nodes, cells = fields["nodes"], fields["cells"]
     body = validate_body(arrays, cells, len(nodes))

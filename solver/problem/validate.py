@@ -47,19 +47,10 @@ class _Arrays(Mapping):
 
 def validate_fields(arrays):
     """Validate a dict of ``.npz`` arrays (keys of
-    :data:`~solver.problem.format.KEYS`).
-
-    Returns
-    -------
-    dict
-        The fields of a :class:`~solver.problem.ContactProblem` (K and M as
-        CSR matrices, the obstacle as a curve object).
-
-    Raises
-    ------
-    ProblemError
-        Naming the first key found missing, unexpected or malformed.
-    """
+    :data:`~solver.problem.format.KEYS`) and return the fields of a
+    :class:`~solver.problem.ContactProblem` (K and M as CSR matrices, the
+    obstacle as a curve object); ProblemError naming the first key found
+    missing, unexpected or malformed."""
     # Overflows in the checks of absurd values (1e308 entries) are found by
     # the checks themselves; NumPy's RuntimeWarnings would only add lines to
     # the one-line error message on stderr.

@@ -1,26 +1,16 @@
 r"""Rigid obstacle surfaces in 3D, built from a spec.
 
-The 3D counterpart of the obstacle curve :math:`\Gamma_o(t)` of thesis §4.
-A surface is described by a JSON-serialisable **spec** (stored in problem
-files as the ``obstacle_surface`` string):
-
-* ``{"kind": "plane", "point": [x, y, z], "normal": [nx, ny, nz]}`` -- the
-  normal points out of the obstacle, towards the body;
-* ``{"kind": "sphere", "center": [x, y, z], "radius": R}`` -- the obstacle
-  is the ball;
-* ``{"kind": "graph", "z": "<expression in x, y>"}`` -- the obstacle is
-  :math:`z \le h(x, y)`, the body above;
-* ``{"kind": "parametric", "x": "..", "y": "..", "z": "..", "s_range":
-  [a, b], "t_range": [c, d]}`` -- expressions in ``s`` and ``t``; the
-  outward normal is :math:`c_s \times c_t / |c_s \times c_t|`.
-
+The 3D counterpart of the obstacle curve :math:`\Gamma_o(t)` of thesis §4,
+described by a JSON-serialisable **spec** (the ``obstacle_surface`` of a
+problem file): a plane, a sphere, a graph :math:`z \le h(x, y)` or a
+parametric surface c(s, t), with the fields of docs/npz-format.md ("3D").
 Every surface answers the two gap questions of thesis §2.1 in 3D:
-:meth:`~.base.Surface.gap_along_obstacle_normal` (closest point,
-§2.1.1) and :meth:`~.base.Surface.gap_along_rays` (along the body's
-normals, §2.1.2). Plane and sphere in closed form (:mod:`.shapes`);
-graph and parametric surfaces by Newton's method vectorised over the nodes
-(:mod:`.parametric`, :mod:`.search`), their expressions
-parsed safely (:mod:`.expression`).
+:meth:`~.base.Surface.gap_along_obstacle_normal` (closest point, §2.1.1)
+and :meth:`~.base.Surface.gap_along_rays` (along the body's normals,
+§2.1.2). Plane and sphere in closed form (:mod:`.shapes`); graph and
+parametric surfaces by Newton's method vectorised over the nodes
+(:mod:`.parametric`, :mod:`.search`), their expressions parsed safely
+(:mod:`.expression`).
 
 Example
 -------
@@ -28,8 +18,7 @@ Example
 ...                           "radius": 1.0})
 >>> gap, nu, foot = ball.gap_along_obstacle_normal([[0.0, 0.0, 3.0]])
 >>> float(gap[0]), nu[0].tolist()
-(2.0, [-0.0, -0.0, -1.0])
-"""
+(2.0, [-0.0, -0.0, -1.0])"""
 
 import json
 
@@ -47,15 +36,10 @@ KINDS = {cls.kind: cls for cls in (PlaneSurface, SphereSurface,
 
 
 def surface_from_spec(spec):
-    """The :class:`Surface` described by ``spec`` (a dict, or its JSON text).
-
-    Raises
-    ------
-    ProblemError
-        One line naming the bad field: not a dict (or not JSON), an unknown
-        kind, a missing or unknown field, non-finite numbers, a zero normal,
-        a radius ≤ 0, a bad expression, an empty range.
-    """
+    """The :class:`Surface` described by ``spec`` (a dict, or its JSON
+    text). ProblemError, one line naming the bad field: not a dict (or not
+    JSON), an unknown kind, a missing or unknown field, non-finite numbers, a
+    zero normal, a radius ≤ 0, a bad expression, an empty range."""
     if isinstance(spec, (str, bytes)):
         try:
             spec = json.loads(spec)

@@ -1,48 +1,34 @@
 r"""Outward normals of the body's contact surface in 3D.
 
 The 3D counterpart of :mod:`solver.geometry.curves.normals` (§2.1.3): the
-contact surface is a set of triangles (the ``contact_faces`` of a format-3
-problem), oriented so that the right-hand rule gives the body's outward
-normal. Three nodal normals:
+contact surface is a set of triangles (``contact_faces``), oriented so
+that the right-hand rule gives the body's outward normal. Three nodal
+normals:
 
 ``"angle"`` (default)
     facet normals weighted by the triangle's angle at the node (Thürmer &
-    Wüthrich 1998, "Computing vertex normals from polygonal facets", J.
-    Graphics Tools 3, 43-46): independent of how a flat region is split into
-    triangles. First order in the mesh size *h* on irregular meshes, second
-    order on regular (valence-6, symmetric) ones (Meek & Walton 2000, "On
-    surface normal and Gaussian curvature approximations given data sampled
-    from a smooth surface", CAGD 17, 521-543).
+    Wüthrich, J. Graphics Tools 3 (1998) 43-46): independent of how a
+    flat region is split into triangles; first order in the mesh size *h*
+    on irregular meshes, second on regular ones (Meek & Walton, CAGD 17
+    (2000) 521-543).
 ``"area"``
-    facet normals weighted by area (the plain sum of the cross products).
+    facet normals weighted by area.
 ``"smooth"``
-    the counterpart of the thesis's cubic-spline normals: a local **cubic**
-    least-squares fit (an osculating jet; Cazals & Pouget 2005, "Estimating
-    differential quantities using polynomial fitting of osculating jets",
-    CAGD 22, 121-146) of the surface as a height field over the tangent plane
-    of the angle-weighted normal, through the node and its 2-ring
-    neighbours; the normal of the fitted jet is third order in *h* (a degree-
-    *n* jet gives order *n*). Where the 2-ring has fewer than 12 nodes or the
-    fit is ill-conditioned, a quadratic jet (order 2; 7 nodes), else the
-    angle-weighted normal. Exact on a plane. As the 2D splines end at
-    corners (:data:`~solver.geometry.curves.normals.CORNER_ANGLE`),
-    neighbours whose angle-weighted normal turns by more than that angle from the node's are
-    left out of its fit: next to an edge of the body the fit is one-sided,
-    and a node on the edge keeps its angle-weighted normal.
+    the counterpart of the thesis's cubic-spline normals: a local cubic
+    least-squares fit of the surface over the tangent plane through the
+    node and its 2-ring (an osculating jet, Cazals & Pouget, CAGD 22
+    (2005) 121-146, :mod:`.jets`), third order in *h*; a quadratic jet, or
+    the angle-weighted normal, where the 2-ring is too small or the fit
+    ill-conditioned. As the 2D splines end at corners
+    (:data:`~solver.geometry.curves.normals.CORNER_ANGLE`), neighbours
+    whose angle-weighted normal turns by more than that angle are left out
+    of the fit: next to an edge of the body it is one-sided.
 
-On a jittered sphere the angle-weighted normals converge with order 1
-and the smooth ones with order 3, boundary nodes of a cap included
-(``tests/test_surface_normals.py``; the errors in benchmarks/README.md).
-
-Orientation: the normals follow the faces' orientation; an inward-oriented
-face set gives inward normals (a surface patch alone cannot tell inside from
-outside). Inconsistently oriented faces (an edge traversed twice in the
-same direction) are refused.
-
-Everything is vectorised over nodes: sums over faces by :func:`numpy.bincount`,
-the 2-ring from sparse adjacency products, the least-squares normal equations
-assembled by ``bincount`` and solved as one batch.
-"""
+On a jittered sphere the angle-weighted normals converge with order 1 and
+the smooth ones with order 3 (``tests/test_surface_normals.py``). The
+normals follow the faces' orientation (a surface patch alone cannot tell
+inside from outside); inconsistently oriented faces are refused.
+Vectorised over nodes (``bincount`` sums, sparse adjacency products)."""
 
 import numpy as np
 import scipy.sparse as sp
