@@ -1,14 +1,10 @@
 """One run of the command line: load, solve, write, and say how it ended.
 
-:func:`run` turns every outcome into an exit code and at most one line on
-stderr (:mod:`~solver.cli.codes`): input errors (2), a solve that
-does not converge (3), an output that cannot be written (4), an interrupt
-(128 + signal number), a closed standard output (141), and anything
-unexpected (1, an internal error). The output folder is locked for the run,
+:func:`run` turns every outcome into an exit code (:mod:`~solver.cli.codes`)
+and at most one line on stderr. The output folder is locked for the run,
 cleared of an earlier run's files, and its ``summary.json`` says
 ``"running"`` until the run ends, then the final status and the files the
-run wrote.
-"""
+run wrote."""
 
 import json
 import os

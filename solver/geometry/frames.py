@@ -1,33 +1,27 @@
 r"""Orthonormal contact frames: the tangents that go with a unit normal.
 
-In 2D the tangent is the thesis's γ = (−ν_y, ν_x) (§3.2, (58)-(60)), the
-normal turned by +90°. In 3D the two tangents are the branch-free
-orthonormal basis of Duff et al. (2017), a corrected form of Frisvad's
-(2012): with σ = sign(ν_z) (+1 at ν_z = 0), a = −1/(σ + ν_z),
-b = ν_x ν_y a,
+In 2D the tangent is the thesis's γ = (−ν_y, ν_x) (§3.2, (58)-(60)). In 3D
+the two tangents are the branch-free orthonormal basis of Duff et al.
+(2017), a corrected form of Frisvad's (2012): with σ = sign(ν_z) (+1 at
+ν_z = 0), a = −1/(σ + ν_z), b = ν_x ν_y a,
 
 .. math::
     τ_1 = (1 + σ ν_x^2 a,\ σ b,\ −σ ν_x), \qquad
     τ_2 = (b,\ σ + ν_y^2 a,\ −ν_y),
 
-which is continuous except across ν_z = 0 and accurate to round-off for
-every unit ν (no division by a small number: |σ + ν_z| ≥ 1). (τ_1, τ_2, ν)
-is right-handed. Vectorised over nodes; any frame in the tangent plane
-gives the same frictionless answer, and friction sees only the plane.
-
-Rollers (:func:`roller_frames`): at a node with Dirichlet components c
-whose normal lies in the plane of the free ones, the tangents are the
-e_c first, then (3D, one c) ν × e_c, so that (e_c, ν × e_c, ν) is
-right-handed; with two c in 3D, (e_c1, ±e_c2, ν) right-handed; in 2D
-γ = (−ν_y, ν_x), which is then ±e_c.
+continuous except across ν_z = 0 and accurate to round-off for every unit
+ν; (τ_1, τ_2, ν) is right-handed. Any frame in the tangent plane gives the
+same frictionless answer, and friction sees only the plane. A roller's
+frame (:func:`roller_frames`) has its constrained directions e_c first:
+(e_c, ν × e_c, ν) with one in 3D, (e_c1, ±e_c2, ν) with two, all
+right-handed; in 2D γ, which is then ±e_c.
 
 References
 ----------
 T. Duff, J. Burgess, P. Christensen, C. Hery, A. Kensler, M. Liani,
 R. Villemin: Building an orthonormal basis, revisited. JCGT 6(1) (2017).
 J. R. Frisvad: Building an orthonormal basis from a 3D unit vector without
-normalization. J. Graphics Tools 16(3) (2012) 151-159.
-"""
+normalization. J. Graphics Tools 16(3) (2012) 151-159."""
 
 import numpy as np
 

@@ -1,29 +1,16 @@
-"""Reading the members of a problem file safely.
+"""Reading the members of a problem file safely (docs/npz-format.md,
+"Safe reading").
 
-A problem file may be hostile: a member that decompresses to gigabytes (a
-zip bomb), an ``.npy`` header that claims 10¹⁰ entries, index arrays far
-larger than the matrix, thousands of members. :func:`load_problem` opens
-the ``.npz`` with :mod:`zipfile` itself and hands the validation
-(:mod:`solver.problem.validate`) a lazy mapping, :class:`Archive`, which
-
-* lists the members by name only: a member the format does not name is
-  refused by the validation without being decompressed;
-* reads a member only when the validation asks for it, after parsing its
-  ``.npy`` header and checking, **before decompressing** the data, that the
-  dtype is not an object (pickle) dtype, that the declared size is at most
-  what the dimensions already known allow (Ñ from ``K_shape``, Nc from
-  ``M_shape``, nnz from ``K_indptr``, the number of nodes from the header
-  of ``nodes``), that it agrees with the size in the zip directory, that
-  deflate can hold it in the compressed size, and that the file's total
-  stays below :data:`~solver.problem.format.MAX_TOTAL_BYTES`;
-* then reads exactly the declared bytes, in chunks (a row pointer of K or
-  M is checked to rise strictly chunk by chunk, so a row pointer of zeros
-  is refused in its first chunk).
-
-So a bad file costs no more memory than a good one of its declared size,
-and every failure is a one-line :class:`~solver.errors.ProblemError`
-naming the member.
-"""
+A problem file may be hostile: a zip bomb, an ``.npy`` header that claims
+10¹⁰ entries, index arrays far larger than the matrix, thousands of
+members. :func:`load_problem` opens the ``.npz`` with :mod:`zipfile`
+itself and hands the validation a lazy mapping, :class:`Archive`, which
+lists the members by name only, reads one only when the validation asks
+for it, and checks its header against the sizes already known **before
+decompressing** it; then it reads exactly the declared bytes, in chunks
+(row pointers checked to rise as they are read). So a bad file costs no
+more memory than a good one of its declared size, and every failure is a
+one-line :class:`~solver.errors.ProblemError` naming the member."""
 
 import os
 import struct

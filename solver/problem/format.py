@@ -227,18 +227,10 @@ MAX_STAGES = 100_000
 MAX_OBSTACLE_POINTS = 10_000_000
 
 #: Largest accepted load: ‖f‖₂·max(k, 1/k) ≤ LOAD_LIMIT, k = max|K_ij|,
-#: for ``f`` and for every stage of ``load_path``
-#: (:func:`solver.problem.checks.check_load`). From a load the solver forms
-#: forces (the equilibrium rows of Φ, about ‖f‖), stiffness times forces
-#: (the gradient JᵀΦ of φ_FB's merit function, about k‖f‖) and
-#: displacements (K⁻¹f, at least about ‖f‖/k), and squares them: in
-#: ψ = ½‖Φ‖², in the slope ∇ψᵀd of its line search, in the full system's
-#: gap rows. Squares overflow above √(max double) ≈ 1.3e154, and the run
-#: ends in "non-finite residual" however good the input looks (a load of
-#: 1e152 did, with friction). 1e150 leaves a factor 1e4 for Φ growing past
-#: the load (contact and friction forces, the first Newton steps, sums
-#: over the DOFs). No physical load comes near it: in N and mm, k is about
-#: 1e5 to 1e7 and ‖f‖·k below 1e20.
+#: for ``f`` and every stage of ``load_path``
+#: (:func:`solver.problem.checks.check_load`): the solver squares forces,
+#: K times forces and displacements, and squares overflow above
+#: √(max double) ≈ 1.3e154 (docs/npz-format.md, "Validation").
 LOAD_LIMIT = 1e150
 
 #: Most bytes the arrays of one file may occupy once read (16 GiB; the

@@ -1,22 +1,14 @@
 """Validation of the mesh keys of a problem file and of its geometry.
 
-The keys common to 2D and 3D are checked here, the 2D contact boundary and
-obstacle curve too; the 3D contact surface, tetrahedra and obstacle surface
-in :mod:`solver.problem.geometry3d`.
-
-Besides dtypes and shapes, the geometry must be one double precision can
-resolve and the thesis's normals (§2.1.3) can be computed on: coordinates
-within :data:`COORDINATE_LIMIT` (shared with the obstacles, defined in
-:mod:`solver.geometry.checks`), a body at least :data:`RESOLUTION` times
-as large as its distance from the origin (a body of size 20 shifted by
-1e17 has no two distinct node positions left), a contact boundary of at
-least two nodes, no two consecutive contact nodes at one point, no
-zero-area triangle on Γc
-(:func:`~solver.geometry.curves.normals.boundary_normals`).
-Failures raise :class:`~solver.errors.ProblemError` naming the key and the
-nodes. A two-body file (``mortar_slave``, format version 4) has no obstacle
-and its slave chain is checked by :mod:`solver.problem.two_body`.
-"""
+The keys common to 2D and 3D, the 2D contact boundary and obstacle curve
+(3D: :mod:`solver.problem.geometry3d`; two bodies:
+:mod:`solver.problem.two_body`). The geometry must be one double precision
+can resolve and the thesis's normals (§2.1.3) can be computed on:
+coordinates within :data:`COORDINATE_LIMIT`, a body at least
+:data:`RESOLUTION` times as large as its distance from the origin, a
+contact boundary of two nodes or more without coincident or zero-area
+parts (docs/npz-format.md, "Validation"). Failures raise a ProblemError
+naming the key and the nodes."""
 
 import numpy as np
 

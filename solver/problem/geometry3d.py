@@ -1,23 +1,11 @@
-"""Validation of a 3D mesh (format version 3): tetrahedra, the contact
-surface and the obstacle surface.
-
-* ``cells``: no tetrahedron flat (|6V| ≤ :data:`FLAT_RTOL` · L³, L its
-  longest edge from its first vertex) and all of one orientation (the sign
-  of V = det[x1 − x0, x2 − x0, x3 − x0]/6);
-* ``contact_faces``: triangles of contact nodes, none repeated or of zero
-  area, each the face of exactly one tetrahedron (a boundary face), oriented
-  so that the right-hand normal (x1 − x0) × (x2 − x0) points out of the body
-  (away from the tetrahedron's fourth vertex); every contact node is a
-  vertex of one;
-* ``obstacle_surface``: :mod:`solver.problem.surface_spec`; a sphere's
-  radius at most 1/:data:`~solver.geometry.checks.RESOLUTION` times the
-  body's size (its gaps |x − c| − R carry an error of about ε·R: a sphere
-  of radius 1e29 gave every node of a unit body the gap 0).
-
-Vectorised over the faces; only tetrahedra with three contact vertices are
-looked at for the faces. Failures raise a one-line
-:class:`~solver.errors.ProblemError` naming the key and the element.
-"""
+"""Validation of a 3D mesh (format version 3): tetrahedra (none flat,
+|6V| ≤ :data:`FLAT_RTOL` · L³, all of one orientation), the contact
+surface (outward triangles, each the face of one tetrahedron) and the
+obstacle surface (a sphere's radius at most
+1/:data:`~solver.geometry.checks.RESOLUTION` times the body's size), the
+rules of docs/npz-format.md ("3D"). Vectorised over the faces; failures
+raise a one-line :class:`~solver.errors.ProblemError` naming the key and
+the element."""
 
 import numpy as np
 

@@ -1,23 +1,14 @@
 """What a solve would refuse in a loaded problem, found without solving.
 
 Loading checks every key, but two input errors only show when a solve
-starts: a K that is not positive definite (a floating body: every
-Dirichlet condition removed) and an obstacle whose gaps cannot be found
-at the contact nodes (a normal line that misses it, a surface out of
-range where the body is). :func:`refusals` runs exactly those checks, so
-that ``python -m solver X.npz --info`` says what the solve would refuse
-instead of exiting 0:
-
-* K positive definite: :meth:`ContactProblem.check_stiffness`, one sparse
-  factorisation with the pivot test every solver applies;
-* the gaps and normals of the obstacle (thesis §2.1) in the solve's gap
-  mode at every contact node that can take part (every node with a free
-  DOF), by the geometry functions the solvers call. Cheap next to the
-  factorisation: one search over the contact nodes.
-
-A discrete problem carries its gaps, and a two-body problem's mortar gaps
-are computed by the solve; for both only K is checked.
-"""
+starts: a K that is not positive definite (a floating body) and an
+obstacle whose gaps cannot be found at the contact nodes (a normal line
+that misses it, a surface out of range). :func:`refusals` runs exactly
+those checks (:meth:`ContactProblem.check_stiffness`, one sparse
+factorisation, and the gap search of the solve's gap mode at every
+contact node with a free DOF), so that ``--info`` says what the solve
+would refuse instead of exiting 0. A discrete problem carries its gaps
+and a two-body problem's are the mortar's: for both only K is checked."""
 
 import numpy as np
 

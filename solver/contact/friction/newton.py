@@ -63,13 +63,10 @@ DUAL_MAX_FRICTION = 1.0
 
 class ReducedJacobian:
     """The structured Jacobian that :func:`solver.ncp.solve_ncp` accepts
-    from ``jac``: ``JA``, ``JB`` (for φ_FB's rule (31)) and
-    :meth:`combine` (the Newton system with the NCP function's weights).
-
-    Built by :meth:`ProjectionSystem.jacobian
-    <solver.contact.friction.projection.ProjectionSystem.jacobian>` at the
-    iterate ``x`` with the step's quantities there: ``stick`` and ``upper``
-    masks of the projection, ``active`` (a_i, None if lagged)."""
+    from ``jac`` (``JA``, ``JB``, :meth:`combine`), made by
+    :meth:`~solver.contact.friction.projection.ProjectionSystem.jacobian` at
+    the iterate ``x``: ``stick`` and ``upper`` masks of the projection,
+    ``active`` (a_i, None if lagged)."""
 
     def __init__(self, system, x, stick, upper, active):
         self.system, self.x, self.stick, self.upper = system, x, stick, upper

@@ -1,16 +1,13 @@
 r"""The projection formulation of a load step (beyond the thesis):
 unknowns x = [Δu; ĝ] (ĝ = g_t/c_t) and the row g − P(w), w = g − c_t ZRΔu,
-the projection onto the disc |·| ≤ b = f_c p of R^{d−1} (Alart & Curnier,
-CMAME 92 (1991) 353; Hüeber, Stadler & Wohlmuth, SIAM J. Sci. Comput. 30
-(2008) 572), in place of the thesis's split; :mod:`.driver` says why.
+P the projection onto the disc |·| ≤ b = f_c p of R^{d−1} (Alart &
+Curnier, CMAME 92 (1991) 353; Hüeber, Stadler & Wohlmuth, SIAM J. Sci.
+Comput. 30 (2008) 572), in place of the thesis's split (:mod:`.driver`).
 
-P(w) = w·min(1, b/|w|). Its generalised derivative: at a stick node
-(|w| < b) ∂P/∂w = I; at a slip node ∂P/∂w = (b/|w|)(I − ŵŵᵀ) and
-∂P/∂b = ŵ. In 2D (d − 1 = 1) this is the clip onto [−b, b]. At a roller,
-w_c ≡ 0 along its constrained tangent e_c, so the e_c column of ∂P/∂w
-drops and the row of g_c is g_c itself: the Coulomb set is the disc cut
-to the free tangents (an interval when one is free).
-"""
+P(w) = w·min(1, b/|w|); at a stick node (|w| < b) ∂P/∂w = I, at a slip
+node ∂P/∂w = (b/|w|)(I − ŵŵᵀ) and ∂P/∂b = ŵ; in 2D the clip onto
+[−b, b]. At a roller w_c ≡ 0: the e_c column of ∂P/∂w drops and the row
+of g_c is g_c itself."""
 
 import numpy as np
 import scipy.linalg as sla_dense

@@ -16,11 +16,8 @@ __all__ = ["SplitSystem", "check_geometry"]
 
 def check_geometry(geometry):
     """SolverError (one line) for what the split does not take: a
-    geometry outside 2D (its Δu_t = Δu_t⁺ − Δu_t⁻ splits a scalar
-    tangential slip, which a tangent plane does not have: the projection
-    onto the Coulomb disc replaces it), and roller nodes (the split has no
-    row to drop for a roller's constrained tangent; the projection form
-    takes rollers)."""
+    geometry outside 2D (Δu_t = Δu_t⁺ − Δu_t⁻ splits a scalar slip) and
+    roller nodes (no row to drop for a constrained tangent)."""
     if geometry.dim != 2:
         raise SolverError("the thesis's split formulation (Δu_t⁺, Δu_t⁻) is "
                           "2D-only; use --formulation projection "

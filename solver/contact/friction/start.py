@@ -2,33 +2,26 @@ r"""The start of a condensed load step: the step's predictor Δu (Γc moving
 as the unconstrained body) with its normal contact forces corrected.
 
 The normal contact problem of the step is solved with the friction
-tractions held at the previous step's, i.e. the increment
-e = −C_{:,n} z (C = R S⁻¹ Rᵀ, the flexibility; z the change of the normal
-forces) with
+tractions held at the previous step's: the increment e = −C_{:,n} z (C =
+R S⁻¹ Rᵀ, the flexibility; z the change of the normal forces) with
 
 .. math::  λ + z \ge 0, \quad s − u_n + C_{nn} z \ge 0, \quad
            (λ + z)^T (s − u_n + C_{nn} z) = 0,
 
-where λ and s − u_n are those of the predictor.
-
-Why: the predictor keeps the previous contact forces and pushes the nodes
+λ and s − u_n those of the predictor. Why: the predictor pushes the nodes
 in contact into the obstacle by the step's whole free motion, far from the
-complementarity set. There φ_FB is curved and its Newton step removes only
-part of the penetration per iteration (φ_min's, which is piecewise linear,
-lands on the set in one). Started on the set, λ ≥ 0 ⊥ s − u_n ≥ 0, both
-methods meet φ_FB's curvature only where the step changes the contact set;
-the tangential forces keep their balance with g_t of the previous step
-(the correction adds normal forces only).
+complementarity set, where φ_FB is curved and its Newton step removes only
+part of the penetration per iteration (φ_min's lands on the set in one).
+Started on the set, both methods meet φ_FB's curvature only where the
+step changes the contact set.
 
-The linear complementarity problem (symmetric positive definite C_nn,
-m × m) is solved by the primal-dual active set method (Hintermüller, Ito &
-Kunisch, SIAM J. Optim. 13 (2002) 865-888), started from the penetrating
-nodes: each pass one solve of the size of the contact set. Only on a
-condensed system (dense S) and for the projection formulation: the full
-system starts from Δu = 0 as in the thesis, and the thesis's split,
-degenerate where p = 0, keeps the predictor (its condensed Newton path is
-sensitive to the start).
-"""
+The linear complementarity problem (C_nn SPD, m × m) is solved by the
+primal-dual active set method (Hintermüller, Ito & Kunisch, SIAM J. Optim.
+13 (2002) 865-888) from the penetrating nodes, one solve of the size of
+the contact set per pass. Only on a condensed system and for the
+projection formulation: the full system starts from Δu = 0 as in the
+thesis, and the thesis's split keeps the predictor (its condensed Newton
+path is sensitive to the start)."""
 
 import numpy as np
 import scipy.linalg as sla

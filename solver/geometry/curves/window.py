@@ -1,24 +1,17 @@
 r"""The interval of the obstacle parameter *t* searched for the gaps.
 
-The gaps of thesis §2.1 are roots in *t* of a function sampled on a window
-(:mod:`.search`). The window must contain every root that matters, and
-be small enough for the samples to separate the roots: it should follow the
-**geometry**, not the speed of the parametrisation. The thesis's parabola
-:math:`[5.05 + 0.005t^2, t]` and the same curve run a hundred times slower,
-:math:`[5.05 + 0.005(t/100)^2, t/100]`, must give the same gaps.
-
-The window is therefore found from the body's extent (:func:`fit_window`):
-let *c* be the centre of the contact nodes :math:`B_i`, ρ their largest
-distance from *c*, and :math:`\Gamma_o(t_j)` the sampled obstacle point
-nearest to *c*. The nearest obstacle point of any :math:`B_i` is no farther
-from :math:`B_i` than :math:`\Gamma_o(t_j)`, so it lies in the disc about *c*
-of radius :math:`\rho + d`, :math:`d = \max_i |B_i - \Gamma_o(t_j)|`. The
+The window must contain every root that matters and be small enough for
+the samples to separate the roots: it follows the **geometry**, not the
+speed of the parametrisation (the thesis's parabola and the same curve run
+a hundred times slower give the same gaps). With *c* the centre of the
+contact nodes :math:`B_i`, ρ their largest distance from *c* and
+:math:`\Gamma_o(t_j)` the sampled obstacle point nearest to *c*, the
+nearest obstacle point of any :math:`B_i` lies in the disc about *c* of
+radius :math:`\rho + d`, :math:`d = \max_i |B_i - \Gamma_o(t_j)|`. The
 window is grown (×4 at a time) until both its ends lie outside the disc of
-twice that radius (the margin admits intersections along the body's normals
-that are not nearest points), then shrunk to the samples inside the disc
-and resampled, until it no longer shrinks. A curve that never leaves the
-disc (a closed or periodic one) keeps the starting window.
-"""
+twice that radius (admitting intersections along the body's normals),
+then shrunk to the samples inside it and resampled until it no longer
+shrinks. A curve that never leaves the disc keeps the starting window."""
 
 import numpy as np
 

@@ -1,35 +1,27 @@
 r"""Closest points and ray intersections on a parametric surface
 :math:`c(s, t)`, vectorised over all query points at once.
 
-**Closest point** (the 3D counterpart of the foot point of thesis §2.1.1,
-(1)-(3)). For a point *x* minimise :math:`\varphi(u) = \tfrac12 |c(u) - x|^2`
-over the parameter box :math:`u = (s, t) \in [l, h]`; the stationarity
-conditions are :math:`(c - x)\cdot c_s = (c - x)\cdot c_t = 0`. Method:
+**Closest point** (3D §2.1.1): minimise :math:`\varphi(u) = \tfrac12
+|c(u) - x|^2` over the parameter box :math:`u = (s, t) \in [l, h]`:
 
-1. *Bracketing start*: the box is sampled on a grid; each point starts from
-   its nearest sample (a k-d tree over the samples for a shared box, or a
-   small grid per point when every point has its own box); a run that ends
-   on an edge of the box without being a foot point there restarts from the
-   next nearest sample in another basin (:data:`CANDIDATES`).
-2. *Safeguarded projected Newton* (Bertsekas 1982, "Projected Newton methods
-   for optimization problems with simple constraints", SIAM J. Control
-   Optim. 20, 221-246): gradient :math:`g = J^T r`, Hessian
-   :math:`H = J^T J + \sum_k r_k \nabla^2 c_k` (exact second derivatives);
-   where *H* is not positive definite the Gauss-Newton matrix
-   :math:`J^T J` is used instead, so the step is a descent direction.
-   Parameters at a bound with the gradient pushing outward are held fixed;
-   the step is projected onto the box, and halved until
+1. *Bracketing start*: each point starts from its nearest grid sample (a
+   k-d tree for a shared box, a small grid per point otherwise); a run
+   that ends on an edge of the box without being a foot point there
+   restarts from the next nearest sample (:data:`CANDIDATES`).
+2. *Safeguarded projected Newton* (Bertsekas, SIAM J. Control Optim. 20
+   (1982) 221-246): :math:`g = J^T r`, :math:`H = J^T J + \sum_k r_k
+   \nabla^2 c_k` (Gauss-Newton :math:`J^T J` where *H* is not positive
+   definite); parameters at a bound with the gradient pushing outward
+   held fixed; the step projected onto the box and halved until
    :math:`\varphi` decreases (Armijo, :math:`10^{-4}`).
 3. *Convergence*: :math:`|g_i| \le |c_i|\,(10^{-12}|r| + 16\epsilon L)`
-   for the free parameters (the angle between *r* and the tangent, with a
-   floor at the rounding level of coordinates of size *L*).
+   for the free parameters (a floor at the rounding level of coordinates
+   of size *L*).
 
-**Ray intersection** (counterpart of §2.1.2, (4)-(6)): Newton on the three
-equations :math:`c(s,t) - (x + \tau d) = 0` in :math:`(s, t, \tau)`,
-damped on :math:`\tfrac12|c - x - \tau d|^2`, started from the closest
-point, which makes τ the intersection nearest to *x* in all but contrived
-cases.
-"""
+**Ray intersection** (§2.1.2): Newton on :math:`c(s,t) - (x + \tau d) =
+0` in :math:`(s, t, \tau)`, damped on :math:`\tfrac12|c - x - \tau d|^2`,
+from the closest point, which makes τ the intersection nearest to *x* in
+all but contrived cases."""
 
 import numpy as np
 from scipy.spatial import cKDTree
