@@ -152,24 +152,17 @@ def problem_dim(problem):
 
 
 def contact_geometry(problem, gap="obstacle", rollers=False):
-    """Gaps and normals of ``problem`` (thesis §2.1).
+    """Gaps and normals of ``problem`` (thesis §2.1), with ``gap``
+    "obstacle" (nearest obstacle point, ν its normal, §2.1.1) or "body" (ν the
+    body's outward normal, §2.1.2-2.1.3; :mod:`solver.geometry.curves`,
+    :mod:`solver.geometry.surfaces`); discrete problems carry theirs.
 
-    ``gap="obstacle"``: nearest obstacle point, ν = obstacle normal there
-    (§2.1.1). ``gap="body"``: ν = the body's outward normal (2D: from a
-    natural cubic spline through Γc, §2.1.3; 3D: nodal normals of the
-    contact triangles, :func:`solver.geometry.surfaces.normals.
-    surface_normals`), gap along that line (§2.1.2). Discrete problems
-    carry their gaps and normals; ``gap`` is ignored.
-
-    ``rollers``: False (the thesis's runs): only the nodes whose DOFs are
-    all free take part, a node with a Dirichlet DOF is a support. True
-    (what :func:`solver.solve` asks for): also the rollers and the oblique
-    nodes (module docstring). The nodes left out, and why, are recorded in
-    ``excluded`` with their gaps where these can be computed, so that the
-    answer can be checked on every node of Γc. The obstacle penetrating a
-    node that takes part is reported by an
-    :class:`~solver.errors.InitialPenetrationWarning` naming the nodes.
-    """
+    ``rollers``: False (the thesis's runs): a node with a Dirichlet DOF is a
+    support; True (what :func:`solver.solve` asks for): the rollers and the
+    oblique nodes take part (module docstring). The nodes left out, and why,
+    are recorded in ``excluded`` with their gaps where these can be computed.
+    An obstacle penetrating a node that takes part is reported by an
+    :class:`~solver.errors.InitialPenetrationWarning` naming the nodes."""
     constrained = problem.contact_dofs < 0
     eligible = ~constrained.all(axis=1) if rollers \
         else ~constrained.any(axis=1)
@@ -302,15 +295,10 @@ def _frames(index, node_dofs, gap, normal, foot, mode, prescribed):
 
 def rotation(n, geometry):
     """R of (58)-(60), sparse (n, n), for any d: at contact node i the rows
-    of its DOFs are its tangents, then its normal (in 2D row a_i = γ_i =
-    (−ν_y, ν_x), row b_i = ν_i); identity elsewhere. A roller's rows e_c
-    (``dofs`` −1) and its Dirichlet columns are left out: on its free DOFs
-    R is still orthogonal (its other frame rows vanish on e_c).
-
-    Returns (R, other DOFs, tangential rows, normal rows): the tangential
-    rows are ``dofs[:, :-1]`` node by node ((Nca,) in 2D, (Nca·(d − 1),)
-    in general; −1 at a roller's e_c), the normal rows ``dofs[:, -1]``.
-    """
+    of its DOFs are its tangents, then its normal; identity elsewhere. A
+    roller's rows e_c (``dofs`` −1) and its Dirichlet columns are left out: on
+    its free DOFs R is still orthogonal. Returns (R, other DOFs, tangential
+    rows ``dofs[:, :-1]`` node by node, normal rows ``dofs[:, -1]``)."""
     dofs = geometry.dofs
     d = dofs.shape[1]
     keep = np.ones(n, bool)  # a mask: np.setdiff1d would sort

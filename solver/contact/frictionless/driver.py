@@ -1,14 +1,8 @@
 r"""The frictionless driver: the system (67) of :mod:`.system` solved by
-semismooth Newton, its answer verified and reported over every node of Γc.
-
-The contact nodes whose DOFs are all free take part, and by default
-(``rollers=True``) also the *rollers* (:mod:`solver.contact.geometry`):
-nodes on a symmetry plane of a half or quarter model, whose λ is that of
-the half (quarter) of the whole model's node it stands for. Any other node
-with a Dirichlet DOF is a support: its λ is 0 in the nodal arrays, which
-cover every node of Γc in ``problem.contact_nodes`` order. We report the
-contact pressure p = M⁻¹λ ≥ 0 of (87) (g_n = −p), solving with the sparse
-M, never inverting it, and its lumped form λ_i / D_ii.
+semismooth Newton, its answer verified and reported over every node of Γc
+(λ = 0 at supports, :mod:`solver.contact.geometry`), with the contact
+pressure p = M⁻¹λ ≥ 0 of (87) (g_n = −p; the sparse M solved, never
+inverted) and its lumped form λ_i / D_ii.
 
 Three ways to solve it (:func:`run_frictionless`):
 
@@ -17,11 +11,8 @@ Three ways to solve it (:func:`run_frictionless`):
   (:mod:`solver.contact.strategies.nested`), which keeps the Newton
   iterations on the full Γc at a fixed small number.
 * 3D default: condensed onto the *normal* DOF of *candidate* nodes only
-  (:mod:`solver.contact.strategies.candidates`), from the free start λ = 0
-  (the nested start coarsens along the ordered curve Γc; a contact surface
-  has no such order).
-* ``condense=False``: the thesis's system in all Ñ unknowns.
-"""
+  (:mod:`solver.contact.strategies.candidates`), from the free start λ = 0.
+* ``condense=False``: the thesis's system in all Ñ unknowns."""
 
 import time
 

@@ -1,57 +1,40 @@
 r"""Frictionless contact condensed onto the normal DOFs of candidate nodes.
 
-Scale. A dense Schur complement on every DOF of Γc has (d·Nc)² entries:
-in 3D, with Nc = 10⁴-10⁵, it does not fit. Without friction the
-tangential contact forces are zero, so only the normal unknown of a node
-that can touch the obstacle needs to stay:
+A dense Schur complement on every DOF of Γc has (d·Nc)² entries: in 3D,
+with Nc = 10⁴-10⁵, it does not fit. Without friction the tangential
+contact forces are zero, so only the normal unknown of a node that can
+touch the obstacle needs to stay:
 
-1. Rotate K and f into the node frames, K̂ = R K Rᵀ, f̂ = R f (R of
-   :func:`~solver.contact.geometry.rotation`; K̂ is as sparse as K and
-   SPD). The normal DOF of contact node i is then row ``dofs[i, -1]``.
-2. Take the backend's Schur complement of K̂ on the normal rows of the
-   *candidate* nodes only (one unknown per node; the tangential DOFs are
-   interior, they carry no force): S (m×m, dense), w = K̂⁻¹f̂ and
-   g̃ = S w_c, from one factorisation (:func:`solver.linalg.factorize`,
-   ordered by :func:`solver.linalg.dof_ordering` for SuperLU/CHOLMOD).
-3. Solve the NCP (67) on the candidates: S u_n = g̃ + λ, λ ≥ 0,
-   s − u_n ≥ 0, λ(s − u_n) = 0 (:class:`FrictionlessSystem` on a 1-DOF
-   "normal line" geometry, :func:`normal_line`), then u = Rᵀ(w + K̂⁻¹Pᵀ
-   S(u_n − w_c)), one back-substitution.
+1. Rotate K and f into the node frames, K̂ = R K Rᵀ, f̂ = R f (K̂ is as
+   sparse as K and SPD); the normal DOF of node i is row ``dofs[i, -1]``.
+2. Take the Schur complement of K̂ on the normal rows of the *candidate*
+   nodes only (the tangential DOFs are interior: they carry no force):
+   S (m×m, dense), w = K̂⁻¹f̂ and g̃ = S w_c, from one factorisation.
+3. Solve the NCP (67) on the candidates, S u_n = g̃ + λ, λ ≥ 0 ⊥
+   s − u_n ≥ 0 (:func:`normal_line`), then u = Rᵀ(w + K̂⁻¹Pᵀ S(u_n −
+   w_c)), one back-substitution.
 
-Candidates (the screening rule). Round 0 takes the nodes whose initial gap
-is at most δ₀ = ``margin`` (a length), by default
-δ₀ = s_min + :data:`GAP_FRACTION`·(s_max − s_min) + a over the free
-contact nodes (all of them when the gaps are equal, as on a flat punch),
-where a, the *approach*, is the largest prescribed nodal displacement: a
-body driven by prescribed displacements moves up to about that far
-towards the obstacle before it deforms, and without a every node it then
-reaches beyond the 5 % would be found only after a first factorisation.
-In 2D the default is every free contact node (δ₀ = ∞): Γc is a curve, its
-normals are a few thousand unknowns at most, and one factorisation
-replaces the screening's two. After a round's solve, every non-candidate
-is checked: its remaining gap s − u_n must be ≥ −tol_v·F/k̄ (the
-verification's length scale, :mod:`solver.contact.verify`). If one
-penetrates, the candidate set grows by every node whose remaining gap is
-at most ρ = the deepest penetration (the violators and a ring as thick as
-the worst of them) and K̂ is factorised again with the larger Schur set.
-If none penetrates the answer is exact for the whole of Γc: λ = 0 with a
-non-negative gap satisfies the contact conditions at every non-candidate
-and the candidates satisfy them by the solve, so the KKT conditions of
-the full problem hold (the problem is a strictly convex QP: the answer is
-unique). At most :data:`MAX_ROUNDS` rounds.
-
-The normal candidates are the 3D default: condensing every DOF of Γc
-costs a few times more, and Newton on the sparse full system
-(``condense=False``, one sparse LU of the Ñ×Ñ Jacobian per iteration) is
-the fallback when even the candidates' S would not fit (m ≳ 10⁴); the
-measurements are in benchmarks/README.md ("Candidate screening").
+The screening rule. Round 0 takes the nodes whose initial gap is at most
+δ₀ = ``margin``, by default s_min + :data:`GAP_FRACTION`·(s_max − s_min)
++ a, a the largest prescribed nodal displacement (a body driven by
+prescribed displacements moves about that far before it deforms); in 2D
+every free contact node (δ₀ = ∞: a curve's normals are few, and one
+factorisation replaces the screening's two). After a round's solve every
+non-candidate must keep s − u_n ≥ −tol_v·F/k̄ (the verification's length
+scale); if one penetrates, the set grows by every node whose remaining gap
+is at most the deepest penetration and K̂ is factorised again (at most
+:data:`MAX_ROUNDS` rounds). If none penetrates the answer is exact for the
+whole of Γc: λ = 0 with a non-negative gap satisfies the contact
+conditions at every non-candidate, so the KKT conditions of the full
+(strictly convex) problem hold. The 3D default (benchmarks/README.md,
+"Candidate screening"); Newton on the sparse full system is the fallback
+when even the candidates' S would not fit (m ≳ 10⁴).
 
 References
 ----------
 P. Wriggers, *Computational Contact Mechanics*, 2nd ed., Springer 2006,
 §6.2.2 (condensation onto the contact DOFs) and its chapter on contact
-search (a global screening with a margin, then the exact local check).
-"""
+search (a global screening with a margin, then the exact local check)."""
 
 import numpy as np
 

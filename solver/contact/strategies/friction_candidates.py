@@ -1,63 +1,42 @@
 r"""Coulomb friction condensed onto the candidate nodes.
 
-The condensed friction run (:mod:`solver.contact.friction.driver`) works
-on the Schur complement S of K on every DOF of Γc: in 3D a dense (3Nc)²
-matrix (Nc = 10³-10⁴ on a refined surface), whose Newton systems cost
-(5Nc)³. A node that never touches carries no force (λ = 0, so the Coulomb
-disc f_c p has radius 0 and t = 0), so only the d DOFs of the nodes that
-can touch need to stay: the *candidates*. The run here is the same run
-(:func:`~solver.contact.friction.driver.run_friction`, condensed,
-projection form) on the geometry of the candidates only, S of size 3m,
-m ≪ Nc; its dense Newton systems cost (5m)³/3 flops.
+The condensed friction run works on the Schur complement S of K on every
+DOF of Γc: in 3D a dense (3Nc)² matrix whose Newton systems cost (5Nc)³.
+A node that never touches carries no force (λ = 0, so the Coulomb disc
+f_c p has radius 0 and t = 0), so only the d DOFs of the *candidates*
+need to stay: the same run (:func:`~solver.contact.friction.driver.
+run_friction`, condensed, projection form) on their geometry, S of size
+3m, m ≪ Nc.
 
 Choosing them (the rule of :mod:`solver.contact.strategies.candidates`):
+the frictionless problem at the final load, on the normal candidates,
+gives every node's remaining gap and contact set; the first friction
+candidates are that set and :data:`RINGS` rings of its neighbours along
+the contact triangles, or the nodes with s − u_n ≤ δ (``margin``; default
+:data:`RING_FRACTION` of its range), or the initial-gap rule without
+contact. Each load step's non-candidates are checked as it is delivered,
+s − u_n ≥ −tol_v·F/k̄; a penetration enlarges the set
+(:func:`enlarge_candidates`) and the run restarts. Rollers are candidates
+like any other node.
 
-1. Screening at the final load: the frictionless problem (67) at the last
-   load of the path, on the normal candidates, gives every node's
-   remaining gap s − u_n and its contact set. The first friction
-   candidates are that contact set and :data:`RINGS` rings of its
-   neighbours along the contact triangles (the default when the problem
-   has them: the rings follow the mesh, a gap margin takes more nodes),
-   or the nodes with s − u_n ≤ δ (``margin``; default without triangles
-   :data:`RING_FRACTION` of its range); the initial-gap rule of
-   :func:`initial_candidates` if the screening has no contact.
-2. The load steps on the candidates (K factorised with their 3m DOFs
-   last), each step's non-candidates checked as the step is delivered:
-   s − u_n ≥ −tol_v·F/k̄ (:mod:`solver.contact.verify`). A penetration
-   enlarges the set (:func:`enlarge_candidates`) and the run restarts.
-
-Roller nodes (symmetry planes) are candidates like any other node: their
-friction lives in the free tangent(s) as in the run on every contact DOF;
-a non-candidate roller's tangential displacement is read on its own DOFs
-(its constrained component is 0).
-
-Exactness. A step whose non-candidates all keep s − u_n ≥ 0 (to the
-tolerance) solves the full problem's step: at a non-candidate λ = 0,
-t = 0 and the Coulomb radius f_c p is 0 (p, lagged or implicit, is 0
-there: the node was never in contact), so its contact and Coulomb
-conditions hold; the candidates satisfy theirs by the solve, and the
-condensation onto them is exact for forces acting on them only. If every
-step passes, the whole path is the full problem's. If step κ fails, the
-run **restarts from the first step** with the larger set: friction is
-path-dependent, and restarting gives the new candidates the same history
-(the zero state) as the full problem, so the new run is exact by the same
-argument without transplanting a state from one condensation to another.
-Steps already delivered to ``on_step`` are not delivered twice. The check
-sees a step when it is delivered (in batches of
-:data:`~solver.contact.friction.stream.BATCH`), so a failure may be found
-up to a batch late; that costs time, not exactness. The screening at the
-final load makes a restart rare. After
-:data:`~solver.contact.strategies.candidates.MAX_ROUNDS` rounds the last
-run takes every node (exact without a check).
+Exactness. A step whose non-candidates all keep s − u_n ≥ 0 solves the
+full problem's step: at a non-candidate λ = 0, t = 0 and the Coulomb
+radius is 0 (the node was never in contact), and the condensation onto
+the candidates is exact for forces acting on them only. If step κ fails,
+the run **restarts from the first step** with the larger set: friction is
+path-dependent, and the new candidates then share the full problem's
+history (the zero state). Steps already delivered to ``on_step`` are not
+delivered twice; a failure may be found up to a
+:data:`~solver.contact.friction.stream.BATCH` late, which costs time, not
+exactness. After :data:`~solver.contact.strategies.candidates.MAX_ROUNDS`
+rounds the last run takes every node.
 
 References
 ----------
 P. Wriggers, *Computational Contact Mechanics*, 2nd ed., Springer 2006,
-§6.2.2 (condensation) and its chapter on contact search (a global
-screening with a margin, then the exact local check). S. Hüeber, G.
+§6.2.2 (condensation) and its chapter on contact search. S. Hüeber, G.
 Stadler, B. Wohlmuth, SIAM J. Sci. Comput. 30 (2008) 572-596 (3D Coulomb
-friction by the projection onto the disc).
-"""
+friction by the projection onto the disc)."""
 
 import time
 
