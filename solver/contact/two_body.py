@@ -11,25 +11,18 @@ weighted gap of slave node j under displacements u is
 P = D⁻¹M, s_j = g̃⁰_j / D_jj (Hüeber & Wohlmuth, CMAME 194 (2005) 3147;
 Popp, Gee & Wall, IJNME 79 (2009) 1354). The change of variables
 u = T⁻¹v, T⁻¹ = I + E with E the block P ⊗ I₂ from the free master DOFs
-to the free slave DOFs (v = u elsewhere; E² = 0, so T = I − E), turns the
-energy ½uᵀKu − fᵀu into ½vᵀK̃v − f̃ᵀv with K̃ = T⁻ᵀKT⁻¹ (sparse SPD) and
-f̃ = T⁻ᵀf, and every contact constraint into n_j·v_j ≤ s_j: a *discrete*
-problem (:class:`~solver.problem.ContactProblem` with its own gaps and
-normals at the slave nodes, ``M = diag(D)``) that the whole existing core
-solves unchanged — both NCP functions, condensed or full, nested start,
-friction (projection or thesis, lagged or implicit) on the weighted slip
-t_j·Δv_j. Its nodal contact force z_j on v_j is D_jj λ_j with λ_j the
-dual multiplier (the pressure): the core's lumped pressure z_j / M_jj is
-λ_j. In u the forces are z_j n_j on slave node j and −Σ_j M_jk λ_j n_j on
-master node k (Tᵀ applied to z), the mortar forces.
+to the free slave DOFs (E² = 0, so T = I − E), turns ½uᵀKu − fᵀu into
+½vᵀK̃v − f̃ᵀv, K̃ = T⁻ᵀKT⁻¹ (sparse SPD), f̃ = T⁻ᵀf, and every contact
+constraint into n_j·v_j ≤ s_j: a *discrete* problem (``M = diag(D)``)
+that the whole core solves unchanged, friction included (on the weighted
+slip). Its nodal contact force z_j on v_j is D_jj λ_j, λ_j the dual
+multiplier (the pressure); in u the forces are z_j n_j on slave node j and
+−Σ_j M_jk λ_j n_j on master node k, the mortar forces.
 
 Dirichlet master DOFs coupled to a slave node enter s_j through their
-prescribed values at the full load, n_j·Σ_k P_jk u_k (so a friction run,
-whose steps scale them, refuses them). A slave node whose support the
-master does not cover entirely (coverage Σ_k M_jk / D_jj ≠ 1, an end of the
-slave chain beyond the master) takes no part: its contact DOFs are −1
-(λ = 0, reported ``covered`` False).
-"""
+prescribed values at the full load (a friction run, whose steps scale
+them, refuses them). A slave node that the master does not cover entirely
+(Σ_k M_jk / D_jj ≠ 1) takes no part (λ = 0, ``covered`` False)."""
 
 import numpy as np
 import scipy.sparse as sp

@@ -34,10 +34,10 @@ at most tol_v·F (lengths through F/k̄); and the equilibrium residual
 
 where f_c = Σ_i (−λ_i ν_i + Σ_k t_ik τ_ik) are the contact forces on the
 body (t_i the nodal friction force, τ_ik the tangents of node i: in 2D the
-one γ_i = (−ν_y, ν_x), in 3D two; any d). The last one catches a
-factorisation that is too inaccurate for the problem (a nearly free rigid body mode, cond(K) ~
-1e13), where the condensed system is solved to tol but the displacement
-recovered from it violates equilibrium and the contact conditions.
+one γ_i = (−ν_y, ν_x), in 3D two). The last one catches a factorisation
+too inaccurate for the problem (a nearly free rigid body mode), where the
+condensed system is solved to tol but the displacement recovered from it
+violates equilibrium and the contact conditions.
 tol_v = max(:data:`VERIFY_FACTOR`·tol, :data:`VERIFY_FLOOR`): the measures
 are ∞-norms of quantities the stopping test bounds in the 2-norm, plus the
 round-off of recomputing them from K.
@@ -114,44 +114,24 @@ def verify_contact(K, f, u, dofs, normal, gap, lam, stiffness, tol_v,
                    load_norm=None):
     """Check a computed contact answer against the original K and f.
 
-    Parameters
-    ----------
-    K, f, u
-        The original reduced stiffness (never the condensed one), the load
-        of the answer (a load step's f_κ) and the reduced displacement.
-    dofs : (Nca, d) int
-        Reduced DOFs (x, y[, z]) of the contact nodes
-        (``ContactGeometry.node_dofs``); −1 at a roller's Dirichlet
-        component, along which ν is 0: the reaction there is the
-        support's, left out of f_c.
-    normal, gap, lam : (Nca, d), (Nca,), (Nca,)
-        ν, s and the normal contact forces reported by the solver.
-    stiffness, tol_v : float
-        k̄ (force per unit gap) and :func:`verification_tolerance`.
-    friction_force, friction_bound : (Nca,) or (Nca, d − 1), (Nca,), optional
-        Nodal friction force t_i = D_ii g_t,i (its components along the
-        tangents; a scalar per node in 2D) and its Coulomb bound
-        D_ii f_c p_i, which bounds |t_i|.
-    tangents : (Nca, d − 1, d), optional
-        The tangents of ``friction_force`` (default
-        :func:`solver.geometry.frames.tangent_basis` of ``normal``).
-    load_norm : float, optional
-        ‖f‖₂ of the force scale F (default: of ``f``). A condensed system's
-        f is g̃ on Γc, much smaller than the load when the body is driven
-        by Dirichlet values: its checks pass the stopping test's ‖f‖.
+    ``K``, ``f``, ``u``: the original reduced stiffness (never the condensed
+    one), the load of the answer (a load step's f_κ) and the reduced
+    displacement. ``dofs`` (Nca, d): the contact nodes' reduced DOFs
+    (``ContactGeometry.node_dofs``; −1 at a roller's Dirichlet component,
+    whose reaction is the support's, left out of f_c). ``normal``, ``gap``,
+    ``lam``: ν, s and the solver's normal contact forces; ``stiffness`` k̄;
+    ``tol_v`` of :func:`verification_tolerance`. With friction,
+    ``friction_force`` t_i = D_ii g_t,i (components along ``tangents``, by
+    default those of :func:`solver.geometry.frames.tangent_basis`) and
+    ``friction_bound`` D_ii f_c p_i. ``load_norm``: ‖f‖₂ of the force scale F
+    (default: of ``f``; a condensed system passes the stopping test's).
 
-    Returns
-    -------
-    dict
-        ``passed``, ``finite``, ``max_penetration`` (max(u_n − s, 0) /
-        (F/k̄)), ``min_multiplier`` (min λ / F, a violation if below
-        −tol_v), ``complementarity`` (max|min(λ, k̄(s − u_n))| / F),
-        ``equilibrium`` (relative, see module), with friction
-        ``friction_bound_violation`` (max(|t| − bound, 0) / F);
-        ``force_scale`` F, ``length_scale`` F/k̄, ``tolerances`` (the
-        bound of each measure) and ``failed`` (names of the measures
-        beyond their bound, "finite" first if that failed).
-    """
+    Returns a dict: ``passed``, ``finite``, ``max_penetration``
+    (max(u_n − s, 0) / (F/k̄)), ``min_multiplier`` (min λ / F),
+    ``complementarity`` (max|min(λ, k̄(s − u_n))| / F), ``equilibrium``
+    (module docstring), with friction ``friction_bound_violation``
+    (max(|t| − bound, 0) / F); ``force_scale`` F, ``length_scale`` F/k̄,
+    ``tolerances`` and ``failed`` (the measures beyond their bound)."""
     u, lam = np.asarray(u, float), np.asarray(lam, float)
     arrays = [u, lam] + [np.asarray(a, float) for a in
                          (friction_force, friction_bound) if a is not None]

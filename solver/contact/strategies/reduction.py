@@ -1,26 +1,17 @@
 r"""The space Newton iterates in: the full system or K condensed onto Γc.
 
-Both drivers (frictionless and friction) build their system on a
-*reduction* and never ask which one it is:
-
-* :class:`FullSystem` — the thesis's system in all Ñ unknowns (67),
-  (110)/(111); its Newton steps are solved by the engine's full-system
-  solver (SciPy's sparse LU in process).
-* :class:`CondensedSystem` — K condensed exactly onto the free DOFs of
-  the contact nodes, K → S, f → g̃ (:class:`solver.linalg.Condensation`,
-  Wriggers 2006, §6.2.2): the same system on the dense S, from one
-  factorisation of K by the engine.
-
-A reduction gives the matrix and geometry of the system (``K``,
-``geometry``), maps a load onto it (:meth:`~CondensedSystem.load`: the
-load of the system and what :meth:`~CondensedSystem.displacement` needs to
-recover u), restricts a displacement to its unknowns
-(:meth:`~CondensedSystem.restrict`) and hands out the Jacobian callable of
-a system built on it (:meth:`~CondensedSystem.jacobian`). The candidate
-screening (:mod:`.candidates`, :mod:`.friction_candidates`) runs the
-drivers on condensations onto subsets of the nodes; the nested start
-(:mod:`.nested`) iterates on coarser condensations of S.
-"""
+Both drivers build their system on a *reduction* and never ask which:
+:class:`FullSystem`, the thesis's system in all Ñ unknowns (its Newton
+steps solved by the engine's full-system solver), or
+:class:`CondensedSystem`, K condensed exactly onto the free DOFs of the
+contact nodes, K → S, f → g̃ (:class:`solver.linalg.Condensation`), from
+one factorisation of K by the engine. A reduction gives the system's
+``K`` and ``geometry``, maps a load onto it (:meth:`~CondensedSystem.
+load`), recovers u (:meth:`~CondensedSystem.displacement`), restricts a
+displacement to its unknowns and hands out the Jacobian callable of a
+system built on it. The candidate strategies run the drivers on
+condensations onto subsets of the nodes; the nested start iterates on
+coarser condensations of S."""
 
 import numpy as np
 
