@@ -1,10 +1,6 @@
 r"""Checks and messages of the gap search (thesis §2.1): the node arrays,
-the normals (normalised as in (7)), the one-line :class:`GapError`, and the
-initial-penetration warning.
-
-Used by :mod:`solver.geometry.curves.closest` and
-:mod:`solver.geometry.curves.rays`; part of :mod:`solver.geometry.curves`.
-"""
+the normals (normalised as in (7)), the one-line :class:`GapError` and
+the initial-penetration warning."""
 
 import warnings
 

@@ -1,16 +1,13 @@
 r"""The safe expression parser behind the obstacle curves and surfaces.
 
 Expressions travel as text inside the ``.npz`` problem file and are parsed
-**without** :func:`eval`: :func:`ast.parse`, then every node is checked
-against a whitelist (numbers, the variables, the constants ``pi`` and
-``e``, ``+ - * / **``, unary signs and a fixed set of elementary
-functions) and translated node by node into a SymPy expression, which gives
-exact derivatives; numerical evaluation goes through
+**without** :func:`eval`: :func:`ast.parse`, every node checked against a
+whitelist (numbers, the variables, ``pi``, ``e``, ``+ - * / **``, unary
+signs and a fixed set of elementary functions) and translated into a
+SymPy expression, which gives exact derivatives; evaluation goes through
 :func:`sympy.lambdify` of that expression only. Sizes, nesting depths and
 constants are bounded (the ``MAX_*`` limits), so a hostile file cannot
-exhaust memory or time here. Used by :mod:`solver.geometry.curves.parametric`
-(curves, thesis §4) and :mod:`solver.geometry.surfaces.expression`.
-"""
+exhaust memory or time here."""
 
 import ast
 import math

@@ -1,11 +1,6 @@
-"""Topology of triangle meshes: boundary edges and the order of nodes on Γc.
-
-The contact boundary Γc must be traversed in order (the thesis's spline of
-§2.1.3 runs through consecutive contact nodes, and the boundary matrix M of
-(80) couples neighbours), so problem files store the contact nodes ordered
-along Γc. These helpers find that order and check it, vectorised over the
-mesh (no Python loop over all nodes or cells).
-"""
+"""Topology of triangle meshes: boundary edges and the order of nodes on
+Γc, which problem files store ordered along Γc (the thesis's spline of
+§2.1.3 runs through consecutive contact nodes); vectorised over the mesh."""
 
 import numpy as np
 

@@ -1,45 +1,36 @@
-r"""Dual mortar coupling of two 2D bodies on a line interface.
+r"""Dual mortar coupling of two 2D bodies on a line interface, computed once
+on the undeformed interface (small deformation and small sliding).
 
-Reference configuration, small deformation and small sliding: everything
-here is computed once, on the undeformed interface.
-
-Slave side: the P1 basis N_j of the slave segments and, on each segment
-(a, b), the *dual* basis ψ_a = 2N_a − N_b, ψ_b = 2N_b − N_a, biorthogonal
-to it (∫ψ_a N_b = 0, ∫ψ_a N_a = ∫N_a; Wohlmuth 2000, (2.1)). Then
+On each slave segment (a, b) the *dual* basis ψ_a = 2N_a − N_b,
+ψ_b = 2N_b − N_a is biorthogonal to the P1 basis (∫ψ_a N_b = 0,
+∫ψ_a N_a = ∫N_a; Wohlmuth 2000, (2.1)). Then
 
 .. math::
     D_{jj} = \int_{Γ_s} ψ_j N_j = \int_{Γ_s} N_j, \qquad
     M_{jk} = \int_{Γ_s} ψ_j\, N^m_k(η(ξ)),
 
-D diagonal (the slave node's tributary length), M sparse (slave node ×
-global node id), integrated segment to segment (Popp, Gee & Wall, IJNME 79
-(2009) 1354, §3.2-3.3): master end points projected onto the slave segment
-along the interpolated slave normal n(ξ) = N_a n_a + N_b n_b (a quadratic
-in ξ, solved in closed form), the overlap cut in ξ, and on it Gauss
-points whose master coordinate η is where the line x(ξ) + α n(ξ) meets the
-master segment. n_j is the nodal slave normal, the average of the unit
-outward normals of the slave segments at j (the outward normal of segment
-(a, b) is (t_y, −t_x)/|t|, t = x_b − x_a: the body lies left of a → b).
-Only master segments whose normal faces the slave's (n_s·n_m < 0) are
-projected onto, and only those :func:`candidate_pairs` finds near a slave
-segment: bounding boxes, sorted and swept (Yang & Laursen, Comput. Mech.
-41 (2008) 189), no ns × nm work.
+D diagonal (the slave node's tributary length), M sparse, integrated
+segment to segment (Popp, Gee & Wall, IJNME 79 (2009) 1354, §3.2-3.3):
+master end points projected onto the slave segment along the interpolated
+slave normal n(ξ) = N_a n_a + N_b n_b (a quadratic in ξ, solved in closed
+form), the overlap cut in ξ, and on it Gauss points whose master
+coordinate η is where x(ξ) + α n(ξ) meets the master segment. n_j is the
+average of the unit outward normals (t_y, −t_x)/|t| of the slave segments
+at j (the body lies left of a → b). Only facing master segments
+(n_s·n_m < 0) that :func:`candidate_pairs` finds near a slave segment are
+projected onto (bounding boxes, sorted and swept: Yang & Laursen, Comput.
+Mech. 41 (2008) 189).
 
 The weighted gap of slave node j (Hüeber & Wohlmuth, CMAME 194 (2005)
 3147, (3.4)) is g̃_j = n_j·(Σ_k M_jk x_k − D_jj x_j) ≥ 0 in the reference
-configuration (:attr:`MortarCoupling.gap`); with displacements it is
-g̃_j − n_j·(D_jj u_j − Σ_k M_jk u_k).
-
-``coverage`` = Σ_k M_jk / D_jj is 1 (to round-off, Σ_k N^m_k = 1 and
-∫ψ_j = ∫N_j) where the master covers node j's whole support: the partition
-of unity. Where it does not (an end of the slave chain beyond the master)
-the node cannot take part (:mod:`solver.contact.two_body`).
+configuration, g̃_j − n_j·(D_jj u_j − Σ_k M_jk u_k) displaced.
+``coverage`` = Σ_k M_jk / D_jj is 1 (the partition of unity) where the
+master covers node j's whole support; elsewhere the node takes no part.
 
 :func:`node_to_segment` builds the classical node-to-segment coupling in
-the same form: D_jj the tributary length, M_jk = D_jj N^m_k(η_j) at the
-closest point η_j of x_j on the master. It fails the contact patch test on
-non-matching meshes (Taylor & Papadopoulos, IJNME 31 (1991) 1087).
-"""
+the same form (M_jk = D_jj N^m_k(η_j) at the closest point); it fails the
+contact patch test on non-matching meshes (Taylor & Papadopoulos, IJNME
+31 (1991) 1087)."""
 
 from dataclasses import dataclass
 

@@ -1,47 +1,31 @@
 r"""Outward normals of the contact boundary Γc from a natural cubic spline.
 
-The gap measured "from the body" (thesis §2.1.2, (4)-(7)) needs the normal of
-Γc at every contact node, but the finite element mesh only knows the polygon
-:math:`\Gamma_{c_h}` through the nodes. The thesis (§2.1.3, (8)-(14)) fits a
-**natural cubic spline** through the nodes and takes the normal of the spline.
-
-It fits the spline as a graph :math:`y = P(x)`, which is singular on a
-vertical edge such as the thesis's own contact edge :math:`x = 5` (see the
-errata in the thesis digest). Here the spline is **parametric**: with the
-cumulative chord length
+The gap measured "from the body" (thesis §2.1.2) needs the normal of Γc at
+every contact node, but the mesh only knows the polygon through the nodes.
+The thesis (§2.1.3, (8)-(14)) fits a **natural cubic spline** through them
+as a graph :math:`y = P(x)`, which is singular on a vertical edge such as
+its own contact edge :math:`x = 5` (errata in the thesis digest). Here the
+spline is **parametric**: with the cumulative chord length
 
 .. math::  s_1 = 0, \qquad s_{i+1} = s_i + |X_{i+1} - X_i|
 
-(an approximation of arc length) as parameter, ``x(s)`` and ``y(s)`` are each
-interpolated by a natural cubic spline, :math:`P''(s_1) = P''(s_{n+1}) = 0`
-as in (14), and the unit tangent at node *i* is
-:math:`T_i = X'(s_i) / |X'(s_i)|`. The normal is *T* rotated by ±90°; which
-of the two is outward follows from the mesh (:func:`outward_sign`).
+as parameter, ``x(s)`` and ``y(s)`` are each interpolated by a natural
+cubic spline (:math:`P''(s_1) = P''(s_{n+1}) = 0` as in (14)), the unit
+tangent is :math:`T_i = X'(s_i) / |X'(s_i)|` and the normal *T* turned by
+±90°, outward by the mesh (:func:`outward_sign`).
 
-Accuracy (on arcs of a circle, ``tests/test_normals.py``): away
-from the two ends (middle half of the chain) the normals converge with order
-4 in the node spacing *h* for smoothly graded nodes (order 3 if the spacing
-jumps from node to node). At the ends the natural end condition
-:math:`X'' = 0` (14) is wrong for a curved boundary, and the normals at the
-end nodes converge only with order 1; the end error decays into the chain by
-the factor :math:`2 - \sqrt{3} \approx 0.27` per node, so the second node is
-also first order. On a straight chain the normals are exact.
+Accuracy (on arcs of a circle, ``tests/test_normals.py``): order 4 in the
+node spacing *h* away from the ends for smoothly graded nodes (order 3 if
+the spacing jumps); the natural end condition is wrong for a curved
+boundary, so the two end nodes converge with order 1 (the error decays
+into the chain by 2 − √3 ≈ 0.27 per node). Exact on a straight chain.
 
-Corners
--------
-A contact boundary that turns a corner of the body (the thesis's never
-does) is not smooth, and one spline through the corner rounds it off: the
-normals of the nodes past the corner tilt towards the other side, and the
-gap measured along them can change sign. :func:`boundary_normals` therefore
-splits Γc at every node where the polygon turns by more than
-:data:`CORNER_ANGLE` and fits one spline per smooth piece, so every node has
-the **one-sided** normal of its own piece; a corner node itself gets the
-bisector of its two one-sided normals.
-
-Degenerate geometry (a chain of one node, coincident nodes, a zero-area
-triangle on Γc) raises :class:`~solver.errors.GeometryError` naming the
-nodes.
-"""
+Corners: one spline through a corner of the body rounds it off, and the
+gaps along the tilted normals past it can change sign, so
+:func:`boundary_normals` splits Γc where the polygon turns by more than
+:data:`CORNER_ANGLE`: every node gets the one-sided normal of its smooth
+piece, a corner node the bisector of its two. Degenerate geometry raises
+:class:`~solver.errors.GeometryError` naming the nodes."""
 
 import numpy as np
 from scipy.interpolate import CubicSpline
