@@ -1,18 +1,13 @@
 """The trailing block of a CHOLMOD supernodal factor, read in place.
 
-kvxopt wraps a ``cholmod_factor`` in a PyCapsule and hands out L only by
-converting the factor into a sparse matrix (``getfactor``, which empties
-the factor). This module reads the struct through ctypes instead, without
-copying it: the layout of ``cholmod_factor`` (``cholmod.h``: n, minor,
-Perm, ColCount, IPerm, nzmax, p, i, x, z, nz, next, prev, nsuper, ssize,
-xsize, maxcsize, maxesize, super, pi, px, s, then eight ints) has been the
-same since CHOLMOD 1.x. Supernode k holds columns super[k]..super[k+1]−1,
-its row indices are s[pi[k]:pi[k+1]] and its values the column-major
-dense block x[px[k]:px[k+1]] (CHOLMOD User Guide, "cholmod_factor";
-Chen, Davis, Hager, Rajamanickam, ACM TOMS 35, 2008). Every field read is
-checked against what we asked for, and the caller checks the diagonal;
-on any mismatch it returns None and the caller computes S another way.
-"""
+kvxopt hands out L only by converting (and emptying) the factor; this
+module reads the ``cholmod_factor`` struct through ctypes instead, without
+copying it (``cholmod.h``; the layout has been the same since CHOLMOD
+1.x). Supernode k holds columns super[k]..super[k+1]−1, its row indices
+are s[pi[k]:pi[k+1]] and its values the column-major block
+x[px[k]:px[k+1]] (CHOLMOD User Guide, "cholmod_factor"). Every field read
+is checked, and the caller checks the diagonal; on a mismatch it returns
+None and the caller computes S another way."""
 
 import ctypes
 import glob

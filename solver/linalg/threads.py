@@ -1,16 +1,12 @@
 """One BLAS thread for the dense algebra of the size of Γc.
 
 The Newton iterations on the condensed systems factorise dense matrices of
-at most the size of S (2Nc ≤ 2·10³): there, OpenBLAS's threads cost more
-than they save, and on a loaded machine much more (spinning threads
-waiting for a core; benchmarks/README.md). :func:`single_blas_thread` sets
-the bundled OpenBLAS of NumPy and SciPy (the ``*.libs`` directories of
-their wheels) to one thread inside a ``with`` block and restores the
-previous count after it; the sparse factorisations of K (PARDISO's MKL,
-CHOLMOD's own OpenBLAS) keep their threads. Where no such library is
-found (another BLAS, another platform) it does nothing. Entering and
-leaving cost a few microseconds (ctypes calls, no threadpoolctl).
-"""
+at most the size of S: there OpenBLAS's threads cost more than they save,
+and on a loaded machine much more (spinning threads waiting for a core).
+:func:`single_blas_thread` sets the bundled OpenBLAS of NumPy and SciPy to
+one thread inside a ``with`` block and restores the previous count after
+it (ctypes calls: a few microseconds); the sparse factorisations of K keep
+their threads. Without such a library it does nothing."""
 
 import contextlib
 import ctypes

@@ -1,9 +1,9 @@
-r"""The PETSc engine's condensations: :class:`PetscCondensation` has the
-interface of :class:`solver.linalg.Condensation`,
-:class:`PetscNormalCondensation` that of :class:`solver.contact.strategies.candidates.NormalCondensation`,
-both on one distributed MUMPS factorisation in its Schur mode
-(:class:`~solver.mpi.factor.PetscFactor`), so that the serial drivers and
-strategies run unchanged on them."""
+r"""The PETSc engine's condensations, with the interfaces of
+:class:`solver.linalg.Condensation` (:class:`PetscCondensation`) and
+:class:`solver.contact.strategies.candidates.NormalCondensation`
+(:class:`PetscNormalCondensation`) on one distributed MUMPS factorisation
+in its Schur mode, so that the serial drivers and strategies run
+unchanged on them."""
 
 import numpy as np
 

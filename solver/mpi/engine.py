@@ -55,13 +55,10 @@ SETTINGS = {M_TRIM_THRESHOLD: 32 << 20, M_MMAP_THRESHOLD: 32 << 20,
 
 
 def restore_malloc():
-    """Give freed memory back to the system again. Debian's
-    ``libsuperlu_dist.so.8``, which ``libpetsc`` links, calls
-    ``mallopt(M_MMAP_MAX, 0)`` and ``mallopt(M_TRIM_THRESHOLD, -1)`` in its
-    load-time constructors: from then on glibc never unmaps or trims, and
-    every array the process ever freed (reading the problem, rotating and
-    padding K, the scatter's buffers) stays in its resident memory under
-    MUMPS's factor. Sets :data:`SETTINGS`;
+    """Give freed memory back to the system again: Debian's
+    ``libsuperlu_dist.so.8``, which ``libpetsc`` links, switches glibc's
+    unmapping and trimming off when it loads, and every array the process
+    ever freed stays resident under MUMPS's factor. Sets :data:`SETTINGS`;
     returns whether it could (False off glibc)."""
     import ctypes
     import ctypes.util
@@ -114,13 +111,9 @@ def check_problem(problem):
 
 class PetscEngine:
     """The engine (:mod:`solver.contact.engine`) on the ranks of
-    ``mpiexec``: K partitioned by nodes (:class:`~solver.mpi.layout.
-    Layout`), one distributed MUMPS factorisation in its Schur mode per
-    condensation (:mod:`~solver.mpi.condensation`), or, on the full system,
-    every Newton system solved by KSP (``ksp``: MUMPS or CG + GAMG,
-    :mod:`~solver.mpi.full`). Make it on rank 0 inside :func:`spmd`.
-    ``schur_block``: None (MUMPS's Schur mode) or k (S from k columns of
-    K̂⁻¹ at a time, :mod:`~solver.mpi.factor`)."""
+    ``mpiexec`` (module docstring of :mod:`solver.mpi`); make it on rank 0
+    inside :func:`spmd`. ``ksp``: "mumps" or "gamg" for the full system;
+    ``schur_block``: None (MUMPS's Schur mode) or k (:mod:`.factor`)."""
 
     name = "petsc"
 

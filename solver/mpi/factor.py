@@ -1,27 +1,18 @@
 r"""One distributed MUMPS factorisation, its Schur complement and solves.
 
-:class:`PetscFactor` is a :class:`solver.linalg.base.Factor` (the serial
-backends' interface: ``solve``, ``S``, ``back_substitute``) whose work runs
-on every rank: K (reduced numbering, rank 0) is padded and scattered
-(:mod:`~solver.mpi.layout`) once and factorised by MUMPS (``PCCHOLESKY``,
-``mat_solver_type mumps``; LDLᵀ of the SPD K); MUMPS controls go through
-the options database (``-k_mat_mumps_icntl_*``).
-
-The Schur complement S = K_cc − K_ci K_ii⁻¹ K_ic on the DOFs c (thesis
-(63)-(66)) comes, by default, from **MUMPS's own Schur mode**
-(:mod:`~solver.mpi.schur`: the partial factorisation returns S on rank 0,
-no solves). The factor then solves with K_ii only (PETSc 3.18 solves with
-the whole K through S on one rank only), so a solve with K is the block
-elimination x_c = S⁻¹(b_c − K_ci K_ii⁻¹b_i), x_i = K_ii⁻¹(b_i − K_ic x_c)
-(two interior solves, S⁻¹ by a dense Cholesky on rank 0), and the
-back-substitution u_i = K_ii⁻¹(b_i − K_ic u_c) is one. A new candidate set
-is a new factorisation (as the serial backends'), K is not scattered again.
-
-``block=k`` instead keeps one factorisation of K and forms S = ((K⁻¹)_cc)⁻¹
-from columns K⁻¹e_c, k at a time (``MatMatSolve`` with sparse right-hand
-sides, ICNTL(20)): the engine's first way, slower (benchmarks/README.md,
-"PETSc engine"), kept for comparison.
-"""
+:class:`PetscFactor` is a :class:`solver.linalg.base.Factor` whose work
+runs on every rank: K (reduced numbering, rank 0) is padded and scattered
+(:mod:`~solver.mpi.layout`) once and factorised by MUMPS (``PCCHOLESKY``;
+controls through the options database, ``-k_mat_mumps_icntl_*``). The
+Schur complement S = K_cc − K_ci K_ii⁻¹ K_ic on the DOFs c (thesis
+(63)-(66)) comes from **MUMPS's own Schur mode** (:mod:`~solver.mpi.schur`:
+S on rank 0, no solves); the factor then solves with K_ii only, so a
+solve with K is the block elimination x_c = S⁻¹(b_c − K_ci K_ii⁻¹b_i),
+x_i = K_ii⁻¹(b_i − K_ic x_c) (S⁻¹ by a dense Cholesky on rank 0). A new
+candidate set is a new factorisation; K is not scattered again.
+``block=k`` instead forms S = ((K⁻¹)_cc)⁻¹ from k columns K⁻¹e_c at a
+time (``MatMatSolve``, ICNTL(20)): the engine's first, slower way, kept
+for comparison."""
 
 import numpy as np
 import scipy.linalg as la

@@ -1,16 +1,9 @@
 r"""A surface map :math:`c(s, t) = (x(s,t), y(s,t), z(s,t))` from three
-expressions, with exact first and second derivatives.
-
-The expressions are parsed by :mod:`solver.geometry.expression` in two
-variables; SymPy differentiates them exactly and :func:`sympy.lambdify`
-makes NumPy functions of both. A graph
-:math:`z = h(x, y)` is the map :math:`c(x, y) = (x, y, h(x, y))` with the
-parameters named ``x`` and ``y``.
-
-The closest-point Newton (:mod:`.search`) needs
-:math:`c, c_s, c_t` and :math:`c_{ss}, c_{st}, c_{tt}`; all six are
-differentiated once, here, and evaluated together for many parameter pairs.
-"""
+expressions parsed by :mod:`solver.geometry.expression` (a graph
+:math:`z = h(x, y)` is :math:`c(x, y) = (x, y, h(x, y))`), with exact
+derivatives: the closest-point Newton (:mod:`.search`) needs
+:math:`c, c_s, c_t, c_{ss}, c_{st}, c_{tt}`, differentiated once, here, and
+evaluated together for many parameter pairs."""
 
 import numpy as np
 import sympy

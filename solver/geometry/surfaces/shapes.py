@@ -15,16 +15,11 @@ MIN_COSINE = 1e-3
 
 
 class PlaneSurface(Surface):
-    r"""The half-space :math:`(y - p)\cdot n \le 0`; *n* (normalised here)
-    points out of the obstacle, towards the body.
-
-    ``point`` is a place, within
-    :data:`~solver.geometry.checks.COORDINATE_LIMIT`; ``normal`` only a
-    direction, any finite non-zero vector: it is divided by its largest
-    |component| before its length is taken, so that (0, 0, 1e308) and
-    (0, 0, 1e-320), whose squares overflow or underflow, are the direction
-    (0, 0, 1).
-    """
+    r"""The half-space :math:`(y - p)\cdot n \le 0`; ``point`` *p* within
+    :data:`~solver.geometry.checks.COORDINATE_LIMIT`, ``normal`` *n* (out of
+    the obstacle) any finite non-zero vector: divided by its largest
+    |component| before it is normalised, so that (0, 0, 1e308) and
+    (0, 0, 1e-320) are the direction (0, 0, 1)."""
 
     kind = "plane"
 
