@@ -1,14 +1,11 @@
 r"""Rows partitioned by nodes: the padded numbering and the scatters.
 
-Every node of the mesh keeps its ``dim`` rows, row ``dim·node + component``
-(block size = dimension): a Dirichlet DOF of the reduced system becomes an
-identity row (scaled by the mean diagonal of K, so the padded matrix is as
-well conditioned as K and its solution there is 0). Rank r owns the nodes
-``starts[r]:starts[r+1]`` (contiguous, balanced by count), so a node's
-DOFs, and a contact node's normal row, live on one rank. Only rank 0 holds
-the reduced arrays; :func:`scatter_matrix` and :func:`scatter_vector` send
-each rank its rows, :func:`gather_vector` brings a vector back.
-"""
+Every node of the mesh keeps its ``dim`` rows, row ``dim·node +
+component``: a Dirichlet DOF becomes an identity row (scaled by the mean
+diagonal of K; its solution is 0). Rank r owns the nodes
+``starts[r]:starts[r+1]``, so a node's DOFs, and a contact node's normal
+row, live on one rank. Only rank 0 holds the reduced arrays; the scatters
+send each rank its rows, :func:`gather_vector` brings a vector back."""
 
 import numpy as np
 import scipy.sparse as sp
@@ -47,14 +44,11 @@ class Layout:
         return np.asarray(v)[self.red_to_pad]
 
     def matrix(self, A):
-        """The reduced sparse A as the padded CSR (identity rows, scaled
-        by mean diag A, at the Dirichlet DOFs), sorted column indices.
-
-        The reduced numbering keeps the nodes' order (``red_to_pad``
-        increasing, as every exported problem has it), so each reduced row
-        is copied as it is into its padded row and only its column indices
-        are renumbered: one pass over the entries, 32-bit indices, no COO
-        triples. Another numbering goes through COO."""
+        """The reduced sparse A as the padded CSR (identity rows, scaled by
+        mean diag A, at the Dirichlet DOFs), sorted column indices: with the
+        nodes' order kept (``red_to_pad`` increasing, as every exported problem
+        has it) each row is copied and only its column indices renumbered, one
+        pass with 32-bit indices; another numbering goes through COO."""
         A = sp.csr_matrix(A, dtype=np.float64)
         if not A.has_canonical_format:
             A = A.copy()
@@ -119,11 +113,8 @@ def _scatterv(comm, send, counts, dtype):
 
 def scatter_matrix(service, A_pad, bsize):
     """A distributed PETSc AIJ matrix from rank 0's padded CSR ``A_pad``:
-    each rank receives its row block by three buffer scatters (row
-    pointers, column indices, values; no pickled copies), PETSc copies it
-    into its matrix, and the caller's ``A_pad`` is then the only copy on
-    rank 0 (dropped by :class:`~solver.mpi.factor.PetscFactor` before the
-    factorisation)."""
+    each rank receives its rows by three buffer scatters (no pickled copies),
+    and the caller's ``A_pad`` is then the only copy on rank 0."""
     from petsc4py import PETSc
 
     comm = service.comm

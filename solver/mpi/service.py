@@ -111,12 +111,10 @@ class _HeldSignals:
 
 class Service:
     """The communicator, the objects the commands keep between calls
-    (``objects``: name -> distributed matrix, KSP, ...) and per-command
-    timings (``timings``: name -> [calls, wall seconds, CPU seconds on
-    this rank]; CPU because the wall clock of a shared machine is
-    noise) and the memory after each stage (``memory``: stage -> [MB
-    resident, MB peak resident] after its last run, in first-run order; a
-    command is a stage on every rank, :meth:`mark` adds rank 0's own)."""
+    (``objects``: name -> distributed matrix, KSP, ...), per-command
+    ``timings`` (name -> [calls, wall s, CPU s on this rank]) and ``memory``
+    after each stage (stage -> [MB resident, MB peak]; :meth:`mark` adds rank
+    0's own stages)."""
 
     #: The process's service, once :func:`solver.mpi.engine.service` made
     #: it (with PETSc initialised and every command registered).
@@ -141,13 +139,10 @@ class Service:
         return self.rank == 0
 
     def call(self, name, payload=None, local=None):
-        """(rank 0) Run command ``name`` on every rank; ``local`` is rank
-        0's large data, passed to its handler only. Returns rank 0's
-        result; raises :class:`EngineError` if any rank failed. A stop
-        signal that rank 0 receives, or a worker reports, during the
-        command reaches rank 0's handler when the command has ended on
-        every rank (an exception from the handler, e.g. the command
-        line's ``Interrupted``, then comes from here)."""
+        """(rank 0) Run command ``name`` on every rank, rank 0's handler also
+        given its large data ``local``; rank 0's result, or :class:`EngineError`
+        if any rank failed. A stop signal during the command reaches rank 0's
+        handler once the command has ended on every rank."""
         held = _HeldSignals().hold()
         try:
             self._send((name, payload))

@@ -4,18 +4,14 @@ In the node frames (K̂ = RKRᵀ, f̂ = Rf, v = Ru) the frictionless problem
 (67) is the box-constrained variational inequality
 
 .. math:: F(v) = K̂v − f̂, \quad v_{n_i} \le s_i \text{ (normal rows of
-          the free contact nodes), other rows free,}
+          the free contact nodes), other rows free.}
 
-i.e. F_{n_i} ≤ 0 where v_{n_i} = s_i (λ_i = −F_{n_i} ≥ 0) and F = 0
-elsewhere. ``vinewtonrsls`` (reduced-space active set Newton, Benson &
-Munson 2006) solves it with MUMPS LU on each reduced Jacobian. It is an
-independent solver of the same problem (tests: same u as the project's
-Newton), but it refactorises every iteration, so it is not the engine's
-method (benchmarks/README.md). ``vinewtonssls`` rescales the Jacobian in
-place: it gets its own copy of K̂ here. Stopping: ‖F‖ ≤ rtol·‖f̂‖
-(absolute, so that the round-off floor is not asked for); full Newton
-steps (``basic`` line search: the VI is linear).
-"""
+``vinewtonrsls`` (reduced-space active set Newton, Benson & Munson 2006)
+solves it with MUMPS LU on each reduced Jacobian: an independent solver
+of the same problem, but one that refactorises every iteration, so not
+the engine's method. Stopping: ‖F‖ ≤ rtol·‖f̂‖; full Newton steps (the VI
+is linear). ``vinewtonssls`` rescales the Jacobian in place: it gets its
+own copy of K̂."""
 
 import numpy as np
 

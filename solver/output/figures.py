@@ -1,14 +1,10 @@
 """Figures of a solve, in the manner of the thesis's Fig. 4-8 and 18-27.
 
 matplotlib is imported here only (Agg backend, never ``plt.show()``); each
-function returns the Figure and, given ``path``, saves it as PNG.
-
-Units: the figures label their axes in one convention, :data:`UNITS` —
-lengths in mm, E in MPa, plane strain per unit thickness, so a nodal force
-is in N (per mm of thickness) and a pressure or traction in MPa = N/mm². The
-solver itself is unit-free; the labels hold when the exported K, f and M
-were built in mm, MPa and N, as ``sfepy_problems/`` does.
-"""
+function returns the Figure and, given ``path``, saves it as PNG. Axes are
+labelled in one convention, :data:`UNITS` (mm, MPa, N per mm of
+thickness): the solver is unit-free, and the labels hold when K, f and M
+were built in those units, as ``sfepy_problems/`` does."""
 
 import numpy as np
 
@@ -118,19 +114,13 @@ def magnification(problem, displacement, fraction=TARGET_FRACTION):
 def plot_deformed(problem, result, scale=None, path=None, title=None):
     """Deformed body (thesis Fig. 4, left) and, beside it, Γc at true scale.
 
-    Left: the body at X + scale·u (``scale`` default :func:`magnification`,
-    stated in the title) over the faint undeformed outline, contact nodes
-    starred, and the obstacle over the body's extent twice: thin and
-    dotted at its true position, which a magnified body crosses, and solid
-    moved with the magnified boundary (:func:`moved_obstacle`), so that
-    every gap keeps its true length, nodes in contact lie on it and no
-    node crosses it. Right: Γc before and after deformation at scale 1
-    with the obstacle, on stretched axes. Each panel's legend sits below
-    its axis label.
-
-    ``result`` needs ``displacement`` (nodal) and ``in_contact``; ``method``
-    and ``gap_mode`` are used in the default title when present.
-    """
+    Left: the body at X + scale·u (``scale`` default :func:`magnification`)
+    over the faint undeformed outline, contact nodes starred, and the obstacle
+    twice: dotted at its true position, which a magnified body crosses, and
+    solid moved with the magnified boundary (:func:`moved_obstacle`: every gap
+    keeps its true length). Right: Γc before and after deformation at scale 1
+    with the obstacle. ``result`` needs ``displacement`` (nodal) and
+    ``in_contact``; ``method`` and ``gap_mode`` go into the default title."""
     from matplotlib.collections import LineCollection
 
     plt = pyplot()
@@ -233,17 +223,11 @@ def plot_displacement_arrows(problem, result, path=None):
 
 
 def step_halvings(history, method):
-    """Halvings of the step length α per Newton iteration.
-
-    Returns ``(taken, tried)``: ``taken`` = −log₂ α of the step taken (0 for
-    a full step, NaN where no step was taken, α = 0); ``tried`` = for an
-    iteration whose line search found no acceptable α, the number of
-    halvings it tried before giving up (NaN elsewhere). φ_min then takes the
-    full step anyway (α = 1, so ``taken`` = 0 hides the search), φ_FB
-    stops. The count comes from ``history["halvings"]`` if recorded, else
-    from the method's default options (``alpha_min`` = 2⁻¹⁰ for min,
-    ``max_halvings`` for fb).
-    """
+    """Halvings of the step length α per Newton iteration: (taken, tried),
+    −log₂ α of the step taken (NaN where none was, α = 0) and, where the line
+    search found no acceptable α, the halvings it tried (NaN elsewhere; from
+    ``history["halvings"]`` or the method's default options). φ_min then
+    takes the full step anyway (``taken`` 0 hides the search), φ_FB stops."""
     from ..ncp.newton import DEFAULT_OPTIONS
 
     alpha = np.asarray(history["alpha"], dtype=float)
@@ -368,13 +352,10 @@ def _unit(label):
 
 
 def plot_contact_pressure(problem, result, path=None):
-    """Contact pressure along Γc: the nodal contact force per length
-    p_i = λ_i / D_ii, D_ii = Σ_j M_ij (non-negative by complementarity),
-    and, thin and dashed, the consistent M⁻¹λ of thesis (87), which spreads
-    the same forces with the consistent boundary matrix and so oscillates
-    below zero next to the contact zone. When the loaded nodes lie in less
-    than half of Γc the main panel zooms onto them and a short panel below
-    shows all of Γc (:func:`zoomed_axes`)."""
+    """Contact pressure along Γc: the lumped p_i = λ_i / D_ii (≥ 0) and,
+    dashed, the consistent M⁻¹λ of thesis (87), which oscillates below zero
+    next to the contact zone; zoomed onto the loaded nodes when they lie in
+    less than half of Γc (:func:`zoomed_axes`)."""
     plt = pyplot()
     arc, xlabel = arc_length(problem)
     pressure = np.asarray(result.contact_pressure, float)

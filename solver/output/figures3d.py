@@ -7,15 +7,9 @@ For a sphere pressed on a half-space (Hertz; a and p_0 of
 .. math::  p(r) = p_0 \sqrt{1 - r^2/a^2} \quad (r \le a),
            \qquad p(r) = 0 \quad (r > a).
 
-The figure draws the nodal pressures against their distance *r* from the axis of the
-contact and, given *a* and :math:`p_0`, that curve (:func:`pressure_vs_radius`
-from arrays; :func:`plot_pressure_vs_radius` from a problem and its result;
-:func:`write_figures3d` for ``--plots``). Which curve, which axis and why
-is decided in one place, :func:`.hertz_reference.hertz_reference`: from
-the problem's symmetry planes and initial gap, never from keys that only
-a shipped problem file writes. matplotlib is imported lazily, on the Agg
-backend (as :mod:`.figures`).
-"""
+Which curve, which axis and why is decided in one place,
+:func:`.hertz_reference.hertz_reference`, from the problem's symmetry
+planes and initial gap."""
 
 import os
 
@@ -123,16 +117,12 @@ def contact_radius(points, pressure, center=None, axis=None):
 
 
 def plot_pressure_vs_radius(problem, result, path=None, reference=None):
-    """:func:`pressure_vs_radius` of a 3D solve: ``result.contact_pressure``
-    at ``problem.nodes[problem.contact_nodes]`` against the distance from
+    """:func:`pressure_vs_radius` of a 3D solve, against the distance from
     the contact axis of ``reference`` (default
-    :func:`.hertz_reference.hertz_reference` of the solve), with its Hertz
-    curve if it has one; zoomed onto the contact zone with all nodes in a
-    panel below. Without an axis (the first contact is not a point) the
-    radius is measured from the node of largest pressure, across the
-    loaded patch (:func:`contact_radius`), and the label says so. The
-    title carries ``reference.note``: why the curve is drawn, or why not.
-    """
+    :func:`.hertz_reference.hertz_reference` of the solve) with its Hertz
+    curve if it has one, zoomed onto the contact zone; without an axis the
+    radius is measured from the node of largest pressure (the label says so).
+    The title carries ``reference.note``."""
     if reference is None:
         reference = hertz_reference(problem, result)
     points = problem.nodes[problem.contact_nodes]

@@ -31,18 +31,12 @@ def friction_force(problem, result):
 
 
 def history_nodes(problem, result):
-    """The contact nodes whose histories :func:`plot_step_history` draws,
-    as [(position along Γc, why)].
-
-    First the node with the largest friction force over the run (the
-    node of largest contact force may carry none: on a symmetric body it
-    is the node on the symmetry line, whose friction force is round-off);
-    then, for contrast, the node with the largest friction force among
-    those that end the run in the other state (sticking if the first
-    slips at the last step, slipping if it sticks), if there is one. A
-    run in which no node carries friction follows the node of largest
-    contact force; a problem with one contact node follows that node.
-    """
+    """The contact nodes whose histories :func:`plot_step_history` draws, as
+    [(position along Γc, why)]: the node with the largest friction force (on
+    a symmetric body the node of largest contact force carries only
+    round-off), then, for contrast, the one with the largest friction force
+    among those that end in the other state (stick or slip); else the node of
+    largest contact force."""
     if problem.n_contact == 1:
         return [(0, "the only contact node")]
     force = np.abs(friction_force(problem, result))
@@ -66,13 +60,10 @@ def history_nodes(problem, result):
 
 
 def tidy_panel(ax, series, scale, unit):
-    """Draw nothing unreadable: ``series`` (a list of arrays, one per
-    line already drawn, in the order of ``ax.lines``) were plotted with
-    values within :data:`ROUND_OFF` × ``scale`` set to zero; here the
-    y axis loses matplotlib's offset (no "1e−29+1.4e−17"), spans at least
-    2 % of ``scale`` (a constant line is not blown up to its round-off),
-    and a panel whose values are all zero says so, with the largest
-    round-off it hid."""
+    """Draw nothing unreadable: ``series`` (the arrays of ``ax.lines``) were
+    plotted with values within :data:`ROUND_OFF` × ``scale`` set to zero;
+    here the y axis loses matplotlib's offset, spans at least 2 % of
+    ``scale``, and an all-zero panel says so, with the round-off it hid."""
     ax.ticklabel_format(axis="y", useOffset=False)
     raw = np.concatenate([np.ravel(s) for s in series])
     raw = raw[np.isfinite(raw)]

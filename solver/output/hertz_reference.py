@@ -4,35 +4,24 @@ Hertz's point contact (Johnson, *Contact Mechanics*, 1985, §4.2) needs the
 whole body's force P, the relative radius of curvature R at the first
 contact, E* and the contact's axis. A problem file states R, E and ν in its
 ``meta``; everything else is read from the problem itself, so that a
-user-built half or quarter model gets the same curve as the shipped one
-without further keys, and a problem that does not fix them gets no curve
-(never a wrong one):
+user-built half or quarter model gets the same curve as the shipped one,
+and a problem that does not fix them gets no curve (never a wrong one):
 
-* **Symmetry planes** (:func:`symmetry_planes`). A half or quarter model
-  holds the nodes of each symmetry plane x_k = c by u_k = 0; on Γc they are
-  rollers (:mod:`solver.contact.geometry`): contact nodes whose Dirichlet
-  components are all along the one axis k, and whose contact normal has no
-  k component. When those nodes lie on one plane x_k = c, that plane is a
-  mirror of the model. With n such planes the whole body is 2ⁿ copies of
-  the model, and P = 2ⁿ Σ_i λ_i ν_i·e (e the contact axis): the rollers'
-  forces are already the model's share (half, or a quarter on the axis).
-* **Centre and axis** (:func:`first_contact`). The initial gap of a smooth
-  convex contact is, near the first-contact point, a quadratic function of
-  the position in the tangent plane, g = g* + (ξ − ξ*)ᵀA(ξ − ξ*). The
-  nodes of smallest gap (those in contact at the end, at least a dozen),
-  mirrored in the symmetry planes, give A and the vertex ξ* by least
-  squares (the mirrored data put ξ* on the planes); the centre is the
-  obstacle point at the vertex, the axis the contact normal there. The
-  fit also measures the curvature radii 1/(2 eig A): a sphere on a flat
-  has both equal to R.
-* **R**: ``meta["R"]``, the body's radius, combined with the obstacle's
-  when the obstacle is a sphere (1/R* = 1/R + 1/R_o), and accepted only if
-  both fitted curvature radii agree with R* within :data:`R_TOLERANCE`.
+* **Symmetry planes** (:func:`symmetry_planes`): the rollers of a half or
+  quarter model that lie on one plane x_k = c make it a mirror; with n
+  such planes the whole body is 2ⁿ copies of the model, and
+  P = 2ⁿ Σ_i λ_i ν_i·e (e the contact axis).
+* **Centre and axis** (:func:`first_contact`): near the first contact the
+  initial gap is quadratic in the tangent plane, g = g* + (ξ − ξ*)ᵀA(ξ −
+  ξ*); the nodes of smallest gap, mirrored in the planes, give A and the
+  vertex ξ* by least squares; the centre is the obstacle point there, the
+  curvature radii 1/(2 eig A).
+* **R**: ``meta["R"]``, combined with a sphere obstacle's (1/R* = 1/R +
+  1/R_o), accepted only if both curvature radii agree with R* within
+  :data:`R_TOLERANCE`.
 
-Keys a problem file may add (``quarter``, ``half``, ``contact_center``) are
-only compared with what was derived: a disagreement means that the file
-and the mesh describe different models, and no curve is drawn.
-"""
+Keys a problem file may add (``quarter``, ``half``, ``contact_center``)
+are only compared with what was derived; a disagreement draws no curve."""
 
 from dataclasses import dataclass
 
