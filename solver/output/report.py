@@ -1,12 +1,8 @@
 """Readable text of the command line: the ``--info`` summary and the
-summaries of a frictionless solve and of a friction run (from the same
-dictionaries as ``summary.json``).
-
-A number in these dictionaries may be infinite or NaN (a legal problem
-whose solve overflows), or already the string ``"inf"``/``"nan"`` of
-``summary.json`` (a summary read back from disk): every number is
-formatted by :func:`_g` or :func:`_e`, which print either as it is.
-"""
+summaries of a frictionless solve and of a friction run, from the same
+dictionaries as ``summary.json``; a number may be infinite or NaN, or
+already the string ``"inf"``/``"nan"`` read back from disk, and
+:func:`_g`, :func:`_e` print either as it is."""
 
 import json
 

@@ -1,13 +1,8 @@
-"""Everything a solve leaves in its output folder, for every case.
-
-:func:`write_all` writes the outputs of a finished solve (``result.npz``,
-``result.vtu``, with ``--plots`` the figures) and returns the
-``summary.json`` dictionary; a friction run streams its steps to disk as
-they complete (:class:`StepOutputs`, the ``on_step`` of
-:func:`solver.solve`), and an interrupted one still leaves its completed
-steps readable (:meth:`StepOutputs.finish`). The same calls serve one body
-against a rigid obstacle, two bodies and discrete problems, 2D and 3D.
-"""
+"""Everything a solve leaves in its output folder, for every case (one
+body or two, discrete, 2D and 3D): :func:`write_all` writes the outputs of
+a finished solve and returns the ``summary.json`` dictionary; a friction
+run streams its steps to disk as they complete (:class:`StepOutputs`),
+and an interrupted one still leaves them readable."""
 
 import os
 

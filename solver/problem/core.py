@@ -20,25 +20,13 @@ __all__ = ["ContactProblem", "validate_arrays"]
 
 @dataclass(eq=False)
 class ContactProblem:
-    r"""A contact problem as the solver sees it (one ``.npz`` file).
-
-    Array meanings and shapes are those of
-    :data:`~solver.problem.format.KEYS`; K and M are
-    :class:`scipy.sparse.csr_matrix`. Construct it directly (the arrays are
-    validated by :meth:`validate`) or with :func:`load_problem`.
-
-    In 2D ``obstacle`` is a curve (:class:`ParametricCurve` or
-    :class:`PolylineCurve`); in 3D the surface of
-    ``solver.geometry.surfaces.surface_from_spec`` (or its spec dict, see
-    :mod:`solver.problem.surface_spec`) and ``contact_faces`` holds the
-    contact triangles.
-
-    Two elastic bodies (format version 4, 2D): ``body`` gives
-    each node's body, ``mortar_slave`` and ``mortar_master`` the interface
-    segments (body on the left of a→b) and ``mortar_*_pair`` their pair;
-    ``obstacle`` is None and ``contact_nodes`` are the slave nodes. All
-    five are None in a one-body file (a two-body file without pair keys
-    gets zeros).
+    r"""A contact problem as the solver sees it (one ``.npz`` file): the
+    arrays of :data:`~solver.problem.format.KEYS`, K and M as CSR matrices.
+    Construct it directly (:meth:`validate` checks the arrays) or with
+    :func:`load_problem`. ``obstacle`` is a 2D curve
+    (:class:`ParametricCurve`, :class:`PolylineCurve`), a 3D surface (or its
+    spec dict) with ``contact_faces``, or None for two bodies, whose
+    ``body``, ``mortar_*`` keys give the interface (None in a one-body file).
     """
 
     K: sp.csr_matrix
@@ -220,13 +208,9 @@ class ContactProblem:
         return self
 
     def refusals(self, gap=None):
-        """What a solve would refuse (``--info``): one-line reasons, empty
-        if it would start; K not positive definite, the obstacle's gaps
-        not computable in the ``gap`` mode (default ``"obstacle"``). See
-        :mod:`solver.problem.refusals`.
-
-        Costs one sparse factorisation of K (remembered, as by
-        :meth:`check_stiffness`) and one gap search."""
+        """What a solve would refuse (``--info``): one-line reasons, empty if
+        it would start (:mod:`solver.problem.refusals`; one factorisation of K,
+        remembered, and one gap search in the ``gap`` mode)."""
         from .refusals import refusals
 
         return refusals(self, gap or "obstacle")
@@ -240,14 +224,10 @@ class ContactProblem:
         return 100 if steps is None else int(steps)
 
     def load_steps(self, steps=None):
-        """The load path, one entry per load step (a generator: a vector per
-        step is made only when the step is reached).
-
-        Yields (load vector f_κ, friction multiplier, Dirichlet values or
-        None, stage index). Without a ``load_path`` the path has one stage
-        of ``steps`` steps (default 100) with f_κ = κ/κc·f and the
-        Dirichlet values scaled alike.
-        """
+        """The load path, one entry per load step, as a generator: (load
+        vector f_κ, friction multiplier, Dirichlet values or None, stage index).
+        Without a ``load_path``: one stage of ``steps`` steps (default 100),
+        f_κ = κ/κc·f and the Dirichlet values scaled alike."""
         if self.load_path is None:
             steps = self.n_load_steps(steps)
             for k in range(1, steps + 1):

@@ -141,16 +141,11 @@ def bar_values(problem, result, quantity):
 def bar_history(problem, results, quantity, references=None, path=None,
                 identical_tol=1e-9):
     """One of Fig. 18-21 for the bar: ``quantity`` ("contact_force",
-    "friction_force", "u_x", "u_y") per load step, one curve per friction
-    coefficient of ``results`` ({f_c: result}), the closed form
-    (``references`` {f_c: (steps, 4) array of (u_x, u_y, λ, g_t)}) drawn as
-    a thick grey line under the computed points.
-
-    Curves that coincide (max difference ≤ ``identical_tol`` times the
-    largest value) are drawn once; the legend gives the measured
-    difference. Returns the Figure; ``fig.max_difference`` holds that
-    difference (None if the curves differ).
-    """
+    "friction_force", "u_x", "u_y") per load step, one curve per f_c of
+    ``results``, the closed form (``references`` {f_c: (steps, 4) array of
+    (u_x, u_y, λ, g_t)}) as a thick grey line under the computed points.
+    Curves within ``identical_tol`` of the largest value are drawn once;
+    ``fig.max_difference`` holds the difference (None if they differ)."""
     plt = pyplot()
     column, ylabel, number = BAR_QUANTITIES[quantity]
     values = {fc: bar_values(problem, r, quantity) for fc, r in

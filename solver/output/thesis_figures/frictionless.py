@@ -24,17 +24,12 @@ def nice_scale(problem, displacement, fraction=0.1):
 
 def deformed_and_directions(problem, displacement, in_contact, scale=None,
                             title=None, path=None):
-    """Fig. 4 (and 7, 10, 13, 22, 24, 26): left the deformed body with the
-    nodes of Γc in contact starred and the obstacle in blue, right the
-    undeformed body with the displacement directions.
-
-    ``displacement`` (n_nodes, 2), ``in_contact`` over the nodes of Γc.
-    The displacements are magnified by ``scale`` (default: a round number
-    making the largest one about 10 % of the body); the obstacle's distance
-    from Γc is magnified alike (:func:`obstacle_for_display`), so the
-    starred nodes lie on it up to ``fig.contact_offset`` (see
-    :func:`contact_offset`); ``fig.scale`` is the magnification used.
-    """
+    """Fig. 4 (and 7, 10, 13, 22, 24, 26): left the deformed body
+    (``displacement`` (n_nodes, 2) magnified by ``scale``, default about 10 %
+    of the body) with the nodes ``in_contact`` starred and the obstacle's
+    distance from Γc magnified alike (:func:`obstacle_for_display`, up to
+    ``fig.contact_offset``), right the undeformed body with the displacement
+    directions; ``fig.scale`` is the magnification used."""
     plt = pyplot()
     u = np.asarray(displacement)
     scale = nice_scale(problem, u) if scale is None else scale
@@ -128,11 +123,9 @@ def convergence(results, path=None, title=None):
 def pressure_along_contact(problem, results, path=None, title=None,
                            consistent=True, xlim=None):
     """Fig. 6 and 9 (12, 15): contact pressure along Γc for each result of
-    ``{label: result}``. Main curve: the lumped nodal pressure
-    p_i = λ_i/D_ii ≥ 0 (``contact_pressure``); secondary (thin, grey
-    family): the thesis's consistent g_n = M⁻¹λ of (87)
-    (``contact_pressure_consistent``), which spreads each nodal force over
-    its neighbours and oscillates below zero next to the contact zone."""
+    ``{label: result}``: the lumped λ_i/D_ii ≥ 0 and, thin and grey, the
+    thesis's consistent g_n = M⁻¹λ of (87), which oscillates below zero next
+    to the contact zone."""
     plt = pyplot()
     y = panel_position(problem)
     fig, ax = plt.subplots(figsize=(8, 4.5))
