@@ -1,29 +1,18 @@
-r"""The Hertz sphere study: one row per mesh, measured against
-Hertz's closed form (Johnson, *Contact Mechanics*, 1985, §4.2; see
+r"""The Hertz sphere study: one row per mesh, measured against Hertz's
+closed form (Johnson, *Contact Mechanics*, 1985, §4.2;
 :mod:`solver.verification`).
 
 The quarter model (``sfepy_problems/hertz_sphere.py``) is pressed by a
-prescribed approach; its total force is then a result, P = 4 Σ λ_i ν_i·(−e_z)
-(four quarters), and Hertz's a and p0 follow from that P. The contact radius
-is measured two ways: from the first moment of the nodal contact forces,
-a = 16/(3π) Σ F_i r_i / Σ F_i (no fit), and by a least-squares fit of
-p0 √(1 − r²/a²) through the nodal pressures, which fits a and p0 together
-(:func:`solver.verification.fit_hertz_profile`).
-
-The nodal pressure is the lumped λ_i/D_ii, D_ii = Σ_j M_ij (the mean of the
-traction over node i's hat function; exact for a uniform pressure, the
-patch test). The consistent M⁻¹λ, the L² projection of the traction onto
-the surface hat functions, is the better approximation only where the
-traction is smooth: Hertz's profile has an infinite slope at r = a, and
-the projection's Gibbs overshoot there spreads inwards (a larger RMS
-error and peak, ``notebooks/three_d.ipynb``). The lumped pressure stays
-the default; ``pressure=`` selects the other.
-
-What the rows can reach: Hertz's theory (a paraboloid on a half-space) is
-itself off a true sphere by O((a/R)²) (Sneddon's solution,
-:func:`solver.verification.sphere_flat_contact`): at the default
-a = 0.05 R a Hertz fit of the exact pressure has p0 +0.06 % and a −0.03 %.
-"""
+prescribed approach; its total force is then a result, P = 4 Σ λ_i
+ν_i·(−e_z), and Hertz's a and p0 follow from that P. The contact radius is
+measured from the first moment of the nodal contact forces (no fit) and by
+a least-squares fit of p0 √(1 − r²/a²) through the nodal pressures. The
+nodal pressure is the lumped λ_i/D_ii (exact for a uniform pressure); the
+consistent M⁻¹λ, an L² projection, overshoots where Hertz's profile has an
+infinite slope, at r = a (``notebooks/three_d.ipynb``; ``pressure=``
+selects it). Hertz's paraboloid is itself off a true sphere by O((a/R)²)
+(:func:`solver.verification.sphere_flat_contact`: at a = 0.05 R a Hertz fit
+of the exact pressure has p0 +0.06 % and a −0.03 %)."""
 
 import numpy as np
 

@@ -271,13 +271,9 @@ class ContactProblem:
         return full
 
     def summary(self, check=False, gap=None):
-        """A dict of the problem's main figures (for ``--info``), every
-        number finite (strict JSON).
-
-        With ``check``, also ``"checks"`` (the names of the checks made)
-        and ``"refusals"`` (:meth:`refusals` for the ``gap`` mode: what a
-        solve would refuse, empty if it would start).
-        """
+        """A dict of the problem's main figures (for ``--info``), every number
+        finite; with ``check`` also ``"checks"`` (those made) and ``"refusals"``
+        (:meth:`refusals` for the ``gap`` mode)."""
         active = (self.contact_dofs >= 0).all(axis=1)
         info = {
             "kind": self.kind,

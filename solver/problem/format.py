@@ -1,47 +1,21 @@
 r"""The ``.npz`` problem format: its version, keys and size limits.
 
 A problem file carries everything the contact solver needs and nothing it
-must guess. SfePy problem files (``sfepy_problems/``) write it through
-:func:`solver.problem.save_problem`; ``python -m solver`` reads it through
-:func:`solver.problem.load_problem`, which validates every key and raises
-:class:`~solver.errors.ProblemError` naming the offending key.
+must guess: a plain NumPy ``.npz`` archive of numeric and unicode arrays
+(no pickled objects), written by :func:`solver.problem.save_problem` and
+read by :func:`solver.problem.load_problem`, which validates every key and
+names the offending one. Two kinds share it: ``"mesh"`` (a finite element
+model and a rigid obstacle, or two bodies; the solver computes gaps and
+normals, thesis §2.1) and ``"discrete"`` (a small system with given gaps
+and normals, the thesis's §6 bar). d = 2 or 3 is the number of columns of
+``contact_dofs``. Notation (thesis §3.2): Ñ reduced DOFs, Nc contact
+nodes, in any order (``contact_dofs`` says where their DOFs are).
 
-Files are plain NumPy ``.npz`` archives (zip files of ``.npy`` members) of
-numeric and unicode arrays; pickled objects are refused.
-
-Two kinds of problem share the format:
-
-``kind = "mesh"``
-    A finite element model: the reduced stiffness matrix, the mesh, the map
-    from reduced DOFs to nodes, the contact nodes and a rigid obstacle.
-    Gaps and normals are computed by the solver (thesis §2.1). In 2D (the
-    thesis's §4 body) triangles, contact nodes ordered along Γc and an
-    obstacle curve Γo(t); in 3D (version 3) tetrahedra, the
-    contact surface as outward triangles ``contact_faces`` and an obstacle
-    surface given by a JSON spec (``obstacle_surface``).
-``kind = "discrete"``
-    A small discrete system without a mesh (the thesis's 2-DOF bar of §6):
-    the stiffness, the load, and for each contact node its d DOFs, its
-    gap *s* and the unit normal ν along which *s* is measured.
-
-The dimension d (2 or 3) is the number of columns of ``contact_dofs``; every
-other per-node array must agree with it.
-
-Notation (thesis §3.2): Ñ reduced DOFs (Dirichlet DOFs eliminated), Nc
-contact nodes. The thesis orders contact nodes first; this format does not
-need to: ``contact_dofs`` says where each contact node's DOFs are.
-
-Versions (docs/npz-format.md, "Versions"): 1 is the 2D layout, 3 adds 3D
-(d = 3), 4 two elastic bodies in contact (2D; ``body`` per node and the
-interface segments ``mortar_slave``, ``mortar_master`` instead of an
-obstacle, :mod:`solver.problem.two_body`); 2 was never written. A file
-without the newer keys reads the same under every version.
-
-Keys (format version 4)
------------------------
-The table :data:`KEYS` below is the specification; ``docs/npz-format.md``
-is generated from it (:func:`format_table`).
-"""
+Versions (docs/npz-format.md, "Versions"): 1 is the 2D layout, 3 adds 3D,
+4 two elastic bodies in contact (2D); 2 was never written. A file without
+the newer keys reads the same under every version. The table :data:`KEYS`
+is the specification; ``docs/npz-format.md`` is generated from it
+(:func:`format_table`)."""
 
 __all__ = ["FORMAT_VERSION", "READ_VERSIONS", "DIMS", "KEYS", "KINDS",
            "ONLY_2D", "TWO_BODY", "TWO_BODY_VERSION", "META_REQUIRED",

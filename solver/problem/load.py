@@ -49,13 +49,9 @@ def load_problem(path):
 
 
 def save_problem(path, problem):
-    """Validate ``problem`` and write it to ``path`` atomically.
-
-    The archive is written to a temporary file in the target directory and
-    renamed over ``path`` only when complete, so a failure never leaves a
-    half-written problem file. Library versions are added to
-    ``meta["versions"]``.
-    """
+    """Validate ``problem`` and write it to ``path`` atomically (a
+    temporary file renamed over ``path`` when complete), with the library
+    versions added to ``meta["versions"]``."""
     path = os.fspath(path)
     versions = dict(problem.meta.get("versions", {}))
     versions.update(format=FORMAT_VERSION, numpy=np.__version__,

@@ -1,11 +1,7 @@
-"""The ``obstacle_surface`` key: a JSON surface spec (3D, format version 3).
-
-The spec names a rigid obstacle surface (``{"kind": "plane", "point": ...,
-"normal": ...}``, ``sphere``, ``graph``, ``parametric``; the fields are in
-``docs/npz-format.md``). It is parsed with the bounded JSON reader of
-:mod:`.meta` and turned into a surface object by
-:func:`solver.geometry.surfaces.surface_from_spec`.
-"""
+"""The ``obstacle_surface`` key: a JSON surface spec (3D, format version
+3; its fields in docs/npz-format.md), parsed with the bounded JSON reader
+of :mod:`.meta` and made a surface by
+:func:`solver.geometry.surfaces.surface_from_spec`."""
 
 import json
 

@@ -1,12 +1,9 @@
-"""Validation of the ``.npz`` arrays of a problem file (all keys).
-
+"""Validation of the ``.npz`` arrays of a problem file (all keys):
 :func:`validate_fields` checks every key of
-:data:`~solver.problem.format.KEYS` (presence for the kind, dtype, shape,
-finiteness, ranges, the consistency of K, M, the DOF maps and the load
-path), the mesh geometry (:mod:`solver.problem.geometry`) and the two-body
-keys (:mod:`solver.problem.two_body`), and raises
-:class:`~solver.errors.ProblemError` naming the first offending key.
-"""
+:data:`~solver.problem.format.KEYS`, the mesh geometry
+(:mod:`solver.problem.geometry`) and the two-body keys
+(:mod:`solver.problem.two_body`), and raises a ProblemError naming the
+first offending key."""
 
 from collections.abc import Mapping
 
