@@ -136,26 +136,11 @@ class ProjectionSystem(FrictionSystem):
         return ReducedJacobian(self, x, stick, ~stick & (w >= 0), active)
 
     def _jacobian(self, x):
+        """(JE, JA, JB) of the projection onto the disc (any d; in 2D the
+        clip's), module docstring: ∂P/∂w, ∂P/∂b = ŵ; at a roller the e_c
+        column drops."""
         du, g = x[:self.n], self.traction(x)
         b, db = self.bound(self._force(du))
-        if self.dim != 2 or self.rollers:
-            return self._disc_jacobian(du, g, b, db)
-        # the clip g − clip(w, −b, b), w = g − c_t ZRΔu
-        w = g - self.c_t * (self.R @ du)[self.t_rows]
-        stick = np.abs(w) < b
-        upper = ~stick & (w >= 0)
-        rows_du = sp.diags(stick.astype(float)) @ (self.c_t * self._Rt)
-        if db is not None:
-            sign = np.where(upper, -1.0, 1.0) * (~stick)
-            rows_du = rows_du + sp.diags(sign) @ db
-        J3 = sp.hstack([rows_du, sp.diags((~stick).astype(float))],
-                       format="csr")
-        return sp.vstack([self._JE_fixed, J3], format="csr"), self._JA, \
-            self._JB
-
-    def _disc_jacobian(self, du, g, b, db):
-        """(JE, JA, JB) of the projection onto the disc (any d, module
-        docstring: ∂P/∂w, ∂P/∂b = ŵ; at a roller the e_c column drops)."""
         k, m = self.dim - 1, self.m
         P, stick, _, slip_hat = disc_derivative(
             self._slide(g, du).reshape(m, k), b,
