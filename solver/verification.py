@@ -1,39 +1,33 @@
-r"""Closed-form contact solutions used to verify the solver.
+r"""Closed-form contact solutions used to verify the solver (K. L. Johnson,
+*Contact Mechanics*, 1985; E* = E/(1 − ν²)).
 
-Hertz line contact (K. L. Johnson, *Contact Mechanics*, 1985, §4.3): an
-elastic cylinder of radius R pressed with force P per unit length onto a
-rigid flat, plane strain, E* = E/(1 − ν²):
+Hertz line contact (§4.3): an elastic cylinder of radius R pressed with
+force P per unit length onto a rigid flat, plane strain:
 
 .. math::
     a = 2\sqrt{\frac{P R}{\pi E^*}}, \qquad p_0 = \frac{2P}{\pi a},
     \qquad p(x) = p_0 \sqrt{1 − x^2/a^2}.
 
-Cattaneo–Mindlin partial slip (Johnson §7.1): after the normal load, a
-tangential load Q < f_c P leaves a central stick zone of half-width
+Cattaneo–Mindlin partial slip (§7.1): a tangential load Q < f_c P after
+the normal load leaves a central stick zone of half-width
+c = a √(1 − Q/(f_c P)); it neglects the coupling of normal and tangential
+tractions (exact for ν = 0.5 or identical materials), so on a rigid
+obstacle with ν = 0.3 the stick zone is shifted and close to c.
 
-.. math::  c = a \sqrt{1 − Q/(f_c P)}.
-
-It assumes no coupling between normal and tangential tractions, exact for
-ν = 0.5 or identical materials; an elastic body on a rigid obstacle with
-ν = 0.3 is coupled, so the stick zone is shifted and its size is close to,
-not equal to, c.
-
-Hertz point contact (Johnson §4.2): an elastic sphere of radius R pressed
-with force P onto a rigid flat, E* = E/(1 − ν²):
+Hertz point contact (§4.2): an elastic sphere of radius R on a rigid flat,
 
 .. math::
     a = \left(\frac{3PR}{4E^*}\right)^{1/3}, \qquad p_0 = \frac{3P}{2\pi a^2},
     \qquad p(r) = p_0 \sqrt{1 − r^2/a^2},
 
-and its Cattaneo–Mindlin stick radius (Johnson §7.2) c = a(1 − Q/(f_c P))^{1/3}.
-The first moment of the Hertz pressure, ∫ p r dA / ∫ p dA = 3πa/16, gives
-a from the nodal contact forces without a fit
-(:func:`contact_radius_from_moment`).
+its stick radius (§7.2) c = a(1 − Q/(f_c P))^{1/3}; the first moment
+∫ p r dA / ∫ p dA = 3πa/16 gives a from the nodal contact forces without
+a fit (:func:`contact_radius_from_moment`).
 
 Hertz replaces the sphere by the paraboloid r²/(2R). The exact half-space
 solution for the spherical profile R − √(R² − r²) (I. N. Sneddon, Int. J.
-Engng Sci. 3 (1965) 47–57, eqs. for the spherical punch; his general
-axisymmetric solution with G(t) = δ − t ∫₀ᵗ f'(s)/√(t² − s²) ds):
+Engng Sci. 3 (1965) 47–57; his axisymmetric solution with
+G(t) = δ − t ∫₀ᵗ f'(s)/√(t² − s²) ds):
 
 .. math::
     δ = \frac{a}{2}\ln\frac{R + a}{R − a}, \qquad
@@ -45,11 +39,9 @@ axisymmetric solution with G(t) = δ − t ∫₀ᵗ f'(s)/√(t² − s²) ds):
     \qquad h(t) = −G'(t) = \frac12\ln\frac{R + t}{R − t}
     + \frac{tR}{R^2 − t^2}
 
-(:func:`sphere_flat_contact`, :func:`sphere_flat_pressure`). For a given P
-its contact radius is Hertz's times 1 − (2/15)(a/R)² and its pressure is
-not a semi-ellipse: this is the size of Hertz's own error on a real sphere
-(at a/R = 0.1: a −0.13 %, a Hertz-profile fit's p0 +0.22 %).
-"""
+(:func:`sphere_flat_contact`, :func:`sphere_flat_pressure`): for a given P
+its contact radius is Hertz's times 1 − (2/15)(a/R)², the size of Hertz's
+own error on a real sphere."""
 
 import functools
 

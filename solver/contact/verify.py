@@ -1,47 +1,36 @@
 r"""Scales of the stopping test and verification of a computed answer.
 
-Units
------
-A solver's verdict must not depend on the units the user chose. The
-stopping test of the contact drivers is therefore relative to the
-problem's own force scale,
+Units. A solver's verdict must not depend on the units the user chose, so
+the stopping test of the contact drivers is relative to the problem's own
+force scale,
 
 .. math::  \|[E;\ \min(λ, \bar k (s − u_n))]\|_2 \le \mathrm{tol}\cdot
            F, \qquad F = \max(\|f\|_2, \|λ^+\|_2),
 
-where E are the equilibrium rows, λ the normal contact forces of the
-iterate (λ⁺ its positive part), s − u_n the remaining gaps (thesis (67))
-and k̄ the mean stiffness diag(K) at the contact DOFs, which turns a gap
-error into a force. Multiplying K and f by any factor multiplies both
-sides by it; rescaling lengths (gaps and displacements by β, forces with
-them) multiplies both by β: the verdict is the same. With a tiny load
-(f·1e-12) the equilibrium rows are measured against that load, so u = 0 is
-not "converged"; a problem driven by negative gaps alone (f = 0) gets its
-scale from its contact forces; f = 0 with open gaps has the exact answer
-u = 0 (residual exactly 0).
+E the equilibrium rows, λ the normal contact forces of the iterate, s − u_n
+the remaining gaps (thesis (67)) and k̄ the mean stiffness diag(K) at the
+contact DOFs, which turns a gap error into a force. Scaling K and f, or
+all lengths, scales both sides alike. With a tiny load the equilibrium
+rows are measured against that load; a problem driven by negative gaps
+alone (f = 0) gets its scale from its contact forces.
 
-Verification
-------------
-The stopping test looks at the system Newton iterated on (condensed onto
-Γc, a coarse level, a load step). Before reporting success the contact
-solvers check the answer itself, with the original sparse K and f
-(:func:`verify_contact`): it is finite; the penetration max(u_n − s, 0),
-the negative part of λ, the complementarity |min(λ, k̄(s − u_n))| and (with
-friction) the excess of the nodal friction force over the Coulomb bound are
-at most tol_v·F (lengths through F/k̄); and the equilibrium residual
+Verification. The stopping test looks at the system Newton iterated on (a
+condensed one, a coarse level, a load step). Before reporting success the
+solvers check the answer itself with the original sparse K and f
+(:func:`verify_contact`): it is finite; the penetration, the negative part
+of λ, the complementarity |min(λ, k̄(s − u_n))| and (with friction) the
+excess of the nodal friction force over the Coulomb bound are at most
+tol_v·F (lengths through F/k̄); and the equilibrium residual
 
 .. math::  \frac{\|K u − f − f_c\|_2}{\|f\|_2 + \|f_c\|_2} \le \mathrm{tol}_v,
 
-where f_c = Σ_i (−λ_i ν_i + Σ_k t_ik τ_ik) are the contact forces on the
-body (t_i the nodal friction force, τ_ik the tangents of node i: in 2D the
-one γ_i = (−ν_y, ν_x), in 3D two). The last one catches a factorisation
-too inaccurate for the problem (a nearly free rigid body mode), where the
-condensed system is solved to tol but the displacement recovered from it
-violates equilibrium and the contact conditions.
-tol_v = max(:data:`VERIFY_FACTOR`·tol, :data:`VERIFY_FLOOR`): the measures
-are ∞-norms of quantities the stopping test bounds in the 2-norm, plus the
-round-off of recomputing them from K.
-"""
+f_c = Σ_i (−λ_i ν_i + Σ_k t_ik τ_ik) the contact forces on the body. The
+last catches a factorisation too inaccurate for the problem (a nearly free
+rigid body mode), where the condensed system is solved to tol but the
+recovered displacement violates equilibrium. tol_v = max(
+:data:`VERIFY_FACTOR`·tol, :data:`VERIFY_FLOOR`): ∞-norms of what the
+stopping test bounds in the 2-norm, plus the round-off of recomputing
+them from K."""
 
 import numpy as np
 

@@ -2,8 +2,8 @@ r"""The semismooth Newton on the full system (67), each Newton system by KSP.
 
 For candidate sets too large for a dense Schur complement. The Newton
 iteration is the project's (:func:`solver.ncp.solve_ncp` on rank 0, on
-:class:`~solver.contact.frictionless.system.FrictionlessSystem`, the iterates of
-the serial ``condense=False``); its Newton systems J d = −Φ are solved on
+:class:`~solver.contact.frictionless.system.FrictionlessSystem`, the
+iterates of the serial ``condense=False``); its Newton systems J d = −Φ are solved on
 all ranks through the structured-Jacobian hook of :mod:`solver.ncp.newton`
 (``combine`` → ``direction``). In the node frames, v = Rd (R orthogonal),
 J Rᵀ has the rows of K̂ = RKRᵀ except at the normal row n_i of a contact

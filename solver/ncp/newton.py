@@ -5,37 +5,31 @@ The problem (thesis (15), with equality rows as in (67)): find x ∈ Rⁿ with
 .. math::
     E(x) = 0, \qquad A(x) \ge 0,\ B(x) \ge 0,\ A(x)^T B(x) = 0,
 
-where E has m_e rows and A, B have m_c rows, m_e + m_c = n. With an NCP
-function φ (:mod:`solver.ncp.functions`) it is the square nonsmooth system
+E with m_e rows, A and B with m_c, m_e + m_c = n. With an NCP function φ
+(:mod:`solver.ncp.functions`) it is the square nonsmooth system
 Φ(x) = [E(x); φ(A(x), B(x))] = 0, solved by
 
 - ``method="min"``: the damped Newton method of thesis §2.2.1 with
-  φ_min: J d = −Φ, x ← x + αd with α = 1 halved while ‖Φ‖ does not decrease
-  (the thesis prints "α = ε/2", a typo for α/2). Below ``alpha_min`` the
-  search gives up, records it in ``history["line_search_failed"]`` and takes
-  the full step, as the thesis reports doing once (§4). The thesis does not
-  give its bound; ``alpha_min`` = 2⁻¹⁰ reproduces its behaviour on the §4
-  block (one failed search per solve; smaller bounds accept tiny steps
-  that barely decrease ‖Φ‖, README's Table 1);
-- ``method="fb"``: the method of De Luca, Facchinei and Kanzow (1996), thesis
-  §2.2.2: merit ψ = ½‖Φ_FB‖² (24); Newton direction unless J d = −Φ is
-  singular or fails the descent test ∇ψᵀd ≤ −ρ‖d‖ᵖ (26), then d = −∇ψ =
-  −JᵀΦ; Armijo backtracking ψ(x + 2⁻ⁱd) ≤ ψ(x) + β2⁻ⁱ∇ψᵀd (27); ρ = 1e-8,
-  p = 2.1, β = 1e-4 (32); on the degenerate set γ = {A_i = B_i = 0} the
-  Jacobian rows of (31) with direction z.
+  φ_min: J d = −Φ, x ← x + αd with α = 1 halved while ‖Φ‖ does not
+  decrease (the thesis's "α = ε/2" is a typo for α/2). Below
+  ``alpha_min`` (2⁻¹⁰, which reproduces the thesis's behaviour on the §4
+  block) the search gives up, records it in
+  ``history["line_search_failed"]`` and takes the full step, as the thesis
+  reports doing (§4);
+- ``method="fb"``: the method of De Luca, Facchinei and Kanzow (1996),
+  thesis §2.2.2: merit ψ = ½‖Φ_FB‖² (24); Newton direction unless J d = −Φ
+  is singular or fails the descent test ∇ψᵀd ≤ −ρ‖d‖ᵖ (26), then
+  d = −∇ψ = −JᵀΦ; Armijo backtracking ψ(x + 2⁻ⁱd) ≤ ψ(x) + β2⁻ⁱ∇ψᵀd (27);
+  ρ = 1e-8, p = 2.1, β = 1e-4 (32); on the degenerate set
+  γ = {A_i = B_i = 0} the Jacobian rows of (31) with direction z.
 
-Both take callables ``fun(x) -> (E, A, B)`` and ``jac(x) -> (JE, JA, JB)``
-(sparse matrices with n columns), know nothing of finite elements, and use
-sparse LU (SuperLU) for J d = −Φ: no dense n×n matrix is ever formed
-unless ``jac`` returns dense blocks (a system condensed onto Γc, at most
-the size of its Schur complement), which are combined and factorised by
-LAPACK directly. The iterations run with one OpenBLAS thread
-(:mod:`solver.linalg.threads`).
-``jac`` may instead return a structured Jacobian that solves its own Newton
-systems: an object with ``JA``, ``JB`` (for rule (31)) and ``combine(w_a,
-w_b)``, which returns the Jacobian [JE; diag(w_a)JA + diag(w_b)JB] as an
-object with ``direction(F)`` (d with J d = −F, or None if J is singular)
-and ``rmatvec(F)`` (JᵀF); see :mod:`solver.contact.friction.newton`.
+``jac`` returns sparse blocks (J d = −Φ by SuperLU), dense blocks (a
+system condensed onto Γc: LAPACK) or a structured Jacobian that solves
+its own Newton systems: an object with ``JA``, ``JB`` (for rule (31)) and
+``combine(w_a, w_b)``, which returns [JE; diag(w_a)JA + diag(w_b)JB] as an
+object with ``direction(F)`` (d with J d = −F, or None if singular) and
+``rmatvec(F)`` (JᵀF). Nothing here knows finite elements; the iterations
+run with one OpenBLAS thread (:mod:`solver.linalg.threads`).
 
 References
 ----------
@@ -43,8 +37,7 @@ T. De Luca, F. Facchinei, C. Kanzow: A semismooth equation approach to the
 solution of nonlinear complementarity problems. Math. Programming 75 (1996)
 407-439.
 A. Fischer: A special Newton-type optimization method. Optimization 24
-(1992) 269-284.
-"""
+(1992) 269-284."""
 
 import time
 

@@ -12,7 +12,8 @@ __all__ = ["obstacle_in_box", "closest_on_polyline", "moved_obstacle"]
 def obstacle_in_box(curve, low, high, samples=1201):
     """Points of a 2D obstacle curve inside the box [low, high] (corners,
     (2,) each), NaN rows where the curve leaves it: the parameter window
-    (from ``t_range``, or as :func:`solver.geometry.curves.window.start_window`)
+    (from ``t_range``, or as
+    :func:`solver.geometry.curves.window.start_window`)
     is doubled while the curve has not left the box at both ends, then
     narrowed to the samples inside, however fast the parametrisation runs. A
     polyline's vertices are always among the samples (its kinks stay sharp)."""

@@ -225,9 +225,10 @@ class ContactProblem:
 
     def load_steps(self, steps=None):
         """The load path, one entry per load step, as a generator: (load
-        vector f_κ, friction multiplier, Dirichlet values or None, stage index).
-        Without a ``load_path``: one stage of ``steps`` steps (default 100),
-        f_κ = κ/κc·f and the Dirichlet values scaled alike."""
+        vector f_κ, friction multiplier, Dirichlet values or None, stage
+        index). Without a ``load_path``: one stage of ``steps`` steps
+        (default 100), f_κ = κ/κc·f and the Dirichlet values scaled alike.
+        """
         if self.load_path is None:
             steps = self.n_load_steps(steps)
             for k in range(1, steps + 1):
@@ -271,9 +272,9 @@ class ContactProblem:
         return full
 
     def summary(self, check=False, gap=None):
-        """A dict of the problem's main figures (for ``--info``), every number
-        finite; with ``check`` also ``"checks"`` (those made) and ``"refusals"``
-        (:meth:`refusals` for the ``gap`` mode)."""
+        """A dict of the problem's main figures (for ``--info``), every
+        number finite; with ``check`` also ``"checks"`` (those made) and
+        ``"refusals"`` (:meth:`refusals` for the ``gap`` mode)."""
         active = (self.contact_dofs >= 0).all(axis=1)
         info = {
             "kind": self.kind,

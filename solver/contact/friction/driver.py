@@ -4,20 +4,16 @@ The load is applied in κc steps, f_κ = κ/κc · f. Each step solves for the
 increment Δu (u = u_{κ−1} + Δu) and the friction traction g_t at the free
 contact nodes, starting from the previous step's solution.
 
-Which Coulomb bound (errata of (104))
--------------------------------------
-The thesis's row 3 balances the tangential nodal force with M g_t (so g_t is
-a traction), while its friction bound f_c p uses p of (104), a nodal *force*
-(and signed). We compare like with like, per node as the thesis intends
-("neglecting neighbours", (104)): the tangential row uses the lumped
-boundary matrix D = diag(Σ_j M_ij) (the length of Γc belonging to node i),
-and p is the non-negative lumped contact pressure p_i = λ_i / D_ii. Then
-|g_t,i| ≤ f_c p_i is the same as |t_i| ≤ f_c λ_i for the nodal friction force
-t_i = D_ii g_t,i: Coulomb's law on nodal forces. For the 2-DOF bar D = M = 1.
+Which Coulomb bound (errata of (104)): the thesis's row 3 balances the
+tangential nodal force with M g_t (g_t a traction), while its bound f_c p
+uses p of (104), a nodal *force*. We compare like with like, per node as
+the thesis intends: the tangential row uses the lumped boundary matrix
+D = diag(Σ_j M_ij) and p is the lumped contact pressure p_i = λ_i / D_ii ≥
+0, so |g_t,i| ≤ f_c p_i is |t_i| ≤ f_c λ_i for the nodal friction force
+t_i = D_ii g_t,i: Coulomb's law on nodal forces (for the 2-DOF bar D = 1).
 
-Formulations
-------------
-``"thesis"`` (110)/(111): unknowns x = [Δu; g_t; Δu_t⁺; Δu_t⁻] with
+Formulations. ``"thesis"`` (110)/(111), :mod:`.split`: unknowns
+x = [Δu; g_t; Δu_t⁺; Δu_t⁻] with
 
 .. math::
     X(RKu − f_κ R) = 0, \quad Z(RKu − f_κ R) − D g_t = 0, \quad
@@ -26,40 +22,27 @@ Formulations
     Δu_t^- \perp f_c p − g_t \ (98), \quad Δu_t^+ \perp f_c p + g_t \ (101),
 
 (X drops the tangential and normal rows of contact nodes, Z keeps the
-tangential ones (77)). Where p = 0 (a node out of contact) the last two
-pairs only give g_t = 0 and leave the split Δu_t± non-unique: J is singular
-there, and φ_FB falls back to gradient steps (errata).
-
-``"projection"`` (beyond the thesis): unknowns x = [Δu; g_t], the split is
-replaced by the semismooth projection (Alart & Curnier 1991; the
-primal-dual active set form of Hüeber, Stadler & Wohlmuth 2008)
+tangential ones (77)). Where p = 0 the last two pairs only give g_t = 0
+and leave the split Δu_t± non-unique: J is singular there, and φ_FB falls
+back to gradient steps (errata). ``"projection"`` (beyond the thesis),
+:mod:`.projection`: unknowns x = [Δu; g_t] and the semismooth projection
+(Alart & Curnier 1991; Hüeber, Stadler & Wohlmuth 2008)
 
 .. math::  g_t = \mathrm{proj}_{[−f_c p,\, f_c p]}(g_t − c_t\, ZRΔu),
 
-which is non-degenerate: p = 0 gives g_t = 0 and Δu_t is left to the
-tangential equilibrium row. c_t > 0 only changes the Newton path.
+non-degenerate: p = 0 gives g_t = 0, and c_t > 0 only changes the Newton
+path. In 3D g_t ∈ R^{d−1} per node in the tangent basis and the clip
+becomes the projection onto the disc |g_t| ≤ f_c p; the split is 2D-only.
+The condensed Newton systems are reduced in 2D (:mod:`.newton`) and have
+the tractions eliminated in 3D (:mod:`.disc`).
 
-In 3D (any d) g_t ∈ R^{d−1} per node, in the tangent basis
-``geometry.tangents``, and the clip becomes the projection onto the disc
-|g_t| ≤ f_c p (:mod:`.projection`). The thesis's split is 2D-only (it
-splits a scalar slip) and refuses roller nodes. The condensed Newton
-systems are reduced in 2D (:mod:`.newton`) and have the tractions
-eliminated in 3D (:mod:`.disc`, by default on the candidate nodes,
-:mod:`solver.contact.strategies.friction_candidates`); the full system
-takes a sparse LU of its whole Jacobian.
-
-Rollers (symmetry planes, :mod:`~solver.contact.geometry`): at a contact
-node with u_c = 0 along the plane normal e_c and ν in the plane, the row
-along e_c is a support reaction, not friction: the projection form keeps
-g_t,c ≡ 0 there (w_c = 0, so g − P(w) gives it) and drops that tangential
-equilibrium row, so that the Coulomb set is the disc cut to the free
-tangents (an interval with one free tangent). This is exact for loads
-symmetric about the plane: the whole model's friction traction has no
-component across the plane there (mirror symmetry).
-
-``coulomb="lagged"`` uses p = p_{κ−1} of the previous step (thesis: Coulomb
-as a sequence of Tresca problems); ``coulomb="implicit"`` uses the current
-step's p(u) (no one-step lag), with its derivative in the Jacobian.
+Rollers: at a node with u_c = 0 along a symmetry plane's normal e_c the
+row along e_c is a support reaction, not friction: the projection form
+keeps g_t,c ≡ 0 there and drops that tangential equilibrium row, so that
+the Coulomb set is the disc cut to the free tangents; exact for loads
+symmetric about the plane. ``coulomb="lagged"`` uses p = p_{κ−1} (the
+thesis: Coulomb as a sequence of Tresca problems); ``"implicit"`` the
+current step's p(u), with its derivative in the Jacobian.
 
 References
 ----------
@@ -67,8 +50,7 @@ P. Alart, A. Curnier: A mixed formulation for frictional contact problems
 prone to Newton like solution methods. CMAME 92 (1991) 353-375.
 S. Hüeber, G. Stadler, B. Wohlmuth: A primal-dual active set algorithm for
 three-dimensional contact problems with Coulomb friction. SIAM J. Sci.
-Comput. 30 (2008) 572-596.
-"""
+Comput. 30 (2008) 572-596."""
 
 import time
 from types import SimpleNamespace

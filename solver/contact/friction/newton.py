@@ -1,9 +1,9 @@
 r"""The Newton system of a condensed friction step, solved on the free
 components only (the projection formulation, :mod:`.projection`).
 
-On the system condensed onto Γc (K → S, dense 2m×2m) the Jacobian of the
-projection formulation, in the rotated displacement v = RΔu (R of (58)-(60),
-orthogonal) and the scaled traction ĝ = g_t/c_t, has the rows
+On the system condensed onto Γc (S dense 2m×2m) the Jacobian of the
+projection formulation, in the rotated displacement v = RΔu and the
+scaled traction ĝ = g_t/c_t, has the rows
 
 .. math::
     T_{t,:}\,dv − D c_t\,dĝ = −E_2, \qquad
@@ -11,38 +11,28 @@ orthogonal) and the scaled traction ĝ = g_t/c_t, has the rows
     \text{slip: } c_t\,dĝ_i ∓ f_c a_i/D_i\,T_{n_i,:}dv = −E_{3,i}, \\
     −w_{a,i} T_{n_i,:}dv − w_{b,i}\,c\,dv_{n,i} = −Φ_i,
 
-with T = R S Rᵀ, (w_a, w_b) the weights of the NCP function's row
-(:func:`solver.ncp.functions.derivative_weights`) and a_i = [λ_i > 0] (only
-with the implicit bound; lagged: no T_n term in the slip rows). A sticking
-node fixes its dv_t, a node whose normal row is a pure gap row (w_a = 0:
-φ_min's "in contact", the thesis's B row) fixes its dv_n, and ĝ follows from
-one row per node (slip: its own row; stick: the tangential row). What is
-left is the exact block elimination
+with T = R S Rᵀ, (w_a, w_b) the NCP function's row weights and
+a_i = [λ_i > 0] (implicit bound only). A sticking node fixes its dv_t, a
+normal row with w_a = 0 fixes dv_n, and ĝ follows from one row per node.
+What is left is the exact block elimination
 
 .. math:: M_{FF}\, dv_F = h_F − M_{FK}\, dv_K
 
-on the free components F = {dv_t of sliding nodes} ∪ {dv_n of nodes whose
-normal row has w_a ≠ 0}, where M's rows are T_{t_i,:} ± f_c a_i T_{n_i,:}
-(slip) and T_{n_i,:} + (w_b/w_a) c e_{n_i} (normal rows divided by −w_a). For
-the lagged bound M_FF is a principal submatrix of T plus a non-negative
-diagonal (w_a, w_b ≤ 0 for φ_FB, (30)): symmetric positive definite, so it
-is factorised by Cholesky; otherwise by LU.
+on the free components F = {dv_t of sliding nodes} ∪ {dv_n with
+w_a ≠ 0}, M's rows T_{t_i,:} ± f_c a_i T_{n_i,:} (slip) and
+T_{n_i,:} + (w_b/w_a) c e_{n_i}. With the lagged bound M_FF is a principal
+submatrix of T plus a non-negative diagonal (w_a, w_b ≤ 0 for φ_FB, (30)):
+SPD, so Cholesky; otherwise LU.
 
-Usually few nodes touch Γ₂ and F is most of Γc. The same system is then
-solved in the forces q = T dv (:meth:`_Combined._dual`): a free row fixes
-q_j (or ties it to dv_j, φ_FB), dv = C q with the flexibility C = T⁻¹
-(once per run), and what is left is a system on the contact constraints
-(fixed components K, plus φ_FB's mixed normal rows), often ten times
-smaller than F. Whichever is smaller is solved (with the implicit bound
-only for f_c ≤ :data:`DUAL_MAX_FRICTION`). Nothing larger than S is
-formed, no 3m×3m matrix is factorised, and an unchanged reduced matrix
-reuses its factorisation. The direction is that of the full Newton system
-J d = −Φ up to round-off; J is singular exactly when the reduced matrix is
-(the eliminated pivots c_t, 1, w_b c and D c_t are non-zero).
-
-This is the primal-dual active set structure of Hüeber, Stadler & Wohlmuth
-(2008), applied to the condensed system.
-"""
+Usually few nodes touch and F is most of Γc. The same system is then
+solved in the forces q = T dv (:meth:`_Combined._dual`): dv = C q with the
+flexibility C = T⁻¹ (once per run), and what is left is a system on the
+contact constraints, often ten times smaller than F. Whichever is smaller
+is solved (with the implicit bound only for f_c ≤ :data:`DUAL_MAX_FRICTION`);
+an unchanged reduced matrix reuses its factorisation. The direction is that
+of J d = −Φ up to round-off; J is singular exactly when the reduced matrix
+is. This is the primal-dual active set structure of Hüeber, Stadler &
+Wohlmuth (2008), applied to the condensed system."""
 
 import numpy as np
 

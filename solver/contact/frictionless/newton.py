@@ -1,11 +1,10 @@
 r"""The Newton system of the condensed frictionless system (67), solved on
 its free components only.
 
-Condensed onto Γc (K → S, dense, :class:`solver.linalg.Condensation`), the
-Jacobian of (67) with the NCP function's row weights (w_a, w_b)
-(:func:`solver.ncp.functions.derivative_weights`) is, in the rotated
-displacement v = R d (R of (58)-(60), orthogonal on the condensed DOFs) and
-with T = R S Rᵀ,
+Condensed onto Γc (K → S, dense), the Jacobian of (67) with the NCP
+function's row weights (w_a, w_b) (:func:`solver.ncp.functions.
+derivative_weights`) is, in the rotated displacement v = R d (R of
+(58)-(60), orthogonal on the condensed DOFs) and with T = R S Rᵀ,
 
 .. math::
     T_{x,:}\,v = −F_x \quad (\text{rows } X), \qquad
@@ -19,30 +18,23 @@ block elimination
 .. math:: (T + \mathrm{diag}(ρ))_{FF}\, v_F = h_F − T_{FK}\, v_K,
           \qquad ρ_i = c\,w_{b,i}/w_{a,i}
 
-on the free components F (ρ = 0 on the rows X). ρ ≥ 0 for φ_min (w_b = 0
-there) and φ_FB (w_a, w_b ≤ 0, thesis (30)), so the matrix is a principal
-submatrix of the symmetric positive definite T plus a non-negative
-diagonal: one Cholesky factorisation of at most the size of S, against an
-LU of the whole 2Nc × 2Nc Jacobian assembled from sparse blocks. The
-direction is that of J d = −Φ up to round-off; J is singular exactly when
-the reduced matrix is (the eliminated pivots c w_b are non-zero, else
-None). This is the primal-dual
+on the free components F (ρ = 0 on the rows X). ρ ≥ 0 for φ_min and φ_FB
+(w_a, w_b ≤ 0, thesis (30)), so the matrix is a principal submatrix of
+the SPD T plus a non-negative diagonal: one Cholesky factorisation of at
+most the size of S. The direction is that of J d = −Φ up to round-off; J
+is singular exactly when the reduced matrix is. This is the primal-dual
 active set structure (Hintermüller, Ito & Kunisch 2002) of the condensed
 system; :mod:`solver.contact.friction.newton` does the same with friction.
 
 The rows X carry no NCP and never change, so they are eliminated once per
-system: with the Cholesky factor of T_XX, C = T_XX⁻¹T_XY and the normal
-complement N = T_YY − T_YX C (symmetric positive definite, Schur complement
-of T), the free normal components solve
+system: with C = T_XX⁻¹T_XY and the normal complement N = T_YY − T_YX C
+(SPD), the free normal components solve
 
 .. math:: (N + \mathrm{diag}(ρ))_{FF}\, v_F = ĥ_F − N_{FK}\, v_K, \qquad
           ĥ = h_Y − T_{YX} z, \quad z = T_{XX}^{-1} h_X,
 
-and v_X = z − C v_Y. A Newton system then costs a Cholesky factorisation
-of the free normals' order, |F|³/3, instead of (|X| + |F|)³/3 (in 2D
-half the unknowns, 8 times fewer flops; φ_min's F is the open part of Γc
-only). The elimination is exact.
-"""
+and v_X = z − C v_Y: a Cholesky factorisation of the free normals' order,
+|F|³/3, instead of (|X| + |F|)³/3."""
 
 import warnings
 
