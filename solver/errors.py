@@ -3,8 +3,7 @@
 All errors a user can cause by bad input derive from :class:`SolverError`, so
 that the command line can turn them into a one-line message and exit code 2
 instead of a traceback. Warnings about questionable but solvable input
-derive from :class:`SolverWarning`; library code never prints, it warns.
-"""
+derive from :class:`SolverWarning`; library code never prints, it warns."""
 
 __all__ = ["SolverError", "ProblemError", "ExpressionError",
            "GeometryError", "SolverWarning", "InitialPenetrationWarning"]
@@ -18,8 +17,7 @@ class ProblemError(SolverError, ValueError):
     """A problem file (``.npz``) or a problem object is malformed.
 
     The message starts with the offending key, e.g.
-    ``"K_indices: index 12 out of range [0, 10)"``.
-    """
+    ``"K_indices: index 12 out of range [0, 10)"``."""
 
 
 class ExpressionError(ProblemError):

@@ -2,8 +2,7 @@
 
 :func:`two_dof_bar` is the "simple bar system" of thesis §6 (Fig. 17-21): one
 point A with two DOFs (u_x, u_y) held by springs, loaded by
-f = [1000, -1000]ᵀ, with a rigid obstacle at distance s = 0.005 below A.
-"""
+f = [1000, -1000]ᵀ, with a rigid obstacle at distance s = 0.005 below A."""
 
 import numpy as np
 import scipy.sparse as sp
@@ -63,8 +62,7 @@ def two_dof_bar_closed_form(step, friction, coulomb="lagged", steps=100):
 
     Returns
     -------
-    (u_x, u_y, λ, g_t) at load step ``step``.
-    """
+    (u_x, u_y, λ, g_t) at load step ``step``."""
     k, F, s = 9e4, 1000.0, 0.005
     per_step = F / steps
     k0 = s * k / per_step

@@ -1,8 +1,7 @@
 """The thesis's Tables 1 and 2 as data, for scripts and notebooks.
 
 Each function runs our solvers on given problems and returns rows (dicts)
-with the thesis's numbers beside ours; nothing here prints or plots.
-"""
+with the thesis's numbers beside ours; nothing here prints or plots."""
 
 from .contact import contact_geometry
 from .front import solve_friction, solve_frictionless

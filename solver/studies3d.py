@@ -34,8 +34,7 @@ def hertz_sphere_row(problem, result, pressure="contact_pressure"):
     and the RMS (``"contact_pressure"``, lumped λ_i/D_ii, or
     ``"contact_pressure_consistent"``, M⁻¹λ). Errors are relative to
     Hertz's values for the computed P, in per cent; the RMS deviation is
-    over the nodes inside Hertz's contact circle, relative to p0.
-    """
+    over the nodes inside Hertz's contact circle, relative to p0."""
     meta = problem.meta
     quarter = 4.0 if meta.get("quarter") else 1.0
     lam = np.nan_to_num(np.asarray(result.contact_force, float))

@@ -72,8 +72,7 @@ def fit_semi_ellipse(x, p, guess, drop=1):
     ``x``, ``p``: positions and pressures of the nodes in contact, ordered;
     the ``drop`` outermost on each side are left out (their lumped pressure
     is low: their hat functions reach past the contact edge). ``guess`` =
-    (a, p0). Returns (a, p0, x0).
-    """
+    (a, p0). Returns (a, p0, x0)."""
     import warnings
 
     from scipy.optimize import OptimizeWarning, curve_fit

@@ -3,8 +3,7 @@
 A thin layer over the library: it parses and checks the arguments, then
 :mod:`solver.cli.run` solves and writes the outputs. Nothing it does ends in
 a traceback (``--debug`` shows one); each outcome has its exit code
-(:data:`~solver.cli.codes.EXIT_CODES_TEXT`, the table of ``--help``).
-"""
+(:data:`~solver.cli.codes.EXIT_CODES_TEXT`, the table of ``--help``)."""
 
 import argparse
 

@@ -8,8 +8,7 @@ friction (:mod:`.friction`), on a reduction chosen by a strategy
 screening) with the linear algebra of an engine (:mod:`.engine`); every
 answer is verified (:mod:`.verify`). Two bodies become a nodewise problem
 by a change of variables (:mod:`.two_body`). The public front is
-:func:`solver.solve`.
-"""
+:func:`solver.solve`."""
 
 from .engine import SerialEngine
 from .friction.driver import (COULOMB, FORMULATIONS, default_method,

@@ -327,8 +327,7 @@ def rotate_stiffness(K, R, dofs):
     ``dofs`` symmetrised, and K̂ = K with those rows replaced by X and
     those columns by Xᵀ. The rows and columns ``dofs`` of K̂ are thus
     exactly symmetric; elsewhere K̂ is K itself. Equal to ½(RKRᵀ +
-    (RKRᵀ)ᵀ) to rounding, in one pass over K.
-    """
+    (RKRᵀ)ᵀ) to rounding, in one pass over K."""
     K = sp.csr_matrix(K)
     n = K.shape[0]
     c = np.unique(np.asarray(dofs, np.int64))

@@ -6,8 +6,7 @@ One type for every case (scipy.optimize's rule: one result type whatever
 the method): a frictionless solve has the NCP's counts and the fields of
 the answer; a friction run has ``friction``, per-step arrays (first axis =
 completed step) and ``records``; a two-body solve adds the interface's
-fields. ``list(result)`` shows the keys.
-"""
+fields. ``list(result)`` shows the keys."""
 
 import numpy as np
 from scipy.optimize import OptimizeResult

@@ -169,8 +169,7 @@ class TwoBodyMap:
     Attributes: ``problem`` (the two-body problem), ``equivalent`` (the
     discrete problem in v that the drivers solve), ``T_inv`` (u = T⁻¹v),
     ``covered`` (slave nodes that take part), ``coupling`` (the mortar
-    coupling: D, M, normals, weighted gaps).
-    """
+    coupling: D, M, normals, weighted gaps)."""
 
     def __init__(self, problem, variant="mortar", friction=False):
         self.problem, self.variant = problem, variant

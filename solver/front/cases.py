@@ -9,8 +9,7 @@ A *case* is what the problem and the two choices that change the physics
 or the machine make: the dimension (2, 3), the bodies ("rigid": one body
 against a rigid obstacle, "two-body": two elastic bodies by dual mortar,
 "discrete": gaps and normals given, no mesh), the contact
-("frictionless", "friction") and the engine ("serial", "petsc").
-"""
+("frictionless", "friction") and the engine ("serial", "petsc")."""
 
 from dataclasses import dataclass
 

@@ -10,8 +10,7 @@ SolverError` naming the option, the case and the reason, never silently
 ignored. Then the front builds the contact geometry, the engine and, for
 two bodies, the nodewise problem in the mortar's variables, and hands
 them to a driver (:func:`solver.contact.run_frictionless`,
-:func:`solver.contact.run_friction`).
-"""
+:func:`solver.contact.run_friction`)."""
 
 import time
 
@@ -124,8 +123,7 @@ class Plan:
     Attributes: ``problem``, ``case`` (:class:`~solver.front.cases.Case`),
     ``settings`` (every option resolved), ``engine``, ``geometry`` (of the
     problem the driver solves: for two bodies the nodewise problem in the
-    mortar's variables, ``mapping``), ``friction``.
-    """
+    mortar's variables, ``mapping``), ``friction``."""
 
     def __init__(self, problem, case, settings, engine, geometry, mapping,
                  target, clock):

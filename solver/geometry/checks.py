@@ -32,8 +32,7 @@ class GapError(GeometryError):
     it at a grazing angle, or the nearest obstacle point is an end of the
     obstacle. The message is one line and names the node and its
     coordinates, e.g. ``"the normal line of contact node 3 at (5, -10)
-    misses the obstacle: ..."``.
-    """
+    misses the obstacle: ..."``."""
 
 
 

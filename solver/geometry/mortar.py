@@ -156,8 +156,7 @@ def mortar_coupling(nodes, slave, master, slave_nodes=None,
     :func:`chain_order`). ``search``: the reach of the screening (the
     bounding boxes enlarged by it), and pairs farther apart than it along
     the slave normal at every Gauss point are left out; default
-    :func:`default_reach`.
-    """
+    :func:`default_reach`."""
     nodes = np.asarray(nodes, float)
     slave, master = np.asarray(slave, np.int64), np.asarray(master, np.int64)
     slave_nodes = chain_order(slave) if slave_nodes is None \

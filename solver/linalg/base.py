@@ -76,8 +76,7 @@ class Factor:
     None if the backend does not say), ``schur_dofs`` (c, or None) and
     ``S`` (the dense Schur complement on c in that order, or None).
     Subclasses implement :meth:`solve`; the Schur methods below use only
-    ``solve`` and ``S`` and are overridden where a backend can do better.
-    """
+    ``solve`` and ``S`` and are overridden where a backend can do better."""
 
     backend = None
     nnz = None

@@ -77,8 +77,7 @@ class Condensation:
 
         A load that is a combination a f₁ + b f₂ of the last two loads (to
         1e-13 relative) reuses their solutions: the load steps of a
-        proportional load or of a piecewise linear load path cost no solve.
-        """
+        proportional load or of a piecewise linear load path cost no solve."""
         f = np.asarray(f, dtype=np.float64)
         w = self._combination(f)
         if w is None:

@@ -4,8 +4,7 @@ The condensed Newton systems (:mod:`solver.contact.frictionless.newton`,
 :mod:`solver.contact.friction.newton`) are dense, of the size of the
 contact zone: LAPACK's Cholesky where the matrix is symmetric positive
 definite (the primal-dual active set structure makes it so for φ_min and
-φ_FB with the lagged bound), else its LU.
-"""
+φ_FB with the lagged bound), else its LU."""
 
 import warnings
 

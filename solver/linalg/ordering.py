@@ -8,8 +8,7 @@ r"""Fill-reducing orderings for the sparse factorisations of K.
 * :func:`dof_ordering` lifts it to the DOFs and puts a given set (the
   contact DOFs) last, so that the trailing block of the factors is the
   Schur complement on that set (:mod:`solver.linalg.superlu`,
-  :mod:`solver.linalg.cholmod`).
-"""
+  :mod:`solver.linalg.cholmod`)."""
 
 import numpy as np
 import scipy.sparse as sp
@@ -110,8 +109,7 @@ def dof_ordering(problem, last=None):
     nested dissection of that graph. Other discrete problems (no mesh):
     reverse Cuthill-McKee of K.
     ``last`` (DOF indices, in the order wanted) are taken out of the graph
-    and appended.
-    """
+    and appended."""
     n = problem.n_dofs
     last = np.zeros(0, np.int64) if last is None else \
         np.asarray(last, np.int64).ravel()

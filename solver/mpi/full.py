@@ -13,8 +13,7 @@ with w_a = 0 it fixes v_{n_i} = Φ_i/(c w_b). The fixed rows are eliminated
 symmetrically (``MatZeroRowsColumns``), so every Newton system is SPD: MUMPS
 (Cholesky, numeric refactorisation of the same pattern) or CG + GAMG with
 the rigid-body modes (rotated into the node frames) as near-null space
-(``--ksp gamg``; relative tolerance :data:`CG_RTOL`).
-"""
+(``--ksp gamg``; relative tolerance :data:`CG_RTOL`)."""
 
 import numpy as np
 import scipy.sparse as sp

@@ -1,8 +1,7 @@
 """Nonlinear complementarity problems: NCP functions and semismooth Newton.
 
 Nothing here knows about finite elements: the methods take residual and
-Jacobian callables. See :func:`solve_ncp`.
-"""
+Jacobian callables. See :func:`solve_ncp`."""
 
 from .functions import NCP_FUNCTIONS, derivative_weights, phi
 from .newton import DEFAULT_OPTIONS, MESSAGES, solve_ncp, stable_norm

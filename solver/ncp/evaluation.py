@@ -62,8 +62,7 @@ def _default_z(JA, gamma):
 
     DFK (1996) pose x ≥ 0, F(x) ≥ 0, so ∇A_i = e_i and z = Σ_{i∈γ} e_i. For
     general A we take z = Σ_{i∈γ} ∇A_i / ‖∇A_i‖², which gives ∇A_iᵀz = 1 when
-    the rows of γ are orthogonal (as for distinct contact nodes).
-    """
+    the rows of γ are orthogonal (as for distinct contact nodes)."""
     JA = sp.csr_matrix(JA)[np.flatnonzero(gamma)]
     norms2 = np.asarray(JA.multiply(JA).sum(axis=1)).ravel()
     norms2[norms2 == 0.0] = 1.0

@@ -16,8 +16,7 @@ A(x)ᵀB(x) = 0, becomes the nonsmooth equation Φ(x) = 0 with
 Φ_i is w_a ∇A_i + w_b ∇B_i, an element of the B-subdifferential: for
 ``"min"`` the thesis's rule of §2.2.1 (∇B_i if A_i > B_i, else ∇A_i); for
 ``"fb"`` rule (30), and at the kink a = b = 0 rule (31) of De Luca,
-Facchinei and Kanzow (1996) with the directional values ∇A_iᵀz, ∇B_iᵀz.
-"""
+Facchinei and Kanzow (1996) with the directional values ∇A_iᵀz, ∇B_iᵀz."""
 
 import numpy as np
 

@@ -35,8 +35,7 @@ def pressure_vs_radius(target, radius, p, a=None, p0=None, title=None,
     is measured from. With ``zoom`` and a new figure, when the loaded
     nodes (and *a*) lie within less than half of the radii, the main panel
     shows [0, that radius] and a short panel below all radii
-    (:func:`.figures.zoom_window`).
-    """
+    (:func:`.figures.zoom_window`)."""
     radius = np.asarray(radius, dtype=float).ravel()
     p = np.asarray(p, dtype=float).ravel()
     if radius.shape != p.shape:

@@ -55,8 +55,7 @@ class OutputFolder:
     """Create (if needed) and lock ``path`` for one run reading ``inputs``.
 
     Raises :class:`OutputError` if another run holds the folder or an input
-    file would be overwritten or removed by this run.
-    """
+    file would be overwritten or removed by this run."""
 
     def __init__(self, path, inputs=()):
         self.path = os.fspath(path)

@@ -1,7 +1,6 @@
 """Figures of a friction run (load steps): chosen nodes' histories over the
 steps and the tractions along Γc, in the manner of the thesis's Fig. 18-27
-(part of :mod:`solver.output.figures`, whose units and conventions hold).
-"""
+(part of :mod:`solver.output.figures`, whose units and conventions hold)."""
 
 import numpy as np
 
@@ -94,8 +93,7 @@ def plot_step_history(problem, result, node=None, path=None,
     form, is drawn as a line over the computed points (hollow markers) of
     the first node. Values that are round-off of the solve are drawn as
     zero and the axes carry no offset (:func:`tidy_panel`). In 3D the
-    friction panel shows |t| = D |g_t| and a third panel u_z is added.
-    """
+    friction panel shows |t| = D |g_t| and a third panel u_z is added."""
     plt = pyplot()
     if node is None:
         chosen = history_nodes(problem, result)

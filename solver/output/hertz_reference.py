@@ -119,8 +119,7 @@ def first_contact(points, gap, normal, planes=(), in_contact=None,
     Returns (center, axis, radii): the obstacle point at the vertex, the
     normal there (the mean normal of the fitted nodes) and the gap's two
     principal curvature radii; or (None, None, reason) saying why the first
-    contact is not a point.
-    """
+    contact is not a point."""
     points = np.asarray(points, float)
     gap = np.asarray(gap, float)
     normal = np.asarray(normal, float)

@@ -1,8 +1,7 @@
 """What the deformed-body figure draws besides the body: the obstacle over
 the body's extent, and moved with the magnified boundary so that a
 magnified drawing keeps the gaps (:func:`moved_obstacle`). Plain
-geometry on arrays; :mod:`.figures` draws it.
-"""
+geometry on arrays; :mod:`.figures` draws it."""
 
 import numpy as np
 

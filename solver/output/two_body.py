@@ -2,8 +2,7 @@
 the arrays and VTK fields of docs/results.md ("Two bodies, added"; both
 bodies in one ``result.vtu``, cell data ``body``), and the figures of the
 interface pressure λ_j and traction along the slave surface and of the
-deformed bodies.
-"""
+deformed bodies."""
 
 import numpy as np
 

@@ -5,8 +5,7 @@ docs/results.md ("VTK"). Cells: triangles in 2D, tetrahedra (meshio
 ``"tetra"``) in 3D. A contact field given per contact node as a vector
 (shape (Nc, k)) is written as a k-component point field; the 3D friction
 traction, components in per-node tangent frames, as the 3-vector
-Σ_k g_k τ_k when the frames are given (:func:`step_mesh`).
-"""
+Σ_k g_k τ_k when the frames are given (:func:`step_mesh`)."""
 
 import numpy as np
 

@@ -1,8 +1,7 @@
 """Generic checks of the ``.npz`` arrays: dtype, shape, range, CSR matrices.
 
 Every failure raises :class:`~solver.errors.ProblemError` whose message
-starts with the offending key.
-"""
+starts with the offending key."""
 
 import numpy as np
 import scipy.sparse as sp
@@ -166,7 +165,6 @@ def check_positive_definite(A, name="K", order=None, backend="auto"):
     every backend checks the same way (:func:`solver.linalg.check_pivots`),
     with the elimination ``order`` if given (e.g.
     :func:`solver.linalg.dof_ordering`; PARDISO uses its own). ``name`` is
-    the matrix's key prefix for the message (``"K"`` or ``"M"``).
-    """
+    the matrix's key prefix for the message (``"K"`` or ``"M"``)."""
     from ..linalg import factorize
     factorize(A, order, name=name, backend=backend)

@@ -227,8 +227,7 @@ class ContactProblem:
         """The load path, one entry per load step, as a generator: (load
         vector f_κ, friction multiplier, Dirichlet values or None, stage
         index). Without a ``load_path``: one stage of ``steps`` steps
-        (default 100), f_κ = κ/κc·f and the Dirichlet values scaled alike.
-        """
+        (default 100), f_κ = κ/κc·f and the Dirichlet values scaled alike."""
         if self.load_path is None:
             steps = self.n_load_steps(steps)
             for k in range(1, steps + 1):
@@ -261,8 +260,7 @@ class ContactProblem:
         """Nodal displacements (n_nodes, dim) from a reduced vector ``u``.
 
         Free DOFs take ``u``, Dirichlet DOFs take ``prescribed`` (default
-        ``u_prescribed``, the values of the full load).
-        """
+        ``u_prescribed``, the values of the full load)."""
         if self.kind != "mesh":
             raise ProblemError("full_displacement: a discrete problem has "
                                "no mesh")

@@ -23,8 +23,7 @@ def load_problem(path):
     ProblemError if the file cannot be read, is not an ``.npz`` archive,
     holds pickled objects or members the format does not name, declares
     sizes its dimensions do not allow, or any key is missing, unexpected
-    or malformed.
-    """
+    or malformed."""
     path = os.fspath(path)
     try:
         with open(path, "rb") as stream:

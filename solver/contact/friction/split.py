@@ -1,8 +1,7 @@
 r"""The thesis's split formulation (110)/(111) of a load step: unknowns
 x = [Δu; ĝ; Δu_t⁺; Δu_t⁻] (ĝ = g_t/c_t), the slip split by (106) and two
 complementarity pairs (98), (101) for the Coulomb bound (the rows in
-:mod:`solver.contact.friction.driver`). 2D only, no rollers.
-"""
+:mod:`solver.contact.friction.driver`). 2D only, no rollers."""
 
 import numpy as np
 import scipy.sparse as sp

@@ -8,8 +8,7 @@ one; D, M and the scales); :func:`load_step` starts step κ
 (:func:`~solver.contact.verify.verify_contact`), records it and hands its
 fields to the :class:`~.stream.StepStream`; :func:`make_result` makes the
 :class:`~solver.contact.result.ContactResult`, after checking the last
-step against the original K and f.
-"""
+step against the original K and f."""
 
 import time
 from types import SimpleNamespace

@@ -5,8 +5,7 @@ condensed S :class:`~.disc.DiscSystem`) share — the rotated forces
 r = R(Ku − f_κ) of the step, the lumped pressure, the Coulomb bound f_c p
 and the stopping test's scale. The formulations, the bound and the
 references are described in :mod:`solver.contact.friction.driver`, whose
-driver builds one system per run and moves it from step to step.
-"""
+driver builds one system per run and moves it from step to step."""
 
 import numpy as np
 import scipy.sparse as sp
@@ -81,8 +80,7 @@ class FrictionSystem:
         given that of the problem's load).
 
         ``load`` is the load vector f_κ of the step, or a number κ/κc
-        meaning κ/κc · f.
-        """
+        meaning κ/κc · f."""
         if load_norm is not None:
             self.load_norm = float(load_norm)
         self.u_previous = np.asarray(u_previous, float)

@@ -16,8 +16,7 @@ same solution, another Newton path; c = 1 is the thesis). The thesis's
 (69) is the same with φ_min and signs flipped; its "−Y(RKu + Rf)" is a typo
 for −Y(RKu − Rf). On the full K or on a dense Schur complement (then its
 Newton systems are solved on the free components, :mod:`.newton`); the
-same in 2D and 3D.
-"""
+same in 2D and 3D."""
 
 import numpy as np
 import scipy.sparse as sp

@@ -168,8 +168,7 @@ def solve_on_candidates(problem, geometry, method, tol, max_iter, x0,
         ``penetrating`` (non-candidates with s − u_n < −tol_v·F/k̄ after
         it), ``factorize_time``, ``time``), ``n_candidates`` (final),
         ``enlarged`` (rounds − 1) and ``exhausted`` (True if
-        :data:`MAX_ROUNDS` rounds still left a penetration).
-    """
+        :data:`MAX_ROUNDS` rounds still left a penetration)."""
     import time
 
     from ...ncp import solve_ncp

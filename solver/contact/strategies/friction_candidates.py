@@ -136,8 +136,7 @@ def friction_on_candidates(solve, problem, friction, geometry, engine,
     ``rounds`` (per round: ``stage`` "screening" or "steps",
     ``n_candidates``, ``penetrating`` (non-candidates), ``step`` (the step
     that failed the check, or None), ``time``), ``n_candidates`` (final),
-    ``enlarged``.
-    """
+    ``enlarged``."""
     start = time.perf_counter()
     kwargs = dict(kwargs)
     on_step, progress = kwargs.pop("on_step"), kwargs.pop("progress")

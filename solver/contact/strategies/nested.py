@@ -61,8 +61,7 @@ class ContactLevel:
     ``w`` (K⁻¹f there), ``geometry`` (renumbered to the level's DOFs),
     ``keep`` (which nodes the next coarser level keeps; None on the
     coarsest) and ``X`` (S_rr⁻¹S_rk, the prolongation of a coarser level's
-    u to the dropped DOFs).
-    """
+    u to the dropped DOFs)."""
 
     def __init__(self, nodes, S, w, geometry):
         self.nodes, self.S, self.w, self.geometry = nodes, S, w, geometry
@@ -138,8 +137,7 @@ def solve_nested(levels, method="min", tol=1e-10, max_iter=100,
     ``nit``, ``njev``, ``nfev`` and ``history`` count every level
     (``history["level"]``: the number of contact nodes of each iteration's
     level), ``levels`` lists, coarsest first, each level's ``n_nodes``,
-    ``nit``, ``njev``, ``nfev``, ``success`` and ``time``.
-    """
+    ``nit``, ``njev``, ``nfev``, ``success`` and ``time``."""
     fine = levels[0]
     fine_system = _system(fine, gap_scale, stiffness, load_norm)
     load_norm = fine_system.load_norm

@@ -15,8 +15,7 @@ Example
 >>> curve.point(0.0)
 array([5.05, 0.  ])
 >>> curve.derivative(2.0)
-array([0.02, 1.  ])
-"""
+array([0.02, 1.  ])"""
 
 import math
 

@@ -7,8 +7,7 @@ A polyline Γo through points P_0, …, P_n is parametrised by arc length t
 :mod:`solver.geometry.curves` work with it unchanged. The tangent jumps at
 the inner vertices (kinks); there ``derivative`` returns the tangent of the
 segment that starts at the vertex, and a nearest point on a kink takes the
-direction from the node to it as its normal.
-"""
+direction from the node to it as its normal."""
 
 import numpy as np
 

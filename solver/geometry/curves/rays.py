@@ -1,6 +1,5 @@
 r"""Gaps measured from the body, along its outward normals (thesis §2.1.2,
-(4)-(6) with the digest's errata; see :mod:`solver.geometry.curves`).
-"""
+(4)-(6) with the digest's errata; see :mod:`solver.geometry.curves`)."""
 
 import numpy as np
 

@@ -10,8 +10,7 @@ Chandrupatla's bracketing root finder
 per node the best root is chosen (:func:`first_per_owner`). Roots closer
 together than the sample spacing may be missed (a normal line touching the
 obstacle tangentially is such a case; it is rejected anyway, see
-:data:`MIN_COSINE`).
-"""
+:data:`MIN_COSINE`)."""
 
 import numpy as np
 from scipy.optimize.elementwise import find_root
@@ -100,8 +99,7 @@ def _samples(window, samples):
 def refine_roots(function, lower, upper, args):
     """Roots of ``function(t, *args)`` in the brackets, all at once.
 
-    Returns the roots and a mask of the brackets that converged.
-    """
+    Returns the roots and a mask of the brackets that converged."""
     if len(lower) == 0:
         return lower.copy(), np.ones(0, dtype=bool)
     with np.errstate(all="ignore"):
@@ -112,8 +110,7 @@ def refine_roots(function, lower, upper, args):
 def first_per_owner(owner, key, n):
     """Index of the candidate with the smallest ``key`` for every owner.
 
-    Returns an (n,) int array, -1 for owners without candidates.
-    """
+    Returns an (n,) int array, -1 for owners without candidates."""
     best = np.full(n, -1, dtype=np.int64)
     if len(owner):
         order = np.lexsort((key, owner))

@@ -5,8 +5,7 @@ Conventions (the 3D contract; as in 2D, thesis §2.1 with the errata of the
 digest): the obstacle's **outward** normal *n* points out of the obstacle,
 towards the body; the contact direction ν returned by the gap functions
 points from the body towards the obstacle, :math:`\nu = -n` at the foot
-point; a gap is positive while the body point lies outside the obstacle.
-"""
+point; a gap is positive while the body point lies outside the obstacle."""
 
 import math
 
@@ -110,8 +109,7 @@ class Surface:
     """A rigid obstacle surface in 3D (abstract).
 
     Subclasses set :attr:`kind` and implement :meth:`spec`,
-    :meth:`gap_along_obstacle_normal` and :meth:`gap_along_rays`.
-    """
+    :meth:`gap_along_obstacle_normal` and :meth:`gap_along_rays`."""
 
     kind = None
 
@@ -137,8 +135,7 @@ class Surface:
         ``directions`` (m, 3) or (3,) are the body's outward normals
         (normalised here). Returns (τ, the intersection points): τ > 0 when
         the obstacle lies ahead along *d*. GapError naming the number of
-        nodes whose ray misses the surface or grazes it.
-        """
+        nodes whose ray misses the surface or grazes it."""
         raise NotImplementedError
 
     def __repr__(self):

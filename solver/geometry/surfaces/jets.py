@@ -14,8 +14,7 @@ is fitted by least squares over the neighbours on the node's side of any
 edge of the body (reference normals within ``CORNER_ANGLE``) (normal equations assembled with
 :func:`numpy.bincount`, solved as one batch); its normal at the node is
 :math:`(n_0 - a t_1 - b t_2)/\sqrt{1 + a^2 + b^2}`, on the side of
-:math:`n_0`.
-"""
+:math:`n_0`."""
 
 import numpy as np
 import scipy.sparse as sp
@@ -81,8 +80,7 @@ def jet_normals(nodes, faces, contact_nodes, normals,
     ``normals`` (n, 3) are the reference (angle-weighted) normals of all
     nodes: the frames of the fits, kept where no jet fits; a neighbour
     whose reference normal turns by more than ``corner_angle`` degrees from
-    the node's is left out of its fit (the other side of an edge).
-    """
+    the node's is left out of its fit (the other side of an edge)."""
     m = len(contact_nodes)
     reference = normals[contact_nodes]
     rows, cols = two_rings(faces, len(nodes), contact_nodes)

@@ -5,8 +5,7 @@ Closest points and ray hits by the vectorised Newton methods of
 :mod:`.search`. The outward normal (out of the obstacle, towards
 the body) is :math:`c_s \times c_t / |c_s \times c_t|`; for a graph this is
 :math:`(-h_x, -h_y, 1)/\sqrt{1 + h_x^2 + h_y^2}`, upward: the obstacle is
-:math:`z \le h(x, y)`.
-"""
+:math:`z \le h(x, y)`."""
 
 import numpy as np
 
@@ -135,8 +134,7 @@ class ParametricSurface(_MapSurface):
     """:math:`c(s, t)`, ``s`` in ``s_range``, ``t`` in ``t_range`` (finite,
     within :data:`~solver.geometry.checks.COORDINATE_LIMIT`).
 
-    ``samples`` × ``samples`` grid points of the box give the Newton starts.
-    """
+    ``samples`` × ``samples`` grid points of the box give the Newton starts."""
 
     kind = "parametric"
 
@@ -182,8 +180,7 @@ class GraphSurface(_MapSurface):
     foot :math:`(x_1, x_2, h(x_1, x_2))`, so its parameters lie in the square
     of half-width :math:`v = |x_3 - h(x_1, x_2)|` around :math:`(x_1, x_2)`:
     each node searches its own square (5 × 5 start samples); the rays search
-    the whole plane.
-    """
+    the whole plane."""
 
     kind = "graph"
 

@@ -181,8 +181,7 @@ def ray_hits(surface_map, points, directions, start, lower, upper,
 
     Returns ``(tau (m,), u (m, 2), ok (m,) bool)``; ``ok`` is False where
     Newton did not reach a zero of the residual or the ray meets the
-    surface at a grazing angle (:math:`|n\cdot d| <` ``min_cosine``).
-    """
+    surface at a grazing angle (:math:`|n\cdot d| <` ``min_cosine``)."""
     m = len(points)
     lower = np.broadcast_to(np.asarray(lower, float), (m, 2))
     upper = np.broadcast_to(np.asarray(upper, float), (m, 2))

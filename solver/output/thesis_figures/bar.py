@@ -1,6 +1,5 @@
 """Fig. 16-21: the load increment and the 2-DOF bar (part of
-:mod:`solver.output.thesis_figures`).
-"""
+:mod:`solver.output.thesis_figures`)."""
 
 import numpy as np
 

@@ -1,6 +1,5 @@
 """Fig. 22-27: the block with friction (part of
-:mod:`solver.output.thesis_figures`).
-"""
+:mod:`solver.output.thesis_figures`)."""
 
 import numpy as np
 

@@ -1,6 +1,5 @@
 """Fig. 4-15: frictionless results (convergence, pressure, meshes) (part of
-:mod:`solver.output.thesis_figures`).
-"""
+:mod:`solver.output.thesis_figures`)."""
 
 import numpy as np
 

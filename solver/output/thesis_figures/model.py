@@ -1,6 +1,5 @@
 """Fig. 3-5: the model problem, the deformed body and the contact directions
-(part of :mod:`solver.output.thesis_figures`).
-"""
+(part of :mod:`solver.output.thesis_figures`)."""
 
 import numpy as np
 
@@ -22,8 +21,7 @@ def obstacle_for_display(problem, scale, t):
     drawn at ``scale`` × u; contact nodes (u_n = s) then lie on it.
 
     Exact for a straight Γc and normals perpendicular to it (the block's
-    edge x = 5; its obstacle normals tilt by ≤ 2° in the contact zone).
-    """
+    edge x = 5; its obstacle normals tilt by ≤ 2° in the contact zone)."""
     xy = problem.nodes[problem.contact_nodes]
     origin, direction = xy[0], xy[-1] - xy[0]
     direction = direction / np.linalg.norm(direction)
@@ -39,8 +37,7 @@ def contact_offset(problem, displacement, in_contact, scale):
 
     Zero up to the linearised contact condition at scale 1; at scale k the
     tangential displacement, magnified too, moves a node along the curved
-    obstacle, whose magnified gap there differs by about k·Δs.
-    """
+    obstacle, whose magnified gap there differs by about k·Δs."""
     inside = np.asarray(in_contact, bool)
     if not inside.any():
         return 0.0

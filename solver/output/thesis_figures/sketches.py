@@ -1,6 +1,5 @@
 """Fig. 1-3 sketches: the NCP functions and the boundary conditions (part of
-:mod:`solver.output.thesis_figures`).
-"""
+:mod:`solver.output.thesis_figures`)."""
 
 import numpy as np
 
