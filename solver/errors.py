@@ -14,10 +14,9 @@ class SolverError(Exception):
 
 
 class ProblemError(SolverError, ValueError):
-    """A problem file (``.npz``) or a problem object is malformed.
-
-    The message starts with the offending key, e.g.
-    ``"K_indices: index 12 out of range [0, 10)"``."""
+    """A problem file (``.npz``) or a problem object is malformed; the
+    message starts with the offending key, e.g. ``"K_indices: index 12 out of
+    range [0, 10)"``."""
 
 
 class ExpressionError(ProblemError):
@@ -35,10 +34,9 @@ class SolverWarning(UserWarning):
 
 
 class InitialPenetrationWarning(SolverWarning):
-    """The obstacle already penetrates the undeformed body: some initial
-    gaps s are negative (thesis §2.1; the contact conditions push those
-    nodes out, which is rarely what the problem meant). The message names
-    the nodes and the deepest penetration."""
+    """The obstacle already penetrates the undeformed body (negative initial
+    gaps, thesis §2.1: allowed, but rarely what a problem meant); the message
+    names the nodes and the deepest penetration."""
 
 
 class PenetrationWarning(SolverWarning):

@@ -14,16 +14,13 @@ __all__ = ["two_dof_bar", "two_dof_bar_closed_form"]
 
 def two_dof_bar(stiffness=9e4, load=(1000.0, -1000.0), gap=0.005,
                 normal=(0.0, -1.0)):
-    r"""The thesis's 2-DOF bar system (§6) as a ``"discrete"``
-    ContactProblem: springs of ``stiffness`` (thesis 9·10⁴) on both DOFs,
-    the full ``load`` (thesis [1000, -1000]ᵀ), the initial ``gap`` s (thesis
-    0.005) along the unit ``normal`` from A towards the obstacle, M = [[1]]
-    (the contact "stress" is the nodal contact force).
-
-    The thesis's Fig. 17 is lost; the obstacle is taken below A,
-    ν = (0, -1), so that the load closes the gap at load step κ = 45 of 100
-    (u_y = -κ/100 · 1000/9e4 reaches -0.005 at κ = 45) and the tangential
-    load 1000 loads the friction, as the thesis's Fig. 18-21 describe."""
+    r"""The thesis's 2-DOF bar system (§6) as a ``"discrete"`` problem:
+    springs of ``stiffness`` (thesis 9·10⁴) on both DOFs, the full ``load``
+    (thesis [1000, -1000]ᵀ), the initial ``gap`` s (thesis 0.005) along the
+    unit ``normal`` from A towards the obstacle, M = [[1]]. The thesis's
+    Fig. 17 is lost: the obstacle is taken below A, ν = (0, -1), so that the
+    load closes the gap at load step κ = 45 of 100 and the tangential load
+    1000 loads the friction, as its Fig. 18-21 describe."""
     normal = np.asarray(normal, dtype=float)
     normal = normal / np.linalg.norm(normal)
     return ContactProblem(

@@ -49,10 +49,9 @@ def _command_line_message(message):
 
 
 def default_outdir(args, plan):
-    """PROBLEM-METHOD-GAP (frictionless) or PROBLEM-fcF-STEPS-FORMULATION-
-    COULOMB-METHOD (friction) beside the problem, then every other option
-    given on the command line that changes the run (system, start, linear
-    solver, engine, …), so that different runs write different folders."""
+    """PROBLEM-METHOD-GAP or PROBLEM-fcF-STEPS-FORMULATION-COULOMB-METHOD
+    beside the problem, then every other option given that changes the run,
+    so that different runs write different folders."""
     s, case = plan.settings, plan.case
     stem = os.path.splitext(args.problem)[0]
     gap = {"rigid": s["gap"], "two-body": "mortar",

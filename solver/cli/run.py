@@ -38,10 +38,9 @@ STOP_SIGNALS = (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)
 
 
 def _raise_interrupted(signum, frame):
-    """Stop the run, once: the signals that follow are ignored, so that a
-    second one (Ctrl-C pressed again, a second ``kill``) cannot cut short
-    the writing of the completed work, which may still need the ranks of
-    the petsc engine (the last friction steps' displacements)."""
+    """Stop the run, once: later signals are ignored, so that a second one
+    cannot cut short the writing of the completed work (which may still need
+    the petsc engine's ranks)."""
     for stop in STOP_SIGNALS:
         signal.signal(stop, signal.SIG_IGN)
     raise Interrupted(signum)

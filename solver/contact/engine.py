@@ -42,10 +42,9 @@ class SerialEngine:
         return NormalCondensation(problem, geometry, self.backend)
 
     def full_jacobian(self, system, problem, geometry):
-        """The full system's Jacobian: the system's own (each Newton step
-        one sparse LU by SciPy), after the check that K is positive
-        definite (one factorisation, :meth:`ContactProblem.check_stiffness
-        <solver.problem.ContactProblem.check_stiffness>`)."""
+        """The full system's Jacobian: the system's own (each Newton step one
+        sparse LU by SciPy), after the check that K is positive definite
+        (:meth:`~solver.problem.ContactProblem.check_stiffness`)."""
         problem.check_stiffness()
         return system.jacobian
 

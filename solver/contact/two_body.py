@@ -135,11 +135,9 @@ def equivalent_problem(problem, coupling, friction=False):
 
 def interface_stiffness(K, E):
     """K̃ − K for K̃ = (I + E)ᵀ K (I + E) = K + A + Aᵀ + EᵀKE, A = K E,
-    from the rows of K at the DOFs E maps onto (the slave DOFs) alone:
-    with E_s those rows of E, A = K[s, :]ᵀ E_s and EᵀKE = E_sᵀ K[s, s] E_s,
-    both O(interface) (no product over all of K, no transpose of it). K̃
-    is then as symmetric as K: A + Aᵀ exactly, the small EᵀKE
-    symmetrised."""
+    from the rows s of K at the slave DOFs alone (E_s those rows of E):
+    A = K[s, :]ᵀ E_s, EᵀKE = E_sᵀ K[s, s] E_s, both O(interface); K̃ is then
+    as symmetric as K (the small EᵀKE symmetrised)."""
     s = np.flatnonzero(np.diff(E.indptr))
     E_s = E[s]
     B = K[s]                               # = K[:, s]ᵀ (K symmetric)
@@ -163,13 +161,10 @@ def _node_graph(problem, extra):
 
 
 class TwoBodyMap:
-    """A two-body problem as the nodewise problem in v (module
-    docstring), and the way back to u.
-
-    Attributes: ``problem`` (the two-body problem), ``equivalent`` (the
-    discrete problem in v that the drivers solve), ``T_inv`` (u = T⁻¹v),
-    ``covered`` (slave nodes that take part), ``coupling`` (the mortar
-    coupling: D, M, normals, weighted gaps)."""
+    """A two-body problem as the nodewise problem in v (module docstring),
+    and the way back to u: ``problem``, ``equivalent`` (the discrete problem
+    in v that the drivers solve), ``T_inv`` (u = T⁻¹v), ``covered`` (the
+    slave nodes that take part), ``coupling`` (D, M, normals, gaps)."""
 
     def __init__(self, problem, variant="mortar", friction=False):
         self.problem, self.variant = problem, variant

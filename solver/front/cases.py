@@ -221,14 +221,10 @@ def _choice(name, value, allowed):
 
 
 def resolve(case, options):
-    """The settings of a call: every option checked against its values
-    and :data:`RULES`, the defaults of the case filled in.
-
-    Returns a dict with the options plus ``condense`` (bool),
-    ``candidates`` (bool), ``start`` ("nested", "free", "x0", "zero" or
-    None with friction), ``rollers`` (bool), ``gap`` (a mode, or None).
-    Raises :class:`SolverError` (one line) for a bad value or a refused
-    combination."""
+    """The settings of a call: every option checked against its values and
+    :data:`RULES` (SolverError, one line), the defaults of the case filled
+    in, plus ``condense`` and ``candidates`` (bool), ``start`` ("nested",
+    "free", "x0", "zero"; None with friction), ``rollers``, ``gap``."""
     given = given_options(options)
     s = dict(options)
     friction = case.contact == "friction"

@@ -118,12 +118,10 @@ def solve(problem, *, friction=None, method=None, system="auto", start=None,
 
 
 class Plan:
-    """A checked call of :func:`solve`, ready to run (:func:`prepare`).
-
-    Attributes: ``problem``, ``case`` (:class:`~solver.front.cases.Case`),
-    ``settings`` (every option resolved), ``engine``, ``geometry`` (of the
-    problem the driver solves: for two bodies the nodewise problem in the
-    mortar's variables, ``mapping``), ``friction``."""
+    """A checked call of :func:`solve`, ready to run (:func:`prepare`):
+    ``problem``, ``case``, ``settings`` (every option resolved), ``engine``,
+    ``geometry`` (for two bodies that of the nodewise problem of
+    ``mapping``) and ``friction``."""
 
     def __init__(self, problem, case, settings, engine, geometry, mapping,
                  target, clock):
@@ -179,10 +177,9 @@ class Plan:
 
 def prepare(problem, **options):
     """Check a call of :func:`solve` (same arguments) and make what it
-    needs before any solving: the case and its settings, the engine, the
-    contact geometry (which may refuse the problem), and on the serial
-    engine's full system the check that K is positive definite. Every
-    input error surfaces here; :meth:`Plan.run` then solves."""
+    needs before any solving: the case, its settings, the engine, the contact
+    geometry and (serial full system) the check that K is positive definite.
+    Every input error surfaces here; :meth:`Plan.run` then solves."""
     clock = time.perf_counter()
     given = dict(DEFAULTS)
     unknown = set(options) - set(DEFAULTS)

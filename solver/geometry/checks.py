@@ -26,13 +26,9 @@ RESOLUTION = 1e-8
 
 
 class GapError(GeometryError):
-    """No sensible gap for a contact node (input error).
-
-    Raised when the normal line of a contact node misses the obstacle, meets
-    it at a grazing angle, or the nearest obstacle point is an end of the
-    obstacle. The message is one line and names the node and its
-    coordinates, e.g. ``"the normal line of contact node 3 at (5, -10)
-    misses the obstacle: ..."``."""
+    """No sensible gap for a contact node (input error): its normal line
+    misses the obstacle, meets it at a grazing angle, or ends at an end of
+    it. One line naming the node and its coordinates."""
 
 
 

@@ -289,11 +289,9 @@ def expression_size(expr, limit):
 
 def check_constants(expr, text, symbol):
     """Every constant part (a subexpression without t, such as exp(1000) or
-    asin(2)) must be a finite real number in double precision, which is
-    what the curve is evaluated in: SymPy keeps exp(1000) exact and finite,
-    NumPy makes it inf, so the obstacle would be inf (or NaN) everywhere.
-    The parts are evaluated as the curve will be, by NumPy (SymPy's
-    arbitrary precision takes forever on sin(exp(exp(exp(4)))))."""
+    asin(2)) must be a finite real number in double precision, in which the
+    curve is evaluated (SymPy keeps exp(1000) finite, NumPy makes it inf);
+    the parts are evaluated by NumPy, as the curve will be."""
     stack = [expr]
     while stack:
         node = stack.pop()

@@ -149,14 +149,11 @@ PAIR_CHUNK = 200_000
 def mortar_coupling(nodes, slave, master, slave_nodes=None,
                     n_gauss=N_GAUSS, search=None):
     """The dual mortar D, M, n_j, g̃_j of slave segments ``slave`` against
-    master segments ``master`` (module docstring), vectorised over the
-    candidate segment pairs of :func:`candidate_pairs` whose normals face
-    each other (in chunks of :data:`PAIR_CHUNK`; only overlapping pairs get
-    Gauss points); ``slave_nodes`` fixes the row order (default
-    :func:`chain_order`). ``search``: the reach of the screening (the
-    bounding boxes enlarged by it), and pairs farther apart than it along
-    the slave normal at every Gauss point are left out; default
-    :func:`default_reach`."""
+    master segments ``master`` (module docstring), vectorised over the facing
+    segment pairs of :func:`candidate_pairs` (in chunks of
+    :data:`PAIR_CHUNK`), rows in the order ``slave_nodes`` (default
+    :func:`chain_order`); pairs farther apart than ``search`` (default
+    :func:`default_reach`) along the slave normal are left out."""
     nodes = np.asarray(nodes, float)
     slave, master = np.asarray(slave, np.int64), np.asarray(master, np.int64)
     slave_nodes = chain_order(slave) if slave_nodes is None \
@@ -184,11 +181,9 @@ def mortar_coupling(nodes, slave, master, slave_nodes=None,
 
 def default_reach(nodes, slave, master):
     """The screening's reach: twice the largest distance from a slave node
-    to its nearest master node, plus the longest slave and master segment
-    (the bounding volumes enlarged by a search distance of the order of
-    the gap and the element size: Yang & Laursen, Comput. Mech. 41 (2008)
-    189; Popp, Gee & Wall 2009, §3.1). Small sliding: a master segment
-    that overlaps a slave segment along its normals lies within it."""
+    to its nearest master node plus the longest segment (a search distance of
+    the order of the gap and the element size: Yang & Laursen 2008; Popp,
+    Gee & Wall 2009, §3.1)."""
     from scipy.spatial import cKDTree
 
     master_nodes = np.unique(master)
@@ -200,11 +195,9 @@ def default_reach(nodes, slave, master):
 
 def candidate_pairs(nodes, slave, master, reach):
     """(I, J): the slave and master segments whose axis-aligned bounding
-    boxes overlap, the slave's enlarged by ``reach``, by sort and sweep
-    along the longer axis of the interface (no loop, no ns × nm array):
-    the master boxes sorted by their lower end, each slave box's range of
-    them found by bisection (a master box overlapping [lo, hi] starts in
-    [lo − widest master box, hi]), then checked in both axes."""
+    boxes overlap, the slave's enlarged by ``reach``, by sort and sweep along
+    the longer axis of the interface (the master boxes sorted by their lower
+    end, each slave box's range found by bisection), no ns × nm array."""
     lo_s = np.minimum(nodes[slave[:, 0]], nodes[slave[:, 1]]) - reach
     hi_s = np.maximum(nodes[slave[:, 0]], nodes[slave[:, 1]]) + reach
     lo_m = np.minimum(nodes[master[:, 0]], nodes[master[:, 1]])

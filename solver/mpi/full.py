@@ -1,11 +1,10 @@
 r"""The semismooth Newton on the full system (67), each Newton system by KSP.
 
 For candidate sets too large for a dense Schur complement. The Newton
-iteration is the project's (:func:`solver.ncp.solve_ncp` on rank 0, on
-:class:`~solver.contact.frictionless.system.FrictionlessSystem`, the
-iterates of the serial ``condense=False``); its Newton systems J d = −Φ are solved on
-all ranks through the structured-Jacobian hook of :mod:`solver.ncp.newton`
-(``combine`` → ``direction``). In the node frames, v = Rd (R orthogonal),
+iteration is the project's (:func:`solver.ncp.solve_ncp` on rank 0, the
+iterates of the serial ``condense=False``); its Newton systems J d = −Φ
+are solved on all ranks through the structured-Jacobian hook of
+:mod:`solver.ncp.newton` (``combine`` → ``direction``). In the node frames, v = Rd (R orthogonal),
 J Rᵀ has the rows of K̂ = RKRᵀ except at the normal row n_i of a contact
 node, −w_a K̂_{n_i,:} − c w_b e_{n_i}ᵀ (NCP weights w_a, w_b ≤ 0). Divided by
 −w_a it is K̂_{n_i,:} + c(w_b/w_a)e_{n_i}ᵀ, a non-negative diagonal shift;

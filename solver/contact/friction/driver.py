@@ -70,11 +70,9 @@ __all__ = ["FORMULATIONS", "COULOMB", "run_friction", "check_friction",
 
 def default_method(formulation):
     """The Newton method of a friction run that names none: φ_FB for the
-    thesis's split (110)/(111), as in the thesis (φ_min's Jacobian is
-    singular there where p = 0), φ_min for the projection formulation
-    (started on the complementarity set, :mod:`.start`, it needs no more
-    Jacobians than φ_FB on the shipped friction problems,
-    benchmarks/README.md)."""
+    thesis's split, as in the thesis (φ_min's Jacobian is singular there
+    where p = 0), φ_min for the projection formulation (from the corrected
+    start, :mod:`.start`, it needs no more Jacobians; benchmarks/README.md)."""
     return "fb" if formulation == "thesis" else "min"
 
 

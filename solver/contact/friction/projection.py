@@ -33,12 +33,10 @@ def project_disc(w, b, k):
 
 
 def disc_derivative(w, b, t_free=None):
-    """∂P/∂w of the projection at w (m, k) for the radii b (m,).
-
-    Returns (P, stick, ratio, slip_hat): the (m, k, k) blocks ∂P/∂w (the
-    e_c columns dropped where ``t_free``, (m·k,) bool, is False), the stick
-    mask |w| < b, b/|w| (1 at stick nodes) and ŵ at slip nodes (0 at
-    stick nodes), which is ∂P/∂b."""
+    """∂P/∂w of the projection at w (m, k) for the radii b (m,): (P,
+    stick, ratio, slip_hat), the (m, k, k) blocks ∂P/∂w (the e_c columns
+    dropped where ``t_free`` is False), the mask |w| < b, b/|w| (1 at stick
+    nodes) and ŵ at slip nodes (0 at stick nodes), which is ∂P/∂b."""
     m, k = w.shape
     size = np.linalg.norm(w, axis=1)
     stick = size < b

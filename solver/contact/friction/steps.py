@@ -74,9 +74,8 @@ def _nodal(lumped, g):
 def _final_check(problem, geometry, stiffness, tol_v, space, last,
                  checks):
     """The worst of the steps' checks, merged with the last completed
-    step's check against the original K and f (condensed: u recovered by
-    one solve with K; the full system's steps were checked with K
-    already)."""
+    step's check against the original K and f when condensed (u recovered by
+    one solve with K)."""
     if space.condensed and last is not None:
         _, u_c, w, f_step, lam, t, bound, _ = last
         u = space.displacement(u_c, w)
@@ -96,10 +95,9 @@ def _final_check(problem, geometry, stiffness, tol_v, space, last,
 def setup(problem, geometry, space, friction, formulation, coulomb, method,
           tol, options, gap_scale):
     """What every load step shares: the system on the reduction ``space``
-    (:mod:`~solver.contact.strategies.reduction`: condensed onto Γc with
-    one factorisation of K, or the full one), its scales and tolerances,
-    the lumped boundary matrix D and a factorisation of M (for M⁻¹λ,
-    (87))."""
+    (:mod:`~solver.contact.strategies.reduction`), its scales and
+    tolerances, the lumped boundary matrix D and a factorisation of M (for
+    M⁻¹λ, (87))."""
     lumped_all = np.asarray(problem.M.sum(axis=1)).ravel()
     lumped = lumped_all[geometry.index]
     stiffness = contact_stiffness(problem.K, geometry)

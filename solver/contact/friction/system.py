@@ -74,13 +74,10 @@ class FrictionSystem:
 
     def set_step(self, u_previous, load, p_previous, friction=None,
                  load_norm=None):
-        """Fix u_{κ−1}, the step's load, the lagged pressure p_{κ−1} and
-        (optionally) the step's friction coefficient and the ‖f‖₂ of the
-        stopping test's force scale (:meth:`scale`; a condensed system is
-        given that of the problem's load).
-
-        ``load`` is the load vector f_κ of the step, or a number κ/κc
-        meaning κ/κc · f."""
+        """Fix u_{κ−1}, the step's ``load`` (its vector f_κ, or a number
+        κ/κc meaning κ/κc · f), the lagged pressure p_{κ−1} and optionally
+        the step's friction coefficient and the ‖f‖₂ of :meth:`scale` (a
+        condensed system is given that of the problem's load)."""
         if load_norm is not None:
             self.load_norm = float(load_norm)
         self.u_previous = np.asarray(u_previous, float)
@@ -94,11 +91,10 @@ class FrictionSystem:
         self._last_force = None  # (Δu, r) of the last :meth:`_force`
 
     def traction(self, x):
-        """g_t from the unknown vector x ((m,), or m(d − 1) node by node
-        in the tangent basis); x holds ĝ = g_t / c_t, a length like every
-        other unknown: the descent test (26) of the FB method,
-        ∇ψᵀd ≤ −ρ‖d‖ᵖ, compares norms of d and is meaningless when d mixes
-        displacements (~1e-3) with tractions (~1e2)."""
+        """g_t from the unknown vector x ((m,), or m(d − 1) node by node in the
+        tangent basis), which holds ĝ = g_t / c_t: a length like every other
+        unknown, so that the FB method's descent test (26), ∇ψᵀd ≤ −ρ‖d‖ᵖ, does
+        not compare displacements with tractions."""
         return self.c_t * x[self.n:self.n + self.mt]
 
     def _force(self, du):

@@ -73,10 +73,9 @@ class FrictionlessSystem:
         return r[self.x_rows], -r[self.y_rows], self.gap_scale * gap
 
     def jacobian(self, u):
-        """(JE, JA, JB) = (XRK, −YRK, −cYR): constant, the system is linear.
-        On a dense (condensed) K the same Jacobian as a
-        :class:`~.newton.CondensedJacobian`, whose Newton
-        systems are solved on the free components only."""
+        """(JE, JA, JB) = (XRK, −YRK, −cYR), constant (the system is
+        linear); on a dense K a :class:`~.newton.CondensedJacobian`, whose
+        Newton systems are solved on the free components only."""
         if self._reduced is not None:
             return self._reduced
         return self._JE, self._JA, self._JB

@@ -73,11 +73,10 @@ def approach(problem):
 
 
 def enlarge_candidates(candidates, remaining, tol_length):
-    """The next round's candidates, or None if no non-candidate penetrates.
-
-    ``remaining`` (Nca,) is s − u_n at every free contact node; a node
-    outside ``candidates`` with remaining < −tol_length penetrates. The new
-    set adds every node with remaining ≤ the deepest penetration."""
+    """The next round's candidates, or None if no non-candidate penetrates:
+    ``remaining`` (Nca,) is s − u_n at every free contact node, and every
+    node with remaining ≤ the deepest penetration below −``tol_length`` is
+    added."""
     outside = np.ones(len(remaining), bool)
     outside[candidates] = False
     worst = float(np.max(-remaining[outside], initial=-np.inf))

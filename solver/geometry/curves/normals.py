@@ -70,13 +70,10 @@ def _check_points(points):
 
 def spline_tangents(points):
     r"""Unit tangents (n, 2) of the natural cubic spline through the
-    ordered ``points`` (n ≥ 2, the nodes of Γc along the boundary), pointing
-    from ``points[0]`` towards ``points[-1]``.
-
-    The spline is parametrised by cumulative chord length and fitted to
-    ``x(s)`` and ``y(s)`` separately with natural end conditions
-    (thesis (8)-(14), but parametric instead of :math:`y = P(x)`, which is
-    singular on vertical edges). With two points it is the straight segment."""
+    ordered ``points`` (n ≥ 2), pointing from ``points[0]`` towards
+    ``points[-1]``: the spline parametrised by cumulative chord length, fitted
+    to ``x(s)`` and ``y(s)`` separately with natural end conditions (thesis
+    (8)-(14), parametric instead of y = P(x)); with two points, the segment."""
     points = _check_points(points)
     s = chord_parameters(points)
     # Scaled to unit length first: coordinates of 1e-300 or 1e300 would
@@ -189,13 +186,11 @@ def corners(points, angle=CORNER_ANGLE):
 
 def boundary_normals(nodes, cells, chain, corner_angle=CORNER_ANGLE):
     r"""Unit outward normals (n, 2) of Γc at ``nodes[chain]`` (thesis
-    §2.1.3), ``chain`` ordered along Γc (either direction) on the triangles
-    ``cells``: parametric natural cubic splines (:func:`spline_normals`)
-    oriented by :func:`outward_sign`, one spline per smooth piece of Γc
-    between corners (:func:`corners`, turning by more than ``corner_angle``
-    degrees); a corner node gets the bisector of its two one-sided normals.
-    GeometryError naming the nodes for a chain of one node, two consecutive
-    nodes at the same point, a zero-area triangle on Γc."""
+    §2.1.3; ``chain`` ordered along Γc, either direction, on the triangles
+    ``cells``): :func:`spline_normals` oriented by :func:`outward_sign`, one
+    spline per smooth piece between :func:`corners`, a corner node the
+    bisector of its two one-sided normals. GeometryError naming the nodes for
+    a chain of one node, coincident nodes, a zero-area triangle on Γc."""
     nodes = np.asarray(nodes, dtype=float)
     chain = np.asarray(chain, dtype=np.int64)
     if chain.ndim == 1 and len(chain) >= 2 and 0 <= chain.min() \

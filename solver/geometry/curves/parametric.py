@@ -60,13 +60,10 @@ def check_derivative(derivative, text, symbol):
 
 
 class ParametricCurve:
-    r"""A rigid obstacle :math:`\Gamma_o(t) = (x(t), y(t))`, thesis §4.
-
-    ``x``, ``y``: expressions in ``t`` (:func:`parse_expression`), kept as
-    given in ``x_text``, ``y_text`` (stored back into problem files verbatim)
-    and parsed in ``x_expr``, ``y_expr``; ``t_range``: the admissible
-    interval (None: the real line); ``search_interval``: the interval of *t*
-    searched for the gaps (None: found from the body's extent,
+    r"""A rigid obstacle :math:`\Gamma_o(t) = (x(t), y(t))`, thesis §4, from
+    the expressions ``x``, ``y`` in ``t`` (kept in ``x_text``, ``y_text``,
+    parsed in ``x_expr``, ``y_expr``), on ``t_range`` (None: the real line),
+    the gaps searched on ``search_interval`` (None: from the body's extent,
     :func:`solver.geometry.curves.parameter_window`)."""
 
     def __init__(self, x, y, t_range=None, search_interval=None):

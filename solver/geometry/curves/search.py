@@ -37,16 +37,13 @@ CHUNK = 2 ** 20
 
 def parameter_window(points, curve, window=None, samples=DEFAULT_SAMPLES):
     r"""The interval of the obstacle parameter *t* searched at the contact
-    nodes ``points`` (n, 2): ((t0, t1), ends), ``ends`` saying whether t0 / t1
-    are true ends of the obstacle (of ``curve.t_range``) rather than of an
-    artificial window.
-
-    ``window``: an explicit interval, default ``curve.search_interval`` (the
-    problem file's ``obstacle_search_interval`` or ``--search-interval``),
-    intersected with ``t_range``. Without one the window is fitted to the
-    body's extent with ``samples`` per window (:func:`~.window.fit_window`):
-    it does not depend on how fast the parametrisation runs. When a normal
-    line of the body meets the obstacle far from the body, pass an interval."""
+    nodes ``points``: ((t0, t1), ends), ``ends`` saying whether t0 / t1 are
+    ends of ``curve.t_range`` rather than of an artificial window. ``window``
+    defaults to ``curve.search_interval`` (the problem file's or
+    ``--search-interval``), intersected with ``t_range``; without one the
+    window is fitted to the body's extent (:func:`~.window.fit_window`), not
+    to the speed of the parametrisation. Pass one when a normal line of the
+    body meets the obstacle far from the body."""
     points = np.asarray(points, dtype=float)
     t_range = curve.t_range
     if window is None:

@@ -106,10 +106,9 @@ def fail(bad, points, what, error=GapError):
 
 
 class Surface:
-    """A rigid obstacle surface in 3D (abstract).
-
-    Subclasses set :attr:`kind` and implement :meth:`spec`,
-    :meth:`gap_along_obstacle_normal` and :meth:`gap_along_rays`."""
+    """A rigid obstacle surface in 3D: subclasses set :attr:`kind` and
+    implement :meth:`spec`, :meth:`gap_along_obstacle_normal` and
+    :meth:`gap_along_rays`."""
 
     kind = None
 
@@ -126,16 +125,13 @@ class Surface:
         raise NotImplementedError
 
     def gap_along_rays(self, points, directions):
-        r"""Gaps measured from the body (3D §2.1.2): :math:`x + \tau d` on
-        the surface, the intersection of smallest :math:`|\tau|` as in 2D
-        (exactly for the plane and the sphere; for graph and parametric
-        surfaces the one Newton reaches from the closest point, which is
-        that one unless the surface folds back within the gap).
-
-        ``directions`` (m, 3) or (3,) are the body's outward normals
-        (normalised here). Returns (τ, the intersection points): τ > 0 when
-        the obstacle lies ahead along *d*. GapError naming the number of
-        nodes whose ray misses the surface or grazes it."""
+        r"""Gaps measured from the body (3D §2.1.2): :math:`x + \tau d` on the
+        surface, the intersection of smallest :math:`|\tau|` (for graph and
+        parametric surfaces the one Newton reaches from the closest point), d
+        the body's outward normals ``directions`` (normalised here). Returns
+        (τ, the intersection points), τ > 0 when the obstacle lies ahead;
+        GapError naming the number of nodes whose ray misses the surface or
+        grazes it."""
         raise NotImplementedError
 
     def __repr__(self):

@@ -75,12 +75,10 @@ def _solve(rows, basis, zeta, m, k):
 
 def jet_normals(nodes, faces, contact_nodes, normals,
                 corner_angle=CORNER_ANGLE):
-    """Jet-fit normals at ``contact_nodes`` (module docstring).
-
-    ``normals`` (n, 3) are the reference (angle-weighted) normals of all
-    nodes: the frames of the fits, kept where no jet fits; a neighbour
-    whose reference normal turns by more than ``corner_angle`` degrees from
-    the node's is left out of its fit (the other side of an edge)."""
+    """Jet-fit normals at ``contact_nodes`` (module docstring); ``normals``
+    (n, 3) are the reference normals of all nodes, kept where no jet fits; a
+    neighbour whose reference normal turns by more than ``corner_angle``
+    degrees from the node's is left out of its fit."""
     m = len(contact_nodes)
     reference = normals[contact_nodes]
     rows, cols = two_rings(faces, len(nodes), contact_nodes)
