@@ -70,13 +70,10 @@ def not_positive_definite(name="K", singular=False):
 
 
 class Factor:
-    """A factorisation of an SPD matrix (see the module docstring).
-
-    Attributes: ``backend`` (name), ``n``, ``nnz`` (factor nonzeros, or
-    None if the backend does not say), ``schur_dofs`` (c, or None) and
-    ``S`` (the dense Schur complement on c in that order, or None).
-    Subclasses implement :meth:`solve`; the Schur methods below use only
-    ``solve`` and ``S`` and are overridden where a backend can do better."""
+    """A factorisation of an SPD matrix (module docstring): ``backend``,
+    ``n``, ``nnz`` (factor nonzeros or None), ``schur_dofs`` (c or None), ``S``
+    (the dense Schur complement on c, or None). Subclasses implement
+    :meth:`solve`; the Schur methods below use only ``solve`` and ``S``."""
 
     backend = None
     nnz = None

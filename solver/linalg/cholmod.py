@@ -112,11 +112,9 @@ class CholmodFactor(Factor):
 
     def back_substitute(self, b, u_c):
         r"""u with u_c on c and A_ii u_i = −A_ic u_c (b = 0; else
-        :meth:`Factor.back_substitute`), by the backward sweep alone: the
-        right-hand side Pᵀ S u_c, S = L₂₂L₂₂ᵀ, lives on c, the last rows of
-        the order, so the forward sweep L y = P Pᵀ S u_c gives y = [0;
-        L₂₂ᵀ u_c] without touching L₁₁, and u = Pᵀ L⁻ᵀ y (``sys = 5``):
-        half a solve, all columns in one call to CHOLMOD
+        :meth:`Factor.back_substitute`) by the backward sweep alone: Pᵀ S u_c
+        lives on c, the last rows of the order, so L y = P Pᵀ S u_c gives y =
+        [0; L₂₂ᵀ u_c] and u = Pᵀ L⁻ᵀ y (``sys = 5``), all columns in one call
         (:func:`~.cholmod_struct.solve_columns`)."""
         if self._L22 is None or (b is not None and np.any(b)):
             return super().back_substitute(b, u_c)

@@ -29,14 +29,10 @@ _MADE = {}  # id(K) -> the last Condensation of that K (dropped with K)
 
 class Condensation:
     r"""K of ``problem`` condensed onto the DOFs ``dofs`` (in the order
-    wanted), factorised by ``backend`` ("auto", "superlu", "pardiso",
-    "cholmod"; the factorisation checks that K is positive definite), or
-    given as ``factorization`` (K factorised with ``dofs`` last and its S:
-    the PETSc engine's; ``backend`` is then only its name).
-
-    Attributes: ``S`` (m, m), ``factorization``
-    (:class:`~solver.linalg.base.Factor`), ``backend`` (the one used),
-    ``n_solves`` (solves with K so far: proportional loads reuse them)."""
+    wanted), factorised by ``backend`` (the factorisation checks that K is
+    positive definite) or given as ``factorization`` (K factorised with
+    ``dofs`` last: the PETSc engine's). Attributes: ``S`` (m, m),
+    ``factorization``, ``backend``, ``n_solves`` (solves with K so far)."""
 
     def __init__(self, problem, dofs, backend="auto", factorization=None):
         self.dofs = np.asarray(dofs, np.int64).ravel()
@@ -73,11 +69,9 @@ class Condensation:
         return made
 
     def load(self, f):
-        """(g̃, w): the condensed load g̃ = S (K⁻¹f)_c and w = K⁻¹f.
-
-        A load that is a combination a f₁ + b f₂ of the last two loads (to
-        1e-13 relative) reuses their solutions: the load steps of a
-        proportional load or of a piecewise linear load path cost no solve."""
+        """(g̃, w): the condensed load g̃ = S (K⁻¹f)_c and w = K⁻¹f; a
+        combination a f₁ + b f₂ of the last two loads reuses their solutions
+        (proportional loads and piecewise linear load paths cost no solve)."""
         f = np.asarray(f, dtype=np.float64)
         w = self._combination(f)
         if w is None:

@@ -101,15 +101,10 @@ def _unique_edges(edges, n):
 
 
 def dof_ordering(problem, last=None):
-    """A fill-reducing permutation of the reduced DOFs, ``last`` at the end.
-
-    Mesh problems: nested dissection of the mesh nodes (both DOFs of a node
-    stay together). A problem with a ``node_graph()`` (points, node edges,
-    dof_map; the two-body problem in v, :mod:`solver.contact.two_body`):
-    nested dissection of that graph. Other discrete problems (no mesh):
-    reverse Cuthill-McKee of K.
-    ``last`` (DOF indices, in the order wanted) are taken out of the graph
-    and appended."""
+    """A fill-reducing permutation of the reduced DOFs with ``last`` at the
+    end (taken out of the graph): nested dissection of the mesh nodes (a
+    node's DOFs together) or of a problem's ``node_graph()`` (the two-body
+    problem in v); reverse Cuthill-McKee of K for other discrete problems."""
     n = problem.n_dofs
     last = np.zeros(0, np.int64) if last is None else \
         np.asarray(last, np.int64).ravel()

@@ -79,9 +79,8 @@ def single_blas_thread():
 @contextlib.contextmanager
 def blas_threads_for(order):
     """Inside :func:`single_blas_thread`: the thread counts from before the
-    outermost block, for one dense factorisation of order ≥
-    :data:`THREADED_ORDER`; below it, or outside such a block, nothing
-    changes."""
+    outermost block for one dense factorisation of order ≥
+    :data:`THREADED_ORDER`; otherwise nothing changes."""
     libraries = _libraries()
     if order < THREADED_ORDER or not _OUTER:
         yield

@@ -51,10 +51,8 @@ class PetscNormalCondensation:
 
     def factorize(self, nodes):
         """(S, g̃, w_c) on the normal rows c of ``nodes``, w = K̂⁻¹f̂: g̃ from
-        one interior solve of the Schur-mode factor and w_c = S⁻¹g̃ (w
-        itself is never formed: :meth:`displacement` back-substitutes with
-        f̂, one interior solve, where u = w + K̂⁻¹Pᵀ S(u_n − w_c) took two
-        more)."""
+        one interior solve of the Schur-mode factor, w_c = S⁻¹g̃ (w itself
+        never formed: :meth:`displacement` back-substitutes with f̂)."""
         self.nodes = np.asarray(nodes, np.int64)
         c = self.normal_rows[self.nodes]
         if self.factor is None:

@@ -31,10 +31,9 @@ SCHUR_BLOCK = None
 
 class PetscFactor(Factor):
     """Rank 0's handle of a distributed factorisation of the reduced SPD
-    ``A`` (scipy sparse, or a function returning it: then rank 0 holds A
-    only while padding it, not during the factorisation) with the Schur
-    complement on ``schur`` (reduced DOFs, optional). ``key`` names it in
-    the service's objects; ``block`` as :data:`SCHUR_BLOCK`."""
+    ``A`` (sparse, or a function returning it: held only while padded), with
+    the Schur complement on ``schur`` (optional); ``key`` names it in the
+    service's objects, ``block`` as :data:`SCHUR_BLOCK`."""
 
     backend = "petsc-mumps"
 
@@ -188,9 +187,7 @@ def _factor(service, payload, local):
 @command("check_spd")
 def _check_spd(service, payload, local):
     """Is the scattered ``objects[key]["A"]`` (K̂) positive definite? One
-    MUMPS LDLᵀ with the pivot checks of :mod:`~solver.mpi.pivots`, then
-    dropped (the full system's test of K, which its Newton systems do not
-    make)."""
+    MUMPS LDLᵀ with the pivot checks of :mod:`.pivots`, then dropped."""
     from .pivots import set_up_checked
 
     ksp, _ = mumps_ksp(dict(A=service.objects[payload["key"]]["A"]),

@@ -4,15 +4,15 @@ For candidate sets too large for a dense Schur complement. The Newton
 iteration is the project's (:func:`solver.ncp.solve_ncp` on rank 0, the
 iterates of the serial ``condense=False``); its Newton systems J d = −Φ
 are solved on all ranks through the structured-Jacobian hook of
-:mod:`solver.ncp.newton` (``combine`` → ``direction``). In the node frames, v = Rd (R orthogonal),
-J Rᵀ has the rows of K̂ = RKRᵀ except at the normal row n_i of a contact
-node, −w_a K̂_{n_i,:} − c w_b e_{n_i}ᵀ (NCP weights w_a, w_b ≤ 0). Divided by
-−w_a it is K̂_{n_i,:} + c(w_b/w_a)e_{n_i}ᵀ, a non-negative diagonal shift;
-with w_a = 0 it fixes v_{n_i} = Φ_i/(c w_b). The fixed rows are eliminated
-symmetrically (``MatZeroRowsColumns``), so every Newton system is SPD: MUMPS
-(Cholesky, numeric refactorisation of the same pattern) or CG + GAMG with
-the rigid-body modes (rotated into the node frames) as near-null space
-(``--ksp gamg``; relative tolerance :data:`CG_RTOL`)."""
+:mod:`solver.ncp.newton`. In the node frames, v = Rd, J Rᵀ has the rows
+of K̂ = RKRᵀ except at the normal row n_i of a contact node,
+−w_a K̂_{n_i,:} − c w_b e_{n_i}ᵀ (w_a, w_b ≤ 0); divided by −w_a,
+K̂_{n_i,:} + c(w_b/w_a)e_{n_i}ᵀ, a non-negative diagonal shift; with
+w_a = 0 it fixes v_{n_i} = Φ_i/(c w_b). The fixed rows are eliminated
+symmetrically (``MatZeroRowsColumns``), so every Newton system is SPD:
+MUMPS (Cholesky, refactorised on the same pattern) or CG + GAMG with the
+rotated rigid-body modes as near-null space (``--ksp gamg``,
+:data:`CG_RTOL`)."""
 
 import numpy as np
 import scipy.sparse as sp
@@ -100,11 +100,9 @@ class _Owner:
 
 
 def full_jacobian(service, layout, problem, geometry, system, ksp):
-    """The Jacobian callable of the full-system Newton on ``system`` (a
-    :class:`~solver.contact.frictionless.system.FrictionlessSystem` on
-    problem.K) whose Newton systems KSP solves on all ranks, after K̂ is
-    scattered and checked (positive definite, as the serial engine's
-    check)."""
+    """The Jacobian callable of the full-system Newton on ``system`` whose
+    Newton systems KSP solves on all ranks, after K̂ is scattered and checked
+    (positive definite, as on the serial engine)."""
     R = system.R
     if abs(sp.linalg.norm(R @ R.T - sp.identity(R.shape[0]))) > 1e-12:
         raise EngineError("the full system on the petsc engine needs "
@@ -234,12 +232,9 @@ CHECK_RTOL, CHECK_MAX_IT = 1e-8, 2000
 
 @command("check_spd_cg")
 def _check_spd_cg(service, payload, local):
-    """K̂ x = b (b random) by the Newton systems' CG + GAMG: CG meets a
-    direction of non-positive curvature on an indefinite K̂ and cannot
-    converge on a singular one (b has a part in its null space); either
-    is refused as the serial engine refuses K (no factorisation: the
-    ``--ksp gamg`` path has none). A test, not a proof: an SPD K̂ on
-    which CG fails here would fail in the Newton solves too."""
+    """K̂ x = b (b random) by the Newton systems' CG + GAMG, which fails on
+    an indefinite or singular K̂: the ``--ksp gamg`` path's test of K (it has
+    no factorisation); a test, not a proof."""
     from petsc4py import PETSc
 
     from .pivots import refusal

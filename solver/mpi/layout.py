@@ -14,11 +14,9 @@ __all__ = ["Layout", "scatter_matrix", "scatter_vector", "gather_vector"]
 
 
 class Layout:
-    """The padded numbering of ``problem`` on ``size`` ranks (rank 0).
-
-    ``red_to_pad`` (Ñ,) maps a reduced DOF to its padded row; ``starts``
-    (size + 1,) are the first padded row of each rank; ``dirichlet`` the
-    padded rows of prescribed DOFs."""
+    """The padded numbering of ``problem`` on ``size`` ranks (rank 0):
+    ``red_to_pad`` (reduced DOF → padded row), ``starts`` (each rank's first
+    row), ``dirichlet`` (the rows of prescribed DOFs)."""
 
     def __init__(self, problem, size):
         self.dim = problem.dim

@@ -98,11 +98,9 @@ def check_factorization(F):
 
 
 def schur_cholesky(S, scale):
-    """The Cholesky factor (scipy's ``cho_factor``) of the Schur
-    complement S from MUMPS, whose pivots are the last ones of K's LDLᵀ:
-    :class:`~solver.errors.ProblemError` if one is ≤ PIVOT_RTOL ``scale``
-    (the largest diagonal entry of K, ≥ its largest pivot) or negative,
-    as the serial backends' test."""
+    """The Cholesky factor (``cho_factor``) of MUMPS's Schur complement S,
+    whose pivots are the last of K's LDLᵀ: ProblemError if one is ≤
+    PIVOT_RTOL ``scale`` (K's largest diagonal entry) or negative."""
     import numpy as np
     import scipy.linalg as la
 

@@ -76,10 +76,9 @@ def command(name):
 
 
 class _HeldSignals:
-    """While active, :data:`STOP_SIGNALS` are recorded instead of handled
-    (those not ignored); :meth:`release` puts the previous handlers back
-    and returns the first signal recorded (or None). Python runs signal
-    handlers in the main thread only, so elsewhere it holds nothing."""
+    """While active, :data:`STOP_SIGNALS` (not ignored) are recorded, not
+    handled; :meth:`release` puts the handlers back and returns the first
+    recorded (or None). Only in the main thread (Python's signal handlers)."""
 
     def __init__(self):
         self.received, self.saved = [], {}
@@ -162,10 +161,9 @@ class Service:
             self.comm.send(message, dest=rank, tag=TAG)
 
     def _receive(self):
-        """A worker's next command. It waits *idle*: polling with short
-        sleeps, not in a blocking MPI call, which busy-waits and would take
-        a core from rank 0's serial work (Newton, geometry, output) on an
-        oversubscribed machine."""
+        """A worker's next command, waited for *idle* (short sleeps, not a
+        blocking MPI call, which busy-waits and would take a core from rank 0's
+        serial work)."""
         wait = 1e-5
         while not self.comm.iprobe(source=0, tag=TAG):
             time.sleep(wait)
@@ -200,11 +198,10 @@ class Service:
         return out
 
     def _rendezvous(self, name, error):
-        """Wait, idle, until every rank has finished command ``name``. A
-        rank whose handler failed may have left the others inside one of
-        PETSc's collective calls, which then never return: after
-        :data:`ABORT_AFTER` s it prints its error on one line and aborts
-        the communicator (every rank ends, no hang)."""
+        """Wait, idle, until every rank has finished command ``name``. A rank
+        whose handler failed may have left the others in one of PETSc's
+        collective calls: after :data:`ABORT_AFTER` s it prints its error on
+        one line and aborts the communicator (no hang)."""
         if self.size == 1:
             return
         if self._sync is None:  # its own communicator: a barrier must not

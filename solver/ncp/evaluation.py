@@ -25,11 +25,9 @@ class Counted:
         return np.concatenate([E, phi(A, B, self.kind)]), (E, A, B)
 
     def jacobian(self, x, parts, z=None, ties=0.0):
-        """J ∈ ∂_B Φ(x) (CSC) and the number of predicted contacts.
-
-        ``ties`` > 0 (φ_min only): rows with |A_i − B_i| ≤ ties take ∇A_i,
-        the element of ∂_B φ_min at an exact tie, where round-off may have
-        put A_i a hair above B_i (see :data:`solver.ncp.newton.TIE_RTOL`)."""
+        """J ∈ ∂_B Φ(x) and the number of predicted contacts; with ``ties`` > 0
+        (φ_min) rows with |A_i − B_i| ≤ ties take ∇A_i, the element of ∂_B
+        φ_min at an exact tie (:data:`solver.ncp.newton.TIE_RTOL`)."""
         self.njev += 1
         jac = self.jac(x)
         structured = hasattr(jac, "combine")
@@ -58,11 +56,9 @@ class Counted:
 
 
 def _default_z(JA, gamma):
-    """DFK's z with z_i = 1 on γ, read in the variables of A.
-
-    DFK (1996) pose x ≥ 0, F(x) ≥ 0, so ∇A_i = e_i and z = Σ_{i∈γ} e_i. For
-    general A we take z = Σ_{i∈γ} ∇A_i / ‖∇A_i‖², which gives ∇A_iᵀz = 1 when
-    the rows of γ are orthogonal (as for distinct contact nodes)."""
+    """DFK's z with z_i = 1 on γ, read in the variables of A: DFK (1996)
+    pose x ≥ 0, so ∇A_i = e_i; here z = Σ_{i∈γ} ∇A_i / ‖∇A_i‖², with
+    ∇A_iᵀz = 1 when the rows of γ are orthogonal (distinct contact nodes)."""
     JA = sp.csr_matrix(JA)[np.flatnonzero(gamma)]
     norms2 = np.asarray(JA.multiply(JA).sum(axis=1)).ravel()
     norms2[norms2 == 0.0] = 1.0

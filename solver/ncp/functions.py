@@ -63,13 +63,10 @@ def phi(a, b, kind):
 
 def derivative_weights(a, b, kind, za=None, zb=None):
     """Weights (w_a, w_b, degenerate) of the Jacobian rows
-    w_a ∇A_i + w_b ∇B_i at a = A(x), b = B(x) for the NCP function ``kind``;
-    ``degenerate`` marks γ (``"fb"``) or the ties a = b (``"min"``).
-
-    ``za``, ``zb`` (``"fb"`` only): ∇A_iᵀz and ∇B_iᵀz for the direction z of
-    DFK's rule (31), used on the degenerate set γ = {i : a_i = b_i = 0};
-    without them γ rows take the limit along z with ∇A_iᵀz = ∇B_iᵀz, i.e.
-    w_a = w_b = 1/√2 − 1."""
+    w_a ∇A_i + w_b ∇B_i at a = A(x), b = B(x) for ``kind``; ``degenerate``
+    marks γ = {a_i = b_i = 0} (``"fb"``) or the ties a = b (``"min"``).
+    ``za``, ``zb`` (``"fb"``): ∇A_iᵀz, ∇B_iᵀz for the direction z of DFK's
+    rule (31) on γ; without them w_a = w_b = 1/√2 − 1 there."""
     if kind == "min":
         take_b = a > b  # thesis §2.2.1 a): J_i = ∇B_i if A_i > B_i
         return (~take_b).astype(float), take_b.astype(float), a == b

@@ -72,11 +72,9 @@ def arc_length(problem):
 
 
 def zoom_window(x, loaded, fraction=0.5):
-    """Interval of ``x`` to zoom a plot into: from the last position
-    before the loaded ones to the first after them (where the load has
-    fallen to zero), padded by 10 % of its width; None when nothing is
-    loaded or when that interval covers ``fraction`` or more of the whole
-    range (a zoom would then show little more)."""
+    """Interval of ``x`` to zoom a plot into: from the last position before
+    the ``loaded`` ones to the first after them, padded by 10 %; None when
+    nothing is loaded or it covers ``fraction`` or more of the range."""
     x = np.asarray(x, float)
     loaded = np.asarray(loaded, bool) & np.isfinite(x)
     if not loaded.any() or len(x) < 3:
@@ -248,11 +246,9 @@ def step_halvings(history, method):
 
 
 def plot_convergence(result, path=None):
-    """‖Φ‖ (log axis) and the number of step halvings (−log₂ α) per
-    iteration (thesis Fig. 5 and 8). A nested start's levels
-    (``history["level"]``) are drawn as separate ‖Φ‖ lines, labelled with
-    their number of contact nodes; a failed line search is marked with the
-    halvings it tried."""
+    """‖Φ‖ (log axis) and the step halvings (−log₂ α) per iteration (thesis
+    Fig. 5 and 8); a nested start's levels as separate ‖Φ‖ lines, a failed
+    line search marked with the halvings it tried."""
     from matplotlib.ticker import MaxNLocator
 
     plt = pyplot()
@@ -316,11 +312,9 @@ def carries_load(values, relative=1e-6):
 
 
 def zoomed_axes(plt, x, loaded, figsize):
-    """A figure for a profile along ``x`` whose load sits in a small part
-    of it: (fig, main axes, overview axes or None, window). With a
-    :func:`zoom_window` the main axes (top) show that window and a short
-    overview below shows all of ``x`` with the window shaded; without
-    one, a single axes."""
+    """A figure for a profile along ``x`` whose load sits in a small part of
+    it: (fig, main axes, overview axes or None, window); with a
+    :func:`zoom_window` a short overview below shows all of ``x``."""
     window = zoom_window(x, loaded)
     if window is None:
         fig, ax = plt.subplots(figsize=figsize, layout="constrained")

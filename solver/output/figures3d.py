@@ -28,14 +28,11 @@ def pressure_vs_radius(target, radius, p, a=None, p0=None, title=None,
                        xlabel="distance from the contact axis r [mm]",
                        zoom=False):
     """The Figure of the nodal contact pressures ``p`` against their
-    distance ``radius`` from the contact axis, drawn into ``target`` (an
-    Axes, or a path to save a new figure at, or None). Given Hertz's ``a``
-    and ``p0`` (both or neither), the curve :math:`p_0\\sqrt{1 - r^2/a^2}`
-    over [0, 1.2 max(a, r)], *a* marked. ``xlabel`` says what the radius
-    is measured from. With ``zoom`` and a new figure, when the loaded
-    nodes (and *a*) lie within less than half of the radii, the main panel
-    shows [0, that radius] and a short panel below all radii
-    (:func:`.figures.zoom_window`)."""
+    distance ``radius`` from the contact axis, drawn into ``target`` (Axes, a
+    path for a new figure, or None). Given Hertz's ``a`` and ``p0``, the curve
+    :math:`p_0\\sqrt{1 - r^2/a^2}`, *a* marked; ``xlabel`` says what the
+    radius is measured from; with ``zoom`` a new figure shows the loaded part
+    above all radii (:func:`.figures.zoom_window`)."""
     radius = np.asarray(radius, dtype=float).ravel()
     p = np.asarray(p, dtype=float).ravel()
     if radius.shape != p.shape:
@@ -138,11 +135,9 @@ def plot_pressure_vs_radius(problem, result, path=None, reference=None):
 
 
 def write_figures3d(folder, problem, result, reference=None):
-    """The figures of a 3D frictionless solve for ``--plots``: the
-    Newton convergence (as in 2D) and the pressure against the radius
-    (``reference``: what :func:`plot_pressure_vs_radius` draws, default
-    decided from the problem and the solve); returns their paths by
-    name."""
+    """The figures of a 3D frictionless solve for ``--plots``: the Newton
+    convergence and the pressure against the radius (``reference``, default
+    decided from the problem and the solve); their paths by name."""
     from .figures import plot_convergence
 
     plt = pyplot()

@@ -49,10 +49,8 @@ _MAX_HALVINGS = 40
 def grid_start(surface_map, points, lower, upper, samples=DEFAULT_SAMPLES,
                k=CANDIDATES):
     """The ``k`` grid points of the box [lower, upper] (``samples`` per
-    parameter) nearest to each point, nearest first: starts (m, k, 2).
-    Samples that are not finite or lie beyond
-    :data:`~solver.geometry.checks.COORDINATE_LIMIT` (where squared
-    distances overflow) are no starts."""
+    parameter) nearest to each point, nearest first: starts (m, k, 2); no
+    start where the surface is not finite or beyond the coordinate limit."""
     s, t = (np.linspace(lower[i], upper[i], samples) for i in (0, 1))
     S, T = (a.ravel() for a in np.meshgrid(s, t, indexing="ij"))
     cloud = surface_map.point(S, T)
@@ -177,11 +175,9 @@ def closest_points(surface_map, points, lower, upper, start):
 
 def ray_hits(surface_map, points, directions, start, lower, upper,
              min_cosine=1e-3):
-    r"""Intersections :math:`c(s,t) = x + \tau d` by damped Newton.
-
-    Returns ``(tau (m,), u (m, 2), ok (m,) bool)``; ``ok`` is False where
-    Newton did not reach a zero of the residual or the ray meets the
-    surface at a grazing angle (:math:`|n\cdot d| <` ``min_cosine``)."""
+    r"""Intersections :math:`c(s,t) = x + \tau d` by damped Newton: (tau,
+    u, ok), ``ok`` False where Newton reached no zero or the ray grazes the
+    surface (:math:`|n\cdot d| <` ``min_cosine``)."""
     m = len(points)
     lower = np.broadcast_to(np.asarray(lower, float), (m, 2))
     upper = np.broadcast_to(np.asarray(upper, float), (m, 2))
