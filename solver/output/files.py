@@ -61,10 +61,8 @@ def json_ready(value):
 
 
 def stopping_of(result, tol):
-    """The stopping test that was applied, with the final values.
-
-    Uses ``result.stopping`` when the solver records it, else the test of
-    :func:`solver.ncp.solve_ncp`: error ≤ tol · scale."""
+    """The stopping test that was applied, with the final values:
+    ``result.stopping``, else that of :func:`solver.ncp.solve_ncp`."""
     stopping = result.get("stopping")
     if stopping is None:
         records = result.get("records") or [{}]

@@ -52,10 +52,8 @@ def atomic_path(path):
 
 
 class OutputFolder:
-    """Create (if needed) and lock ``path`` for one run reading ``inputs``.
-
-    Raises :class:`OutputError` if another run holds the folder or an input
-    file would be overwritten or removed by this run."""
+    """Create (if needed) and lock ``path`` for one run reading ``inputs``;
+    OutputError if another run holds it or an input would be overwritten."""
 
     def __init__(self, path, inputs=()):
         self.path = os.fspath(path)
@@ -116,11 +114,10 @@ class OutputFolder:
         os.unlink(probe)
 
     def clear_stale(self):
-        """Remove an earlier run's outputs (only names a run of ours
-        writes), so that nothing unlisted is left beside this run's, and
-        the temporary files of a run that was killed before it could
-        remove them (``kill -9``; ``mpiexec`` kills too when its grace
-        after SIGTERM ends): the lock says that no run writes them now."""
+        """Remove an earlier run's outputs (only names a run of ours writes)
+        and the temporary files of a run killed before it could (``kill -9``,
+        or ``mpiexec`` after its grace): the lock says no run writes them now.
+        """
         self.sweep_temporaries()
         for name in self._ours():
             path = os.path.join(self.path, name)

@@ -18,10 +18,8 @@ ROUND_OFF = 1e-10
 
 
 def friction_force(problem, result):
-    """Nodal friction force per step, (steps, Nc): D_ii g_t with D_ii =
-    Σ_j M_ij (the lumped boundary matrix that turns the traction g_t into
-    a force), signed in 2D, its magnitude D_ii |g_t| in 3D (g_t is then a
-    vector in the tangent plane)."""
+    """Nodal friction force per step, (steps, Nc): D_ii g_t (D the lumped
+    boundary matrix), signed in 2D, its magnitude D_ii |g_t| in 3D."""
     lumped = np.asarray(problem.M.sum(axis=1)).ravel()
     g = np.nan_to_num(np.asarray(result.friction_traction, float))
     if g.ndim == 3:
@@ -85,15 +83,12 @@ def tidy_panel(ax, series, scale, unit):
 def plot_step_history(problem, result, node=None, path=None,
                       reference=None):
     """Contact force, friction force and the displacement components of
-    contact nodes per load step (thesis Fig. 18-21 for the bar's point A).
-
-    ``node`` is a position along Γc, or a list of them; default
-    :func:`history_nodes` (for the bar, its only node A). ``reference``,
-    an array (steps, 4) of (u_x, u_y, λ, t) such as the bar's closed
-    form, is drawn as a line over the computed points (hollow markers) of
-    the first node. Values that are round-off of the solve are drawn as
-    zero and the axes carry no offset (:func:`tidy_panel`). In 3D the
-    friction panel shows |t| = D |g_t| and a third panel u_z is added."""
+    contact nodes per load step (thesis Fig. 18-21 for the bar's point A):
+    ``node`` a position along Γc or a list of them (default
+    :func:`history_nodes`); ``reference``, an array (steps, 4) of (u_x, u_y,
+    λ, t) such as the bar's closed form, drawn as a line under the first
+    node's points; round-off drawn as zero (:func:`tidy_panel`). In 3D the
+    friction panel shows |t| = D |g_t| and a panel u_z is added."""
     plt = pyplot()
     if node is None:
         chosen = history_nodes(problem, result)
@@ -175,9 +170,8 @@ def plot_step_history(problem, result, node=None, path=None,
 
 def plot_friction_along_boundary(problem, result, step=-1, path=None):
     """Contact pressure and friction traction along Γc at one load step
-    (thesis Fig. 23-27), stick and slip nodes marked. When the loaded
-    nodes lie in less than half of Γc the main panel zooms onto them and
-    a short panel below shows all of Γc (:func:`.figures.zoomed_axes`)."""
+    (thesis Fig. 23-27), stick and slip nodes marked, zoomed as
+    :func:`.figures.zoomed_axes`."""
     plt = pyplot()
     arc, label = arc_length(problem)
     p = np.asarray(result.contact_pressure[step], float)

@@ -111,15 +111,11 @@ def _tangents(axis):
 def first_contact(points, gap, normal, planes=(), in_contact=None,
                   least=12):
     """Where a smooth convex contact starts: the vertex of the initial gap
-    (module docstring) of the contact nodes ``points`` (m, 3) with their
-    ``gap`` and unit ``normal`` (NaN rows ignored), mirrored in the
-    symmetry ``planes``. The fit uses the nodes whose gap is at most the
-    largest of those ``in_contact`` at the end, and at least ``least``.
-
-    Returns (center, axis, radii): the obstacle point at the vertex, the
-    normal there (the mean normal of the fitted nodes) and the gap's two
-    principal curvature radii; or (None, None, reason) saying why the first
-    contact is not a point."""
+    (module docstring) of the contact nodes ``points`` with their ``gap`` and
+    unit ``normal`` (NaN rows ignored), mirrored in the symmetry ``planes``,
+    fitted on the nodes whose gap is at most the largest of those
+    ``in_contact`` (and at least ``least``): (center, axis, radii), or
+    (None, None, reason) when the first contact is not a point."""
     points = np.asarray(points, float)
     gap = np.asarray(gap, float)
     normal = np.asarray(normal, float)

@@ -9,13 +9,11 @@ __all__ = ["obstacle_in_box", "closest_on_polyline", "moved_obstacle"]
 
 
 def obstacle_in_box(curve, low, high, samples=1201):
-    """Points of a 2D obstacle curve inside the box [low, high] (corners,
-    (2,) each), NaN rows where the curve leaves it: the parameter window
-    (from ``t_range``, or as
-    :func:`solver.geometry.curves.window.start_window`)
-    is doubled while the curve has not left the box at both ends, then
-    narrowed to the samples inside, however fast the parametrisation runs. A
-    polyline's vertices are always among the samples (its kinks stay sharp)."""
+    """Points of a 2D obstacle curve inside the box [low, high], NaN rows
+    where it leaves the box: the parameter window (``t_range``, or as
+    :func:`solver.geometry.curves.window.start_window`) doubled until the
+    curve leaves the box at both ends, then narrowed to the samples inside;
+    a polyline's vertices always among the samples."""
     low, high = np.asarray(low, float), np.asarray(high, float)
 
     def inside(points):
@@ -72,16 +70,11 @@ def closest_on_polyline(points, chain, chunk=512):
 
 
 def moved_obstacle(problem, displacement, scale, points):
-    """The obstacle points moved with the magnified boundary: each point O
-    by (scale − 1) ũ(O), ũ the displacement of the closest point of the
-    deformed Γc (linear between its nodes, the end node's beyond its ends).
-
-    Drawn with the body at X + scale·u, each gap keeps its true length and
-    direction: the deformed node X + u and its obstacle point O become
-    X + scale·u and O + (scale − 1)·u, the same vector apart. So nodes in
-    contact lie on the moved obstacle and no drawn node crosses it; the
-    obstacle's drawn shape changes where u varies along Γc (the legend says
-    so)."""
+    """The obstacle points moved with the magnified boundary: each point O by
+    (scale − 1) ũ(O), ũ the displacement of the closest point of the deformed
+    Γc. With the body drawn at X + scale·u each gap keeps its true length
+    and direction (the node X + scale·u, its obstacle point O + (scale − 1)·u),
+    so nodes in contact lie on the moved obstacle and no node crosses it."""
     u = np.asarray(displacement, float)
     gc = problem.contact_nodes
     chain = problem.nodes[gc] + u[gc]

@@ -62,12 +62,9 @@ def write_two_body_vtk(path, result, problem):
 
 
 def plot_interface(problem, result, path=None, reference=None):
-    """λ_j and the traction components (normal −λ, tangential g_t) along
-    the slave surface (arc length from its first node, mm; tractions in
-    MPa); ``reference``: optional (s, p) curve drawn dashed (e.g.
-    Hertz's). When the loaded slave nodes lie in less than half of the
-    surface the main panel zooms onto them and a short panel below shows
-    all of it (:func:`.figures.zoomed_axes`)."""
+    """λ_j and the traction components (normal −λ, tangential g_t) along the
+    slave surface, with an optional ``reference`` (s, p) curve dashed (e.g.
+    Hertz's); zoomed as :func:`.figures.zoomed_axes`."""
     from .figures import (legend_outside, carries_load, finish_overview,
                           zoomed_axes)
 

@@ -63,11 +63,9 @@ def traction_vectors(traction, tangents):
 
 
 def step_mesh(problem, fields, tangents=None):
-    """meshio.Mesh of one friction load step (``fields`` of the step).
-    With the tangent frames over Γc (``tangents``, (Nc, d − 1, d)) a 3D
-    step's ``friction_traction`` is written as a 3-vector in x, y, z
-    (:func:`traction_vectors`), which ParaView shows as a vector; 2D
-    steps keep the scalar g_t along γ."""
+    """meshio.Mesh of one friction load step (its ``fields``); with the
+    tangent frames over Γc (``tangents``) a 3D step's ``friction_traction``
+    as a 3-vector in x, y, z (:func:`traction_vectors`)."""
     import meshio
 
     n = len(problem.nodes)

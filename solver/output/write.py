@@ -18,12 +18,10 @@ __all__ = ["StepOutputs", "write_all", "interface_summary"]
 
 class StepOutputs:
     """The completed steps of a friction run streamed into ``folder``
-    (:class:`~solver.output.stepfiles.StepWriter`): call it as the run's
-    ``on_step``; :meth:`finish` writes ``result.npz`` and ``result.pvd``
-    of the completed steps, also after an interrupt. Given the run's
-    ``geometry`` (``Plan.geometry``) at once, the step files of a 3D run
-    hold the friction traction as a 3-vector (the tangent frames turn its
-    components into x, y, z)."""
+    (:class:`~solver.output.stepfiles.StepWriter`), as the run's ``on_step``;
+    :meth:`finish` writes ``result.npz`` and ``result.pvd``, also after an
+    interrupt. With the run's ``geometry`` a 3D run's step files hold the
+    friction traction as a 3-vector."""
 
     def __init__(self, folder, problem, total_steps, geometry=None):
         self.folder, self.problem = folder, problem

@@ -156,15 +156,10 @@ def check_load(key, loads, K):
 
 
 def check_positive_definite(A, name="K", order=None, backend="auto"):
-    r"""Raise :class:`ProblemError` unless the symmetric matrix A is
-    positive definite (numerically: no LDLᵀ pivot below
-    :data:`~solver.linalg.PIVOT_RTOL` of the largest).
-
-    One sparse factorisation of the symmetric A by ``backend`` (default:
-    the first installed, :func:`solver.linalg.factorize`), whose pivots
-    every backend checks the same way (:func:`solver.linalg.check_pivots`),
-    with the elimination ``order`` if given (e.g.
-    :func:`solver.linalg.dof_ordering`; PARDISO uses its own). ``name`` is
-    the matrix's key prefix for the message (``"K"`` or ``"M"``)."""
+    r"""Raise :class:`ProblemError` unless the symmetric A is positive
+    definite (no LDLᵀ pivot below :data:`~solver.linalg.PIVOT_RTOL` of the
+    largest), by one sparse factorisation by ``backend`` (default the first
+    installed) in the elimination ``order`` if given; ``name`` is the key
+    prefix for the message."""
     from ..linalg import factorize
     factorize(A, order, name=name, backend=backend)

@@ -186,14 +186,10 @@ class ContactProblem:
 
     def check_stiffness(self):
         """Check that K is positive definite
-        (:func:`~.checks.check_positive_definite`; ProblemError
-        ``"K_data: K is not positive definite (...)"``).
-
-        Costs one sparse factorisation of K in a fill-reducing order
-        (:func:`solver.linalg.dof_ordering`); the solvers call it before
-        iterating (the condensed ones get it from the factorisation they
-        need anyway). The result is remembered for the K object checked
-        (replace ``problem.K``, do not modify it in place)."""
+        (:func:`~.checks.check_positive_definite`): one sparse factorisation in
+        a fill-reducing order, remembered for this K object (replace
+        ``problem.K``, do not modify it in place); the condensed solvers get it
+        from the factorisation they need anyway."""
         if self._checked is not self.K:
             from ..linalg import dof_ordering
             check_positive_definite(self.K, "K", dof_ordering(self))

@@ -131,13 +131,10 @@ def _body_id(meta, name, n_bodies, n_pairs):
 
 
 def check_bodies(meta, n_bodies, slave_body=None, master_body=None):
-    """The two-body fields of ``meta`` (format version 4): ``bodies``, a
-    list of ``n_bodies`` objects {name, E, nu} (index = body id), and, for
-    an interface (``slave_body``, ``master_body``: the body of each pair's
-    slave and master segments, found by the loader), the fields
-    ``slave_body`` and ``master_body`` naming the same bodies. ``E`` and
-    ``nu`` of ``meta`` must be those of the slave body (of the one slave
-    body of all pairs)."""
+    """The two-body fields of ``meta`` (format version 4): ``bodies``, one
+    {name, E, nu} per body id, and ``slave_body``, ``master_body`` naming the
+    bodies of the pairs' segments (found by the loader); ``E`` and ``nu`` of
+    ``meta`` must be the slave body's."""
     bodies = meta.get("bodies")
     if not isinstance(bodies, list) or len(bodies) != n_bodies:
         _fail(f"bodies must be a list of {n_bodies} objects "

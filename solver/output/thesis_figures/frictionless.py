@@ -151,11 +151,9 @@ def pressure_along_contact(problem, results, path=None, title=None,
 
 def mesh_comparison(problems, results, path=None, xlim=None):
     """Contact zones and pressures on several meshes (the thesis's §4.1
-    remark that finer meshes locate the contact zone more precisely):
-    ``problems`` and ``results`` keyed alike (e.g. by element count). Top:
-    lumped pressure along Γc; bottom: the extent of the contact zone, from
-    the first to the last node in contact, widened by half a node spacing
-    on each side."""
+    remark that finer meshes locate the zone more precisely): ``problems``
+    and ``results`` keyed alike. Top: lumped pressure along Γc; bottom: the
+    zone from the first to the last node in contact, ± half a node spacing."""
     plt = pyplot()
     fig, (top, bottom) = plt.subplots(
         2, 1, figsize=(8, 6), sharex=True,

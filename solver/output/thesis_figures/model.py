@@ -17,11 +17,9 @@ def outline(problem):
 
 def obstacle_for_display(problem, scale, t):
     """Obstacle points Γo(t) with their distance from the line through Γc
-    (undeformed) magnified by ``scale``, like the displacements of a body
-    drawn at ``scale`` × u; contact nodes (u_n = s) then lie on it.
-
-    Exact for a straight Γc and normals perpendicular to it (the block's
-    edge x = 5; its obstacle normals tilt by ≤ 2° in the contact zone)."""
+    magnified by ``scale``, like the displacements of a body drawn at
+    ``scale`` × u, so that contact nodes lie on it (exact for a straight Γc
+    and normals perpendicular to it)."""
     xy = problem.nodes[problem.contact_nodes]
     origin, direction = xy[0], xy[-1] - xy[0]
     direction = direction / np.linalg.norm(direction)
@@ -33,11 +31,9 @@ def obstacle_for_display(problem, scale, t):
 
 def contact_offset(problem, displacement, in_contact, scale):
     """Largest distance, across Γc, between a node in contact drawn at
-    ``scale`` × u and the obstacle drawn by :func:`obstacle_for_display`.
-
-    Zero up to the linearised contact condition at scale 1; at scale k the
-    tangential displacement, magnified too, moves a node along the curved
-    obstacle, whose magnified gap there differs by about k·Δs."""
+    ``scale`` × u and the obstacle of :func:`obstacle_for_display`: zero to
+    the linearised contact condition at scale 1, about k·Δs at scale k (the
+    magnified tangential displacement moves a node along the curve)."""
     inside = np.asarray(in_contact, bool)
     if not inside.any():
         return 0.0
