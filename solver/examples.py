@@ -55,11 +55,8 @@ def two_dof_bar_closed_form(step, friction, coulomb="lagged", steps=100):
     - Stick, lagged: the first step after κ₀ has p = λ_{κ₀} = 0 and slides
       freely to u_x = F(κ₀+1)/(k steps); frozen there afterwards.
 
-    Valid for the thesis's numbers with an integer κ₀ and f_c ≠ 1.
-
-    Returns
-    -------
-    (u_x, u_y, λ, g_t) at load step ``step``."""
+    Returns (u_x, u_y, λ, g_t) at load step ``step``; valid for the
+    thesis's numbers with an integer κ₀ and f_c ≠ 1."""
     k, F, s = 9e4, 1000.0, 0.005
     per_step = F / steps
     k0 = s * k / per_step

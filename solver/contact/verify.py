@@ -57,11 +57,9 @@ def force_scale(load_norm, lam):
     return max(float(load_norm), _norm(np.maximum(lam, 0.0)))
 
 
-#: ρ of φ_FB's descent test (26) in unit-free form (Φ in units of the
-#: force scale F, x in units of F/k̄). The thesis's ρ = 1e-8 in its units
-#: (N, mm) is 8e-20 in these on the §4 block and 8e-19 on the §6 bar; a
-#: larger unit-free ρ rejects good Newton steps near degenerate stick/slip
-#: nodes (the bar stalls). 1e-20 is as lenient as the thesis on both.
+#: ρ of φ_FB's descent test (26) in unit-free form (Φ in units of F, x of
+#: F/k̄): as lenient as the thesis's ρ = 1e-8 in N, mm (8e-20 on the §4
+#: block, 8e-19 on the bar); a larger one stalls the bar.
 UNIT_FREE_RHO = 1e-20
 
 

@@ -34,84 +34,76 @@ def solve(problem, *, friction=None, method=None, system="auto", start=None,
     Parameters
     ----------
     problem : ContactProblem
-        From :func:`solver.load_problem`: one body against a rigid
-        obstacle (2D curve or 3D surface), two elastic bodies (2D, dual
-        mortar), or a discrete problem with given gaps (the §6 bar).
+        From :func:`solver.load_problem`: one body against a rigid obstacle
+        (2D curve or 3D surface), two elastic bodies (2D, dual mortar), or a
+        discrete problem with given gaps (the §6 bar).
     friction : float, optional
-        The coefficient of friction f_c ≥ 0: Coulomb friction in load
-        steps (thesis §5). Without it the problem is frictionless (67).
+        The coefficient of friction f_c ≥ 0: Coulomb friction in load steps
+        (thesis §5); without it the problem is frictionless (67).
     method : {"min", "fb"}
         Damped Newton with φ_min (§2.2.1) or the Fischer–Burmeister method
-        (§2.2.2). Default "min"; "fb" for the thesis's friction formulation.
+        (§2.2.2); default "min", "fb" for the thesis's friction formulation.
     system : {"auto", "condensed", "full"}
         "condensed": factorise K once and iterate on the system condensed
         exactly onto Γc; "full": the thesis's system in all unknowns, one
-        sparse LU per Newton iteration (the counts of Tables 1 and 2).
-        "auto": condensed, but full for the thesis's friction formulation.
+        sparse LU per Newton iteration (the counts of Tables 1 and 2); "auto":
+        condensed, but full for the thesis's friction formulation.
     start : {"nested", "free"}, frictionless only
-        "nested" (the 2D default when condensed onto Γc): solve on ever
-        coarser subsets of Γc first; "free": from no contact force,
-        u = K⁻¹f. The full system starts from the thesis's u = 0.
-    formulation, coulomb : friction only
+        "nested" (the 2D default, condensed onto Γc): on ever coarser subsets
+        of Γc first; "free": from no contact force, u = K⁻¹f. The full system
+        starts from the thesis's u = 0.
+    formulation, coulomb, steps : friction only
         The projection onto the Coulomb set (default; 2D and 3D) or the
         thesis's split (110)/(111) (2D); the bound from the previous step's
         normal force ("lagged", the thesis, default) or the current one
-        ("implicit").
-    steps : int, friction only
-        Load steps (default 100); a problem with a load path uses its own.
+        ("implicit"); load steps (default 100; a load path has its own).
     gap : {"obstacle", "body"}, rigid obstacle only
         Gaps and normals from the obstacle (§2.1.1, default) or along the
         body's normals (§2.1.2-2.1.3).
     backend, engine, ksp
-        The serial engine's sparse direct solver ("auto", "superlu",
-        "pardiso", "cholmod"; :mod:`solver.linalg`); "petsc" for the PETSc
-        engine on the ranks of ``mpiexec`` (inside
-        :func:`solver.mpi.engine.spmd`; docs/mpi.md) or an engine object;
-        its full system's Newton systems by "mumps" or CG + "gamg".
-    tol : float
-        Relative tolerance of the stopping test (units-free;
-        :mod:`solver.contact.verify`). Default 1e-10.
-    max_iter : int
-        Newton iterations at most (per load step with friction; all levels
-        and rounds of a frictionless solve together).
+        The serial engine's sparse solver ("auto", "superlu", "pardiso",
+        "cholmod"); "petsc" for the PETSc engine under ``mpiexec`` (inside
+        :func:`solver.mpi.engine.spmd`; docs/mpi.md) or an engine object; its
+        full system's Newton systems by "mumps" or CG + "gamg".
+    tol, max_iter : float, int
+        Relative tolerance of the units-free stopping test
+        (:mod:`solver.contact.verify`; default 1e-10) and the Newton
+        iterations at most (per load step; all levels and rounds together).
     gap_scale : float, optional
         c in the gap rows c(s − u_n): the same solution, another path.
     search_interval : (t0, t1), 2D rigid obstacle only
         The obstacle parameter interval searched for the gaps.
     candidates, margin : optional
-        Condense onto the contact nodes that can touch only (default: in
-        3D, and on the petsc engine without friction), enlarged until no
-        other node penetrates; the screening margin, a length.
+        Condense onto the contact nodes that can touch only (default: in 3D,
+        and on the petsc engine without friction), enlarged until no other
+        node penetrates; the screening margin, a length.
     rollers : bool, optional
-        Whether contact nodes with Dirichlet components (symmetry planes)
-        take part in contact as rollers (default True), or are supports.
-    x0 : array, optional, frictionless only
-        Starting displacement.
-    variant : {"mortar", "node-to-segment"}, two bodies only
-        The interface coupling (default the dual mortar).
-    options : dict, optional
-        Options of the Newton method (:func:`solver.ncp.solve_ncp`).
-    geometry : ContactGeometry, optional
-        Precomputed gaps and frames (:func:`solver.contact.contact_geometry`).
+        Whether contact nodes with Dirichlet components (symmetry planes) take
+        part as rollers (default True) or are supports.
+    x0, variant, options, geometry : optional
+        A starting displacement (frictionless); the two bodies' coupling
+        ("mortar", default, or "node-to-segment"); the Newton method's options
+        (:func:`solver.ncp.solve_ncp`); precomputed gaps and frames
+        (:func:`solver.contact.contact_geometry`).
     progress, on_step, keep_steps : friction only
-        Called with each completed step's record, and with its fields;
-        keep the per-step arrays in the result (default True).
+        Called with each completed step's record, and with its fields; keep
+        the per-step arrays in the result (default True).
 
     Returns
     -------
     ContactResult
         ``success``, ``status``, ``message``, counts (``nit``, ``njev``,
-        ``nfev``), the answer (docs/results.md; per load step with
-        friction), its ``verification`` and ``stopping`` test, and what
-        ran (``linear_solver``, ``condensation``, ``start``, ``engine``).
+        ``nfev``), the answer (docs/results.md; per load step with friction),
+        its ``verification`` and ``stopping`` test, and what ran
+        (``linear_solver``, ``condensation``, ``start``, ``engine``).
 
     Raises
     ------
     SolverError
-        For an option that does not apply to the problem or a bad value
-        (one line naming it); :class:`~solver.errors.ProblemError` if K
-        is not positive definite or the geometry cannot be built. A solve
-        that does not converge raises nothing: see ``success``."""
+        For an option that does not apply to the problem or a bad value (one
+        line naming it); :class:`~solver.errors.ProblemError` if K is not
+        positive definite or the geometry cannot be built. A solve that does
+        not converge raises nothing: see ``success``."""
     given = dict(locals())
     given.pop("problem")
     return prepare(problem, **given).run()

@@ -11,11 +11,9 @@ from ..errors import GeometryError, InitialPenetrationWarning
 __all__ = ["GapError", "warn_penetration", "COORDINATE_LIMIT",
            "RESOLUTION"]
 
-#: Largest accepted |coordinate| of the geometry: the body's nodes
-#: (:mod:`solver.problem.geometry`) and the numbers that place an obstacle
-#: (a plane's point, a sphere's centre and radius, a polyline's vertices).
-#: Gaps, squared distances and the forces k·s of geometry beyond it
-#: overflow or underflow double precision.
+#: Largest accepted |coordinate| of the body's nodes and of the numbers
+#: that place an obstacle: beyond it gaps, squared distances and the forces
+#: k·s overflow or underflow double precision.
 COORDINATE_LIMIT = 1e30
 
 #: Smallest accepted ratio of the body's size to its largest |coordinate|

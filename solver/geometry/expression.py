@@ -103,17 +103,13 @@ _HINTS = {ast.BitXor: " (use ** for powers)"}
 #: Longest expression text accepted (a guard against pathological input).
 MAX_LENGTH = 1000
 
-#: Deepest nesting of the parsed SymPy expression tree (every function,
-#: power, sum or product is a level; SymPy flattens a + b + c into one
-#: sum, so long sums and products are shallow). Exact derivatives of deep
-#: compositions grow quadratically (first) and cubically (second) with the
-#: depth.
+#: Deepest nesting of the parsed SymPy expression tree (SymPy flattens
+#: long sums and products): exact derivatives of deep compositions grow
+#: quadratically (first) and cubically (second) with the depth.
 MAX_DEPTH = 30
 
-#: Most function calls nested in one another, sin(cos(exp(t))) = 3. SymPy
-#: queries the assumptions of a function's argument when it builds it, at a
-#: cost that grows exponentially with this depth for some mixtures of
-#: functions.
+#: Most function calls nested in one another, sin(cos(exp(t))) = 3: SymPy's
+#: assumption queries cost exponentially in this depth for some mixtures.
 MAX_CALL_DEPTH = 8
 
 #: Largest first derivative accepted, in expression-tree nodes (a product

@@ -19,9 +19,8 @@ _LIBRARIES = None  # [(get, set)] of the loaded OpenBLAS libraries
 _OUTER = []  # the thread counts before each open single_blas_thread block
 
 #: A dense factorisation of at least this order gets the process's BLAS
-#: threads back inside :func:`single_blas_thread` (:func:`blas_threads_for`):
-#: 3D friction on candidates factorises orders of 3·10³ (a/h 32), where two
-#: threads pay on an idle machine (an LU of order 3300: 2·10¹⁰ flops).
+#: threads back (:func:`blas_threads_for`): 3D friction on candidates
+#: factorises orders of 3·10³, where threads pay (2·10¹⁰ flops per LU).
 THREADED_ORDER = 2000
 
 

@@ -44,11 +44,9 @@ def service():
     return _SERVICE[0]
 
 
-#: glibc's ``mallopt`` parameters (malloc.h) and the engine's settings:
-#: mmap allowed again (glibc's default count), blocks of 32 MB and more
-#: mmapped, and the heap trimmed when 32 MB lie free at its top (glibc's
-#: own 128 kB thresholds unmap and fault in every n-vector; docs/mpi.md,
-#: "Memory per rank").
+#: glibc's ``mallopt`` parameters and the engine's settings: mmap allowed,
+#: blocks of 32 MB and more mmapped, the heap trimmed when 32 MB lie free
+#: at its top (docs/mpi.md, "Memory per rank").
 M_TRIM_THRESHOLD, M_MMAP_THRESHOLD, M_MMAP_MAX = -1, -3, -4
 SETTINGS = {M_TRIM_THRESHOLD: 32 << 20, M_MMAP_THRESHOLD: 32 << 20,
             M_MMAP_MAX: 65536}

@@ -27,12 +27,10 @@ __all__ = ["full_jacobian", "ksp_statistics", "rigid_modes", "CG_RTOL"]
 #: Relative residual of a CG + GAMG Newton solve.
 CG_RTOL = 1e-12
 
-#: GAMG's Chebyshev smoothers: eigenvalue bounds estimated by CG with a
-#: 1.5 safety factor on the largest: PETSc's defaults made the
-#: preconditioner indefinite on φ_FB Newton systems whose rows with
-#: w_a → 0 carry large diagonal shifts. A Newton system
-#: on which CG still fails is solved by MUMPS (counted in the summary's
-#: ``ksp_fallbacks``; its iteration count is recorded as 0).
+#: GAMG's Chebyshev smoothers: eigenvalue bounds by CG with a 1.5 safety
+#: factor (PETSc's defaults made the preconditioner indefinite where rows
+#: with w_a → 0 carry large shifts). Where CG still fails MUMPS solves
+#: (counted in ``ksp_fallbacks``, iteration count 0).
 GAMG_OPTIONS = {"mg_levels_ksp_chebyshev_esteig": "0,0.2,0,1.5",
                 "mg_levels_esteig_ksp_type": "cg"}
 

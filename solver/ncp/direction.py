@@ -13,9 +13,8 @@ import scipy.sparse.linalg as sla
 __all__ = ["DENSE_FRACTION", "DENSE_MIN_SIZE", "newton_direction"]
 
 #: Jacobians with more than this fraction of nonzeros (and at least
-#: DENSE_MIN_SIZE rows) are factorised by LAPACK instead of SuperLU: those of
-#: the systems condensed onto Γc (:class:`solver.linalg.Condensation`) are
-#: dense blocks, where SuperLU is several times slower than LAPACK.
+#: DENSE_MIN_SIZE rows: those of the condensed systems) are factorised by
+#: LAPACK, several times faster than SuperLU on dense blocks.
 DENSE_FRACTION = 0.2
 DENSE_MIN_SIZE = 64
 

@@ -51,11 +51,8 @@ from .functions import NCP_FUNCTIONS
 
 __all__ = ["solve_ncp", "MESSAGES", "DEFAULT_OPTIONS", "stable_norm"]
 
-#: Termination messages keyed by ``status``. Statuses 4 and 5 get the
-#: detail of the case appended (which value was not finite; how far the
-#: residual got); status 6 is set by the contact solvers
-#: (:mod:`solver.contact`), whose answers are checked after the stopping
-#: test passes.
+#: Termination messages keyed by ``status`` (4 and 5 get the detail of the
+#: case appended; 6 is set by the contact solvers, which verify answers).
 MESSAGES = {
     0: "converged: residual ≤ tol",
     1: "not converged: maximum number of iterations reached",
@@ -67,12 +64,10 @@ MESSAGES = {
     6: "not converged: the answer fails verification",
 }
 
-#: Stagnation (status 5): an iteration makes progress when ‖Φ‖ or the
-#: stopping measure falls below STALL_DECREASE times its best value so far
-#: (or the step moves x by more than round-off); STALL_ITERATIONS
-#: iterations in a row without progress stop the run: twice the longest
-#: such run that still converged on the thesis's meshes (φ_FB's gradient
-#: phases).
+#: Stagnation (status 5): STALL_ITERATIONS iterations in a row in which
+#: neither ‖Φ‖ nor the stopping measure falls below STALL_DECREASE times
+#: its best value (twice the longest such run that still converged on the
+#: thesis's meshes, in φ_FB's gradient phases).
 STALL_ITERATIONS = 30
 STALL_DECREASE = 0.9
 
@@ -89,11 +84,10 @@ DEFAULT_OPTIONS = {
 
 
 #: φ_min's Jacobian is singular at some B-subdifferential elements of a
-#: degenerate formulation (the thesis's split (110)/(111) where p = 0):
-#: rows whose |A_i − B_i| is below this fraction of max(|A|, |B|) are then
-#: read as exact ties, and their ∇A_i row tried instead (one more Jacobian,
-#: counted). Without it, whether the thesis split runs on the 2-DOF bar
-#: depended on the round-off sign of g_t ≈ ±3e-17 in load step 37.
+#: degenerate formulation (the thesis's split where p = 0): rows whose
+#: |A_i − B_i| is below this fraction of max(|A|, |B|) are then read as
+#: exact ties and their ∇A_i row tried (one more Jacobian, counted), so
+#: that the round-off sign of a tie does not decide the run.
 TIE_RTOL = 1e-12
 
 

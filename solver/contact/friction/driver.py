@@ -84,39 +84,25 @@ def run_friction(problem, geometry, engine, friction, steps=None,
     r"""Quasi-static Coulomb friction in load steps (thesis §5, (110)/(111)).
 
     The driver behind :func:`solver.solve` with ``friction`` f_c, whose
-    docstring explains the options; every option arrives resolved and
-    checked (:mod:`solver.front`), on the ``geometry`` of the contact nodes
-    that take part, with ``engine``'s linear algebra. Here:
+    docstring explains the options; they arrive resolved and checked, with
+    the ``geometry`` of the contact nodes that take part and the ``engine``.
+    ``steps`` κc: step κ applies κ/κc · f (a problem's ``load_path`` has its
+    own stages and takes none). ``tol``, ``max_iter``, ``options`` are per
+    step: ‖[E; min(A, k̄B)]‖₂ ≤ tol·max(‖f‖₂, ‖f_κ‖₂, ‖λ⁺‖₂); every converged
+    step is verified (:func:`~solver.contact.verify.verify_contact`, the
+    Coulomb bound included), the last also against the original K and f, and
+    a step that fails ends the run (status 6). ``gap_scale`` c: 1 on the full
+    system, :data:`GAP_WEIGHT`·k̄ condensed. ``on_step(fields)`` is called
+    once per completed step, in order (condensed: up to
+    :data:`~.stream.BATCH` steps late), also when an exception ends the run;
+    ``keep_steps`` False keeps only the records. ``candidates``: condense
+    onto the d DOFs of candidate nodes only (round-0 ``margin``).
 
-    ``steps`` κc: step κ applies κ/κc · f (default 100); a problem with a
-    ``load_path`` follows its stages (steps, loads, friction multipliers)
-    and takes no ``steps``. ``tol``, ``max_iter``, ``options`` are per step:
-    ‖[E; min(A, k̄B)]‖₂ (the system's ``error``) ≤
-    tol·max(‖f‖₂, ‖f_κ‖₂, ‖λ⁺‖₂); every converged step is then verified
-    (:func:`~solver.contact.verify.verify_contact`, the Coulomb bound
-    |t| ≤ f_c λ included), the last one also against the original K and f
-    when condensed, and a step that fails ends the run (status 6).
-    ``gap_scale`` c defaults to 1 on the full system, :data:`GAP_WEIGHT`·k̄
-    condensed (Φ then in force units: iterates independent of the units).
-    ``condense``: every step's system condensed exactly onto Γc (one
-    factorisation of K), or in all unknowns (the counts of Table 2).
-    ``on_step(fields)`` is called once per completed step, in order; on the
-    condensed system up to :data:`~.stream.BATCH` steps late (their
-    displacements recovered in one solve), and an exception (KeyboardInterrupt
-    included) still delivers every completed step first. ``keep_steps``
-    False keeps only the records. ``candidates``: condense onto the d DOFs of
-    candidate nodes only (:mod:`~solver.contact.strategies.
-    friction_candidates`, round-0 margin ``margin``).
-
-    Returns
-    -------
-    ContactResult
-        ``success``, ``message``, ``steps_completed``, ``failed_step``
-        (None or κ), totals ``njev``, ``nfev``, ``nit``, ``time``, the
-        per-step arrays (first axis: the completed steps) and the per-step
-        ``records`` listed in docs/results.md ("A friction run"),
-        ``verification`` (the worst of every completed step's checks) and
-        ``stopping`` (that of the step with the largest relative measure)."""
+    Returns a ContactResult: ``success``, ``message``, ``steps_completed``,
+    ``failed_step``, totals ``njev``, ``nfev``, ``nit``, ``time``, the
+    per-step arrays and ``records`` of docs/results.md ("A friction run"),
+    ``verification`` (the worst step's) and ``stopping`` (the step with the
+    largest relative measure)."""
     path = problem.load_steps(steps)
     steps = problem.n_load_steps(steps)
     start = time.perf_counter()

@@ -44,10 +44,8 @@ __all__ = ["ReducedJacobian", "DUAL", "DUAL_MAX_FRICTION"]
 DUAL = True
 
 #: The implicit bound's slip rows q_t,i + k_i q_n,i = h_t,i (|k_i| = f_c)
-#: put q_t,i = h_t,i − k_i q_n,i into the dual system: the error of the
-#: computed q_n,i (through the explicit C = T⁻¹, ~cond(T)·eps) reaches q_t,i
-#: times f_c. Up to f_c = 1 that is no worse than the lagged bound's dual
-#: form; larger f_c solve M_FF (benchmarks/README.md).
+#: pass the error of q_n,i (through C = T⁻¹, ~cond(T)·eps) to q_t,i times
+#: f_c: above this f_c the primal M_FF is solved (benchmarks/README.md).
 DUAL_MAX_FRICTION = 1.0
 
 

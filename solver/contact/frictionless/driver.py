@@ -41,41 +41,26 @@ def run_frictionless(problem, geometry, engine, method="min", tol=1e-10,
     r"""Solve the frictionless contact problem (67) by semismooth Newton.
 
     The driver behind :func:`solver.solve` for frictionless contact, whose
-    docstring explains the options; every option arrives resolved and
-    checked (:mod:`solver.front`), on the ``geometry`` of the contact nodes
-    that take part, with ``engine``'s linear algebra. Here:
-
-    ``tol`` is relative to the force scale F of the iterate
-    (:mod:`solver.contact.verify`): scaling K and f by any factor, or all
-    lengths, gives the same verdict, and the condensed and nested solves
-    (c = k̄) take the same iterates; the full system's thesis choice c = 1
-    compares a force with a length in φ(λ, c(s − u_n)), so its Newton path
-    (not its verdict or answer) depends on the units. ``gap_scale`` c
-    defaults to 1 on the full system, k̄ condensed. ``condense``: factorise K
-    once and iterate on (67) condensed exactly onto Γc
-    (:class:`~solver.contact.strategies.reduction.CondensedSystem`), or the
-    thesis's system in all Ñ unknowns, one sparse LU per iteration (the
-    counts of Table 1). ``start``: "nested" (:mod:`~solver.contact.
-    strategies.nested`), "free" (λ = 0, u = K⁻¹f), "x0" (from ``x0``, read on
-    the condensed DOFs when condensed) or "zero" (the thesis's u = 0).
-    ``candidates``: condense onto the normal DOFs of candidate nodes only
-    (:mod:`~solver.contact.strategies.candidates`, screening margin
+    docstring explains the options; they arrive resolved and checked, with
+    the ``geometry`` of the contact nodes that take part and the ``engine``.
+    ``tol`` is relative to the force scale of the iterate
+    (:mod:`solver.contact.verify`): the verdict does not depend on the units,
+    nor do the condensed and nested iterates (c = k̄; the full system's
+    thesis choice c = 1 makes its path, not its answer, depend on them).
+    ``condense``: iterate on (67) condensed exactly onto Γc after one
+    factorisation of K, or on the thesis's system in all Ñ unknowns (one
+    sparse LU per iteration, the counts of Table 1). ``start``: "nested",
+    "free" (λ = 0), "x0" or "zero" (the thesis's u = 0). ``candidates``:
+    condense onto the normal DOFs of candidate nodes only (screening
     ``margin``). ``max_iter`` counts all levels and rounds together.
 
-    Returns
-    -------
-    ContactResult
-        The NCP result (``success``, ``status``, ``message``, ``nit``,
-        ``njev``, ``nfev``, ``history``) plus the answer's arrays over all
-        nodes of Γc (docs/results.md, "A frictionless solve") and what ran:
-        ``condensation`` ("contact": every DOF of Γc; "normal candidates";
-        "none": the full system), ``candidates`` (the screening of
-        :func:`~solver.contact.strategies.candidates.solve_on_candidates`, or
-        None), ``start``, ``levels`` (per-level counts of a nested start),
-        ``linear_solver``, ``stopping`` and ``verification``
-        (:func:`~solver.contact.verify.verify_contact`). An answer that meets
-        the stopping test but fails verification is reported with ``success``
-        False and ``status`` 6, its history kept."""
+    Returns a ContactResult: the NCP result (``success``, ``status``,
+    ``message``, ``nit``, ``njev``, ``nfev``, ``history``), the answer over
+    all nodes of Γc (docs/results.md, "A frictionless solve"), and
+    ``condensation``, ``candidates``, ``start``, ``levels``,
+    ``linear_solver``, ``stopping`` and ``verification``; an answer that
+    meets the stopping test but fails verification has ``success`` False and
+    ``status`` 6."""
     clock = time.perf_counter()
     load_norm = stable_norm(problem.f)
     stiffness = contact_stiffness(problem.K, geometry)

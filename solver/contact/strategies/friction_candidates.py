@@ -123,20 +123,15 @@ def surface_adjacency(problem, geometry):
 
 def friction_on_candidates(solve, problem, friction, geometry, engine,
                            margin, kwargs):
-    """The friction driver (:func:`~solver.contact.friction.driver.
-    run_friction`, passed as ``solve``) on the candidates of ``geometry``
-    (module docstring), with ``engine``'s linear algebra.
-
-    ``kwargs`` are the driver's other arguments (``gap_scale`` set:
-    that of the whole Γc, so that the Newton iterates are those of the run
-    on every contact DOF). Returns its result with the fields of every node
-    of Γc (non-candidates: λ = 0, t = 0; their tangential displacement and
-    gap, normal filled in), ``verification`` including every node's gap,
-    ``condensation`` "candidates" and ``candidates``: ``margin`` δ₀,
-    ``rounds`` (per round: ``stage`` "screening" or "steps",
-    ``n_candidates``, ``penetrating`` (non-candidates), ``step`` (the step
-    that failed the check, or None), ``time``), ``n_candidates`` (final),
-    ``enlarged``."""
+    """The friction driver (``solve``, :func:`~solver.contact.friction.
+    driver.run_friction`) on the candidates of ``geometry`` (module
+    docstring), ``kwargs`` its other arguments (``gap_scale`` that of the
+    whole Γc: the iterates of the run on every contact DOF). Returns its
+    result with the fields of every node of Γc (non-candidates: λ = 0,
+    t = 0), ``verification`` including every node's gap, ``condensation``
+    "candidates" and ``candidates``: ``margin`` δ₀, ``rounds`` (``stage``,
+    ``n_candidates``, ``penetrating``, ``step`` that failed the check or
+    None, ``time``), ``n_candidates`` and ``enlarged``."""
     start = time.perf_counter()
     kwargs = dict(kwargs)
     on_step, progress = kwargs.pop("on_step"), kwargs.pop("progress")

@@ -35,10 +35,9 @@ __all__ = ["DEFAULT_SAMPLES", "grid_start", "local_grid_start",
 #: Samples per parameter of the start grid over a shared parameter box.
 DEFAULT_SAMPLES = 65
 
-#: Start samples kept per point, nearest first: a point whose Newton run
-#: ends on an edge of the box without being a foot point there (the start
-#: was in the wrong basin, e.g. the wrong copy of a periodic parameter)
-#: restarts from the next candidate farther than two grid spacings away.
+#: Start samples kept per point, nearest first: a run that ends on an edge
+#: of the box without a foot point there (the wrong basin) restarts from
+#: the next one farther than two grid spacings away.
 CANDIDATES = 12
 
 _EPS = np.finfo(float).eps
