@@ -124,54 +124,41 @@ def solve_ncp(fun, jac, x0, method="min", tol=1e-10, max_iter=100,
     ----------
     fun, jac : callable
         ``fun(x) -> (E, A, B)``: the equality residual and the complementary
-        pair (thesis (15)); ``jac(x) -> (JE, JA, JB)``: their Jacobians,
-        sparse or dense with n columns, or a structured Jacobian (module
-        docstring).
+        pair (thesis (15)); ``jac(x) -> (JE, JA, JB)`` their Jacobians (sparse
+        or dense, n columns) or a structured Jacobian (module docstring).
     x0 : (n,) array
         Starting point.
     method : {"min", "fb"}
         Damped Newton with φ_min (thesis §2.2.1) or the Fischer–Burmeister
         method of De Luca, Facchinei and Kanzow (§2.2.2).
-    tol : float
-        Relative tolerance of the stopping test error(x) ≤ tol·scale(x), with
-        error = ‖Φ(x)‖₂ (thesis Step 1) and scale = 1 unless the callables
-        below are given. When both are homogeneous of the same degree in the
-        problem's units (forces, for :mod:`solver.contact`), the verdict and
-        the iterates do not depend on the units. A scale of 0 demands an
-        exact zero residual.
-    max_iter : int
-        Maximum number of Newton iterations (Jacobian evaluations).
+    tol, max_iter
+        The stopping test error(x) ≤ tol·scale(x), error = ‖Φ(x)‖₂ (thesis
+        Step 1) and scale = 1 unless the callables below are given (with both
+        homogeneous of one degree in the problem's units, verdict and iterates
+        do not depend on them); at most ``max_iter`` Jacobians.
     options : dict, optional
-        Method options, :data:`DEFAULT_OPTIONS`: ``alpha_min`` (min); ``rho``,
-        ``p``, ``beta``, ``max_halvings``, ``z`` (``z(gamma)``: the direction
-        of rule (31) on the boolean mask γ) and ``typical`` (fb; (force,
-        length), typical sizes of Φ and of x: the descent test (26) is then
-        applied to Φ/force and x/length, ∇ψᵀd/force² ≤ −ρ(‖d‖/length)ᵖ,
-        independent of units; None: the thesis's (26) as printed).
+        :data:`DEFAULT_OPTIONS`: ``alpha_min`` (min); ``rho``, ``p``,
+        ``beta``, ``max_halvings``, ``z`` (``z(gamma)``: rule (31)'s direction
+        on the mask γ) and ``typical`` (fb; (force, length) of Φ and x: the
+        descent test (26) then reads ∇ψᵀd/force² ≤ −ρ(‖d‖/length)ᵖ).
     callback : callable, optional
         ``callback(x, record)`` after every iteration.
     error, scale : callable, optional
-        ``error(E, A, B) -> float``, the measure of the stopping test, for
-        rows of Φ in different units (the iteration itself still works with
-        Φ); ``scale(E, A, B) -> float ≥ 0``, the problem's own size at x in
-        the units of ``error``, making ``tol`` relative.
+        ``error(E, A, B)``, the stopping measure, for rows of Φ in different
+        units (the iteration itself still works with Φ); ``scale(E, A, B)``,
+        the problem's own size at x in the units of ``error``.
 
     Returns
     -------
     OptimizeResult
         ``x``, ``success``, ``status`` (:data:`MESSAGES`), ``message``,
-        ``nit``, ``njev``, ``nfev`` (line search included), ``fun`` (Φ at x),
-        ``residual`` (‖Φ(x)‖), ``error``, ``stopping`` (``test``, ``tol``,
-        ``scale``, ``absolute``, ``relative``), ``method``, ``time`` and
-        ``history``: per-iteration lists ``residual``, ``error`` (before the
-        step), ``merit`` (ψ = ½‖Φ‖²), ``alpha``, ``step`` ("newton" or
-        "gradient"), ``active`` (rows with A_i > B_i) and
-        ``line_search_failed``.
-
-    Besides ``max_iter`` a run ends without converging when it stops making
-    progress (status 5: :data:`STALL_ITERATIONS`; a tol below what floating
-    point reaches ends so, and the message says when the residual is at
-    round-off level) or meets a non-finite residual, x or scale (status 4)."""
+        ``nit``, ``njev``, ``nfev``, ``fun`` (Φ at x), ``residual``, ``error``,
+        ``stopping`` (``test``, ``tol``, ``scale``, ``absolute``,
+        ``relative``), ``method``, ``time`` and ``history`` (per iteration:
+        ``residual``, ``error``, ``merit``, ``alpha``, ``step``, ``active``,
+        ``line_search_failed``). A run that stops making progress ends with
+        status 5 (:data:`STALL_ITERATIONS`), a non-finite value with status 4.
+    """
     if method not in NCP_FUNCTIONS:
         raise ValueError(f"unknown method {method!r}; use one of "
                          f"{NCP_FUNCTIONS}")

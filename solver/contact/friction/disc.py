@@ -2,45 +2,33 @@ r"""The Newton system of a condensed 3D friction step with the tractions
 eliminated (projection onto the Coulomb disc, :mod:`.projection`).
 
 On the system condensed onto Γc or onto candidate nodes (S dense n×n,
-n = 3m) the projection form has the unknowns x = [Δu; ĝ] (ĝ = g_t/c_t,
-2m) and the rows (ĝ columns scaled by c_t)
+n = 3m) the unknowns x = [Δu; ĝ] (ĝ = g_t/c_t, 2m) have the rows
 
 .. math::
     (RS)_t\,dΔu − D_t c_t\,dĝ = −F_1, \qquad
     P_u\,dΔu + c_t (I − P_w)\,dĝ = −F_2, \qquad
     N\,dΔu = −F_3,
 
-with P_w the per-node 2×2 blocks ∂P/∂w of the projection onto the disc
-(stick: I; slip: |b|/|w| (I − ŵŵᵀ)), P_u = c_t P_w R_t − ŵ ∂b/∂Δu (the
-last term at slip nodes with the implicit bound only) and N = diag(w_a)JA
-+ diag(w_b)JB the NCP rows of the normal pairs (Hüeber, Stadler & Wohlmuth
-2008; Alart & Curnier 1991). D_t c_t is a positive diagonal, so the first
-row gives dĝ = D_t⁻¹c_t⁻¹((RS)_t dΔu + F_1) exactly (a slip node with
-|b|/|w| ≤ 1/2 takes dĝ from its own projection row instead, where I − P_w
-is invertible: exact for b = 0), and what is left is one dense n×n system
-in dΔu:
+P_w the per-node blocks ∂P/∂w (stick: I; slip: |b|/|w| (I − ŵŵᵀ)),
+P_u = c_t P_w R_t − ŵ ∂b/∂Δu (implicit bound, slip nodes) and N the NCP
+rows of the normal pairs (Hüeber, Stadler & Wohlmuth 2008; Alart &
+Curnier 1991). The first row gives dĝ = D_t⁻¹c_t⁻¹((RS)_t dΔu + F_1) (a
+slip node with |b|/|w| ≤ 1/2 takes dĝ from its own row instead, exact
+for b = 0), and what is left is one dense n×n system,
 
 .. math::
     \begin{bmatrix} P_u + (I − P_w) D_t^{-1} (RS)_t \\ N \end{bmatrix}
     dΔu = \begin{bmatrix} −F_2 − (I − P_w) D_t^{-1} F_1 \\ −F_3
     \end{bmatrix},
 
-factorised by LAPACK: n³/3 flops instead of (5n/3)³/3 for the whole J.
-The direction is that of J d = −F up to round-off; J is singular exactly
-when this matrix is.
-
-Units of the projection rows: :class:`DiscSystem` returns them as nodal
-forces D(g − P(w)) (D = ``lumped_t``), like the equilibrium and normal
-rows. The Newton direction is the same, but the merit ‖Φ‖ of the line
-searches then weighs every row in force units, as the stopping measure
-does; as tractions they weigh 1/D more, and the damped Newton rejects full
-steps that the stopping measure would accept (benchmarks/README.md, "3D
-friction: the projection rows in force units").
-
-Rollers: a roller's constrained tangent e_c has no equilibrium row and
-w_c ≡ 0, so its projection row is c_t dĝ_c = −F_2,c (ĝ_c stays 0), ∂P/∂w
-loses the e_c column and (RS)_t, R_t have zero rows there. The matrix
-above keeps the free tangents' rows only: square as without rollers."""
+n³/3 flops instead of (5n/3)³/3 for the whole J, singular exactly when J
+is. :class:`DiscSystem` returns the projection rows as nodal forces
+D(g − P(w)), like the other rows: the same direction, but the line
+searches' merit then weighs every row in force units, as the stopping
+measure does (benchmarks/README.md, "3D friction: the projection rows in
+force units"). A roller's constrained tangent e_c has no equilibrium row
+and w_c ≡ 0: its row is c_t dĝ_c = −F_2,c and ∂P/∂w loses its column, so
+the matrix keeps the free tangents' rows and stays square."""
 
 import warnings
 

@@ -3,33 +3,26 @@ r"""Coulomb friction condensed onto the candidate nodes.
 The condensed friction run works on the Schur complement S of K on every
 DOF of Γc: in 3D a dense (3Nc)² matrix whose Newton systems cost (5Nc)³.
 A node that never touches carries no force (λ = 0, so the Coulomb disc
-f_c p has radius 0 and t = 0), so only the d DOFs of the *candidates*
-need to stay: the same run (:func:`~solver.contact.friction.driver.
-run_friction`, condensed, projection form) on their geometry, S of size
-3m, m ≪ Nc.
+has radius 0 and t = 0), so only the d DOFs of the *candidates* need to
+stay: the same run on their geometry, S of size 3m, m ≪ Nc.
 
-Choosing them (the rule of :mod:`solver.contact.strategies.candidates`):
-the frictionless problem at the final load, on the normal candidates,
-gives every node's remaining gap and contact set; the first friction
-candidates are that set and :data:`RINGS` rings of its neighbours along
-the contact triangles, or the nodes with s − u_n ≤ δ (``margin``; default
-:data:`RING_FRACTION` of its range), or the initial-gap rule without
-contact. Each load step's non-candidates are checked as it is delivered,
-s − u_n ≥ −tol_v·F/k̄; a penetration enlarges the set
-(:func:`enlarge_candidates`) and the run restarts. Rollers are candidates
-like any other node.
+Choosing them: the frictionless problem at the final load, on the normal
+candidates (:mod:`solver.contact.strategies.candidates`), gives every
+node's remaining gap and contact set; the first friction candidates are
+that set and :data:`RINGS` rings of its neighbours along the contact
+triangles, or the nodes with s − u_n ≤ ``margin`` (default
+:data:`RING_FRACTION` of its range). Each load step's non-candidates are
+checked as the step is delivered; a penetration enlarges the set and the
+run **restarts from the first step**: friction is path-dependent, and the
+new candidates then share the full problem's history (the zero state).
 
-Exactness. A step whose non-candidates all keep s − u_n ≥ 0 solves the
-full problem's step: at a non-candidate λ = 0, t = 0 and the Coulomb
-radius is 0 (the node was never in contact), and the condensation onto
-the candidates is exact for forces acting on them only. If step κ fails,
-the run **restarts from the first step** with the larger set: friction is
-path-dependent, and the new candidates then share the full problem's
-history (the zero state). Steps already delivered to ``on_step`` are not
-delivered twice; a failure may be found up to a
-:data:`~solver.contact.friction.stream.BATCH` late, which costs time, not
-exactness. After :data:`~solver.contact.strategies.candidates.MAX_ROUNDS`
-rounds the last run takes every node.
+Exactness: a step whose non-candidates all keep s − u_n ≥ 0 solves the
+full problem's step (at a non-candidate λ = 0, t = 0, the Coulomb radius
+is 0, and the condensation is exact for forces acting on the candidates
+only). Delivered steps are not delivered twice; a failure may be found up
+to a :data:`~solver.contact.friction.stream.BATCH` late (time, not
+exactness). After :data:`~solver.contact.strategies.candidates.
+MAX_ROUNDS` rounds the last run takes every node.
 
 References
 ----------

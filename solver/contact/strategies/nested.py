@@ -1,34 +1,26 @@
 r"""Nested iteration on Γc: a coarse-to-fine start for the condensed system.
 
-From the cold start λ = 0 (u = K⁻¹f) every penetrating node looks active;
-Newton with φ_min, the primal-dual active set method here, releases only
-part of that excess per iteration, so its count grows like log Nc.
-Nested iteration (full multigrid's start; Hüeber and Wohlmuth use it for
-their active set contact solver) removes that growth: solve the same
-contact problem with constraints at every other node of Γc, then at every
-other of those, …, down to a handful of nodes; solve the coarsest from
-cold and each finer level from the one below it, whose active set it
-starts with. A level of m nodes costs O(m³), so all coarser levels
-together cost less than one more iteration on the finest.
+From the cold start λ = 0 every penetrating node looks active; Newton
+with φ_min, the primal-dual active set method here, releases only part of
+that excess per iteration, so its count grows like log Nc. Nested
+iteration (full multigrid's start; Hüeber and Wohlmuth use it for their
+active set solver) removes that growth: solve with constraints at every
+other node of Γc, then every other of those, …, down to a handful of
+nodes; solve the coarsest from cold and each finer level from the one
+below it. A level of m nodes costs O(m³): all coarser levels together
+cost less than one more iteration on the finest.
 
-The coarse problems are exact, not a coarser mesh: level ℓ + 1 keeps the
-nodes ``keep`` of level ℓ and condenses the others (r) out of its Schur
-complement with no contact force on them,
+The coarse problems are exact: level ℓ + 1 keeps the nodes ``keep`` of
+level ℓ and condenses the others (r) out with no contact force on them,
 
 .. math:: S_{ℓ+1} = S_{kk} − S_{kr} S_{rr}^{-1} S_{rk}, \qquad
           w_{ℓ+1} = (w_ℓ)_k,
 
-w = K⁻¹f the unconstrained displacement (g̃ = S w). A level's solution is
-prolonged by that same equilibrium: u_r = w_r − S_{rr}^{-1}S_{rk}(u_k −
-w_k). Level ℓ's system is (67) with K → S_ℓ, f → S_ℓ w_ℓ, its gap rows
-scaled by k̄ (force units: with c = 1 φ_min's line search, comparing ‖Φ‖,
-rejects good steps from such a start; the solution is the same for every
-c).
-
-The coarsening keeps every other node *in the order of Γc*, the order
-along the boundary curve in 2D, which a 3D contact surface does not have:
-3D uses the free start (a spatial coarsening would be its counterpart,
-not built).
+w = K⁻¹f (g̃ = S w); a solution is prolonged by that same equilibrium,
+u_r = w_r − S_{rr}^{-1}S_{rk}(u_k − w_k). The gap rows are scaled by k̄
+(with c = 1 φ_min's line search rejects good steps from such a start).
+The coarsening follows the order of Γc along the 2D curve; a 3D surface
+has none and starts free.
 
 References
 ----------

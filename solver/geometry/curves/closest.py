@@ -17,40 +17,21 @@ def gap_from_obstacle(points, curve, body_normals, *, window=None,
                       node_ids=None, warn=True):
     r"""Gaps measured from the obstacle: nearest obstacle point (§2.1.1).
 
-    For every node *B* the nearest point :math:`\Gamma_o(t)` of the obstacle
-    among the foot points :math:`f(t) = (\Gamma_o(t) - B)\cdot\Gamma_o'(t)
-    = 0` (*f* rising through zero: local minima of the distance); ν is the
-    obstacle's normal there (1)-(2), normalised (7) and oriented from the
-    body towards the obstacle, and :math:`s = (\Gamma_o(t) - B)\cdot\nu`
-    (signed |k|, errata to (3)).
+    For every contact node *B* (``points`` (n, 2), undeformed) the nearest
+    point :math:`\Gamma_o(t)` of ``curve`` among the foot points
+    :math:`f(t) = (\Gamma_o(t) - B)\cdot\Gamma_o'(t) = 0` (*f* rising: local
+    minima of the distance); ν is the obstacle's normal there (1)-(2),
+    normalised (7) and oriented from the body towards the obstacle by the
+    body's outward ``body_normals``, and :math:`s = (\Gamma_o(t) - B)\cdot\nu`
+    (signed |k|, errata to (3)). ``window``: the interval searched (default
+    :func:`parameter_window`) with ``samples`` samples; ``min_cosine``: the
+    smallest accepted :math:`|\nu\cdot n|`; ``node_ids`` label the nodes in
+    messages.
 
-    Parameters
-    ----------
-    points, curve, body_normals
-        The contact nodes *B* (n, 2), undeformed; the obstacle; the body's
-        outward normals there ((n, 2) or (2,), any length: they only orient
-        ν and reject grazing configurations).
-    window, samples
-        The parameter interval searched (default :func:`parameter_window`)
-        and its number of samples of *t* (minima of the distance closer
-        together than the sample spacing may be missed).
-    min_cosine, node_ids
-        The smallest accepted :math:`|\nu\cdot n|`; the nodes' labels for
-        error messages (default: their index).
-
-    Returns
-    -------
-    (gap, normal, t): the signed gaps *s* (negative past the obstacle), the
-    unit obstacle normals ν (the contact direction) and the parameters of
-    the nearest points.
-
-    Raises
-    ------
-    GapError
-        If for some node the nearest point is an end of the obstacle where the
-        distance is not perpendicular to it, or an end of an artificial
-        window (too small), or :math:`|\nu\cdot n| <` ``min_cosine``, or the
-        obstacle has no tangent there."""
+    Returns (gap, normal, t). GapError where the nearest point is an end of
+    the obstacle not perpendicular to it, or an end of a too small window,
+    where :math:`|\nu\cdot n| <` ``min_cosine``, or where the obstacle has no
+    tangent."""
     points, body, (t0, t1), ts, curve_ends = search_setup(
         points, body_normals, curve, window, samples)
     if not len(points):  # no free contact node: nothing to measure
