@@ -126,13 +126,10 @@ def _gauss(n):
     return 0.5 * (p + 1), 0.5 * w
 
 
-def _assemble(slave_nodes, n_nodes, D_parts, rows, cols, vals, nodes,
-              normal, variant):
+def _assemble(slave_nodes, n_nodes, D, rows, cols, vals, nodes, normal,
+              variant):
     """MortarCoupling from the triplets of M and the diagonal D."""
     ns = len(slave_nodes)
-    D = np.zeros(ns)
-    for where, value in D_parts:
-        np.add.at(D, where, value)
     M = sp.csr_matrix((vals, (rows, cols)), shape=(ns, n_nodes))
     M.sum_duplicates()
     gap = np.einsum("ij,ij->i", normal, M @ nodes - D[:, None]
@@ -146,14 +143,11 @@ def _assemble(slave_nodes, n_nodes, D_parts, rows, cols, vals, nodes,
 PAIR_CHUNK = 200_000
 
 
-def mortar_coupling(nodes, slave, master, slave_nodes=None,
-                    n_gauss=N_GAUSS, search=None):
-    """The dual mortar D, M, n_j, g̃_j of slave segments ``slave`` against
-    master segments ``master`` (module docstring), vectorised over the facing
-    segment pairs of :func:`candidate_pairs` (in chunks of
-    :data:`PAIR_CHUNK`), rows in the order ``slave_nodes`` (default
-    :func:`chain_order`); pairs farther apart than ``search`` (default
-    :func:`default_reach`) along the slave normal are left out."""
+def _interface(nodes, slave, master, slave_nodes):
+    """The arrays both couplings start from: nodes, slave, master,
+    slave_nodes (default :func:`chain_order`), each node's row ``pos`` (−1
+    off the slave side), slave normals and lengths, master normals, the
+    slave nodal normals and D (the tributary lengths)."""
     nodes = np.asarray(nodes, float)
     slave, master = np.asarray(slave, np.int64), np.asarray(master, np.int64)
     slave_nodes = chain_order(slave) if slave_nodes is None \
@@ -163,6 +157,22 @@ def mortar_coupling(nodes, slave, master, slave_nodes=None,
     n_s, ls = segment_normals(nodes, slave)
     n_m, _ = segment_normals(nodes, master)
     normal = nodal_normals(nodes, slave, slave_nodes)
+    D = np.zeros(len(slave_nodes))
+    np.add.at(D, pos[slave[:, 0]], ls / 2)
+    np.add.at(D, pos[slave[:, 1]], ls / 2)
+    return nodes, slave, master, slave_nodes, pos, n_s, ls, n_m, normal, D
+
+
+def mortar_coupling(nodes, slave, master, slave_nodes=None,
+                    n_gauss=N_GAUSS, search=None):
+    """The dual mortar D, M, n_j, g̃_j of slave segments ``slave`` against
+    master segments ``master`` (module docstring), vectorised over the facing
+    segment pairs of :func:`candidate_pairs` (in chunks of
+    :data:`PAIR_CHUNK`), rows in the order ``slave_nodes`` (default
+    :func:`chain_order`); pairs farther apart than ``search`` (default
+    :func:`default_reach`) along the slave normal are left out."""
+    nodes, slave, master, slave_nodes, pos, n_s, ls, n_m, normal, D = \
+        _interface(nodes, slave, master, slave_nodes)
     reach = default_reach(nodes, slave, master) if search is None \
         else float(search)
     I, J = candidate_pairs(nodes, slave, master, reach)
@@ -174,9 +184,8 @@ def mortar_coupling(nodes, slave, master, slave_nodes=None,
              for i in range(0, max(len(I), 1), PAIR_CHUNK)]
     rows, cols, vals = (np.concatenate([p[k] for p in parts])
                         for k in range(3))
-    return _assemble(slave_nodes, len(nodes),
-                     [(pos[slave[:, 0]], ls / 2), (pos[slave[:, 1]], ls / 2)],
-                     rows, cols, vals, nodes, normal, "mortar")
+    return _assemble(slave_nodes, len(nodes), D, rows, cols, vals, nodes,
+                     normal, "mortar")
 
 
 def default_reach(nodes, slave, master):
@@ -259,15 +268,8 @@ def node_to_segment(nodes, slave, master, slave_nodes=None):
     segment nearest x_j (closest point η_j); coverage 0 where that point is
     an end of the master chain outside it. Dense over node × segment (a
     comparison tool for the patch test, not for large interfaces)."""
-    nodes = np.asarray(nodes, float)
-    slave, master = np.asarray(slave, np.int64), np.asarray(master, np.int64)
-    slave_nodes = chain_order(slave) if slave_nodes is None \
-        else np.asarray(slave_nodes, np.int64)
-    pos = np.full(len(nodes), -1)
-    pos[slave_nodes] = np.arange(len(slave_nodes))
-    _, ls = segment_normals(nodes, slave)
-    n_m, _ = segment_normals(nodes, master)
-    normal = nodal_normals(nodes, slave, slave_nodes)
+    nodes, slave, master, slave_nodes, _, _, _, n_m, normal, D = \
+        _interface(nodes, slave, master, slave_nodes)
     x = nodes[slave_nodes][:, None]                    # (ns, 1, 2)
     xc, e = nodes[master[:, 0]], nodes[master[:, 1]] - nodes[master[:, 0]]
     t = np.einsum("ijk,jk->ij", x - xc, e) / (e * e).sum(axis=1)
@@ -277,14 +279,10 @@ def node_to_segment(nodes, slave, master, slave_nodes=None):
     k = np.argmin(dist, axis=1)
     j = np.arange(len(slave_nodes))
     eta = t[j, k]
-    D = np.zeros(len(slave_nodes))
-    np.add.at(D, pos[slave[:, 0]], ls / 2)
-    np.add.at(D, pos[slave[:, 1]], ls / 2)
     inside = (eta > -1e-9) & (eta < 1 + 1e-9) & np.isfinite(dist[j, k])
     eta = np.clip(eta, 0, 1)
     rows = np.concatenate([j, j])
     cols = np.concatenate([master[k, 0], master[k, 1]])
     vals = np.concatenate([D * (1 - eta), D * eta]) * np.tile(inside, 2)
-    return _assemble(slave_nodes, len(nodes),
-                     [(pos[slave[:, 0]], ls / 2), (pos[slave[:, 1]], ls / 2)],
-                     rows, cols, vals, nodes, normal, "node-to-segment")
+    return _assemble(slave_nodes, len(nodes), D, rows, cols, vals, nodes,
+                     normal, "node-to-segment")

@@ -40,19 +40,28 @@ def _array(address, ctype, size):
                                  (size,))
 
 
-def trailing_block(F, order, m):
-    """L₂₂ (dense m×m, lower) of the factor F = PAPᵀ = LLᵀ with P =
-    ``order``, or None if F is not the supernodal real LLᵀ factor of that
-    order (then nothing is read beyond the header)."""
+def _factor(F):
+    """(the ``cholmod_factor`` struct, its address) of kvxopt's capsule F,
+    or (None, None) if F is not a CHOLMOD capsule."""
     api = ctypes.pythonapi
     api.PyCapsule_GetName.restype = ctypes.c_char_p
     api.PyCapsule_GetName.argtypes = [ctypes.py_object]
     api.PyCapsule_GetPointer.restype = ctypes.c_void_p
     api.PyCapsule_GetPointer.argtypes = [ctypes.py_object, ctypes.c_char_p]
     name = api.PyCapsule_GetName(F)
-    if not name or not name.startswith(b"CHOLMOD") or order is None:
+    if not name or not name.startswith(b"CHOLMOD"):
+        return None, None
+    pointer = api.PyCapsule_GetPointer(F, name)
+    return _Factor.from_address(pointer), pointer
+
+
+def trailing_block(F, order, m):
+    """L₂₂ (dense m×m, lower) of the factor F = PAPᵀ = LLᵀ with P =
+    ``order``, or None if F is not the supernodal real LLᵀ factor of that
+    order (then nothing is read beyond the header)."""
+    f, _ = _factor(F)
+    if f is None or order is None:
         return None
-    f = _Factor.from_address(api.PyCapsule_GetPointer(F, name))
     n = len(order)
     if (f.n, f.minor, f.is_ll, f.is_super, f.xtype, f.dtype) != \
             (n, n, 1, 1, 1, 0) or f.itype not in (0, 2) or not f.nsuper:
@@ -120,16 +129,9 @@ def solve_columns(F, sys, B):
     call (CHOLMOD's supernodal sweeps as BLAS-3), or None if that is not
     possible (then use kvxopt's ``cholmod.solve``, which calls it once per
     column)."""
-    api = ctypes.pythonapi
-    api.PyCapsule_GetName.restype = ctypes.c_char_p
-    api.PyCapsule_GetName.argtypes = [ctypes.py_object]
-    api.PyCapsule_GetPointer.restype = ctypes.c_void_p
-    api.PyCapsule_GetPointer.argtypes = [ctypes.py_object, ctypes.c_char_p]
-    name = api.PyCapsule_GetName(F)
-    if not name or not name.startswith(b"CHOLMOD"):
+    f, pointer = _factor(F)
+    if f is None:
         return None
-    pointer = api.PyCapsule_GetPointer(F, name)
-    f = _Factor.from_address(pointer)
     B = np.asfortranarray(B, dtype=np.float64)
     n, k = B.shape
     lib = _cholmod_library()
