@@ -22,7 +22,7 @@ import scipy.sparse as sp
 
 from .base import Factor, check_pivots
 from .cholmod_struct import solve_columns, trailing_block
-from .superlu import order_with_last, refuse
+from .superlu import refuse, schur_last
 
 __all__ = ["NAME", "EXTRA", "REQUIRES", "LICENCE", "USES_ORDER",
            "available", "factorize", "CholmodFactor"]
@@ -52,10 +52,7 @@ class CholmodFactor(Factor):
         L = sp.tril(sp.csr_matrix(A, dtype=np.float64), format="coo")
         self.n = n = L.shape[0]
         if schur is not None:
-            self.schur_dofs = c = np.asarray(schur, np.int64).ravel()
-            if order is None or not np.array_equal(order[n - len(c):], c):
-                order = order_with_last(A, c) if order is None else \
-                    np.concatenate([np.setdiff1d(order, c, True), c])
+            self.schur_dofs, order = schur_last(A, order, schur)
         self._order = None if order is None else np.asarray(order)
         lower = spmatrix(matrix(L.data), matrix(L.row.astype(np.int64)),
                          matrix(L.col.astype(np.int64)), (n, n))
@@ -81,7 +78,7 @@ class CholmodFactor(Factor):
         if check:
             check_pivots(pivots, name)
         if schur is not None:
-            self.S = self._schur(len(c))
+            self.S = self._schur(len(self.schur_dofs))
 
     def _schur(self, m):
         """S = L₂₂L₂₂ᵀ, L₂₂ read in place (:mod:`.cholmod_struct`) and

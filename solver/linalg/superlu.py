@@ -20,7 +20,8 @@ from ..errors import ProblemError
 from .base import Factor, check_pivots, not_positive_definite
 
 __all__ = ["NAME", "EXTRA", "REQUIRES", "LICENCE", "USES_ORDER",
-           "available", "factorize", "Factorization", "refuse"]
+           "available", "factorize", "Factorization", "refuse",
+           "schur_last"]
 
 NAME, EXTRA, REQUIRES = "superlu", None, "scipy"
 LICENCE = "BSD-3-Clause (SuperLU, SciPy)"
@@ -42,6 +43,17 @@ def order_with_last(A, last):
     return np.concatenate([order[keep[order]], last])
 
 
+def schur_last(A, order, schur):
+    """(c, the order): the Schur set c = ``schur`` and an elimination order
+    of A that ends with c (``order`` if it does, else ``order`` without c
+    then c, or :func:`order_with_last`)."""
+    c = np.asarray(schur, np.int64).ravel()
+    if order is not None and np.array_equal(order[len(order) - len(c):], c):
+        return c, order
+    return c, order_with_last(A, c) if order is None else \
+        np.concatenate([np.setdiff1d(order, c, True), c])
+
+
 class Factorization(Factor):
     r"""PKPᵀ = LDLᵀ of a symmetric positive definite matrix (SuperLU).
 
@@ -58,10 +70,7 @@ class Factorization(Factor):
         A = sp.csc_matrix(A, dtype=np.float64)
         self.n = n = A.shape[0]
         if schur is not None:
-            self.schur_dofs = c = np.asarray(schur, np.int64).ravel()
-            if order is None or not np.array_equal(order[n - len(c):], c):
-                order = order_with_last(A, c) if order is None else \
-                    np.concatenate([np.setdiff1d(order, c, True), c])
+            self.schur_dofs, order = schur_last(A, order, schur)
         self.order = order = None if order is None else np.asarray(order)
         key = f"{name}_data"
         if order is not None:

@@ -14,7 +14,7 @@ from .scene import moved_obstacle, obstacle_in_box
 __all__ = ["UNITS", "magnification", "carries_load", "zoom_window",
            "zoomed_axes", "finish_overview", "plot_deformed",
            "plot_displacement_arrows", "step_halvings", "plot_convergence",
-           "plot_contact_pressure", "write_figures"]
+           "plot_contact_pressure", "write_jobs", "write_figures"]
 
 
 #: The unit convention of every axis label (stated once, here).
@@ -387,12 +387,23 @@ def plot_contact_pressure(problem, result, path=None):
     return save_png(fig, path)
 
 
-def write_figures(folder, problem, result):
-    """Write the four figures into ``folder``; return their paths."""
+def write_jobs(folder, jobs):
+    """Run each (name, job) of ``jobs``, job(path) drawing a figure into
+    ``folder``/name.png; close the figures and return their paths by
+    name."""
     import os
 
     plt = pyplot()
     paths = {}
+    for name, job in jobs:
+        path = os.path.join(folder, f"{name}.png")
+        plt.close(job(path))
+        paths[name] = path
+    return paths
+
+
+def write_figures(folder, problem, result):
+    """Write the four figures into ``folder``; return their paths."""
     jobs = [("convergence", lambda p: plot_convergence(result, p)),
             ("contact_pressure",
              lambda p: plot_contact_pressure(problem, result, p))]
@@ -401,9 +412,5 @@ def write_figures(folder, problem, result):
                                                        path=p)),
                  ("displacement",
                   lambda p: plot_displacement_arrows(problem, result, p))]
-    for name, job in jobs:
-        path = os.path.join(folder, f"{name}.png")
-        plt.close(job(path))
-        paths[name] = path
-    return paths
+    return write_jobs(folder, jobs)
 

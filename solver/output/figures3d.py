@@ -138,15 +138,9 @@ def write_figures3d(folder, problem, result, reference=None):
     """The figures of a 3D frictionless solve for ``--plots``: the Newton
     convergence and the pressure against the radius (``reference``, default
     decided from the problem and the solve); their paths by name."""
-    from .figures import plot_convergence
+    from .figures import plot_convergence, write_jobs
 
-    plt = pyplot()
-    paths = {}
     jobs = [("convergence", lambda p: plot_convergence(result, p)),
             ("pressure_radius", lambda p: plot_pressure_vs_radius(
                 problem, result, p, reference=reference))]
-    for name, job in jobs:
-        path = os.path.join(folder, f"{name}.png")
-        plt.close(job(path))
-        paths[name] = path
-    return paths
+    return write_jobs(folder, jobs)

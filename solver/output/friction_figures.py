@@ -6,7 +6,7 @@ import numpy as np
 
 from .figures import (arc_length, legend_outside, pyplot, save_png,
                       carries_load, finish_overview, plot_deformed,
-                      zoomed_axes)
+                      write_jobs, zoomed_axes)
 
 __all__ = ["ROUND_OFF", "friction_force", "history_nodes", "tidy_panel",
            "plot_step_history", "plot_friction_along_boundary",
@@ -213,11 +213,8 @@ def write_friction_figures(folder, problem, result):
     """Per-step history; for a 2D mesh also the deformed body and
     tractions along Γc at the last completed step (3D: the history only;
     the tractions are in the VTU steps). Returns the paths."""
-    import os
     from types import SimpleNamespace
 
-    plt = pyplot()
-    paths = {}
     jobs = [("history", lambda p: plot_step_history(problem, result,
                                                      path=p))]
     if problem.kind == "mesh" and getattr(problem, "dim", 2) == 2:
@@ -231,8 +228,4 @@ def write_friction_figures(folder, problem, result):
                  ("friction_along_gc",
                   lambda p: plot_friction_along_boundary(problem, result,
                                                          path=p))]
-    for name, job in jobs:
-        path = os.path.join(folder, f"{name}.png")
-        plt.close(job(path))
-        paths[name] = path
-    return paths
+    return write_jobs(folder, jobs)

@@ -11,8 +11,11 @@ the thesis intends: the tangential row uses the lumped boundary matrix
 D = diag(Σ_j M_ij) and p is the lumped contact pressure p_i = λ_i / D_ii ≥
 0, so |g_t,i| ≤ f_c p_i is |t_i| ≤ f_c λ_i for the nodal friction force
 t_i = D_ii g_t,i: Coulomb's law on nodal forces (for the 2-DOF bar D = 1).
+``coulomb="lagged"`` uses p = p_{κ−1} (the thesis: Coulomb as a sequence
+of Tresca problems); ``"implicit"`` the current step's p(u), with its
+derivative in the Jacobian.
 
-Formulations. ``"thesis"`` (110)/(111), :mod:`.split`: unknowns
+Formulations. ``"thesis"`` (110)/(111), :mod:`.split` (2D): unknowns
 x = [Δu; g_t; Δu_t⁺; Δu_t⁻] with
 
 .. math::
@@ -24,25 +27,16 @@ x = [Δu; g_t; Δu_t⁺; Δu_t⁻] with
 (X drops the tangential and normal rows of contact nodes, Z keeps the
 tangential ones (77)). Where p = 0 the last two pairs only give g_t = 0
 and leave the split Δu_t± non-unique: J is singular there, and φ_FB falls
-back to gradient steps (errata). ``"projection"`` (beyond the thesis),
-:mod:`.projection`: unknowns x = [Δu; g_t] and the semismooth projection
-(Alart & Curnier 1991; Hüeber, Stadler & Wohlmuth 2008)
+back to gradient steps (errata). ``"projection"`` (beyond the thesis; 2D
+and 3D, rollers included), :mod:`.projection`: unknowns x = [Δu; g_t] and
+the semismooth projection onto the disc |g_t| ≤ f_c p (Alart & Curnier
+1991; Hüeber, Stadler & Wohlmuth 2008)
 
 .. math::  g_t = \mathrm{proj}_{[−f_c p,\, f_c p]}(g_t − c_t\, ZRΔu),
 
 non-degenerate: p = 0 gives g_t = 0, and c_t > 0 only changes the Newton
-path. In 3D g_t ∈ R^{d−1} per node in the tangent basis and the clip
-becomes the projection onto the disc |g_t| ≤ f_c p; the split is 2D-only.
-The condensed Newton systems are reduced in 2D (:mod:`.newton`) and have
-the tractions eliminated in 3D (:mod:`.disc`).
-
-Rollers: at a node with u_c = 0 along a symmetry plane's normal e_c the
-row along e_c is a support reaction, not friction: the projection form
-keeps g_t,c ≡ 0 there and drops that tangential equilibrium row, so that
-the Coulomb set is the disc cut to the free tangents; exact for loads
-symmetric about the plane. ``coulomb="lagged"`` uses p = p_{κ−1} (the
-thesis: Coulomb as a sequence of Tresca problems); ``"implicit"`` the
-current step's p(u), with its derivative in the Jacobian.
+path. Its condensed Newton systems are reduced in 2D (:mod:`.newton`) and
+have the tractions eliminated in 3D (:mod:`.disc`).
 
 References
 ----------

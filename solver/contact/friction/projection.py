@@ -6,8 +6,10 @@ Comput. 30 (2008) 572), in place of the thesis's split (:mod:`.driver`).
 
 P(w) = w·min(1, b/|w|); at a stick node (|w| < b) ∂P/∂w = I, at a slip
 node ∂P/∂w = (b/|w|)(I − ŵŵᵀ) and ∂P/∂b = ŵ; in 2D the clip onto
-[−b, b]. At a roller w_c ≡ 0: the e_c column of ∂P/∂w drops and the row
-of g_c is g_c itself."""
+[−b, b]. At a roller (:mod:`solver.contact.geometry`) the row along e_c
+is a support reaction, not friction: w_c ≡ 0, the e_c column of ∂P/∂w
+drops and the row of g_c is g_c itself, so the Coulomb set is the disc
+cut to the free tangents (exact for loads symmetric about the plane)."""
 
 import numpy as np
 import scipy.linalg as sla_dense

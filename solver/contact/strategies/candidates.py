@@ -167,6 +167,7 @@ def solve_on_candidates(problem, geometry, method, tol, max_iter, x0,
     from ...ncp import solve_ncp
     from ..frictionless.system import FrictionlessSystem
     from ..verify import force_scale, verification_tolerance
+    from .nested import add_run
 
     if margin is None and geometry.dim == 2:
         margin = np.inf  # every free node of the curve Γc (docstring)
@@ -191,11 +192,7 @@ def solve_on_candidates(problem, geometry, method, tol, max_iter, x0,
                            options=options, error=system.error,
                            scale=system.scale)
         budget -= result.nit
-        for key in totals:
-            totals[key] += result[key]
-        for key, values in result.history.items():
-            history.setdefault(key, []).extend(values)
-        history.setdefault("round", []).extend([k] * result.nit)
+        add_run(totals, history, result, "round", k)
         lam = np.zeros(len(geometry.gap))
         lam[nodes] = system.contact_force(result.x)
         u, un = condensation.displacement(result.x)

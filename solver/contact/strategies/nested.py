@@ -39,7 +39,8 @@ from ...linalg.threads import single_blas_thread
 from ...ncp import solve_ncp
 from ..frictionless.system import FrictionlessSystem
 
-__all__ = ["COARSEST", "ContactLevel", "contact_levels", "solve_nested"]
+__all__ = ["COARSEST", "ContactLevel", "contact_levels", "solve_nested",
+           "add_run"]
 
 #: Coarsening stops when a level has at most this many contact nodes.
 COARSEST = 8
@@ -110,6 +111,17 @@ def _coarsen(level, geometry):
                         _subset(geometry, nodes))
 
 
+def add_run(totals, history, result, label, value):
+    """Add one NCP run to a chain of them: its counts to ``totals``, its
+    history to ``history``, and ``value`` per iteration to
+    ``history[label]`` (the level or round each iteration ran on)."""
+    for key in totals:
+        totals[key] += result[key]
+    for key, values in result.history.items():
+        history.setdefault(key, []).extend(values)
+    history.setdefault(label, []).extend([value] * result.nit)
+
+
 def solve_nested(levels, method="min", tol=1e-10, max_iter=100,
                  gap_scale=1.0, stiffness=1.0, options=None, load_norm=None):
     """Solve the condensed frictionless system level by level, coarsest
@@ -160,12 +172,7 @@ def solve_nested(levels, method="min", tol=1e-10, max_iter=100,
                            scale=system.scale)
         budget -= result.nit
         u = result.x if result.success or result.status == 1 else None
-        for key in totals:
-            totals[key] += result[key]
-        for key, values in result.history.items():
-            history.setdefault(key, []).extend(values)
-        history.setdefault("level", []).extend([len(level.nodes)] *
-                                               result.nit)
+        add_run(totals, history, result, "level", len(level.nodes))
         report.append(dict(n_nodes=len(level.nodes), nit=result.nit,
                            njev=result.njev, nfev=result.nfev,
                            success=bool(result.success),
