@@ -5,18 +5,9 @@ A Python reproduction of the bachelor thesis "Numerical solution of the
 contact problem of elastic bodies" (Plzeň, 2017). The finite element model
 (K, f, M) is exported by the SfePy problem files in ``sfepy_problems/`` to
 an ``.npz`` file (:mod:`solver.problem`); this package reads it and never
-imports SfePy.
-
-Public API: :func:`solve` (every contact problem, :mod:`solver.front`;
-``solve_frictionless``, ``solve_friction`` and ``solve_two_body`` are the
-same front under their earlier names) and what it returns,
-:class:`ContactResult`; the problem format (``load_problem``,
-``save_problem``, ``ContactProblem``, ``FORMAT_VERSION``); obstacle
-curves (``ParametricCurve``, ``parse_expression``); the §6 bar
-(``two_dof_bar``); gaps and frames (``contact_geometry``); the FE-free
-Newton methods (``solve_ncp``, ``DEFAULT_OPTIONS``); what works where
-(``support_table``); the input errors (``SolverError``, ``ProblemError``,
-``ExpressionError``, ``GapError``)."""
+imports SfePy. The entry point is :func:`solve` (:mod:`solver.front`;
+``solve_frictionless``, ``solve_friction`` and ``solve_two_body`` are it
+under earlier names); ``__all__`` lists the rest of the public API."""
 
 from .errors import ExpressionError, ProblemError, SolverError
 from .geometry.curves import GapError

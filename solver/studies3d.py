@@ -6,13 +6,12 @@ The quarter model (``sfepy_problems/hertz_sphere.py``) is pressed by a
 prescribed approach; its total force is then a result, P = 4 Σ λ_i
 ν_i·(−e_z), and Hertz's a and p0 follow from that P. The contact radius is
 measured from the first moment of the nodal contact forces (no fit) and by
-a least-squares fit of p0 √(1 − r²/a²) through the nodal pressures. The
-nodal pressure is the lumped λ_i/D_ii (exact for a uniform pressure); the
-consistent M⁻¹λ, an L² projection, overshoots where Hertz's profile has an
-infinite slope, at r = a (``notebooks/three_d.ipynb``; ``pressure=``
-selects it). Hertz's paraboloid is itself off a true sphere by O((a/R)²)
-(:func:`solver.verification.sphere_flat_contact`: at a = 0.05 R a Hertz fit
-of the exact pressure has p0 +0.06 % and a −0.03 %)."""
+a least-squares fit of p0 √(1 − r²/a²) through the nodal pressures: the
+lumped λ_i/D_ii (exact for a uniform pressure) or, with ``pressure=``, the
+consistent M⁻¹λ, an L² projection that overshoots where Hertz's profile
+has an infinite slope, at r = a (``notebooks/three_d.ipynb``). Hertz's
+paraboloid is itself off a true sphere by O((a/R)²)
+(:func:`solver.verification.sphere_flat_contact`)."""
 
 import numpy as np
 

@@ -1,16 +1,12 @@
 """Reading the members of a problem file safely (docs/npz-format.md,
-"Safe reading").
-
-A problem file may be hostile: a zip bomb, an ``.npy`` header that claims
-10¹⁰ entries, index arrays far larger than the matrix, thousands of
-members. :func:`load_problem` opens the ``.npz`` with :mod:`zipfile`
-itself and hands the validation a lazy mapping, :class:`Archive`, which
-lists the members by name only, reads one only when the validation asks
-for it, and checks its header against the sizes already known **before
-decompressing** it; then it reads exactly the declared bytes, in chunks
-(row pointers checked to rise as they are read). So a bad file costs no
-more memory than a good one of its declared size, and every failure is a
-one-line :class:`~solver.errors.ProblemError` naming the member."""
+"Safe reading"): a hostile file (a zip bomb, an ``.npy`` header that claims
+10¹⁰ entries, huge index arrays, thousands of members) costs no more memory
+than a good one of its declared size. :class:`Archive` is a lazy mapping
+that reads a member only when the validation asks for it, checks its
+header against the sizes already known *before decompressing* it, then
+reads exactly the declared bytes in chunks (row pointers checked to rise
+as they come); every failure is a one-line
+:class:`~solver.errors.ProblemError` naming the member."""
 
 import os
 import struct

@@ -1,21 +1,18 @@
 r"""The ``.npz`` problem format: its version, keys and size limits.
 
-A problem file carries everything the contact solver needs and nothing it
-must guess: a plain NumPy ``.npz`` archive of numeric and unicode arrays
-(no pickled objects), written by :func:`solver.problem.save_problem` and
-read by :func:`solver.problem.load_problem`, which validates every key and
-names the offending one. Two kinds share it: ``"mesh"`` (a finite element
-model and a rigid obstacle, or two bodies; the solver computes gaps and
-normals, thesis §2.1) and ``"discrete"`` (a small system with given gaps
-and normals, the thesis's §6 bar). d = 2 or 3 is the number of columns of
-``contact_dofs``. Notation (thesis §3.2): Ñ reduced DOFs, Nc contact
-nodes, in any order (``contact_dofs`` says where their DOFs are).
+A problem file is a plain NumPy ``.npz`` archive of numeric and unicode
+arrays (no pickled objects), written by :func:`solver.problem.save_problem`
+and read and validated by :func:`solver.problem.load_problem`. Two kinds
+share it: ``"mesh"`` (a finite element model and a rigid obstacle, or two
+bodies; the solver computes gaps and normals, thesis §2.1) and
+``"discrete"`` (given gaps and normals, the thesis's §6 bar). d = 2 or 3
+is the number of columns of ``contact_dofs``. Notation (thesis §3.2): Ñ
+reduced DOFs, Nc contact nodes, in any order.
 
 Versions (docs/npz-format.md, "Versions"): 1 is the 2D layout, 3 adds 3D,
-4 two elastic bodies in contact (2D); 2 was never written. A file without
-the newer keys reads the same under every version. The table :data:`KEYS`
-is the specification; ``docs/npz-format.md`` is generated from it
-(:func:`format_table`)."""
+4 two elastic bodies in contact (2D); 2 was never written. The table
+:data:`KEYS` is the specification; ``docs/npz-format.md`` is generated
+from it (:func:`format_table`)."""
 
 __all__ = ["FORMAT_VERSION", "READ_VERSIONS", "DIMS", "KEYS", "KINDS",
            "ONLY_2D", "TWO_BODY", "TWO_BODY_VERSION", "META_REQUIRED",

@@ -1,14 +1,10 @@
-"""Validation of the mesh keys of a problem file and of its geometry.
-
-The keys common to 2D and 3D, the 2D contact boundary and obstacle curve
-(3D: :mod:`solver.problem.geometry3d`; two bodies:
-:mod:`solver.problem.two_body`). The geometry must be one double precision
-can resolve and the thesis's normals (§2.1.3) can be computed on:
-coordinates within :data:`COORDINATE_LIMIT`, a body at least
-:data:`RESOLUTION` times as large as its distance from the origin, a
-contact boundary of two nodes or more without coincident or zero-area
-parts (docs/npz-format.md, "Validation"). Failures raise a ProblemError
-naming the key and the nodes."""
+"""Validation of the mesh keys of a problem file and of its geometry: the
+keys common to 2D and 3D, the 2D contact boundary and obstacle curve (3D:
+:mod:`solver.problem.geometry3d`; two bodies: :mod:`solver.problem.
+two_body`), by the rules of docs/npz-format.md ("Validation"): a geometry
+double precision can resolve (:data:`COORDINATE_LIMIT`,
+:data:`RESOLUTION`) and on which the thesis's normals (§2.1.3) can be
+computed. Failures raise a ProblemError naming the key and the nodes."""
 
 import numpy as np
 

@@ -1,11 +1,8 @@
-"""Validation of a 3D mesh (format version 3): tetrahedra (none flat,
-|6V| ≤ :data:`FLAT_RTOL` · L³, all of one orientation), the contact
-surface (outward triangles, each the face of one tetrahedron) and the
-obstacle surface (a sphere's radius at most
-1/:data:`~solver.geometry.checks.RESOLUTION` times the body's size), the
-rules of docs/npz-format.md ("3D"). Vectorised over the faces; failures
-raise a one-line :class:`~solver.errors.ProblemError` naming the key and
-the element."""
+"""Validation of a 3D mesh (format version 3) by the rules of
+docs/npz-format.md ("3D"): tetrahedra (none flat, |6V| ≤
+:data:`FLAT_RTOL` · L³, one orientation), the contact surface and the
+obstacle surface. Vectorised over the faces; failures raise a one-line
+:class:`~solver.errors.ProblemError` naming the key and the element."""
 
 import numpy as np
 

@@ -1,11 +1,7 @@
-"""The ``meta`` key: a JSON object parsed safely.
-
-The metadata of a problem file (material E, ν, plane; load; mesh name) is
-JSON text. A hostile file can make :func:`json.loads` recurse without
-bound, return integers of thousands of digits (which overflow every float
-conversion), the non-standard ``NaN`` and ``Infinity`` (invalid JSON for
-``--info --json``) or strings with lone surrogates (which cannot be
-printed); each is refused with a one-line ProblemError."""
+"""The ``meta`` key: the problem's metadata (material E, ν, plane; load;
+mesh name) as JSON text, parsed safely. Unbounded recursion, integers of
+thousands of digits, the non-standard ``NaN`` and ``Infinity`` and strings
+with lone surrogates are each refused with a one-line ProblemError."""
 
 import json
 import math

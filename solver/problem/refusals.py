@@ -1,14 +1,10 @@
-"""What a solve would refuse in a loaded problem, found without solving.
-
-Loading checks every key, but two input errors only show when a solve
-starts: a K that is not positive definite (a floating body) and an
-obstacle whose gaps cannot be found at the contact nodes (a normal line
-that misses it, a surface out of range). :func:`refusals` runs exactly
-those checks (:meth:`ContactProblem.check_stiffness`, one sparse
-factorisation, and the gap search of the solve's gap mode at every
-contact node with a free DOF), so that ``--info`` says what the solve
-would refuse instead of exiting 0. A discrete problem carries its gaps
-and a two-body problem's are the mortar's: for both only K is checked."""
+"""What a solve would refuse in a loaded problem, found without solving,
+so that ``--info`` says so instead of exiting 0: a K that is not positive
+definite (a floating body; :meth:`ContactProblem.check_stiffness`) and an
+obstacle whose gaps cannot be found at the contact nodes (the gap search
+of the solve's gap mode at every contact node with a free DOF). A
+discrete problem carries its gaps and a two-body problem's are the
+mortar's: for both only K is checked."""
 
 import numpy as np
 

@@ -1,14 +1,8 @@
-"""Validation of the two-body keys of a 2D mesh file (format version 4).
-
-Two elastic bodies in one mesh, in contact through an interface given as
-slave and master segments (dual mortar, Wohlmuth 2000; Popp, Gee & Wall,
-IJNME 79, 2009); the solver computes the mortar matrices D, M and the
-weighted gaps from them (:mod:`solver.geometry.mortar`). The rules checked
-here are those of docs/npz-format.md ("Two bodies"): body ids, segments
-that are boundary edges with the body on their left, pairs, the slave
-chains in ``contact_nodes``, a block-diagonal K and the ``meta`` fields
-(:func:`solver.problem.meta.check_bodies`); each failure a one-line
-:class:`~solver.errors.ProblemError` naming the key. 2D only."""
+"""Validation of the two-body keys of a 2D mesh file (format version 4):
+two elastic bodies in one mesh, their interface given as slave and master
+segments (dual mortar, :mod:`solver.geometry.mortar`), checked by the
+rules of docs/npz-format.md ("Two bodies"); each failure a one-line
+:class:`~solver.errors.ProblemError` naming the key."""
 
 import numpy as np
 

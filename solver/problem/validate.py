@@ -1,9 +1,6 @@
-"""Validation of the ``.npz`` arrays of a problem file (all keys):
-:func:`validate_fields` checks every key of
-:data:`~solver.problem.format.KEYS`, the mesh geometry
-(:mod:`solver.problem.geometry`) and the two-body keys
-(:mod:`solver.problem.two_body`), and raises a ProblemError naming the
-first offending key."""
+"""Validation of the ``.npz`` arrays of a problem file: every key of
+:data:`~solver.problem.format.KEYS`, the mesh geometry (:mod:`.geometry`)
+and the two-body keys (:mod:`.two_body`)."""
 
 from collections.abc import Mapping
 

@@ -26,12 +26,10 @@ def gap_from_obstacle(points, curve, body_normals, *, window=None,
     (signed |k|, errata to (3)). ``window``: the interval searched (default
     :func:`parameter_window`) with ``samples`` samples; ``min_cosine``: the
     smallest accepted :math:`|\nu\cdot n|`; ``node_ids`` label the nodes in
-    messages.
-
-    Returns (gap, normal, t). GapError where the nearest point is an end of
-    the obstacle not perpendicular to it, or an end of a too small window,
-    where :math:`|\nu\cdot n| <` ``min_cosine``, or where the obstacle has no
-    tangent."""
+    messages. Returns (gap, normal, t); GapError where the nearest point is an
+    end of the obstacle or of a too small window not perpendicular to it,
+    where :math:`|\nu\cdot n| <` ``min_cosine``, or where there is no tangent.
+    """
     points, body, (t0, t1), ts, curve_ends = search_setup(
         points, body_normals, curve, window, samples)
     if not len(points):  # no free contact node: nothing to measure

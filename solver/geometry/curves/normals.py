@@ -12,13 +12,10 @@ spline is **parametric**: with the cumulative chord length
 as parameter, ``x(s)`` and ``y(s)`` are each interpolated by a natural
 cubic spline (:math:`P''(s_1) = P''(s_{n+1}) = 0` as in (14)), the unit
 tangent is :math:`T_i = X'(s_i) / |X'(s_i)|` and the normal *T* turned by
-±90°, outward by the mesh (:func:`outward_sign`).
-
-Accuracy (on arcs of a circle, ``tests/test_normals.py``): order 4 in the
-node spacing *h* away from the ends for smoothly graded nodes (order 3 if
-the spacing jumps); the natural end condition is wrong for a curved
-boundary, so the two end nodes converge with order 1 (the error decays
-into the chain by 2 − √3 ≈ 0.27 per node). Exact on a straight chain.
+±90°, outward by the mesh (:func:`outward_sign`). Fourth order in the node
+spacing away from the ends, exact on a straight chain; the natural end
+condition is wrong for a curved boundary, so the two end nodes are first
+order (``tests/test_normals.py``).
 
 Corners: one spline through a corner of the body rounds it off, and the
 gaps along the tilted normals past it can change sign, so
@@ -69,11 +66,9 @@ def _check_points(points):
 
 
 def spline_tangents(points):
-    r"""Unit tangents (n, 2) of the natural cubic spline through the
-    ordered ``points`` (n ≥ 2), pointing from ``points[0]`` towards
-    ``points[-1]``: the spline parametrised by cumulative chord length, fitted
-    to ``x(s)`` and ``y(s)`` separately with natural end conditions (thesis
-    (8)-(14), parametric instead of y = P(x)); with two points, the segment."""
+    r"""Unit tangents (n, 2) of the parametric natural cubic spline through
+    the ordered ``points`` (n ≥ 2; module docstring), pointing from
+    ``points[0]`` towards ``points[-1]``; with two points, the segment."""
     points = _check_points(points)
     s = chord_parameters(points)
     # Scaled to unit length first: coordinates of 1e-300 or 1e300 would
@@ -101,15 +96,11 @@ def outward_sign(nodes, cells, chain):
     r"""Which rotation of the chain's tangent points out of the body: 1 if
     the outward normal is the tangent turned clockwise, :math:`(T_y, -T_x)`
     (the body lies left of the direction of travel), −1 if counter-clockwise.
-
-    ``chain`` (n ≥ 2) lists the nodes of Γc in order; every edge
-    ``(chain[i], chain[i+1])`` must be a side of exactly one of the triangles
-    ``cells`` (a boundary edge), whose third vertex *c* lies inside the body:
-    with :math:`e = X_b - X_a`, :math:`(e_y, -e_x)` points outward iff
-    :math:`(X_c - X_a) \cdot (e_y, -e_x) < 0`. GeometryError (naming the
-    nodes) if the chain has fewer than 2 nodes, an edge is not a boundary
-    edge, a triangle on Γc has zero area, or the edges disagree about the
-    side of the body."""
+    Every edge (a, b) of the ordered ``chain`` (n ≥ 2) must be a side of
+    exactly one of the triangles ``cells``, whose third vertex *c* lies inside
+    the body: :math:`(e_y, -e_x)`, :math:`e = X_b - X_a`, points outward iff
+    :math:`(X_c - X_a) \cdot (e_y, -e_x) < 0`. GeometryError naming the nodes
+    otherwise, for a zero-area triangle on Γc, or if the edges disagree."""
     nodes = np.asarray(nodes, dtype=float)
     cells = np.asarray(cells, dtype=np.int64)
     chain = np.asarray(chain, dtype=np.int64)

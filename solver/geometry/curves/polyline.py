@@ -1,13 +1,10 @@
-r"""Piecewise linear rigid obstacles given as points.
-
-A polyline Γo through points P_0, …, P_n is parametrised by arc length t
-(t_0 = 0 at P_0), so it offers the interface of
-:class:`~.parametric.ParametricCurve` (``point``, ``derivative``,
-``second_derivative``, ``t_range``) and the gap functions of
-:mod:`solver.geometry.curves` work with it unchanged. The tangent jumps at
-the inner vertices (kinks); there ``derivative`` returns the tangent of the
-segment that starts at the vertex, and a nearest point on a kink takes the
-direction from the node to it as its normal."""
+r"""Piecewise linear rigid obstacles given as points: a polyline Γo
+through P_0, …, P_n parametrised by arc length t (t = 0 at P_0), with the
+interface of :class:`~.parametric.ParametricCurve`, so that the gap
+functions of :mod:`solver.geometry.curves` work with it unchanged. At an
+inner vertex (a kink) ``derivative`` returns the tangent of the segment
+that starts there, and a nearest point on a kink takes the direction from
+the node to it as its normal."""
 
 import numpy as np
 
@@ -19,12 +16,11 @@ __all__ = ["PolylineCurve"]
 
 
 class PolylineCurve:
-    """A polyline obstacle through the vertices ``points`` (n + 1, 2),
-    parametrised by arc length, ``t_range`` (0, total length): n ≥ 1
+    """A polyline obstacle through the vertices ``points`` (n + 1, 2): n ≥ 1
     segments of positive length, coordinates within
-    :data:`~solver.geometry.checks.COORDINATE_LIMIT` (as the body's);
-    ``search_interval`` is the arc-length interval searched for the gaps
-    (default: all of it)."""
+    :data:`~solver.geometry.checks.COORDINATE_LIMIT`; ``t_range`` (0, total
+    length); ``search_interval`` the interval searched for the gaps (default:
+    all of it)."""
 
     def __init__(self, points, search_interval=None):
         points = np.asarray(points, dtype=float)

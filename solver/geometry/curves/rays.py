@@ -23,19 +23,14 @@ def gap_along_normals(points, normals, curve, *, window=None,
     .. math::  h(t) = (\Gamma_o(t) - B) \times \nu
                = (x(t) - b_1)\,\nu_2 - (y(t) - b_2)\,\nu_1,
 
-    with :math:`k = (\Gamma_o(t) - B)\cdot\nu`. The intersection with the
-    smallest :math:`|k|` is taken and :math:`s = k`: positive when the
-    obstacle lies ahead along the outward normal (errata to (6): the
-    distance is :math:`|k|\,|\nu|`).
-
-    ``points`` (n, 2) are the undeformed contact nodes, ``normals`` the
-    body's outward normals there (e.g. :func:`~.normals.boundary_normals`,
-    normalised here), ``curve`` the obstacle; the other arguments as in
-    :func:`~.closest.gap_from_obstacle`, ``min_cosine`` bounding
-    :math:`|\nu_o\cdot\nu|` at the intersection. Returns (gap, normal, t):
-    s = k, the unit body normals ν (the contact direction) and the
-    parameters of the intersections. GapError if a normal line does not meet
-    the obstacle inside the window or meets it at a grazing angle."""
+    with :math:`k = (\Gamma_o(t) - B)\cdot\nu`; the one of smallest
+    :math:`|k|` is taken and :math:`s = k` (errata to (6): the distance is
+    :math:`|k|\,|\nu|`). ``normals``: the body's outward normals at
+    ``points`` (e.g. :func:`~.normals.boundary_normals`, normalised here); the
+    other arguments as in :func:`~.closest.gap_from_obstacle`, ``min_cosine``
+    bounding :math:`|\nu_o\cdot\nu|`. Returns (gap, normal, t): s, ν (the
+    contact direction) and the intersections' parameters. GapError if a
+    normal line misses the obstacle inside the window or meets it grazing."""
     points, nu, (t0, t1), ts, curve_ends = search_setup(
         points, normals, curve, window, samples)
     if not len(points):  # no free contact node: nothing to measure

@@ -2,8 +2,8 @@ r"""Outward normals of the body's contact surface in 3D.
 
 The 3D counterpart of :mod:`solver.geometry.curves.normals` (§2.1.3): the
 contact surface is a set of triangles (``contact_faces``), oriented so
-that the right-hand rule gives the body's outward normal. Three nodal
-normals:
+that the right-hand rule gives the body's outward normal (inconsistently
+oriented faces are refused). Three nodal normals:
 
 ``"angle"`` (default)
     facet normals weighted by the triangle's angle at the node (Thürmer &
@@ -22,13 +22,7 @@ normals:
     ill-conditioned. As the 2D splines end at corners
     (:data:`~solver.geometry.curves.normals.CORNER_ANGLE`), neighbours
     whose angle-weighted normal turns by more than that angle are left out
-    of the fit: next to an edge of the body it is one-sided.
-
-On a jittered sphere the angle-weighted normals converge with order 1 and
-the smooth ones with order 3 (``tests/test_surface_normals.py``). The
-normals follow the faces' orientation (a surface patch alone cannot tell
-inside from outside); inconsistently oriented faces are refused.
-Vectorised over nodes (``bincount`` sums, sparse adjacency products)."""
+    of the fit: next to an edge of the body it is one-sided."""
 
 import numpy as np
 import scipy.sparse as sp
