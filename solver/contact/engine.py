@@ -1,16 +1,13 @@
 r"""The engine: who does the linear algebra of a contact solve.
 
-The drivers (:mod:`.frictionless.driver`, :mod:`.friction.driver`) and the
-strategies (:mod:`.strategies`) never factorise K themselves: they ask an
-*engine*, the way a qpsolvers-style front hands a problem to a backend,
-for K condensed onto a set of DOFs (:meth:`~SerialEngine.condensation`),
-K̂ = RKRᵀ condensed onto candidate normal DOFs
+The drivers and strategies never factorise K themselves: they ask an
+*engine* (as a qpsolvers-style front hands a problem to a backend) for K
+condensed onto a set of DOFs (:meth:`~SerialEngine.condensation`), K̂ =
+RKRᵀ condensed onto candidate normal DOFs
 (:meth:`~SerialEngine.normal_condensation`) or the full system's Jacobian
-(:meth:`~SerialEngine.full_jacobian`), and report ``name``,
-``linear_solver`` and :meth:`~SerialEngine.summary`. :class:`SerialEngine`
-runs in this process on a :mod:`solver.linalg` backend;
-:class:`solver.mpi.engine.PetscEngine` on the ranks of ``mpiexec``.
-Nothing else in the contact code knows which."""
+(:meth:`~SerialEngine.full_jacobian`). :class:`SerialEngine` runs in this
+process on a :mod:`solver.linalg` backend,
+:class:`solver.mpi.engine.PetscEngine` on the ranks of ``mpiexec``."""
 
 from ..linalg import Condensation, resolve
 

@@ -153,16 +153,13 @@ def problem_dim(problem):
 
 def contact_geometry(problem, gap="obstacle", rollers=False):
     """Gaps and normals of ``problem`` (thesis §2.1), with ``gap``
-    "obstacle" (nearest obstacle point, ν its normal, §2.1.1) or "body" (ν the
-    body's outward normal, §2.1.2-2.1.3; :mod:`solver.geometry.curves`,
-    :mod:`solver.geometry.surfaces`); discrete problems carry theirs.
-
-    ``rollers``: False (the thesis's runs): a node with a Dirichlet DOF is a
-    support; True (what :func:`solver.solve` asks for): the rollers and the
-    oblique nodes take part (module docstring). The nodes left out, and why,
-    are recorded in ``excluded`` with their gaps where these can be computed.
-    An obstacle penetrating a node that takes part is reported by an
-    :class:`~solver.errors.InitialPenetrationWarning` naming the nodes."""
+    "obstacle" (nearest obstacle point, ν its normal, §2.1.1) or "body" (ν
+    the body's outward normal, §2.1.2-2.1.3); discrete problems carry theirs.
+    ``rollers``: False (the thesis's runs) makes a node with a Dirichlet DOF
+    a support; True (:func:`solver.solve`'s default) lets the rollers and the
+    oblique nodes take part (module docstring). The nodes left out are
+    recorded in ``excluded``; an obstacle penetrating a node that takes part
+    is reported by an :class:`~solver.errors.InitialPenetrationWarning`."""
     constrained = problem.contact_dofs < 0
     eligible = ~constrained.all(axis=1) if rollers \
         else ~constrained.any(axis=1)
@@ -319,15 +316,11 @@ def rotation(n, geometry):
 
 
 def rotate_stiffness(K, R, dofs):
-    """K̂ = R K Rᵀ (thesis (60)) for R of :func:`rotation`, which is the
-    identity outside the contact DOFs ``dofs`` (``geometry.free_dofs()``).
-
-    Only the rows and columns ``dofs`` change, so they alone are computed:
-    X = (R K Rᵀ)_{dofs,:} = R_cc K_{dofs,:} Rᵀ (a few rows), its block on
-    ``dofs`` symmetrised, and K̂ = K with those rows replaced by X and
-    those columns by Xᵀ. The rows and columns ``dofs`` of K̂ are thus
-    exactly symmetric; elsewhere K̂ is K itself. Equal to ½(RKRᵀ +
-    (RKRᵀ)ᵀ) to rounding, in one pass over K."""
+    """K̂ = R K Rᵀ (thesis (60)) for R of :func:`rotation`, the identity
+    outside the contact DOFs ``dofs`` (``geometry.free_dofs()``): only the
+    rows X = R_cc K_{dofs,:} Rᵀ change (their block on ``dofs``
+    symmetrised), so K̂ is K with those rows replaced by X and those columns
+    by Xᵀ, in one pass over K; ½(RKRᵀ + (RKRᵀ)ᵀ) to rounding."""
     K = sp.csr_matrix(K)
     n = K.shape[0]
     c = np.unique(np.asarray(dofs, np.int64))

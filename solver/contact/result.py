@@ -1,12 +1,8 @@
-"""The result of every contact solve: an ``OptimizeResult`` (a dict with
-attribute access, as every SciPy solver returns) with a short repr that
-names what was solved and how it ended, never the arrays.
-
-One type for every case (scipy.optimize's rule: one result type whatever
-the method): a frictionless solve has the NCP's counts and the fields of
-the answer; a friction run has ``friction``, per-step arrays (first axis =
-completed step) and ``records``; a two-body solve adds the interface's
-fields. ``list(result)`` shows the keys."""
+"""The result of every contact solve, whatever the case and method
+(scipy.optimize's rule): an ``OptimizeResult`` (a dict with attribute
+access) whose short repr names what was solved and how it ended, never
+the arrays. Its fields are listed in docs/results.md; ``list(result)``
+shows the keys."""
 
 import numpy as np
 from scipy.optimize import OptimizeResult

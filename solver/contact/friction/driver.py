@@ -80,23 +80,19 @@ def run_friction(problem, geometry, engine, friction, steps=None,
     The driver behind :func:`solver.solve` with ``friction`` f_c, whose
     docstring explains the options; they arrive resolved and checked, with
     the ``geometry`` of the contact nodes that take part and the ``engine``.
-    ``steps`` κc: step κ applies κ/κc · f (a problem's ``load_path`` has its
-    own stages and takes none). ``tol``, ``max_iter``, ``options`` are per
-    step: ‖[E; min(A, k̄B)]‖₂ ≤ tol·max(‖f‖₂, ‖f_κ‖₂, ‖λ⁺‖₂); every converged
-    step is verified (:func:`~solver.contact.verify.verify_contact`, the
-    Coulomb bound included), the last also against the original K and f, and
-    a step that fails ends the run (status 6). ``gap_scale`` c: 1 on the full
-    system, :data:`GAP_WEIGHT`·k̄ condensed. ``on_step(fields)`` is called
-    once per completed step, in order (condensed: up to
-    :data:`~.stream.BATCH` steps late), also when an exception ends the run;
-    ``keep_steps`` False keeps only the records. ``candidates``: condense
-    onto the d DOFs of candidate nodes only (round-0 ``margin``).
+    ``tol``, ``max_iter``, ``options`` are per step, the test ‖[E; min(A,
+    k̄B)]‖₂ ≤ tol·max(‖f‖₂, ‖f_κ‖₂, ‖λ⁺‖₂); every converged step is verified
+    (:func:`~solver.contact.verify.verify_contact`, the Coulomb bound
+    included), the last also against the original K and f, and a step that
+    fails ends the run (status 6). ``gap_scale`` c: 1 on the full system,
+    :data:`GAP_WEIGHT`·k̄ condensed. ``on_step(fields)`` is called once per
+    completed step, in order (condensed: up to :data:`~.stream.BATCH` steps
+    late), also when an exception ends the run.
 
     Returns a ContactResult: ``success``, ``message``, ``steps_completed``,
-    ``failed_step``, totals ``njev``, ``nfev``, ``nit``, ``time``, the
-    per-step arrays and ``records`` of docs/results.md ("A friction run"),
-    ``verification`` (the worst step's) and ``stopping`` (the step with the
-    largest relative measure)."""
+    ``failed_step``, the totals, the per-step arrays and ``records`` of
+    docs/results.md ("A friction run"), ``verification`` (the worst step's)
+    and ``stopping`` (the step with the largest relative measure)."""
     path = problem.load_steps(steps)
     steps = problem.n_load_steps(steps)
     start = time.perf_counter()

@@ -27,7 +27,7 @@ SPD, so Cholesky; otherwise LU.
 Usually few nodes touch and F is most of Γc. The same system is then
 solved in the forces q = T dv (:meth:`_Combined._dual`): dv = C q with the
 flexibility C = T⁻¹ (once per run), and what is left is a system on the
-contact constraints, often ten times smaller than F. Whichever is smaller
+contact constraints, usually much smaller than F. Whichever is smaller
 is solved (with the implicit bound only for f_c ≤ :data:`DUAL_MAX_FRICTION`);
 an unchanged reduced matrix reuses its factorisation. The direction is that
 of J d = −Φ up to round-off; J is singular exactly when the reduced matrix
@@ -157,22 +157,17 @@ class _Combined:
 
     def _dual(self, v, free, fixed, ht, hn, rho, k, slip, free_n):
         r"""dv_F through the forces q = T dv and the flexibility C = T⁻¹
-        (the Neumann-to-Dirichlet map, made once per run), dv = C q.
-
-        A free row gives q_j = h_j (a slip row: q_{t_i} + k_i q_{n_i} =
-        h_{t_i} with the implicit bound) or, a normal row with a diagonal
-        term ρ_j = c w_b/w_a > 0 (φ_FB), q_j + ρ_j dv_j = h_j. The unknowns
-        are then the forces q_U on U = K ∪ {j : ρ_j > 0}, K the fixed
-        components, from the symmetric positive definite system
+        (module docstring), dv = C q. A free row gives q_j = h_j (a slip row
+        with the implicit bound: q_{t_i} + k_i q_{n_i} = h_{t_i}) or, a normal
+        row with ρ_j = c w_b/w_a > 0 (φ_FB), q_j + ρ_j dv_j = h_j. The unknowns
+        are the forces q_U on U = K ∪ {j : ρ_j > 0}, K the fixed components:
 
         .. math:: (C_{UU} + \mathrm{diag}(0_K, 1/ρ))\, q_U
                   = [dv_K; h/ρ] − C_{UQ}\, h_Q
 
-        (Q: the other free rows), with −C_{U t_i} k_i added to the column
-        of q_{n_i} for the slip rows that the implicit bound couples to an
-        unknown q_{n_i} (then unsymmetric). Its size |U| is the number of
-        contact constraints (plus φ_FB's mixed rows) instead of |F|.
-        Returns dv_F."""
+        (Q: the other free rows), SPD; the implicit bound's slip rows add
+        −C_{U t_i} k_i to the column of an unknown q_{n_i} (then unsymmetric).
+        """
         s = self.jac.system
         m, nr = s.m, s.n_rows
         n_t = len(ht)

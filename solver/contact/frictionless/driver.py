@@ -1,15 +1,12 @@
 r"""The frictionless driver: the system (67) of :mod:`.system` solved by
 semismooth Newton, its answer verified and reported over every node of Γc
-(λ = 0 at supports, :mod:`solver.contact.geometry`), with the contact
-pressure p = M⁻¹λ ≥ 0 of (87) (g_n = −p; the sparse M solved, never
-inverted) and its lumped form λ_i / D_ii.
-
-Three ways to solve it (:func:`run_frictionless`):
+(λ = 0 at supports), with the contact pressure p = M⁻¹λ ≥ 0 of (87)
+(g_n = −p; the sparse M solved, never inverted) and its lumped form
+λ_i / D_ii. Three ways to solve it (:func:`run_frictionless`):
 
 * 2D default: condensed onto every DOF of Γc (S of size 2Nc), started by
-  nested iteration over ever coarser node subsets of Γc
-  (:mod:`solver.contact.strategies.nested`), which keeps the Newton
-  iterations on the full Γc at a fixed small number.
+  nested iteration (:mod:`solver.contact.strategies.nested`), which keeps
+  the Newton iterations on the full Γc at a fixed small number.
 * 3D default: condensed onto the *normal* DOF of *candidate* nodes only
   (:mod:`solver.contact.strategies.candidates`), from the free start λ = 0.
 * ``condense=False``: the thesis's system in all Ñ unknowns."""
@@ -44,23 +41,17 @@ def run_frictionless(problem, geometry, engine, method="min", tol=1e-10,
     docstring explains the options; they arrive resolved and checked, with
     the ``geometry`` of the contact nodes that take part and the ``engine``.
     ``tol`` is relative to the force scale of the iterate
-    (:mod:`solver.contact.verify`): the verdict does not depend on the units,
-    nor do the condensed and nested iterates (c = k̄; the full system's
-    thesis choice c = 1 makes its path, not its answer, depend on them).
-    ``condense``: iterate on (67) condensed exactly onto Γc after one
-    factorisation of K, or on the thesis's system in all Ñ unknowns (one
-    sparse LU per iteration, the counts of Table 1). ``start``: "nested",
-    "free" (λ = 0), "x0" or "zero" (the thesis's u = 0). ``candidates``:
-    condense onto the normal DOFs of candidate nodes only (screening
-    ``margin``). ``max_iter`` counts all levels and rounds together.
+    (:mod:`solver.contact.verify`), so neither the verdict nor the condensed
+    and nested iterates (c = k̄) depend on the units; the full system's c = 1
+    (the thesis) makes its path depend on them. ``start``: "nested", "free"
+    (λ = 0), "x0" or "zero" (the thesis's u = 0). ``max_iter`` counts all
+    levels and rounds together.
 
-    Returns a ContactResult: the NCP result (``success``, ``status``,
-    ``message``, ``nit``, ``njev``, ``nfev``, ``history``), the answer over
-    all nodes of Γc (docs/results.md, "A frictionless solve"), and
-    ``condensation``, ``candidates``, ``start``, ``levels``,
-    ``linear_solver``, ``stopping`` and ``verification``; an answer that
-    meets the stopping test but fails verification has ``success`` False and
-    ``status`` 6."""
+    Returns a ContactResult: the NCP result's counts, ``history`` and
+    ``status`` (6: the stopping test met but the verification failed), the
+    answer over all nodes of Γc (docs/results.md, "A frictionless solve"),
+    and ``condensation``, ``candidates``, ``start``, ``levels``,
+    ``linear_solver``, ``stopping`` and ``verification``."""
     clock = time.perf_counter()
     load_norm = stable_norm(problem.f)
     stiffness = contact_stiffness(problem.K, geometry)

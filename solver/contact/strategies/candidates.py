@@ -141,27 +141,21 @@ def solve_on_candidates(problem, geometry, method, tol, max_iter, x0,
     """Solve (67) condensed onto the candidates' normal DOFs, enlarging
     the candidates until no other node penetrates (module docstring).
 
-    ``x0`` (reduced u, optional) is read as its normal components at the
-    candidates; the default is the free start λ = 0 (u_n = w_c). Each
-    later round starts from the previous round's normal displacements.
-    ``max_iter`` bounds the iterations of all rounds together.
-    ``condensation``: the engine's condensation onto candidate normal
-    DOFs (:meth:`solver.contact.engine.SerialEngine.normal_condensation`:
-    a :class:`NormalCondensation`, or the PETSc engine's), with its
-    ``R``, ``normal_rows``, ``factorize`` and ``displacement``.
+    ``x0`` (reduced u, optional) gives the first round's normal
+    displacements at the candidates (default: the free start λ = 0, u_n =
+    w_c); each later round starts from the previous one's. ``max_iter``
+    bounds the iterations of all rounds together. ``condensation``: the
+    engine's :meth:`~solver.contact.engine.SerialEngine.normal_condensation`
+    (a :class:`NormalCondensation`, or the PETSc engine's).
 
-    Returns
-    -------
-    (OptimizeResult, u, λ, u_n, screening)
-        The last round's NCP result (counts and ``history`` of all rounds;
-        ``history["round"]`` numbers the round of each iteration), the
-        reduced displacement, λ and u_n at every free contact node, and
-        the dict ``screening``: ``margin`` δ₀, ``rounds`` (per round:
-        ``n_candidates``, ``nit``, ``njev``, ``nfev``, ``success``,
-        ``penetrating`` (non-candidates with s − u_n < −tol_v·F/k̄ after
-        it), ``factorize_time``, ``time``), ``n_candidates`` (final),
-        ``enlarged`` (rounds − 1) and ``exhausted`` (True if
-        :data:`MAX_ROUNDS` rounds still left a penetration)."""
+    Returns (OptimizeResult, u, λ, u_n, screening): the last round's NCP
+    result with the counts and ``history`` of all rounds (``history
+    ["round"]``), the reduced displacement, λ and u_n at every free contact
+    node, and ``screening``: ``margin`` δ₀, ``rounds`` (per round:
+    ``n_candidates``, counts, ``success``, ``penetrating`` non-candidates,
+    ``factorize_time``, ``time``), ``n_candidates`` (final), ``enlarged``
+    (rounds − 1) and ``exhausted`` (:data:`MAX_ROUNDS` rounds still left a
+    penetration)."""
     import time
 
     from ...ncp import solve_ncp

@@ -127,21 +127,18 @@ def solve_nested(levels, method="min", tol=1e-10, max_iter=100,
     """Solve the condensed frictionless system level by level, coarsest
     (from λ = 0) to finest (from the prolonged coarser solution).
 
-    ``tol`` is relative, as in :func:`~..frictionless.driver.
-    run_frictionless`, with ‖f‖₂ = ``load_norm`` (the problem's load;
-    default: that of the finest level's condensed load) on every level.
+    ``tol`` is relative as in :func:`~..frictionless.driver.run_frictionless`,
+    with ‖f‖₂ = ``load_norm`` (default: the finest level's) on every level.
     ``max_iter`` bounds the iterations of all levels together: once spent,
     the last iterate is prolonged to the finest level and reported there as
     not converged (status 1). A coarse level that stops for another reason
-    is dropped: the next level starts from λ = 0 again. If λ = 0 already
-    solves the finest level (no penetration, or no load), no coarse level
-    runs.
+    is dropped (the next starts from λ = 0 again). If λ = 0 already solves
+    the finest level, no coarse level runs.
 
-    Returns (OptimizeResult, FrictionlessSystem) of the finest level;
-    ``nit``, ``njev``, ``nfev`` and ``history`` count every level
-    (``history["level"]``: the number of contact nodes of each iteration's
-    level), ``levels`` lists, coarsest first, each level's ``n_nodes``,
-    ``nit``, ``njev``, ``nfev``, ``success`` and ``time``."""
+    Returns (OptimizeResult, FrictionlessSystem) of the finest level, with
+    the counts and ``history`` of every level (``history["level"]``: each
+    iteration's number of nodes) and ``levels``: per level, coarsest first,
+    ``n_nodes``, counts, ``success`` and ``time``."""
     fine = levels[0]
     fine_system = _system(fine, gap_scale, stiffness, load_norm)
     load_norm = fine_system.load_norm

@@ -1,17 +1,12 @@
 r"""The space Newton iterates in: the full system or K condensed onto Γc.
 
 Both drivers build their system on a *reduction* and never ask which:
-:class:`FullSystem`, the thesis's system in all Ñ unknowns (its Newton
-steps solved by the engine's full-system solver), or
-:class:`CondensedSystem`, K condensed exactly onto the free DOFs of the
-contact nodes, K → S, f → g̃ (:class:`solver.linalg.Condensation`), from
-one factorisation of K by the engine. A reduction gives the system's
-``K`` and ``geometry``, maps a load onto it (:meth:`~CondensedSystem.
-load`), recovers u (:meth:`~CondensedSystem.displacement`), restricts a
-displacement to its unknowns and hands out the Jacobian callable of a
-system built on it. The candidate strategies run the drivers on
-condensations onto subsets of the nodes; the nested start iterates on
-coarser condensations of S."""
+:class:`FullSystem` (the thesis's system in all Ñ unknowns) or
+:class:`CondensedSystem` (K → S, f → g̃ condensed exactly onto the free
+DOFs of the contact nodes, :class:`solver.linalg.Condensation`, from one
+factorisation by the engine). A reduction gives the system's ``K`` and
+``geometry``, maps a load onto it, recovers u, restricts a displacement
+to its unknowns and hands out the Jacobian of a system built on it."""
 
 import numpy as np
 

@@ -1,16 +1,12 @@
-r"""Rigid obstacle surfaces in 3D, built from a spec.
-
-The 3D counterpart of the obstacle curve :math:`\Gamma_o(t)` of thesis §4,
-described by a JSON-serialisable **spec** (the ``obstacle_surface`` of a
-problem file): a plane, a sphere, a graph :math:`z \le h(x, y)` or a
-parametric surface c(s, t), with the fields of docs/npz-format.md ("3D").
-Every surface answers the two gap questions of thesis §2.1 in 3D:
-:meth:`~.base.Surface.gap_along_obstacle_normal` (closest point, §2.1.1)
-and :meth:`~.base.Surface.gap_along_rays` (along the body's normals,
-§2.1.2). Plane and sphere in closed form (:mod:`.shapes`); graph and
-parametric surfaces by Newton's method vectorised over the nodes
-(:mod:`.parametric`, :mod:`.search`), their expressions parsed safely
-(:mod:`.expression`).
+r"""Rigid obstacle surfaces in 3D, built from a spec: the 3D counterpart of
+the obstacle curve :math:`\Gamma_o(t)` of thesis §4, described by the JSON
+``obstacle_surface`` of a problem file (docs/npz-format.md, "3D"): a
+plane, a sphere (closed form, :mod:`.shapes`), a graph
+:math:`z \le h(x, y)` or a parametric surface c(s, t) (Newton's method
+vectorised over the nodes, :mod:`.parametric`, :mod:`.search`). Each
+answers the two gap questions of thesis §2.1:
+:meth:`~.base.Surface.gap_along_obstacle_normal` (§2.1.1) and
+:meth:`~.base.Surface.gap_along_rays` (§2.1.2).
 
 Example
 -------

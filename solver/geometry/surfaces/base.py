@@ -125,13 +125,12 @@ class Surface:
         raise NotImplementedError
 
     def gap_along_rays(self, points, directions):
-        r"""Gaps measured from the body (3D §2.1.2): :math:`x + \tau d` on the
-        surface, the intersection of smallest :math:`|\tau|` (for graph and
-        parametric surfaces the one Newton reaches from the closest point), d
-        the body's outward normals ``directions`` (normalised here). Returns
-        (τ, the intersection points), τ > 0 when the obstacle lies ahead;
-        GapError naming the number of nodes whose ray misses the surface or
-        grazes it."""
+        r"""Gaps measured from the body (3D §2.1.2) along the body's outward
+        normals ``directions`` d (normalised here): (τ, the points x + τd on
+        the surface), τ of smallest :math:`|\tau|` (graph and parametric
+        surfaces: the one Newton reaches from the closest point), τ > 0 when
+        the obstacle lies ahead. GapError naming how many rays miss the surface
+        or graze it."""
         raise NotImplementedError
 
     def __repr__(self):

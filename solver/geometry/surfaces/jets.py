@@ -1,20 +1,18 @@
 r"""Normals from local polynomial fits ("jets") over each node's 2-ring
 (Cazals & Pouget 2005, CAGD 22, 121-146), vectorised over all nodes.
 
-Around node *i* with reference normal :math:`n_0` (angle-weighted) and an
-orthonormal tangent pair :math:`t_1, t_2`, every 2-ring neighbour *j* has
-local coordinates :math:`(\xi, \eta, \zeta) = (x_j - x_i)\cdot(t_1, t_2,
-n_0)`, scaled by the RMS of :math:`\sqrt{\xi^2 + \eta^2}`. The jet through
-the node,
+Around node *i* with the angle-weighted normal :math:`n_0` and tangents
+:math:`t_1, t_2`, each 2-ring neighbour *j* on the node's side of any edge
+of the body (normals within ``CORNER_ANGLE``) has local coordinates
+:math:`(\xi, \eta, \zeta) = (x_j - x_i)\cdot(t_1, t_2, n_0)`, scaled by
+the RMS of :math:`\sqrt{\xi^2 + \eta^2}`. The jet through the node,
 
 .. math::  \zeta \approx a\xi + b\eta + c_{20}\xi^2 + c_{11}\xi\eta
            + c_{02}\eta^2 + c_{30}\xi^3 + \dots + c_{03}\eta^3,
 
-is fitted by least squares over the neighbours on the node's side of any
-edge of the body (reference normals within ``CORNER_ANGLE``) (normal equations assembled with
-:func:`numpy.bincount`, solved as one batch); its normal at the node is
-:math:`(n_0 - a t_1 - b t_2)/\sqrt{1 + a^2 + b^2}`, on the side of
-:math:`n_0`."""
+is fitted by least squares (normal equations by :func:`numpy.bincount`,
+solved as one batch); its normal is :math:`(n_0 - a t_1 - b t_2)/\sqrt{1
++ a^2 + b^2}`, on the side of :math:`n_0`."""
 
 import numpy as np
 import scipy.sparse as sp
