@@ -26,8 +26,7 @@ a fit (:func:`contact_radius_from_moment`).
 
 Hertz replaces the sphere by the paraboloid r²/(2R). The exact half-space
 solution for the spherical profile R − √(R² − r²) (I. N. Sneddon, Int. J.
-Engng Sci. 3 (1965) 47–57; his axisymmetric solution with
-G(t) = δ − t ∫₀ᵗ f'(s)/√(t² − s²) ds):
+Engng Sci. 3 (1965) 47–57, with G(t) = δ − t ∫₀ᵗ f'(s)/√(t² − s²) ds):
 
 .. math::
     δ = \frac{a}{2}\ln\frac{R + a}{R − a}, \qquad
@@ -40,8 +39,7 @@ G(t) = δ − t ∫₀ᵗ f'(s)/√(t² − s²) ds):
     + \frac{tR}{R^2 − t^2}
 
 (:func:`sphere_flat_contact`, :func:`sphere_flat_pressure`): for a given P
-its contact radius is Hertz's times 1 − (2/15)(a/R)², the size of Hertz's
-own error on a real sphere."""
+its contact radius is Hertz's times 1 − (2/15)(a/R)²."""
 
 import functools
 

@@ -1,14 +1,11 @@
-"""Contact systems built on the finite element data of a problem file.
-
-Dimension-free: the geometry layer hands over per-node frames and gaps
-(:mod:`.geometry`), the drivers run the project's semismooth Newton on the
-frictionless system (:mod:`.frictionless`) or on the load steps of Coulomb
-friction (:mod:`.friction`), on a reduction chosen by a strategy
-(:mod:`.strategies`: full or condensed system, nested start, candidate
-screening) with the linear algebra of an engine (:mod:`.engine`); every
-answer is verified (:mod:`.verify`). Two bodies become a nodewise problem
-by a change of variables (:mod:`.two_body`). The public front is
-:func:`solver.solve`."""
+"""Contact systems built on the finite element data of a problem file,
+dimension-free: the geometry layer hands over per-node frames and gaps
+(:mod:`.geometry`); the drivers run the project's semismooth Newton on
+the frictionless system (:mod:`.frictionless`) or the load steps of
+Coulomb friction (:mod:`.friction`), on a reduction chosen by a strategy
+(:mod:`.strategies`) with the linear algebra of an engine (:mod:`.engine`),
+and verify every answer (:mod:`.verify`); two bodies become a nodewise
+problem (:mod:`.two_body`). The public front is :func:`solver.solve`."""
 
 from .engine import SerialEngine
 from .friction.driver import (COULOMB, FORMULATIONS, default_method,

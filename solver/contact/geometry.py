@@ -2,11 +2,10 @@ r"""Per-node contact frames and gaps: all the contact systems see (§2.1).
 
 A :class:`ContactGeometry` holds, at the free contact nodes, the DOFs, the
 initial gap s along the unit normal ν (from the body towards the obstacle)
-and the d − 1 tangents (:func:`solver.geometry.frames.tangent_basis`).
-:func:`rotation` builds the sparse **R** of (58)-(60) from them for any d:
-at contact node i its rows are the tangents, then the normal; R is the
-identity elsewhere. The contact systems never ask the dimension anything
-else.
+and the d − 1 tangents (:mod:`solver.geometry.frames`). :func:`rotation`
+builds the sparse **R** of (58)-(60) from them for any d: at contact node
+i its rows are the tangents, then the normal; R is the identity
+elsewhere. The contact systems never ask the dimension anything else.
 
 Rollers (symmetry planes). A contact node on a symmetry plane of a half
 or quarter model has a Dirichlet DOF, u_c = 0, along the plane's normal
@@ -14,21 +13,18 @@ e_c. When its contact normal lies in the plane (|ν_c| ≤
 :data:`ROLLER_TOLERANCE`) the constraint acts only along a tangent, where
 a frictionless contact exerts no force, and the node's normal contact
 force is half (quarter) that of the whole model there. Such a *roller*
-takes part with ``contact_geometry(..., rollers=True)``; otherwise (and
-always when every DOF is fixed) it is a support with λ = 0.
+takes part with ``contact_geometry(..., rollers=True)`` in the frame of
+:func:`~solver.geometry.frames.roller_frames` (e_c first among the
+tangents, with −1 in ``dofs``); otherwise it is a support with λ = 0.
 
 Oblique nodes. When a constrained direction has a share of ν (e.g. a
 plane-strain slab, u_z = 0, against an obstacle tilted in z), s − ν·u ≥ 0
 reads, with the prescribed ū_c, s' − n'·u_f ≥ 0 on the free components:
-n' = ν_f/|ν_f|, s' = (s − ν_c·ū_c)/|ν_f|. The node takes part with that
-normal and gap (exact without friction: the support carries the force's
-part along e_c); it is marked ``oblique``, and friction, whose Coulomb
-cone such a projection does not preserve, refuses it. A node whose normal
-lies along its constrained directions (|ν_f| < :data:`OBLIQUE_MIN`) is a
-support. A roller's frame (:func:`solver.geometry.frames.roller_frames`)
-has the e_c first among the tangents, ν with ν_c set to 0; its row DOFs
-``dofs`` hold −1 for the e_c rows (u_c is prescribed), ``node_dofs`` its
-own (x, y[, z]) DOFs, the columns of R."""
+n' = ν_f/|ν_f|, s' = (s − ν_c·ū_c)/|ν_f|, exact without friction (the
+support carries the force along e_c). Such a node takes part with that
+normal and gap, marked ``oblique``; friction, whose Coulomb cone the
+projection does not preserve, refuses it. A node whose normal lies along
+its constrained directions (|ν_f| < :data:`OBLIQUE_MIN`) is a support."""
 
 import numpy as np
 import scipy.sparse as sp
@@ -66,19 +62,16 @@ class ContactGeometry:
         Rows of ``problem.contact_dofs`` (positions along Γc) of the nodes.
     dofs, node_dofs : (Nca, d) int
         The reduced DOF of each row of the node's frame (tangents, then the
-        normal; −1 for a roller's constrained tangents e_c), and the node's
-        own DOFs (x, y[, z]; −1 where Dirichlet): equal for a free node.
+        normal; −1 for a roller's e_c), and the node's own DOFs (−1 where
+        Dirichlet; the columns of R): equal for a free node.
     gap, normal, tangents : (Nca,), (Nca, d), (Nca, d − 1, d) float
-        Initial signed gap s along the unit normal ν (from the body towards
-        the obstacle; s < 0: penetration) and orthonormal tangents.
+        s (< 0: penetration), ν and the tangents.
     foot : (Nca,) or (Nca, d) float, or None
-        Where the gap is measured to: the obstacle parameter t (2D) or the
-        point on the obstacle surface (3D).
+        The obstacle parameter t (2D) or point (3D) the gap is measured to.
     mode, dim : str, int
         ``"obstacle"``, ``"body"`` or ``"given"`` (discrete problems); d.
     rollers, oblique : (Nca,) bool
-        Nodes with a Dirichlet component; those whose constrained directions
-        had a share of the normal (gap and normal projected).
+        Nodes with a Dirichlet component; those with projected gap and normal.
     excluded : dict
         The nodes of Γc that take no part: ``index``, ``reason``, ``gap`` and
         ``normal`` (NaN where not computed), for

@@ -15,14 +15,13 @@ to the free slave DOFs (E² = 0, so T = I − E), turns ½uᵀKu − fᵀu into
 ½vᵀK̃v − f̃ᵀv, K̃ = T⁻ᵀKT⁻¹ (sparse SPD), f̃ = T⁻ᵀf, and every contact
 constraint into n_j·v_j ≤ s_j: a *discrete* problem (``M = diag(D)``)
 that the whole core solves unchanged, friction included (on the weighted
-slip). Its nodal contact force z_j on v_j is D_jj λ_j, λ_j the dual
-multiplier (the pressure); in u the forces are z_j n_j on slave node j and
-−Σ_j M_jk λ_j n_j on master node k, the mortar forces.
+slip). Its nodal contact force on v_j is D_jj λ_j, λ_j the dual
+multiplier (the pressure); in u the mortar forces are D_jj λ_j n_j on
+slave node j and −Σ_j M_jk λ_j n_j on master node k.
 
-Dirichlet master DOFs coupled to a slave node enter s_j through their
-prescribed values at the full load (a friction run, whose steps scale
-them, refuses them). A slave node that the master does not cover entirely
-(Σ_k M_jk / D_jj ≠ 1) takes no part (λ = 0, ``covered`` False)."""
+Dirichlet master DOFs coupled to a slave node enter s_j at the full load
+(a friction run, whose steps scale them, refuses them); a slave node not
+entirely covered by the master takes no part (``covered`` False)."""
 
 import numpy as np
 import scipy.sparse as sp

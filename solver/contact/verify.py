@@ -1,21 +1,19 @@
 r"""Scales of the stopping test and verification of a computed answer.
 
 Units. A solver's verdict must not depend on the units the user chose, so
-the stopping test of the contact drivers is relative to the problem's own
-force scale,
+the contact drivers stop relative to the problem's own force scale,
 
 .. math::  \|[E;\ \min(λ, \bar k (s − u_n))]\|_2 \le \mathrm{tol}\cdot
            F, \qquad F = \max(\|f\|_2, \|λ^+\|_2),
 
 E the equilibrium rows, λ the normal contact forces of the iterate, s − u_n
-the remaining gaps (thesis (67)) and k̄ the mean stiffness diag(K) at the
-contact DOFs, which turns a gap error into a force. Scaling K and f, or
-all lengths, scales both sides alike. With a tiny load the equilibrium
-rows are measured against that load; a problem driven by negative gaps
-alone (f = 0) gets its scale from its contact forces.
+the remaining gaps (thesis (67)) and k̄ the mean of diag(K) at the contact
+DOFs, which turns a gap error into a force: scaling K and f, or all
+lengths, scales both sides alike. A problem driven by negative gaps alone
+(f = 0) gets its scale from its contact forces.
 
 Verification. The stopping test looks at the system Newton iterated on (a
-condensed one, a coarse level, a load step). Before reporting success the
+condensed one, a coarse level, a load step); before reporting success the
 solvers check the answer itself with the original sparse K and f
 (:func:`verify_contact`): it is finite; the penetration, the negative part
 of λ, the complementarity |min(λ, k̄(s − u_n))| and (with friction) the
@@ -24,13 +22,11 @@ tol_v·F (lengths through F/k̄); and the equilibrium residual
 
 .. math::  \frac{\|K u − f − f_c\|_2}{\|f\|_2 + \|f_c\|_2} \le \mathrm{tol}_v,
 
-f_c = Σ_i (−λ_i ν_i + Σ_k t_ik τ_ik) the contact forces on the body. The
-last catches a factorisation too inaccurate for the problem (a nearly free
-rigid body mode), where the condensed system is solved to tol but the
-recovered displacement violates equilibrium. tol_v = max(
-:data:`VERIFY_FACTOR`·tol, :data:`VERIFY_FLOOR`): ∞-norms of what the
-stopping test bounds in the 2-norm, plus the round-off of recomputing
-them from K."""
+f_c = Σ_i (−λ_i ν_i + Σ_k t_ik τ_ik) the contact forces on the body, which
+catches a factorisation too inaccurate for the problem (a nearly free
+rigid body mode). tol_v = max(:data:`VERIFY_FACTOR`·tol,
+:data:`VERIFY_FLOOR`): ∞-norms of what the stopping test bounds in the
+2-norm, plus the round-off of recomputing them from K."""
 
 import numpy as np
 
@@ -171,15 +167,12 @@ def verify_contact(K, f, u, dofs, normal, gap, lam, stiffness, tol_v,
 
 def verify_excluded(problem, geometry, u, length, tol_v):
     """The nodes of Γc that took no part in contact (``geometry.excluded``:
-    supports, uncovered slave nodes), reported and checked: a support
-    whose prescribed position penetrates the obstacle, s − ν·u < −tol_v·L
-    (L the verification's length scale), is listed in ``penetrating``
-    (positions along Γc); a node whose gap could not be computed is not
-    checked (``unchecked``).
-
-    Returns a dict: ``nodes`` (how many were excluded), ``reasons`` (count
-    per reason), ``penetrating``, ``max_penetration`` (relative to L),
-    ``max_depth`` (a length) and ``unchecked``."""
+    supports, uncovered slave nodes), checked: a dict of ``nodes`` (how many),
+    ``reasons`` (count per reason), ``penetrating`` (positions along Γc of the
+    supports whose prescribed position penetrates the obstacle, s − ν·u <
+    −tol_v·L, L the verification's length scale), ``max_penetration``
+    (relative to L), ``max_depth`` (a length) and ``unchecked`` (the nodes
+    whose gap could not be computed)."""
     from .geometry import node_displacement
 
     excluded = geometry.excluded

@@ -1,15 +1,13 @@
 r"""What :func:`solver.solve` accepts where: the cases, the options and the
 rules that refuse a combination. One table, three readers: the front
-checks every call against it (an option that does not apply is an error
-naming what does, never silently ignored), the README's "What works
-where" table is printed from it (:func:`support_table`), and the
-combination test (``tests/test_combinations.py``) enumerates it.
+checks every call against it (an option that does not apply is an error,
+never silently ignored), :func:`support_table` prints the README's "What
+works where" from it, and ``tests/test_combinations.py`` enumerates it.
 
-A *case* is what the problem and the two choices that change the physics
-or the machine make: the dimension (2, 3), the bodies ("rigid": one body
-against a rigid obstacle, "two-body": two elastic bodies by dual mortar,
-"discrete": gaps and normals given, no mesh), the contact
-("frictionless", "friction") and the engine ("serial", "petsc")."""
+A *case*: the dimension (2, 3), the bodies ("rigid": one body against a
+rigid obstacle, "two-body": two elastic bodies by dual mortar,
+"discrete": gaps and normals given, no mesh), the contact ("frictionless",
+"friction") and the engine ("serial", "petsc")."""
 
 from dataclasses import dataclass
 

@@ -1,15 +1,13 @@
 r"""The one front: :func:`solve` for every contact problem.
 
 As ``scipy.optimize.minimize`` dispatches on ``method=``, :func:`solve`
-dispatches on the problem (2D or 3D; one body against a rigid obstacle,
-two elastic bodies, or given gaps) and the options (frictionless or
-Coulomb friction; the serial or the PETSc engine). Every option is checked
-against the table of :mod:`solver.front.cases` first: one that does not
-apply to the case is refused with a one-line :class:`~solver.errors.
-SolverError` naming the option, the case and the reason, never silently
-ignored. Then the front builds the contact geometry, the engine and, for
-two bodies, the nodewise problem in the mortar's variables, and hands
-them to a driver (:func:`solver.contact.run_frictionless`,
+dispatches on the problem (2D or 3D; a rigid obstacle, two elastic bodies
+or given gaps) and the options (frictionless or Coulomb friction; the
+serial or the PETSc engine). Every option is first checked against
+:mod:`solver.front.cases`; then the front builds the contact geometry, the
+engine and, for two bodies, the nodewise problem in the mortar's
+variables, and hands them to a driver
+(:func:`solver.contact.run_frictionless`,
 :func:`solver.contact.run_friction`)."""
 
 import time

@@ -196,15 +196,12 @@ def parse_expression(text, variable="t"):
 
     ``text`` is in Python syntax, e.g. ``"5.05 + 0.005*t**2"``; ``variable``
     the name of the curve parameter, or several (a surface's ``("s", "t")``
-    or ``("x", "y")``), each the real symbol ``sympy.Symbol(name, real=True)``.
-    Returns a real expression whose free symbols are among them.
-
-    ExpressionError if the text is not a string, is empty or too long, does
-    not parse, uses anything outside the whitelist (attribute access,
-    subscripts, lambdas, comprehensions, unknown names or functions, keyword
-    arguments), nests too deeply (:data:`MAX_CALL_DEPTH`, :data:`MAX_DEPTH`),
-    or has a constant part that is not a finite real number in double
-    precision (``1/0``, ``sqrt(-1)``, ``exp(1000)``, ``asin(2)``)."""
+    or ``("x", "y")``), each ``sympy.Symbol(name, real=True)``. Returns a
+    real expression whose free symbols are among them. ExpressionError if the
+    text is not a string, is empty or too long, does not parse, uses anything
+    outside the whitelist (module docstring), nests too deeply
+    (:data:`MAX_CALL_DEPTH`, :data:`MAX_DEPTH`), or has a constant part that
+    is not a finite real double (``1/0``, ``sqrt(-1)``, ``exp(1000)``)."""
     if not isinstance(text, str):
         raise ExpressionError(
             f"expression must be a string, not {type(text).__name__}")

@@ -9,12 +9,12 @@ the two tangents are the branch-free orthonormal basis of Duff et al.
     τ_1 = (1 + σ ν_x^2 a,\ σ b,\ −σ ν_x), \qquad
     τ_2 = (b,\ σ + ν_y^2 a,\ −ν_y),
 
-continuous except across ν_z = 0 and accurate to round-off for every unit
-ν; (τ_1, τ_2, ν) is right-handed. Any frame in the tangent plane gives the
+continuous except across ν_z = 0, accurate to round-off for every unit
+ν, (τ_1, τ_2, ν) right-handed. Any frame in the tangent plane gives the
 same frictionless answer, and friction sees only the plane. A roller's
 frame (:func:`roller_frames`) has its constrained directions e_c first:
-(e_c, ν × e_c, ν) with one in 3D, (e_c1, ±e_c2, ν) with two, all
-right-handed; in 2D γ, which is then ±e_c.
+(e_c, ν × e_c, ν) with one in 3D, (e_c1, ±e_c2, ν) with two,
+right-handed; in 2D γ, then ±e_c.
 
 References
 ----------

@@ -17,20 +17,16 @@ form), the overlap cut in ξ, and on it Gauss points whose master
 coordinate η is where x(ξ) + α n(ξ) meets the master segment. n_j is the
 average of the unit outward normals (t_y, −t_x)/|t| of the slave segments
 at j (the body lies left of a → b). Only facing master segments
-(n_s·n_m < 0) that :func:`candidate_pairs` finds near a slave segment are
-projected onto (bounding boxes, sorted and swept: Yang & Laursen, Comput.
-Mech. 41 (2008) 189).
+(n_s·n_m < 0) near a slave segment are projected onto
+(:func:`candidate_pairs`; Yang & Laursen, Comput. Mech. 41 (2008) 189).
 
 The weighted gap of slave node j (Hüeber & Wohlmuth, CMAME 194 (2005)
 3147, (3.4)) is g̃_j = n_j·(Σ_k M_jk x_k − D_jj x_j) ≥ 0 in the reference
-configuration, g̃_j − n_j·(D_jj u_j − Σ_k M_jk u_k) displaced.
-``coverage`` = Σ_k M_jk / D_jj is 1 (the partition of unity) where the
-master covers node j's whole support; elsewhere the node takes no part.
-
-:func:`node_to_segment` builds the classical node-to-segment coupling in
-the same form (M_jk = D_jj N^m_k(η_j) at the closest point); it fails the
-contact patch test on non-matching meshes (Taylor & Papadopoulos, IJNME
-31 (1991) 1087)."""
+configuration. ``coverage`` = Σ_k M_jk / D_jj is 1 (the partition of
+unity) where the master covers node j's whole support; elsewhere the node
+takes no part. :func:`node_to_segment` builds the classical coupling in
+the same form; it fails the contact patch test on non-matching meshes
+(Taylor & Papadopoulos, IJNME 31 (1991) 1087)."""
 
 from dataclasses import dataclass
 

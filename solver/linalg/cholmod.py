@@ -14,7 +14,7 @@ the trailing block of L, read in place from the factor
 (:mod:`~solver.linalg.cholmod_struct`) and checked against L's diagonal;
 should that read fail, L₂₂⁻¹ is computed by forward substitution
 (``sys = 4``) on the unit vectors of c in blocks of at most m²/n columns
-and inverted, an order of magnitude slower."""
+and inverted, much slower."""
 
 import numpy as np
 import scipy.linalg as dense

@@ -1,13 +1,12 @@
 """The trailing block of a CHOLMOD supernodal factor, read in place.
 
 kvxopt hands out L only by converting (and emptying) the factor; this
-module reads the ``cholmod_factor`` struct through ctypes instead, without
-copying it (``cholmod.h``; the layout has been the same since CHOLMOD
-1.x). Supernode k holds columns super[k]..super[k+1]−1, its row indices
-are s[pi[k]:pi[k+1]] and its values the column-major block
-x[px[k]:px[k+1]] (CHOLMOD User Guide, "cholmod_factor"). Every field read
-is checked, and the caller checks the diagonal; on a mismatch it returns
-None and the caller computes S another way."""
+module reads the ``cholmod_factor`` struct through ctypes instead
+(``cholmod.h``, the same layout since CHOLMOD 1.x): supernode k holds
+columns super[k]..super[k+1]−1, its row indices s[pi[k]:pi[k+1]] and
+its values the column-major block x[px[k]:px[k+1]] (CHOLMOD User Guide).
+Every field read is checked; on a mismatch None is returned and the caller
+computes S another way."""
 
 import ctypes
 import glob

@@ -1,14 +1,10 @@
-r"""Fill-reducing orderings for the sparse factorisations of K.
-
-* :func:`nested_dissection` orders the nodes of a mesh by geometric nested
-  dissection (George 1973; recursive coordinate bisection with vertex
-  separators), a fill-reducing ordering that SciPy's SuperLU does not offer:
-  fewer factor nonzeros than SuperLU's COLAMD and a faster solve
-  (benchmarks/README.md).
-* :func:`dof_ordering` lifts it to the DOFs and puts a given set (the
-  contact DOFs) last, so that the trailing block of the factors is the
-  Schur complement on that set (:mod:`solver.linalg.superlu`,
-  :mod:`solver.linalg.cholmod`)."""
+r"""Fill-reducing orderings for the sparse factorisations of K:
+:func:`nested_dissection` of the mesh nodes (which SciPy's SuperLU does
+not offer; fewer factor nonzeros than its COLAMD, benchmarks/README.md),
+and :func:`dof_ordering`, which lifts it to the DOFs and puts a given set
+(the contact DOFs) last, so that the trailing block of the factors is the
+Schur complement on that set (:mod:`solver.linalg.superlu`,
+:mod:`solver.linalg.cholmod`)."""
 
 import numpy as np
 import scipy.sparse as sp
@@ -21,17 +17,14 @@ LEAF_SIZE = 16
 
 
 def nested_dissection(points, edges, leaf=LEAF_SIZE):
-    """Fill-reducing node ordering by geometric nested dissection: the
-    ``points`` (n, d) in elimination order, from the graph ``edges`` (m, 2)
-    (e.g. of the mesh cells; repeats allowed).
-
-    Every subdomain (all nodes at first) with more than ``leaf`` nodes is
-    split at the median of the coordinate in which it is most spread out;
-    the nodes of the upper half that share an edge with the lower half form
-    the separator, which is ordered after both halves (recursively). All
-    subdomains of one level are split at once (vectorised): per level one
-    integer sort of the active nodes (by subdomain and by a coordinate rank
-    computed once) and one pass over the edges still inside a subdomain."""
+    """Fill-reducing node ordering by geometric nested dissection (George
+    1973; recursive coordinate bisection with vertex separators): the
+    ``points`` (n, d) in elimination order, from the graph ``edges`` (m, 2).
+    Every subdomain with more than ``leaf`` nodes is split at the median of
+    its most spread-out coordinate; the upper half's nodes that share an edge
+    with the lower half form the separator, ordered after both halves. All
+    subdomains of a level are split at once: one integer sort of the active
+    nodes and one pass over the edges still inside a subdomain per level."""
     points = np.asarray(points, float)
     n = len(points)
     i, j = _unique_edges(edges, n)

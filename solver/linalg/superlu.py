@@ -55,14 +55,12 @@ def schur_last(A, order, schur):
 
 
 class Factorization(Factor):
-    r"""PKPᵀ = LDLᵀ of a symmetric positive definite matrix (SuperLU).
-
-    ``A`` sparse symmetric; ``order`` the elimination order (e.g.
-    :func:`~solver.linalg.dof_ordering`; default SuperLU's minimum degree on
-    A + Aᵀ, or reverse Cuthill-McKee with the Schur set ``schur`` last);
-    ``name`` the key prefix of A for messages; ``check`` False skips reading
-    U (a bare solver). ProblemError ``"{name}_data: {name} is not positive
-    definite (...)"``."""
+    r"""PKPᵀ = LDLᵀ of a symmetric positive definite matrix (SuperLU):
+    ``order`` the elimination order (e.g. :func:`~solver.linalg.dof_ordering`;
+    default SuperLU's minimum degree, or reverse Cuthill-McKee with the Schur
+    set ``schur`` last); ``name`` the key prefix of A for the ProblemError
+    "{name}_data: {name} is not positive definite (...)"; ``check`` False
+    skips reading U (a bare solver)."""
 
     backend = NAME
 

@@ -1,12 +1,11 @@
 """One BLAS thread for the dense algebra of the size of Γc.
 
 The Newton iterations on the condensed systems factorise dense matrices of
-at most the size of S: there OpenBLAS's threads cost more than they save,
-and on a loaded machine much more (spinning threads waiting for a core).
-:func:`single_blas_thread` sets the bundled OpenBLAS of NumPy and SciPy to
-one thread inside a ``with`` block and restores the previous count after
-it (ctypes calls: a few microseconds); the sparse factorisations of K keep
-their threads. Without such a library it does nothing."""
+at most the size of S, where OpenBLAS's threads cost more than they save
+(spinning threads waiting for a core). :func:`single_blas_thread` sets the
+bundled OpenBLAS of NumPy and SciPy to one thread inside a ``with`` block
+and restores the previous count after it; the sparse factorisations of K
+keep their threads. Without such a library it does nothing."""
 
 import contextlib
 import ctypes

@@ -1,18 +1,16 @@
-r"""The contact solve on PETSc under MPI (``--engine petsc``).
+r"""The contact solve on PETSc under MPI (``--engine petsc``; the design
+in docs/mpi.md).
 
 ``mpiexec -n N python -m solver X.npz --engine petsc [options]`` runs the
-same solves as the serial engine with PETSc (petsc4py, mpi4py) doing the
-linear algebra on N ranks; docs/mpi.md explains the design. Rank 0 runs
-the project's own code (geometry, Newton, verification, output) and
-broadcasts each collective step as a command (:mod:`~solver.mpi.service`);
-rows are partitioned by nodes (:mod:`~solver.mpi.layout`); the engine is
-one more backend of the serial drivers (:class:`~solver.mpi.engine.
-PetscEngine`): a distributed MUMPS factorisation in its Schur mode per
-condensation (:mod:`~solver.mpi.condensation`, :mod:`~solver.mpi.schur`),
-or KSP on the full system's Newton systems (:mod:`~solver.mpi.full`);
-:mod:`~solver.mpi.snesvi` is PETSc's own SNESVI, a cross-check. Nothing
-here is imported unless the petsc engine is asked for, and importing this
-package needs neither petsc4py nor MPI."""
+serial engine's solves with PETSc (petsc4py, mpi4py) doing the linear
+algebra on N ranks. Rank 0 runs the project's own code and broadcasts
+each collective step as a command (:mod:`.service`); rows are partitioned
+by nodes (:mod:`.layout`); :class:`~.engine.PetscEngine` is one more
+engine of the serial drivers: a distributed MUMPS factorisation in its
+Schur mode per condensation (:mod:`.condensation`, :mod:`.schur`), or KSP
+on the full system's Newton systems (:mod:`.full`); :mod:`.snesvi` is
+PETSc's SNESVI, a cross-check. Importing this package needs neither
+petsc4py nor MPI."""
 
 __all__ = ["available", "missing", "EXTRA"]
 

@@ -140,9 +140,9 @@ class Service:
     def call(self, name, payload=None, local=None):
         """(rank 0) Run command ``name`` on every rank, rank 0's handler also
         given its large data ``local``; rank 0's result, or
-        :class:`EngineError`
-        if any rank failed. A stop signal during the command reaches rank 0's
-        handler once the command has ended on every rank."""
+        :class:`EngineError` if any rank failed. A stop signal during the
+        command reaches rank 0's handler once the command has ended on every
+        rank."""
         held = _HeldSignals().hold()
         try:
             self._send((name, payload))

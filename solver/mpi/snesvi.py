@@ -7,11 +7,10 @@ In the node frames (K̂ = RKRᵀ, f̂ = Rf, v = Ru) the frictionless problem
           the free contact nodes), other rows free.}
 
 ``vinewtonrsls`` (reduced-space active set Newton, Benson & Munson 2006)
-solves it with MUMPS LU on each reduced Jacobian: an independent solver
-of the same problem, but one that refactorises every iteration, so not
-the engine's method. Stopping: ‖F‖ ≤ rtol·‖f̂‖; full Newton steps (the VI
-is linear). ``vinewtonssls`` rescales the Jacobian in place: it gets its
-own copy of K̂."""
+solves it with MUMPS LU on each reduced Jacobian: an independent solver,
+but one that refactorises every iteration. Stopping: ‖F‖ ≤ rtol·‖f̂‖;
+full Newton steps (the VI is linear). ``vinewtonssls`` rescales the
+Jacobian in place: it gets its own copy of K̂."""
 
 import numpy as np
 

@@ -11,9 +11,8 @@ E with m_e rows, A and B with m_c, m_e + m_c = n. With an NCP function φ
 
 - ``method="min"``: the damped Newton method of thesis §2.2.1 with
   φ_min: J d = −Φ, x ← x + αd with α = 1 halved while ‖Φ‖ does not
-  decrease (the thesis's "α = ε/2" is a typo for α/2). Below
-  ``alpha_min`` (2⁻¹⁰, which reproduces the thesis's behaviour on the §4
-  block) the search gives up, records it in
+  decrease (the thesis's "α = ε/2" is a typo for α/2); below
+  ``alpha_min`` the search gives up, records it in
   ``history["line_search_failed"]`` and takes the full step, as the thesis
   reports doing (§4);
 - ``method="fb"``: the method of De Luca, Facchinei and Kanzow (1996),
@@ -24,12 +23,12 @@ E with m_e rows, A and B with m_c, m_e + m_c = n. With an NCP function φ
   γ = {A_i = B_i = 0} the Jacobian rows of (31) with direction z.
 
 ``jac`` returns sparse blocks (J d = −Φ by SuperLU), dense blocks (a
-system condensed onto Γc: LAPACK) or a structured Jacobian that solves
-its own Newton systems: an object with ``JA``, ``JB`` (for rule (31)) and
+condensed system: LAPACK) or a structured Jacobian that solves its own
+Newton systems: an object with ``JA``, ``JB`` (for rule (31)) and
 ``combine(w_a, w_b)``, which returns [JE; diag(w_a)JA + diag(w_b)JB] as an
 object with ``direction(F)`` (d with J d = −F, or None if singular) and
-``rmatvec(F)`` (JᵀF). Nothing here knows finite elements; the iterations
-run with one OpenBLAS thread (:mod:`solver.linalg.threads`).
+``rmatvec(F)`` (JᵀF). The iterations run with one OpenBLAS thread
+(:mod:`solver.linalg.threads`).
 
 References
 ----------
@@ -75,7 +74,8 @@ STALL_DECREASE = 0.9
 #: there, its message says that tol is below what floating point reaches.
 ROUNDOFF_LEVEL = 1e-12
 
-#: Options of each method (thesis §2.2 and (32)).
+#: Options of each method (thesis §2.2 and (32)); ``alpha_min`` = 2⁻¹⁰
+#: reproduces the thesis's behaviour on the §4 block.
 DEFAULT_OPTIONS = {
     "min": {"alpha_min": 2.0 ** -10},
     "fb": {"rho": 1e-8, "p": 2.1, "beta": 1e-4, "max_halvings": 60,

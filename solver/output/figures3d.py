@@ -1,15 +1,8 @@
 r"""Figures of a 3D solve: the contact pressure against the radius, with the
-Hertz profile.
-
-For a sphere pressed on a half-space (Hertz; a and p_0 of
-:func:`solver.verification.hertz_point_contact`) the pressure is
-
-.. math::  p(r) = p_0 \sqrt{1 - r^2/a^2} \quad (r \le a),
-           \qquad p(r) = 0 \quad (r > a).
-
-Which curve, which axis and why is decided in one place,
-:func:`.hertz_reference.hertz_reference`, from the problem's symmetry
-planes and initial gap."""
+Hertz profile p(r) = p_0 √(1 − r²/a²) for r ≤ a, 0 beyond (a and p_0 of
+:func:`solver.verification.hertz_point_contact`). Which curve, which axis
+and why is decided in one place, :func:`.hertz_reference.hertz_reference`,
+from the problem's symmetry planes and initial gap."""
 
 import os
 

@@ -3,14 +3,13 @@ r"""Which Hertz curve a 3D solve's pressure figure may draw, and why.
 Hertz's point contact (Johnson, *Contact Mechanics*, 1985, §4.2) needs the
 whole body's force P, the relative radius of curvature R at the first
 contact, E* and the contact's axis. A problem file states R, E and ν in its
-``meta``; everything else is read from the problem itself, so that a
-user-built half or quarter model gets the same curve as the shipped one,
-and a problem that does not fix them gets no curve (never a wrong one):
+``meta``; the rest is read from the problem itself, so that a user-built
+half or quarter model gets the shipped one's curve, and a problem that
+does not fix them gets no curve (never a wrong one):
 
-* **Symmetry planes** (:func:`symmetry_planes`): the rollers of a half or
-  quarter model that lie on one plane x_k = c make it a mirror; with n
-  such planes the whole body is 2ⁿ copies of the model, and
-  P = 2ⁿ Σ_i λ_i ν_i·e (e the contact axis).
+* **Symmetry planes** (:func:`symmetry_planes`): with n mirror planes of
+  rollers the whole body is 2ⁿ copies of the model, P = 2ⁿ Σ_i λ_i ν_i·e
+  (e the contact axis).
 * **Centre and axis** (:func:`first_contact`): near the first contact the
   initial gap is quadratic in the tangent plane, g = g* + (ξ − ξ*)ᵀA(ξ −
   ξ*); the nodes of smallest gap, mirrored in the planes, give A and the
@@ -18,10 +17,8 @@ and a problem that does not fix them gets no curve (never a wrong one):
   curvature radii 1/(2 eig A).
 * **R**: ``meta["R"]``, combined with a sphere obstacle's (1/R* = 1/R +
   1/R_o), accepted only if both curvature radii agree with R* within
-  :data:`R_TOLERANCE`.
-
-Keys a problem file may add (``quarter``, ``half``, ``contact_center``)
-are only compared with what was derived; a disagreement draws no curve."""
+  :data:`R_TOLERANCE`. Keys a problem file may add (``quarter``, ``half``,
+  ``contact_center``) are only compared with what was derived."""
 
 from dataclasses import dataclass
 

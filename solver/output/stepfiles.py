@@ -2,14 +2,12 @@
 
 :class:`StepWriter` receives each completed load step (a friction run's
 ``on_step``), writes its VTK file ``steps/step_NNNN.vtu`` at once and its
-arrays into one memory-mapped ``.npy`` scratch file per field
-(preallocated for every step of the run). :meth:`StepWriter.finish` then
-streams ``result.npz`` of the completed steps from the scratch files and
-writes the ParaView index ``result.pvd``; a run that stops early finishes
-the same way with the steps it completed. The archive's members are
-stored, not deflated: deflating would shrink them by only a seventh and
-cost more time than anything else in :meth:`finish`, which an interrupted
-run must complete before it is killed (docs/mpi.md, "Stopping a run")."""
+arrays into one preallocated memory-mapped ``.npy`` scratch file per
+field. :meth:`StepWriter.finish`, also after a run that stops early, then
+streams ``result.npz`` of the completed steps from the scratch files
+(stored, not deflated: deflating gains little and would slow the finish,
+which an interrupted run must complete before it is killed; docs/mpi.md,
+"Stopping a run") and writes the ParaView index ``result.pvd``."""
 
 import os
 import shutil

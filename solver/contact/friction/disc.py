@@ -23,12 +23,10 @@ for b = 0), and what is left is one dense n×n system,
 
 n³/3 flops instead of (5n/3)³/3 for the whole J, singular exactly when J
 is. :class:`DiscSystem` returns the projection rows as nodal forces
-D(g − P(w)), like the other rows: the same direction, but the line
-searches' merit then weighs every row in force units, as the stopping
-measure does (benchmarks/README.md, "3D friction: the projection rows in
-force units"). A roller's constrained tangent e_c has no equilibrium row
-and w_c ≡ 0: its row is c_t dĝ_c = −F_2,c and ∂P/∂w loses its column, so
-the matrix keeps the free tangents' rows and stays square."""
+D(g − P(w)): the same direction, but the line searches then weigh every
+row in force units, as the stopping measure does (benchmarks/README.md,
+"3D friction: the projection rows in force units"). A roller's e_c row is
+c_t dĝ_c = −F_2,c and ∂P/∂w loses its column: the matrix stays square."""
 
 import warnings
 

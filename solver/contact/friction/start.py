@@ -11,15 +11,12 @@ R S⁻¹ Rᵀ, the flexibility; z the change of the normal forces) with
 λ and s − u_n those of the predictor. Why: the predictor pushes the nodes
 in contact into the obstacle by the step's whole free motion, far from the
 complementarity set, where φ_FB is curved and its Newton step removes only
-part of the penetration per iteration (φ_min's lands on the set in one).
-Started on the set, both methods meet φ_FB's curvature only where the
-step changes the contact set.
-
-The linear complementarity problem (C_nn SPD, m × m) is solved by the
-primal-dual active set method (Hintermüller, Ito & Kunisch, SIAM J. Optim.
-13 (2002) 865-888) from the penetrating nodes, one solve of the size of
-the contact set per pass. Only on a condensed system and for the
-projection formulation: the full system starts from Δu = 0 as in the
+part of the penetration per iteration; started on the set, both methods
+meet φ_FB's curvature only where the step changes the contact set. The
+linear complementarity problem (C_nn SPD) is solved by the primal-dual
+active set method (Hintermüller, Ito & Kunisch, SIAM J. Optim. 13 (2002)
+865-888) from the penetrating nodes. Only for the projection formulation
+on a condensed system: the full system starts from Δu = 0 as in the
 thesis, and the thesis's split keeps the predictor (its condensed Newton
 path is sensitive to the start)."""
 

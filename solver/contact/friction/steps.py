@@ -1,14 +1,10 @@
-r"""One load step of the friction driver :func:`~.driver.run_friction`.
-
-:func:`setup` builds what every step shares (the system of the
-formulation, condensed onto Γc with one factorisation of K or the full
-one; D, M and the scales); :func:`load_step` starts step κ
-(:mod:`.start`), solves it with the project's Newton
-(:func:`~solver.ncp.solve_ncp`), verifies it
+r"""One load step of the friction driver :func:`~.driver.run_friction`:
+:func:`setup` builds what every step shares (the formulation's system,
+condensed or full; D, M and the scales); :func:`load_step` starts step κ
+(:mod:`.start`), solves it (:func:`~solver.ncp.solve_ncp`), verifies it
 (:func:`~solver.contact.verify.verify_contact`), records it and hands its
-fields to the :class:`~.stream.StepStream`; :func:`make_result` makes the
-:class:`~solver.contact.result.ContactResult`, after checking the last
-step against the original K and f."""
+fields to the :class:`~.stream.StepStream`; :func:`make_result` checks the
+last step against the original K and f and makes the result."""
 
 import time
 from types import SimpleNamespace

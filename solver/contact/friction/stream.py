@@ -1,12 +1,10 @@
 """Completed load steps of a friction run, delivered in order.
 
-The driver hands each converged step's fields to a :class:`StepStream`.
 On the condensed system a step is solved on Γc only; its displacement in
 all unknowns is recovered later, for up to :data:`BATCH` steps in one
-solve with many right-hand sides. The stream then passes each step,
-complete, to the caller's ``on_step`` and keeps it in memory only if
-asked, so that a long run can be written to disk with memory bounded by
-one batch."""
+solve with many right-hand sides. The :class:`StepStream` then passes each
+step, complete, to the caller's ``on_step`` and keeps it in memory only if
+asked, so that a long run can be written to disk in bounded memory."""
 
 import numpy as np
 

@@ -23,11 +23,9 @@ COULOMB = ("lagged", "implicit")
 
 class FrictionSystem:
     """Residual and Jacobian of one load step, for :func:`solver.ncp.
-    solve_ncp`: the part both formulations share.
-
-    K and f are the reduced stiffness and the full load; ``geometry`` holds
-    the gaps and frames of the free contact nodes and (projection form only)
-    the rollers; ``lumped`` D_ii = Σ_j M_ij there; ``friction`` f_c ≥ 0;
+    solve_ncp`: the part both formulations share. K, f: the reduced stiffness
+    and the full load; ``geometry`` the gaps and frames of the free contact
+    nodes; ``lumped`` D_ii = Σ_j M_ij there; ``friction`` f_c ≥ 0;
     ``coulomb`` "lagged" or "implicit"; ``gap_scale`` c of the normal pair's
     B = c(s − YRu) (1 = thesis); ``stiffness`` k̄ of the stopping measure and
     of c_t (default: mean of diag K at the contact DOFs; a condensed system

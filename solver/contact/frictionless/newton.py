@@ -11,30 +11,27 @@ derivative_weights`) is, in the rotated displacement v = R d (R of
     −w_{a,i} T_{n_i,:}\,v − w_{b,i}\,c\,v_{n_i} = −F_i \quad
     (\text{rows } Y).
 
-A normal row with w_a = 0 (φ_min's "in contact": the gap row) fixes
-v_{n_i} = F_i/(c w_{b,i}); the others, divided by −w_a, leave the exact
-block elimination
+A normal row with w_a = 0 (φ_min's gap row) fixes v_{n_i} =
+F_i/(c w_{b,i}); the others, divided by −w_a, leave the exact block
+elimination
 
 .. math:: (T + \mathrm{diag}(ρ))_{FF}\, v_F = h_F − T_{FK}\, v_K,
           \qquad ρ_i = c\,w_{b,i}/w_{a,i}
 
 on the free components F (ρ = 0 on the rows X). ρ ≥ 0 for φ_min and φ_FB
-(w_a, w_b ≤ 0, thesis (30)), so the matrix is a principal submatrix of
-the SPD T plus a non-negative diagonal: one Cholesky factorisation of at
-most the size of S. The direction is that of J d = −Φ up to round-off; J
-is singular exactly when the reduced matrix is. This is the primal-dual
-active set structure (Hintermüller, Ito & Kunisch 2002) of the condensed
-system; :mod:`solver.contact.friction.newton` does the same with friction.
-
-The rows X carry no NCP and never change, so they are eliminated once per
-system: with C = T_XX⁻¹T_XY and the normal complement N = T_YY − T_YX C
-(SPD), the free normal components solve
+(w_a, w_b ≤ 0, thesis (30)): a principal submatrix of the SPD T plus a
+non-negative diagonal, one Cholesky factorisation, singular exactly when
+J is; the direction is that of J d = −Φ up to round-off. This is the
+primal-dual active set structure (Hintermüller, Ito & Kunisch 2002) of the
+condensed system; :mod:`solver.contact.friction.newton` does the same with
+friction. The rows X carry no NCP and never change, so they are
+eliminated once per system: with C = T_XX⁻¹T_XY and the normal complement
+N = T_YY − T_YX C (SPD), the free normal components solve
 
 .. math:: (N + \mathrm{diag}(ρ))_{FF}\, v_F = ĥ_F − N_{FK}\, v_K, \qquad
           ĥ = h_Y − T_{YX} z, \quad z = T_{XX}^{-1} h_X,
 
-and v_X = z − C v_Y: a Cholesky factorisation of the free normals' order,
-|F|³/3, instead of (|X| + |F|)³/3."""
+and v_X = z − C v_Y: |F|³/3 flops instead of (|X| + |F|)³/3."""
 
 import warnings
 

@@ -3,26 +3,24 @@ r"""Frictionless contact condensed onto the normal DOFs of candidate nodes.
 A dense Schur complement on every DOF of Γc has (d·Nc)² entries: in 3D,
 with Nc = 10⁴-10⁵, it does not fit. Without friction the tangential
 contact forces are zero, so only the normal unknown of a node that can
-touch needs to stay: K and f rotated into the node frames (K̂ = RKRᵀ,
-f̂ = Rf, SPD and as sparse as K), the Schur complement S of K̂ on the
-normal rows of the *candidates* (m×m, dense), w = K̂⁻¹f̂ and g̃ = S w_c
-from one factorisation; the NCP (67) on the candidates, S u_n = g̃ + λ,
-λ ≥ 0 ⊥ s − u_n ≥ 0 (:func:`normal_line`); then u = Rᵀ(w + K̂⁻¹Pᵀ
-S(u_n − w_c)), one back-substitution.
+touch needs to stay: with K̂ = RKRᵀ, f̂ = Rf (SPD and as sparse as K), the
+Schur complement S of K̂ on the normal rows of the *candidates* (m×m,
+dense), w = K̂⁻¹f̂ and g̃ = S w_c from one factorisation; the NCP (67) on
+the candidates, S u_n = g̃ + λ, λ ≥ 0 ⊥ s − u_n ≥ 0 (:func:`normal_line`);
+then u = Rᵀ(w + K̂⁻¹Pᵀ S(u_n − w_c)), one back-substitution.
 
 The screening rule. Round 0 takes the nodes whose initial gap is at most
 δ₀ = ``margin``, by default s_min + :data:`GAP_FRACTION`·(s_max − s_min)
 + a, a the largest prescribed nodal displacement (how far a body driven
 by prescribed displacements moves before it deforms); in 2D every free
-contact node (a curve's normals are few). After a round's solve every
-non-candidate must keep s − u_n ≥ −tol_v·F/k̄; if one penetrates, the set
-grows by every node whose remaining gap is at most the deepest
-penetration and K̂ is factorised again (at most :data:`MAX_ROUNDS`). If
-none penetrates the answer is exact for the whole of Γc: λ = 0 with a
-non-negative gap satisfies the contact conditions at every non-candidate,
-so the KKT conditions of the full (strictly convex) problem hold. The 3D
-default (benchmarks/README.md, "Candidate screening"); the sparse full
-system is the fallback when even the candidates' S would not fit.
+contact node (a curve's normals are few). If after a round's solve a
+non-candidate penetrates (s − u_n < −tol_v·F/k̄), the set grows by every
+node whose remaining gap is at most the deepest penetration and K̂ is
+factorised again (at most :data:`MAX_ROUNDS`). Otherwise the answer is
+exact for the whole of Γc: λ = 0 with a non-negative gap satisfies the
+contact conditions at every non-candidate, so the KKT conditions of the
+full (strictly convex) problem hold. The 3D default (benchmarks/README.md,
+"Candidate screening").
 
 References
 ----------

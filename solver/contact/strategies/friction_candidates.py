@@ -7,29 +7,21 @@ has radius 0 and t = 0), so only the d DOFs of the *candidates* need to
 stay: the same run on their geometry, S of size 3m, m ≪ Nc.
 
 Choosing them: the frictionless problem at the final load, on the normal
-candidates (:mod:`solver.contact.strategies.candidates`), gives every
-node's remaining gap and contact set; the first friction candidates are
-that set and :data:`RINGS` rings of its neighbours along the contact
+candidates (:mod:`.candidates`; Wriggers's screening), gives every
+node's remaining gap and contact set; the first friction candidates
+are that set and :data:`RINGS` rings of its neighbours along the contact
 triangles, or the nodes with s − u_n ≤ ``margin`` (default
 :data:`RING_FRACTION` of its range). Each load step's non-candidates are
 checked as the step is delivered; a penetration enlarges the set and the
 run **restarts from the first step**: friction is path-dependent, and the
 new candidates then share the full problem's history (the zero state).
-
-Exactness: a step whose non-candidates all keep s − u_n ≥ 0 solves the
-full problem's step (at a non-candidate λ = 0, t = 0, the Coulomb radius
-is 0, and the condensation is exact for forces acting on the candidates
-only). Delivered steps are not delivered twice; a failure may be found up
-to a :data:`~solver.contact.friction.stream.BATCH` late (time, not
-exactness). After :data:`~solver.contact.strategies.candidates.
-MAX_ROUNDS` rounds the last run takes every node.
-
-References
-----------
-P. Wriggers, *Computational Contact Mechanics*, 2nd ed., Springer 2006,
-§6.2.2 (condensation) and its chapter on contact search. S. Hüeber, G.
-Stadler, B. Wohlmuth, SIAM J. Sci. Comput. 30 (2008) 572-596 (3D Coulomb
-friction by the projection onto the disc)."""
+A step whose non-candidates all keep s − u_n ≥ 0 solves the full
+problem's step exactly (there λ = 0, t = 0, and the condensation is exact
+for forces on the candidates only). Delivered steps are not delivered
+twice; a failure may be found up to a :data:`~solver.contact.friction.
+stream.BATCH` late. After :data:`~.candidates.MAX_ROUNDS` rounds the last
+run takes every node. The disc: Hüeber, Stadler & Wohlmuth, SIAM J. Sci.
+Comput. 30 (2008) 572-596."""
 
 import time
 

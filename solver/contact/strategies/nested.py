@@ -1,14 +1,14 @@
 r"""Nested iteration on Γc: a coarse-to-fine start for the condensed system.
 
 From the cold start λ = 0 every penetrating node looks active; Newton
-with φ_min, the primal-dual active set method here, releases only part of
+with φ_min (the primal-dual active set method here) releases only part of
 that excess per iteration, so its count grows like log Nc. Nested
-iteration (full multigrid's start; Hüeber and Wohlmuth use it for their
-active set solver) removes that growth: solve with constraints at every
-other node of Γc, then every other of those, …, down to a handful of
-nodes; solve the coarsest from cold and each finer level from the one
-below it. A level of m nodes costs O(m³): all coarser levels together
-cost less than one more iteration on the finest.
+iteration (full multigrid's start, as Hüeber and Wohlmuth use it) removes
+that growth: solve with constraints at every other node of Γc, then every
+other of those, …, down to a handful of nodes, from the coarsest (cold)
+to the finest, each level started from the one below. A level of m nodes
+costs O(m³): all coarser levels together cost less than one more
+iteration on the finest.
 
 The coarse problems are exact: level ℓ + 1 keeps the nodes ``keep`` of
 level ℓ and condenses the others (r) out with no contact force on them,
@@ -19,8 +19,8 @@ level ℓ and condenses the others (r) out with no contact force on them,
 w = K⁻¹f (g̃ = S w); a solution is prolonged by that same equilibrium,
 u_r = w_r − S_{rr}^{-1}S_{rk}(u_k − w_k). The gap rows are scaled by k̄
 (with c = 1 φ_min's line search rejects good steps from such a start).
-The coarsening follows the order of Γc along the 2D curve; a 3D surface
-has none and starts free.
+The coarsening follows Γc's order along the 2D curve; a 3D surface has
+none and starts free.
 
 References
 ----------

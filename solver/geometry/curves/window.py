@@ -2,16 +2,15 @@ r"""The interval of the obstacle parameter *t* searched for the gaps.
 
 The window must contain every root that matters and be small enough for
 the samples to separate the roots: it follows the **geometry**, not the
-speed of the parametrisation (the thesis's parabola and the same curve run
-a hundred times slower give the same gaps). With *c* the centre of the
-contact nodes :math:`B_i`, ρ their largest distance from *c* and
-:math:`\Gamma_o(t_j)` the sampled obstacle point nearest to *c*, the
-nearest obstacle point of any :math:`B_i` lies in the disc about *c* of
-radius :math:`\rho + d`, :math:`d = \max_i |B_i - \Gamma_o(t_j)|`. The
-window is grown (×4 at a time) until both its ends lie outside the disc of
-twice that radius (admitting intersections along the body's normals),
-then shrunk to the samples inside it and resampled until it no longer
-shrinks. A curve that never leaves the disc keeps the starting window."""
+speed of the parametrisation. With *c* the centre of the contact nodes
+:math:`B_i`, ρ their largest distance from *c* and :math:`\Gamma_o(t_j)`
+the sampled obstacle point nearest to *c*, the nearest obstacle point of
+any :math:`B_i` lies in the disc about *c* of radius :math:`\rho + d`,
+:math:`d = \max_i |B_i - \Gamma_o(t_j)|`. The window is grown (×4 at a
+time) until both its ends lie outside the disc of twice that radius
+(admitting intersections along the body's normals), then shrunk to the
+samples inside it and resampled until it no longer shrinks; a curve that
+never leaves the disc keeps the starting window."""
 
 import numpy as np
 

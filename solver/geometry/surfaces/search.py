@@ -2,21 +2,17 @@ r"""Closest points and ray intersections on a parametric surface
 :math:`c(s, t)`, vectorised over all query points at once.
 
 **Closest point** (3D §2.1.1): minimise :math:`\varphi(u) = \tfrac12
-|c(u) - x|^2` over the parameter box :math:`u = (s, t) \in [l, h]`:
-
-1. *Bracketing start*: each point starts from its nearest grid sample (a
-   k-d tree for a shared box, a small grid per point otherwise); a run
-   that ends on an edge of the box without being a foot point there
-   restarts from the next nearest sample (:data:`CANDIDATES`).
-2. *Safeguarded projected Newton* (Bertsekas, SIAM J. Control Optim. 20
-   (1982) 221-246): :math:`g = J^T r`, :math:`H = J^T J + \sum_k r_k
-   \nabla^2 c_k` (Gauss-Newton :math:`J^T J` where *H* is not positive
-   definite); parameters at a bound with the gradient pushing outward
-   held fixed; the step projected onto the box and halved until
-   :math:`\varphi` decreases (Armijo, :math:`10^{-4}`).
-3. *Convergence*: :math:`|g_i| \le |c_i|\,(10^{-12}|r| + 16\epsilon L)`
-   for the free parameters (a floor at the rounding level of coordinates
-   of size *L*).
+|c(u) - x|^2` over the parameter box :math:`u = (s, t) \in [l, h]`, each
+point from its nearest grid sample (restarted from the next nearest,
+:data:`CANDIDATES`, if it ends on an edge of the box without a foot
+point there), by safeguarded projected Newton (Bertsekas, SIAM J. Control
+Optim. 20 (1982) 221-246): :math:`g = J^T r`, :math:`H = J^T J + \sum_k
+r_k \nabla^2 c_k` (Gauss-Newton :math:`J^T J` where *H* is not positive
+definite); parameters at a bound with the gradient pushing outward held
+fixed; the step projected onto the box and halved until :math:`\varphi`
+decreases (Armijo, :math:`10^{-4}`); converged when :math:`|g_i| \le
+|c_i|\,(10^{-12}|r| + 16\epsilon L)` for the free parameters (a floor at
+the rounding level of coordinates of size *L*).
 
 **Ray intersection** (§2.1.2): Newton on :math:`c(s,t) - (x + \tau d) =
 0` in :math:`(s, t, \tau)`, damped on :math:`\tfrac12|c - x - \tau d|^2`,

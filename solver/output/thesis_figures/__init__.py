@@ -1,12 +1,10 @@
 r"""Counterparts of the thesis's Fig. 1-27, for the notebooks
-(``notebooks/README.md`` lists which figure each stands for).
-
-Each function draws one figure in the thesis's layout, returns the
-Figure and, given ``path``, saves it as a PNG (100 dpi); nothing here
-prints or calls ``plt.show()``. Units: :data:`solver.output.figures.UNITS`.
-Sketches (Fig. 1, 2, 3, 16, 17) are drawn from the problem data where
-there is data (Fig. 3 from the exported mesh, Fig. 16 from the bar's
-computed load path)."""
+(``notebooks/README.md`` lists which figure each stands for). Each
+function draws one figure in the thesis's layout, returns the Figure and,
+given ``path``, saves it as a PNG (100 dpi); units as
+:data:`solver.output.figures.UNITS`. The sketches (Fig. 1, 2, 3, 16, 17)
+are drawn from the problem data where there is data (Fig. 3 from the
+exported mesh, Fig. 16 from the bar's computed load path)."""
 
 from .common import DPI, FORCE, LENGTH, PRESSURE, UNITS, panel_position, save_png  # noqa: F401
 from .sketches import ncp_functions, boundary_conditions_sketch  # noqa: F401
