@@ -1,13 +1,11 @@
 r"""The safe expression parser behind the obstacle curves and surfaces.
-
 Expressions travel as text inside the ``.npz`` problem file and are parsed
 **without** :func:`eval`: :func:`ast.parse`, every node checked against a
 whitelist (numbers, the variables, ``pi``, ``e``, ``+ - * / **``, unary
-signs and a fixed set of elementary functions) and translated into a
-SymPy expression, which gives exact derivatives; evaluation goes through
-:func:`sympy.lambdify` of that expression only. Sizes, nesting depths and
-constants are bounded (the ``MAX_*`` limits), so a hostile file cannot
-exhaust memory or time here."""
+signs, a fixed set of elementary functions) and translated into SymPy for
+exact derivatives, evaluated by :func:`sympy.lambdify`. Sizes, nesting
+depths and constants are bounded (the ``MAX_*`` limits), so a hostile
+file cannot exhaust memory or time here."""
 
 import ast
 import math

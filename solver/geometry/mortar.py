@@ -140,10 +140,9 @@ PAIR_CHUNK = 200_000
 
 
 def _interface(nodes, slave, master, slave_nodes):
-    """The arrays both couplings start from: nodes, slave, master,
-    slave_nodes (default :func:`chain_order`), each node's row ``pos`` (−1
-    off the slave side), slave normals and lengths, master normals, the
-    slave nodal normals and D (the tributary lengths)."""
+    """What both couplings start from: nodes, slave, master, slave_nodes,
+    each node's row ``pos`` (−1 off the slave side), the segment normals and
+    lengths, the slave nodal normals and D (the tributary lengths)."""
     nodes = np.asarray(nodes, float)
     slave, master = np.asarray(slave, np.int64), np.asarray(master, np.int64)
     slave_nodes = chain_order(slave) if slave_nodes is None \

@@ -6,10 +6,9 @@ PKPᵀ = LDLᵀ with SuperLU in symmetric mode, diagonal pivots only
 A is positive definite iff every pivot D_kk > 0 (Sylvester's law of
 inertia, :func:`~solver.linalg.base.check_pivots`); the factorisation is
 Cholesky's up to the first non-positive pivot, hence backward stable where
-it matters. With the Schur set c last the trailing blocks give
-S = L₂₂U₂₂ (the condensed thesis split with φ_FB is sensitive even to the
-round-off of U₂₂ᵀD₂₂⁻¹U₂₂). SciPy exposes the factors only as copies:
-they are read once, for the pivots and the trailing blocks, and dropped."""
+it matters. With the Schur set c last S = L₂₂U₂₂ (the condensed thesis
+split with φ_FB is sensitive even to the round-off of U₂₂ᵀD₂₂⁻¹U₂₂). The
+factors, copies in SciPy, are read once and dropped."""
 
 import numpy as np
 import scipy.sparse as sp

@@ -5,10 +5,10 @@ their LDLᵀ (:func:`solver.linalg.base.check_pivots`). MUMPS factorises
 the padded K̂ as a general symmetric matrix (SYM = 2, docs/mpi.md) and
 does not stop at such pivots, so the same test is asked of it (Users'
 Guide 5.5, sections 5.1.2, 6.1-6.2 and 8): null pivots below
-PIVOT_RTOL‖K̂‖ counted (ICNTL(24) = 1, CNTL(3), INFOG(28)), negative
-pivots (the inertia, INFOG(12)) and errors (INFOG(1) < 0 with INFOG(2)).
-Under a Schur set these count the eliminated unknowns only; S itself is
-factorised by a dense Cholesky on rank 0, which fails for the rest."""
+PIVOT_RTOL‖K̂‖ (ICNTL(24) = 1, CNTL(3), INFOG(28)), negative pivots
+(INFOG(12)) and errors (INFOG(1) < 0). Under a Schur set these count the
+eliminated unknowns only; the dense Cholesky of S on rank 0 fails for the
+rest."""
 
 import ctypes
 

@@ -114,11 +114,10 @@ def plot_deformed(problem, result, scale=None, path=None, title=None):
 
     Left: the body at X + scale·u (``scale`` default :func:`magnification`)
     over the faint undeformed outline, contact nodes starred, and the obstacle
-    twice: dotted at its true position, which a magnified body crosses, and
-    solid moved with the magnified boundary (:func:`moved_obstacle`: every gap
-    keeps its true length). Right: Γc before and after deformation at scale 1
-    with the obstacle. ``result`` needs ``displacement`` (nodal) and
-    ``in_contact``; ``method`` and ``gap_mode`` go into the default title."""
+    dotted at its true position and solid moved with the magnified boundary
+    (:func:`moved_obstacle`: every gap keeps its true length). Right: Γc
+    before and after deformation at scale 1 with the obstacle. ``result``
+    needs ``displacement`` (nodal) and ``in_contact``."""
     from matplotlib.collections import LineCollection
 
     plt = pyplot()
@@ -388,9 +387,8 @@ def plot_contact_pressure(problem, result, path=None):
 
 
 def write_jobs(folder, jobs):
-    """Run each (name, job) of ``jobs``, job(path) drawing a figure into
-    ``folder``/name.png; close the figures and return their paths by
-    name."""
+    """Draw each (name, job) of ``jobs``, job(path), into ``folder``/name.png,
+    close the figures and return their paths by name."""
     import os
 
     plt = pyplot()

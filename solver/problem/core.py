@@ -21,13 +21,10 @@ __all__ = ["ContactProblem", "validate_arrays"]
 @dataclass(eq=False)
 class ContactProblem:
     r"""A contact problem as the solver sees it (one ``.npz`` file): the
-    arrays of :data:`~solver.problem.format.KEYS`, K and M as CSR matrices.
-    Construct it directly (:meth:`validate` checks the arrays) or with
-    :func:`load_problem`. ``obstacle`` is a 2D curve
-    (:class:`ParametricCurve`, :class:`PolylineCurve`), a 3D surface (or its
-    spec dict) with ``contact_faces``, or None for two bodies, whose
-    ``body``, ``mortar_*`` keys give the interface (None in a one-body file).
-    """
+    arrays of :data:`~solver.problem.format.KEYS`, K and M as CSR matrices,
+    from :func:`load_problem` or built directly (:meth:`validate` checks
+    them). ``obstacle``: a 2D curve, a 3D surface (or its spec dict) with
+    ``contact_faces``, or None for two bodies (``body``, ``mortar_*``)."""
 
     K: sp.csr_matrix
     f: np.ndarray

@@ -111,12 +111,12 @@ def friction_on_candidates(solve, problem, friction, geometry, engine,
     """The friction driver (``solve``, :func:`~solver.contact.friction.
     driver.run_friction`) on the candidates of ``geometry`` (module
     docstring), ``kwargs`` its other arguments (``gap_scale`` that of the
-    whole Γc: the iterates of the run on every contact DOF). Returns its
-    result with the fields of every node of Γc (non-candidates: λ = 0,
-    t = 0), ``verification`` including every node's gap, ``condensation``
-    "candidates" and ``candidates``: ``margin`` δ₀, ``rounds`` (``stage``,
-    ``n_candidates``, ``penetrating``, ``step`` that failed the check or
-    None, ``time``), ``n_candidates`` and ``enlarged``."""
+    whole Γc). Returns its result over every node of Γc (non-candidates:
+    λ = 0, t = 0), ``verification`` including every node's gap,
+    ``condensation`` "candidates" and ``candidates``: ``margin`` δ₀,
+    ``rounds`` (``stage``, ``n_candidates``, ``penetrating``, the ``step``
+    that failed the check or None, ``time``), ``n_candidates``, ``enlarged``.
+    """
     start = time.perf_counter()
     kwargs = dict(kwargs)
     on_step, progress = kwargs.pop("on_step"), kwargs.pop("progress")

@@ -47,14 +47,12 @@ COARSEST = 8
 
 
 class ContactLevel:
-    """One level of the hierarchy: the condensed problem on a node subset.
-
-    Attributes: ``nodes`` (positions in the finest level's node list),
-    ``S`` (the Schur complement of K on the level's DOFs, node by node),
-    ``w`` (K⁻¹f there), ``geometry`` (renumbered to the level's DOFs),
-    ``keep`` (which nodes the next coarser level keeps; None on the
-    coarsest) and ``X`` (S_rr⁻¹S_rk, the prolongation of a coarser level's
-    u to the dropped DOFs)."""
+    """One level of the hierarchy, the condensed problem on a node subset:
+    ``nodes`` (positions in the finest level's list), ``S`` (the Schur
+    complement of K on their DOFs), ``w`` (K⁻¹f there), ``geometry``
+    (renumbered to them), ``keep`` (the nodes the next coarser level keeps;
+    None on the coarsest) and ``X`` (S_rr⁻¹S_rk, prolonging a coarser
+    level's u to the dropped DOFs)."""
 
     def __init__(self, nodes, S, w, geometry):
         self.nodes, self.S, self.w, self.geometry = nodes, S, w, geometry
@@ -112,9 +110,8 @@ def _coarsen(level, geometry):
 
 
 def add_run(totals, history, result, label, value):
-    """Add one NCP run to a chain of them: its counts to ``totals``, its
-    history to ``history``, and ``value`` per iteration to
-    ``history[label]`` (the level or round each iteration ran on)."""
+    """Add one NCP run's counts to ``totals`` and its history to ``history``,
+    with ``value`` (its level or round) per iteration in ``history[label]``."""
     for key in totals:
         totals[key] += result[key]
     for key, values in result.history.items():

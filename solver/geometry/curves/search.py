@@ -1,16 +1,14 @@
 r"""The vectorised one-dimensional search behind the gaps (thesis §2.1).
 
-Both gap problems of :mod:`solver.geometry.curves` are one-dimensional in the
-obstacle parameter *t*. The parameter is sampled on a window
-(:func:`parameter_window`), a scalar function of *t* is evaluated at all
-samples for all nodes at once, every sign change between consecutive samples
-gives a bracket, all brackets of all nodes are refined together by
-Chandrupatla's bracketing root finder
+Both gap problems of :mod:`solver.geometry.curves` are one-dimensional in
+the obstacle parameter *t*: a scalar function of *t* is evaluated at the
+samples of a window (:func:`parameter_window`) for all nodes at once,
+every sign change between consecutive samples gives a bracket, all
+brackets are refined together by Chandrupatla's root finder
 (:func:`scipy.optimize.elementwise.find_root`, to machine precision), and
 per node the best root is chosen (:func:`first_per_owner`). Roots closer
-together than the sample spacing may be missed (a normal line touching the
-obstacle tangentially is such a case; it is rejected anyway, see
-:data:`MIN_COSINE`)."""
+together than the sample spacing may be missed (a tangential touch, which
+:data:`MIN_COSINE` rejects anyway)."""
 
 import numpy as np
 from scipy.optimize.elementwise import find_root
@@ -38,12 +36,11 @@ CHUNK = 2 ** 20
 def parameter_window(points, curve, window=None, samples=DEFAULT_SAMPLES):
     r"""The interval of the obstacle parameter *t* searched at the contact
     nodes ``points``: ((t0, t1), ends), ``ends`` saying whether t0 / t1 are
-    ends of ``curve.t_range`` rather than of an artificial window. ``window``
-    defaults to ``curve.search_interval`` (the problem file's or
-    ``--search-interval``), intersected with ``t_range``; without one the
-    window is fitted to the body's extent (:func:`~.window.fit_window`), not
-    to the speed of the parametrisation. Pass one when a normal line of the
-    body meets the obstacle far from the body."""
+    ends of ``curve.t_range``. ``window`` defaults to ``curve.search_interval``
+    (the problem file's or ``--search-interval``), intersected with
+    ``t_range``; without one it is fitted to the body's extent
+    (:func:`~.window.fit_window`). Pass one when a normal line of the body
+    meets the obstacle far from the body."""
     points = np.asarray(points, dtype=float)
     t_range = curve.t_range
     if window is None:
