@@ -67,13 +67,8 @@ def extrude(points, triangles, layers: int, thickness: float):
     return nodes, sphere.orient(nodes, np.concatenate(tets))
 
 
-class _Parser(argparse.ArgumentParser):
-    def error(self, message):  # one line instead of usage + message
-        self.exit(2, f"{self.prog}: error: {message}\n")
-
-
 def main(argv=None) -> int:
-    parser = _Parser(prog="block3d.py", description=__doc__.split("\n")[0])
+    parser = generate.Parser(prog="block3d.py", description=__doc__.split("\n")[0])
     parser.add_argument("--base", type=int, default=454,
                         choices=generate.THESIS_COUNTS,
                         help="the 2D thesis mesh (triangles)")

@@ -324,12 +324,16 @@ def generate(spec, path) -> tuple[np.ndarray, np.ndarray]:
     return points, triangles
 
 
-class _Parser(argparse.ArgumentParser):
-    def error(self, message):  # one line instead of usage + message
+class Parser(argparse.ArgumentParser):
+    """The mesh scripts' parser: one error line instead of usage + message
+    (exit 2)."""
+
+    def error(self, message):
         self.exit(2, f"{self.prog}: error: {message}\n")
 
 
-def _positive_float(text: str) -> float:
+def positive_float(text: str) -> float:
+    """argparse type of the mesh scripts: a finite number > 0."""
     try:
         value = float(text)
     except ValueError:
@@ -350,13 +354,13 @@ def _nonnegative_int(text: str) -> int:
 
 
 def _parser() -> argparse.ArgumentParser:
-    parser = _Parser(
+    parser = Parser(
         prog="generate.py",
         description="Write the thesis's triangle meshes of the 10 x 20 block "
                     "(118, 454, 1878 triangles) or a finer mesh.",
     )
     mode = parser.add_mutually_exclusive_group()
-    mode.add_argument("--size", type=_positive_float, metavar="H",
+    mode.add_argument("--size", type=positive_float, metavar="H",
                       help="element size of a new gmsh mesh (needs -o)")
     mode.add_argument("--refine", type=_nonnegative_int, metavar="K",
                       help="split each triangle of a thesis mesh into 4**K (needs -o)")

@@ -246,38 +246,23 @@ def arc_nodes(points: np.ndarray, radius: float = 1.0, tol: float = 1e-9) -> np.
     return on[np.argsort(points[on, 0], kind="stable")]
 
 
-class _Parser(argparse.ArgumentParser):
-    def error(self, message):  # one line instead of usage + message
-        self.exit(2, f"{self.prog}: error: {message}\n")
-
-
-def _positive_float(text: str) -> float:
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"not a number: {text!r}") from None
-    if not (math.isfinite(value) and value > 0):
-        raise argparse.ArgumentTypeError(f"must be a positive number, got {text}")
-    return value
-
-
 def _parser() -> argparse.ArgumentParser:
-    parser = _Parser(
+    parser = generate.Parser(
         prog="hertz.py",
         description="Write a graded triangle mesh of the half-disk "
                     "x^2 + y^2 <= R^2, y <= 0 (Hertz line contact), "
                     "fine near the contact point (0, -R).")
-    parser.add_argument("--h-contact", type=_positive_float, default=None, metavar="H",
+    parser.add_argument("--h-contact", type=generate.positive_float, default=None, metavar="H",
                         help=f"element size near (0, -R) (default {H_CONTACT} R)")
-    parser.add_argument("--h-far", type=_positive_float, default=None, metavar="H",
+    parser.add_argument("--h-far", type=generate.positive_float, default=None, metavar="H",
                         help=f"element size away from the contact zone (default {H_FAR} R)")
-    parser.add_argument("--refine", type=_positive_float, default=1.0, metavar="F",
+    parser.add_argument("--refine", type=generate.positive_float, default=1.0, metavar="F",
                         help="divide both sizes by F (default 1)")
-    parser.add_argument("--radius", type=_positive_float, default=1.0, metavar="R",
+    parser.add_argument("--radius", type=generate.positive_float, default=1.0, metavar="R",
                         help="radius R, any positive number (default 1)")
-    parser.add_argument("--dist-fine", type=_positive_float, default=DIST_FINE, metavar="D",
+    parser.add_argument("--dist-fine", type=generate.positive_float, default=DIST_FINE, metavar="D",
                         help=f"size h_contact within D*R of (0, -R) (default {DIST_FINE})")
-    parser.add_argument("--dist-coarse", type=_positive_float, default=DIST_COARSE, metavar="D",
+    parser.add_argument("--dist-coarse", type=generate.positive_float, default=DIST_COARSE, metavar="D",
                         help=f"size h_far beyond D*R of (0, -R) (default {DIST_COARSE})")
     parser.add_argument("-o", "--output", type=Path, default=DEFAULT_OUTPUT, metavar="FILE",
                         help="output .mesh file (default: meshes/hertz.mesh)")

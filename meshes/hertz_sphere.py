@@ -215,31 +215,18 @@ def hertz_sphere_mesh(a_over_h: float, radius: float = RADIUS,
     return points, orient(points, tets)
 
 
-class _Parser(argparse.ArgumentParser):
-    def error(self, message):  # one line instead of usage + message
-        self.exit(2, f"{self.prog}: error: {message}\n")
-
-
-def _positive(text: str) -> float:
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"not a number: {text!r}") from None
-    if not (np.isfinite(value) and value > 0):
-        raise argparse.ArgumentTypeError(f"must be a positive number, got "
-                                         f"{text}")
-    return value
-
-
 def main(argv=None) -> int:
-    parser = _Parser(prog="hertz_sphere.py",
-                     description=__doc__.split("\n")[0])
-    parser.add_argument("--a-over-h", type=_positive, required=True,
+    generate = _load_generate()
+    parser = generate.Parser(prog="hertz_sphere.py",
+                             description=__doc__.split("\n")[0])
+    parser.add_argument("--a-over-h", type=generate.positive_float,
+                        required=True,
                         help="contact radius over the element size there")
-    parser.add_argument("--radius", type=_positive, default=RADIUS,
+    parser.add_argument("--radius", type=generate.positive_float,
+                        default=RADIUS,
                         help=f"sphere radius R, any positive number "
                              f"(default {RADIUS:g})")
-    parser.add_argument("--a", type=_positive, default=None,
+    parser.add_argument("--a", type=generate.positive_float, default=None,
                         help=f"contact radius, less than R (default "
                              f"{A_TARGET} R)")
     parser.add_argument("--half", action="store_true",
@@ -250,7 +237,7 @@ def main(argv=None) -> int:
         points, tets = hertz_sphere_mesh(args.a_over_h, args.radius, args.a,
                                          args.half)
         write_mesh(args.output, points, tets)
-    except _load_generate().GmshMissingError as exc:
+    except generate.GmshMissingError as exc:
         print(f"{parser.prog}: error: {exc}", file=sys.stderr)
         return 2
     except (ValueError, RuntimeError, OSError) as exc:

@@ -251,40 +251,24 @@ def block_mesh(base=454, y_max=11.0, x_far=10.0, h_contact=0.25,
     return join([block, obstacle])
 
 
-class _Parser(argparse.ArgumentParser):
-    def error(self, message):  # one line instead of usage + message
-        self.exit(2, f"{self.prog}: error: {message}\n")
-
-
-def _positive(text: str) -> float:
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"not a number: {text!r}") from None
-    if not (math.isfinite(value) and value > 0):
-        raise argparse.ArgumentTypeError(f"must be a positive number, got "
-                                         f"{text}")
-    return value
-
-
 def _parser() -> argparse.ArgumentParser:
-    parser = _Parser(prog="two_body.py",
+    parser = generate.Parser(prog="two_body.py",
                      description="Write a two-body triangle mesh (two cell "
                                  "groups, no shared node).")
     sub = parser.add_subparsers(dest="kind", required=True)
     patch = sub.add_parser("patch", help="two stacked blocks, non-matching")
     patch.add_argument("--n-lower", type=int, default=5)
     patch.add_argument("--n-upper", type=int, default=8)
-    patch.add_argument("--h", type=_positive, default=0.2)
+    patch.add_argument("--h", type=generate.positive_float, default=0.2)
     patch.add_argument("-o", "--output", type=Path, default=PATCH)
     cyl = sub.add_parser("cylinders", help="two half-discs touching at 0")
-    cyl.add_argument("--r1", type=_positive, default=R1,
+    cyl.add_argument("--r1", type=generate.positive_float, default=R1,
                      help=f"upper radius, any positive number (default {R1:g})")
-    cyl.add_argument("--r2", type=_positive, default=R2,
+    cyl.add_argument("--r2", type=generate.positive_float, default=R2,
                      help=f"lower radius (default {R2:g})")
-    cyl.add_argument("--h1", type=_positive, default=None,
+    cyl.add_argument("--h1", type=generate.positive_float, default=None,
                      help=f"upper size at the contact (default {H1} R1)")
-    cyl.add_argument("--h2", type=_positive, default=None,
+    cyl.add_argument("--h2", type=generate.positive_float, default=None,
                      help=f"lower size at the contact (default {H2} R1)")
     cyl.add_argument("--identical", action="store_true",
                      help="R2 = R1 (two identical half-discs; h2 stays)")
@@ -292,8 +276,8 @@ def _parser() -> argparse.ArgumentParser:
     block = sub.add_parser("block", help="thesis block + parabola body")
     block.add_argument("--base", type=int, choices=(118, 454, 1878),
                        default=454)
-    block.add_argument("--h-contact", type=_positive, default=0.25)
-    block.add_argument("--h-far", type=_positive, default=1.5)
+    block.add_argument("--h-contact", type=generate.positive_float, default=0.25)
+    block.add_argument("--h-far", type=generate.positive_float, default=1.5)
     block.add_argument("--refine", type=int, default=0, metavar="K",
                        help="split the block's triangles into 4, K times")
     block.add_argument("-o", "--output", type=Path, default=None)
