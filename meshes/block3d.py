@@ -78,16 +78,17 @@ def main(argv=None) -> int:
                         help="extent in z, any positive number (default 10)")
     parser.add_argument("-o", "--output", required=True)
     args = parser.parse_args(argv)
-    try:
+
+    def work():
         points, triangles = generate.base_mesh(args.base)
         nodes, tets = extrude(points, triangles, args.layers, args.thickness)
         sphere.write_mesh(args.output, nodes, tets)
-    except generate.GmshMissingError as exc:
-        print(f"{parser.prog}: error: {exc}", file=sys.stderr)
-        return 2
-    except (ValueError, RuntimeError, OSError) as exc:
-        print(f"{parser.prog}: error: {exc}", file=sys.stderr)
-        return 1
+        return nodes, tets
+
+    code, mesh = generate.guarded(parser.prog, work)
+    if code:
+        return code
+    nodes, tets = mesh
     print(f"wrote {args.output}: {len(nodes)} nodes, {len(tets)} "
           "tetrahedra")
     return 0

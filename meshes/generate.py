@@ -332,6 +332,19 @@ class Parser(argparse.ArgumentParser):
         self.exit(2, f"{self.prog}: error: {message}\n")
 
 
+def guarded(prog, work):
+    """(exit code, work()) of a mesh script: 0 and its value, or one error
+    line on stderr and 2 (gmsh missing) or 1 (meshing or writing failed)."""
+    try:
+        return 0, work()
+    except GmshMissingError as exc:
+        print(f"{prog}: error: {exc}", file=sys.stderr)
+        return 2, None
+    except (ValueError, RuntimeError, OSError) as exc:
+        print(f"{prog}: error: {exc}", file=sys.stderr)
+        return 1, None
+
+
 def positive_float(text: str) -> float:
     """argparse type of the mesh scripts: a finite number > 0."""
     try:

@@ -274,16 +274,17 @@ def main(argv=None) -> int:
     args = parser.parse_args(argv)
     if args.output.suffix != ".mesh":
         parser.error(f"output file must end in .mesh, got {args.output}")
-    try:
+
+    def work():
         points, triangles = hertz_mesh(args.h_contact, args.h_far, args.refine,
                                        args.radius, args.dist_fine, args.dist_coarse)
         write_mesh(args.output, points, triangles)
-    except GmshMissingError as exc:
-        print(f"{parser.prog}: error: {exc}", file=sys.stderr)
-        return 2
-    except (ValueError, RuntimeError, OSError) as exc:
-        print(f"{parser.prog}: error: {exc}", file=sys.stderr)
-        return 1
+        return points, triangles
+
+    code, mesh = generate.guarded(parser.prog, work)
+    if code:
+        return code
+    points, triangles = mesh
     arc = arc_nodes(points, args.radius)
     a = 0.1 * args.radius
     inside = int((np.abs(points[arc, 0]) < a).sum())

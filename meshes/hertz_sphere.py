@@ -233,16 +233,17 @@ def main(argv=None) -> int:
                         help="the half y >= 0 (default: the quarter)")
     parser.add_argument("-o", "--output", required=True)
     args = parser.parse_args(argv)
-    try:
+
+    def work():
         points, tets = hertz_sphere_mesh(args.a_over_h, args.radius, args.a,
                                          args.half)
         write_mesh(args.output, points, tets)
-    except generate.GmshMissingError as exc:
-        print(f"{parser.prog}: error: {exc}", file=sys.stderr)
-        return 2
-    except (ValueError, RuntimeError, OSError) as exc:
-        print(f"{parser.prog}: error: {exc}", file=sys.stderr)
-        return 1
+        return points, tets
+
+    code, mesh = generate.guarded(parser.prog, work)
+    if code:
+        return code
+    points, tets = mesh
     print(f"wrote {args.output}: {len(points)} nodes, {len(tets)} "
           "tetrahedra")
     return 0

@@ -287,7 +287,8 @@ def _parser() -> argparse.ArgumentParser:
 def main(argv=None) -> int:
     parser = _parser()
     args = parser.parse_args(argv)
-    try:
+
+    def work():
         if args.kind == "patch":
             mesh = patch_mesh(args.n_lower, args.n_upper, args.h)
             output = args.output
@@ -308,12 +309,12 @@ def main(argv=None) -> int:
         if output.suffix != ".mesh":
             parser.error(f"output file must end in .mesh, got {output}")
         write_bodies(output, *mesh)
-    except generate.GmshMissingError as exc:
-        print(f"{parser.prog}: error: {exc}", file=sys.stderr)
-        return 2
-    except (ValueError, RuntimeError, OSError) as exc:
-        print(f"{parser.prog}: error: {exc}", file=sys.stderr)
-        return 1
+        return mesh, output
+
+    code, done = generate.guarded(parser.prog, work)
+    if code:
+        return code
+    mesh, output = done
     points, triangles, group = mesh
     counts = np.bincount(group)[1:]
     per_body = ", ".join(map(str, counts))

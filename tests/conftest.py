@@ -5,6 +5,8 @@ per test session and mesh; tests that check the ``sfepy-run`` command itself
 run it as a subprocess.
 """
 
+import importlib.util
+import sys
 from pathlib import Path
 
 import pytest
@@ -13,6 +15,17 @@ ROOT = Path(__file__).resolve().parent.parent
 MESHES = ROOT / "meshes"
 BLOCK_PROBLEM = ROOT / "sfepy_problems" / "block_obstacle.py"
 THESIS_MESHES = (118, 454, 1878)
+
+
+def load_script(name, path):
+    """A script of the repository (meshes/*.py, sfepy_problems/_export.py)
+    imported once as module ``name`` (the name the scripts use for it)."""
+    if name not in sys.modules:
+        spec = importlib.util.spec_from_file_location(name, path)
+        module = importlib.util.module_from_spec(spec)
+        sys.modules[name] = module
+        spec.loader.exec_module(module)
+    return sys.modules[name]
 
 
 def solve_block(mesh, output, **params):

@@ -16,7 +16,8 @@ import pytest
 import scipy.sparse as sp
 import scipy.sparse.linalg as sla
 
-from conftest import BLOCK_PROBLEM, MESHES, ROOT, THESIS_MESHES, solve_block
+from conftest import (BLOCK_PROBLEM, MESHES, ROOT, THESIS_MESHES, load_script,
+                      solve_block)
 from solver.problem import load_problem
 
 
@@ -126,14 +127,8 @@ def test_parameters_from_define(tmp_path):
 
 def export_module():
     """``sfepy_problems/_export.py``, under the name the problem files use."""
-    name = "_contact_ssn_sfepy_export"
-    if name not in sys.modules:
-        spec = importlib.util.spec_from_file_location(
-            name, ROOT / "sfepy_problems" / "_export.py")
-        module = importlib.util.module_from_spec(spec)
-        sys.modules[name] = module
-        spec.loader.exec_module(module)
-    return sys.modules[name]
+    return load_script("_contact_ssn_sfepy_export",
+                       ROOT / "sfepy_problems" / "_export.py")
 
 
 def run_export(argv, out, env=None):

@@ -22,10 +22,6 @@ a of the finite body (Hertz assumes a half-space, a ≪ R), which shrinks with
 the load (-0.13 % at d = 0.008, -0.05 % at d = 0.004 on the same mesh).
 """
 
-import importlib.util
-import sys
-from pathlib import Path
-
 import numpy as np
 import pytest
 import scipy.sparse.linalg as sla
@@ -34,8 +30,7 @@ from scipy.optimize import curve_fit
 from solver import load_problem, solve_frictionless
 from solver.errors import PenetrationWarning
 
-ROOT = Path(__file__).resolve().parent.parent
-MESHES = ROOT / "meshes"
+from conftest import MESHES, ROOT, load_script
 HERTZ_PROBLEM = ROOT / "sfepy_problems" / "hertz_cylinder.py"
 HERTZ_MESH = MESHES / "hertz.mesh"
 STIFFNESS = "dw_lin_elastic.i.Omega(solid.D, v, u)"
@@ -45,17 +40,10 @@ E_STAR = E / (1 - NU ** 2)
 ARC_ANGLE = 2 * np.arcsin(0.6)  # Γc: the arc below y = -0.8 R
 
 
-def _load(name, path):
-    if name not in sys.modules:
-        spec = importlib.util.spec_from_file_location(name, path)
-        module = importlib.util.module_from_spec(spec)
-        sys.modules[name] = module
-        spec.loader.exec_module(module)
-    return sys.modules[name]
 
 
-hertz = _load("_contact_ssn_meshes_hertz", MESHES / "hertz.py")
-export = _load("_contact_ssn_sfepy_export", ROOT / "sfepy_problems" / "_export.py")
+hertz = load_script("_contact_ssn_meshes_hertz", MESHES / "hertz.py")
+export = load_script("_contact_ssn_sfepy_export", ROOT / "sfepy_problems" / "_export.py")
 
 
 def _conf(mesh, output, **params):
@@ -229,7 +217,7 @@ def test_nonuniform_dirichlet_values(meshes, tmp_path):
     from sfepy.applications import solve_pde
     from sfepy.base.conf import ProblemConf, get_standard_keywords
 
-    module = _load("_contact_ssn_hertz_cylinder", HERTZ_PROBLEM)
+    module = load_script("_contact_ssn_hertz_cylinder", HERTZ_PROBLEM)
     path = tmp_path / "stretched.npz"
     define = module.define(mesh=str(meshes(0.016)), output=str(path))
 
@@ -389,7 +377,7 @@ def half_problem(tmp_path_factory):
     folder = tmp_path_factory.mktemp("hertz_half")
     mesh, path = folder / "half.mesh", folder / "half.npz"
     _half_mesh(mesh)
-    module = _load("_contact_ssn_hertz_cylinder", HERTZ_PROBLEM)
+    module = load_script("_contact_ssn_hertz_cylinder", HERTZ_PROBLEM)
     define = module.define(mesh=str(mesh), output=str(path), d=D)
     tol = 1e-8 * R
     define["regions"]["Axis"] = (f"vertices in (x < {tol})", "facet")

@@ -11,27 +11,20 @@ contact boundary, the problem file's own region Γc (the arc below
 y = -0.8 R) as SfePy selects it.
 """
 
-import importlib.util
-import sys
 
 import meshio
 import numpy as np
 import pytest
 from scipy.spatial import cKDTree
 
-from conftest import MESHES, ROOT
+from conftest import MESHES, ROOT, load_script
 from test_export import export_module
 
 RADII = (10.0, 0.01)
 
 
 def _load(name, filename):
-    if name not in sys.modules:
-        spec = importlib.util.spec_from_file_location(name, MESHES / filename)
-        module = importlib.util.module_from_spec(spec)
-        sys.modules[name] = module
-        spec.loader.exec_module(module)
-    return sys.modules[name]
+    return load_script(name, MESHES / filename)
 
 
 generate = _load("_contact_ssn_meshes_generate", "generate.py")
