@@ -13,8 +13,24 @@ import struct
 import zlib
 
 import numpy as np
+import pytest
 
 from conftest import run_cli  # noqa: F401  (re-exported for the tests)
+
+
+@pytest.fixture(scope="module")
+def block(exported):
+    """The arrays of the 118-triangle thesis block (Γc: x = 5, bottom to
+    top; its first node, the corner (5, -10), is a support)."""
+    with np.load(exported(118)[0], allow_pickle=False) as archive:
+        return {k: archive[k] for k in archive.files}
+
+
+def write(tmp_path, arrays, name="p.npz"):
+    """``arrays`` saved as the problem file ``tmp_path / name``."""
+    path = tmp_path / name
+    np.savez(path, **arrays)
+    return path
 
 
 def npy_bytes(array):

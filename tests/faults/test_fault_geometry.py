@@ -15,7 +15,8 @@ import pytest
 import scipy.sparse as sp
 import scipy.sparse.linalg as sla
 
-from fault_tools import assert_one_error_line, run_cli
+from fault_tools import assert_one_error_line, run_cli, write
+from fault_tools import block  # noqa: F401  (the fixture)
 from solver.contact import contact_geometry
 from solver.errors import GeometryError, ProblemError, SolverError
 from solver.examples import two_dof_bar
@@ -24,20 +25,6 @@ from solver.geometry.curves.normals import boundary_normals, outward_sign, splin
 from solver.geometry.curves.parametric import ParametricCurve
 from solver.geometry.curves.polyline import PolylineCurve
 from solver.problem import ContactProblem, load_problem, save_problem
-
-
-@pytest.fixture(scope="module")
-def block(exported):
-    """The arrays of the 118-triangle thesis block (Γc: x = 5, bottom to
-    top; its first node, the corner (5, -10), is a support)."""
-    with np.load(exported(118)[0], allow_pickle=False) as archive:
-        return {k: archive[k] for k in archive.files}
-
-
-def write(tmp_path, arrays, name="p.npz"):
-    path = tmp_path / name
-    np.savez(path, **arrays)
-    return path
 
 
 def refused(path, phrase):

@@ -18,23 +18,12 @@ import numpy as np
 import pytest
 import scipy.sparse as sp
 
-from fault_tools import PLANE, run_cli, unit_cube
+from fault_tools import PLANE, run_cli, unit_cube, write
+from fault_tools import block  # noqa: F401  (the fixture)
 from solver.examples import two_dof_bar
 from solver.problem import load_problem, save_problem
 
 FLOATING = "K_data: K is not positive definite"
-
-
-@pytest.fixture(scope="module")
-def block(exported):
-    with np.load(exported(118)[0], allow_pickle=False) as archive:
-        return {k: archive[k] for k in archive.files}
-
-
-def write(tmp_path, arrays, name="p.npz"):
-    path = tmp_path / name
-    np.savez(path, **arrays)
-    return path
 
 
 def floating_block(block):

@@ -26,7 +26,8 @@ import json
 import numpy as np
 import pytest
 
-from fault_tools import PLANE, run_cli, unit_cube
+from fault_tools import PLANE, run_cli, unit_cube, write
+from fault_tools import block  # noqa: F401  (the fixture)
 from solver import solve_frictionless
 from solver.contact import contact_geometry
 from solver.errors import ProblemError
@@ -38,18 +39,6 @@ from solver.problem import load_problem
 def cube():
     """The arrays of the pressed unit cube above PLANE (see the module)."""
     return unit_cube()
-
-
-@pytest.fixture(scope="module")
-def block(exported):
-    with np.load(exported(118)[0], allow_pickle=False) as archive:
-        return {k: archive[k] for k in archive.files}
-
-
-def write(tmp_path, arrays, name="p.npz"):
-    path = tmp_path / name
-    np.savez(path, **arrays)
-    return path
 
 
 def with_surface(cube, spec):
