@@ -11,23 +11,14 @@ forces,
 E the equilibrium rows, λ the normal contact forces of the iterate, s − u_n
 the remaining gaps (thesis (67)) and k̄ the mean of diag(K) at the contact
 DOFs, which turns a gap error into a force: scaling K and f, or all
-lengths, scales both sides alike. The equilibrium rows are measured
-against the load F, the contact rows (the pairs and, with friction, the
-Coulomb projection) against what the contact carries, F_c =
-max(‖λ⁺‖₂, ‖t‖₂, :data:`CONTACT_FLOOR`·F) (:func:`contact_scale`, t the
-nodal friction forces). The two differ when prescribed displacements
-drive the body: f is then the Dirichlet lifting −K_fD u_D, which also
-moves the body rigidly and may exceed the contact forces by orders of
-magnitude, and a Coulomb bound measured against it would be looser than
-the same problem driven by a moving obstacle (f = 0). The floor stops at
-what floating point gives: the contact forces are differences of
-quantities of the load's size (K u against f), so their round-off follows
-F, not F_c. When the iteration stalls below the weighted test but within
-the load-relative one (w = 1) and the verification passes, the drivers
-accept the answer and say so (:func:`accept_at_roundoff`). The thesis's
-split formulation keeps one scale for all its rows, as the thesis poses
-it. A problem driven by negative gaps alone (f = 0) gets its scale from
-its contact forces.
+lengths, scales both sides alike. The contact rows (pairs and Coulomb
+projection) are weighted by w so as to be measured against what the
+contact carries, F_c = max(‖λ⁺‖₂, ‖t‖₂, :data:`CONTACT_FLOOR`·F)
+(:func:`contact_scale`, t the nodal friction forces), not against a
+Dirichlet lifting f = −K_fD u_D that may exceed them by orders of
+magnitude. The floor, and :func:`accept_at_roundoff`, respect floating
+point: λ is a difference of forces of the load's size. The thesis's split
+keeps one scale for all its rows, as the thesis poses it.
 
 Verification. The stopping test looks at the system Newton iterated on (a
 condensed one, a coarse level, a load step); before reporting success the
