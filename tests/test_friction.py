@@ -100,10 +100,15 @@ def test_large_friction_freezes_tangential_motion(exported, formulation,
     attainable relative residual is about 1e-10 itself (φ_min with the
     implicit bound stalled at 1.0e-10 against tol 1e-10 in one full-suite
     order, where an earlier test's cached factorisation changed the
-    round-off, and converged in another)."""
+    round-off, and converged in another. The contact rows are measured
+    against the contact forces (down to 1 % of the load): in load step 1,
+    at 1/20 of the load, that makes the attainable 1e-10 of the load about
+    1e-8 of what the contact carries, hence tol 1e-8 for φ_min with the
+    implicit bound.)"""
     problem = load_problem(exported(454)[0])
+    tol = 1e-8 if coulomb == "implicit" else 1e-9
     result = solve_friction(problem, 1e6, steps=20, formulation=formulation,
-                            coulomb=coulomb, method=method, tol=1e-9)
+                            coulomb=coulomb, method=method, tol=tol)
     assert result.success, result.message
     ut = result.tangential_displacement
     scale = np.abs(result.u).max()

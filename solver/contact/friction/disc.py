@@ -81,13 +81,13 @@ class DiscSystem(ProjectionSystem):
             E[len(E) - self.mt:] *= self.lumped_t
         return E, A, B
 
-    def error(self, E, A, B):
+    def error(self, E, A, B, weighted=True):
         """:meth:`ProjectionSystem.error` (which weighs the projection rows
         by D itself) of the residual of :meth:`residual`."""
         if self.dense:
             E = E.copy()
             E[len(E) - self.mt:] /= self.lumped_t
-        return super().error(E, A, B)
+        return super().error(E, A, B, weighted)
 
     def jacobian(self, x):
         if not self.dense:

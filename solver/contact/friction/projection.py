@@ -19,6 +19,7 @@ from ...linalg.dense import factorize
 from ...ncp import stable_norm
 from .newton import ReducedJacobian
 from .system import FrictionSystem
+from ..verify import contact_weight
 
 __all__ = ["ProjectionSystem", "project_disc", "disc_derivative",
            "block_diagonal"]
@@ -155,14 +156,20 @@ class ProjectionSystem(FrictionSystem):
         return sp.vstack([self._JE_fixed, J3], format="csr"), self._JA, \
             self._JB
 
-    def error(self, E, A, B):
+    def error(self, E, A, B, weighted=True):
         """Stopping measure in force units (cf. FrictionlessSystem.error):
-        the projection rows (tractions) as nodal forces D(g − P(w))."""
+        the projection rows (tractions) as nodal forces D(g − P(w)), they
+        and the normal pairs weighted by w = F/F_c, so that the Coulomb
+        law is measured against the contact forces
+        (:func:`~solver.contact.verify.contact_weight`; w = 1 if not
+        ``weighted``)."""
         k, c = self.stiffness, self.gap_scale
+        w = contact_weight(self.load_norm, A, self.last_friction_force) \
+            if weighted else 1.0
         head = len(self.x_rows) + int(self.t_free.sum())  # equilibrium rows
-        E = np.concatenate([E[:head], self.lumped_t * E[head:]])
+        E = np.concatenate([E[:head], w * self.lumped_t * E[head:]])
         pairs = np.minimum(A, k / c * B)
-        return float(np.hypot(stable_norm(E), stable_norm(pairs)))
+        return float(np.hypot(stable_norm(E), w * stable_norm(pairs)))
 
     def _reduced_solve(self, A, h, symmetric, kind):
         """A⁻¹h for the reduced Newton matrix A of ``kind`` ("primal" or

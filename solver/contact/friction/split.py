@@ -82,10 +82,12 @@ class SplitSystem(FrictionSystem):
                        format="csr")
         return self._JE, self._JA, JB
 
-    def error(self, E, A, B):
+    def error(self, E, A, B, weighted=True):
         """Stopping measure in force units (cf. FrictionlessSystem.error):
         the split rows (lengths) times k̄, the bound's pairs as nodal
-        forces min(k̄ Δu_t±, D(f_c p ∓ g_t))."""
+        forces min(k̄ Δu_t±, D(f_c p ∓ g_t)); one scale for all rows, as
+        the thesis poses its split (``weighted`` is accepted and
+        ignored)."""
         k, c = self.stiffness, self.gap_scale
         m, nx = self.m, len(self.x_rows)
         E = np.concatenate([E[:nx + m], k * E[nx + m:]])

@@ -13,7 +13,7 @@ import scipy.sparse as sp
 from ...errors import SolverError
 from ...ncp import stable_norm
 from ..geometry import contact_stiffness, rotation
-from ..verify import force_scale
+from ..verify import contact_weight, force_scale
 
 __all__ = ["FORMULATIONS", "COULOMB", "FrictionSystem"]
 
@@ -68,6 +68,9 @@ class FrictionSystem:
         self.c_t = self.stiffness / float(self.lumped.mean()) \
             if self.m else 1.0
         self.load_norm = stable_norm(self.f)
+        #: D g of the last residual: the friction forces the contact
+        #: weight of the stopping measure counts (ProjectionSystem.error)
+        self.last_friction_force = None
         self.set_step(np.zeros(n), 1.0, np.zeros(self.m))
 
     def set_step(self, u_previous, load, p_previous, friction=None,
@@ -128,6 +131,7 @@ class FrictionSystem:
         r = self._force(du)
         gap = self.gap_scale * (self.geometry.gap - (
             self.R @ (self.u_previous + du))[self.n_rows])
+        self.last_friction_force = self.lumped_t * g
         tangential = r[self.t_rows] - self.lumped_t * g
         if self.rollers:
             tangential = tangential[self.t_free]

@@ -24,7 +24,7 @@ import scipy.sparse as sp
 from ...ncp import stable_norm
 from .newton import CondensedJacobian
 from ..geometry import contact_stiffness, rotation
-from ..verify import force_scale
+from ..verify import contact_weight, force_scale
 
 __all__ = ["FrictionlessSystem"]
 
@@ -80,12 +80,16 @@ class FrictionlessSystem:
             return self._reduced
         return self._JE, self._JA, self._JB
 
-    def error(self, E, A, B):
+    def error(self, E, A, B, weighted=True):
         """Stopping measure in force units, whatever c and the NCP function:
-        ‖[E; min(A, k̄ B / c)]‖₂ with k̄ the mean stiffness diag(K) at the
-        normal DOFs, so that a gap error δ counts as the force k̄δ."""
-        return float(np.hypot(stable_norm(E), stable_norm(
-            np.minimum(A, self.stiffness / self.gap_scale * B))))
+        ‖[E; w·min(A, k̄ B / c)]‖₂ with k̄ the mean stiffness diag(K) at
+        the normal DOFs, so that a gap error δ counts as the force k̄δ, and
+        w = F/F_c, so that the contact rows are measured against the
+        contact forces (:func:`~solver.contact.verify.contact_weight`;
+        w = 1 if not ``weighted``)."""
+        w = contact_weight(self.load_norm, A) if weighted else 1.0
+        return float(np.hypot(stable_norm(E), w * stable_norm(np.minimum(
+                A, self.stiffness / self.gap_scale * B))))
 
     def scale(self, E, A, B):
         """The force scale F = max(‖f‖₂, ‖λ⁺‖₂) of the stopping test

@@ -158,7 +158,7 @@ def solve_on_candidates(problem, geometry, method, tol, max_iter, x0,
 
     from ...ncp import solve_ncp
     from ..frictionless.system import FrictionlessSystem
-    from ..verify import force_scale, verification_tolerance
+    from ..verify import contact_scale, verification_tolerance
     from .nested import add_run
 
     if margin is None and geometry.dim == 2:
@@ -188,7 +188,7 @@ def solve_on_candidates(problem, geometry, method, tol, max_iter, x0,
         lam = np.zeros(len(geometry.gap))
         lam[nodes] = system.contact_force(result.x)
         u, un = condensation.displacement(result.x)
-        length = tol_v * force_scale(load_norm, lam) / stiffness
+        length = tol_v * contact_scale(load_norm, lam) / stiffness
         grown = enlarge_candidates(nodes, geometry.gap - un, length)
         outside = np.setdiff1d(np.arange(len(lam)), nodes)
         rounds.append(dict(

@@ -32,7 +32,7 @@ from ...ncp import stable_norm
 from ..frictionless.driver import run_frictionless
 from ..geometry import contact_stiffness
 from .candidates import MAX_ROUNDS, enlarge_candidates, initial_candidates
-from ..verify import (force_scale, verification_tolerance, verify_contact,
+from ..verify import (contact_scale, verification_tolerance, verify_contact,
                       verify_excluded, worst_verification)
 
 __all__ = ["RING_FRACTION", "RINGS", "use_candidates", "remaining_gap",
@@ -163,7 +163,7 @@ def friction_on_candidates(solve, problem, friction, geometry, engine,
         last["count"] = last.get("count", 0) + 1
         lam = fields["contact_force"][geometry.index]
         remaining = remaining_gap(geometry, fields["u"])
-        length = tol_v * force_scale(load_norm, lam) / stiffness
+        length = tol_v * contact_scale(load_norm, lam) / stiffness
         outside = np.setdiff1d(everyone, nodes)
         if np.any(remaining[outside] < -length):
             raise _Penetration(last["count"], remaining, length)
