@@ -43,3 +43,10 @@ class PenetrationWarning(SolverWarning):
     """A node of Γc that took no part in contact (a support: its
     displacement is prescribed) penetrates the obstacle at the answer. The
     solver cannot move it; the message names the nodes and the depth."""
+
+
+class KinematicsWarning(SolverWarning):
+    """The answer breaks an assumption of the geometrically linear model
+    (:mod:`solver.contact.kinematics`): sliding of more than one element
+    of Γc along a curved obstacle, or an initial overlap larger than a tenth
+    of the body; the message says which and where."""

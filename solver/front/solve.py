@@ -155,6 +155,7 @@ class Plan:
                 coulomb=s["coulomb"], progress=s["progress"],
                 on_step=on_step, keep_steps=s["keep_steps"], **common)
         _warn_excluded(self.problem, result)
+        _warn_kinematics(result)
         if self.mapping is not None:
             result = self.mapping.result(result, self.friction, s["steps"])
         summary = self.engine.summary()
@@ -227,6 +228,17 @@ def _warn_excluded(problem, result):
         f"moves {'them' if several else 'it'} there; let "
         f"{'them' if several else 'it'} take part (rollers=True) or "
         "correct the supports", PenetrationWarning, stacklevel=3)
+
+
+def _warn_kinematics(result):
+    """A :class:`~solver.errors.KinematicsWarning` for each breach of the
+    model's kinematic assumptions (:mod:`solver.contact.kinematics`)."""
+    import warnings
+
+    from ..errors import KinematicsWarning
+
+    for message in (result.get("verification") or {}).get("kinematics", []):
+        warnings.warn(message, KinematicsWarning, stacklevel=3)
 
 
 def _chain(first, then):

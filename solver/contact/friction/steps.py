@@ -19,6 +19,7 @@ from .projection import ProjectionSystem
 from .split import SplitSystem
 from .start import contact_corrected
 from ..geometry import contact_stiffness
+from ..kinematics import kinematic_breaches
 from ..verify import (accept_at_roundoff, describe_failure, force_scale,
                      unit_free_options,
                      verification_tolerance, verify_contact,
@@ -87,6 +88,7 @@ def _final_check(problem, geometry, stiffness, tol_v, space, last,
     if last is not None:  # the nodes left out, at the last step
         worst["excluded"] = verify_excluded(
             problem, geometry, u, checks[-1]["length_scale"], tol_v)
+        worst["kinematics"] = kinematic_breaches(problem, geometry, u)
     return worst
 
 

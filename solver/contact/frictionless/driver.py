@@ -18,6 +18,7 @@ import scipy.sparse.linalg as sla
 
 from ...ncp import MESSAGES, solve_ncp, stable_norm
 from ..geometry import contact_stiffness
+from ..kinematics import kinematic_breaches
 from ..result import ContactResult
 from ..strategies.reduction import reduction
 from ..verify import (accept_at_roundoff, describe_failure, force_scale,
@@ -110,6 +111,7 @@ def run_frictionless(problem, geometry, engine, method="min", tol=1e-10,
         geometry.gap, lam_free, stiffness, tol_v)
     verification["excluded"] = verify_excluded(
         problem, geometry, u, verification["length_scale"], tol_v)
+    verification["kinematics"] = kinematic_breaches(problem, geometry, u)
     if iterate is not None:
         accept_at_roundoff(result, *iterate, tol, verification["passed"])
     if result.success and not verification["passed"]:

@@ -1,0 +1,100 @@
+r"""The kinematic assumptions of the contact model, checked on an answer.
+
+The model is geometrically linear (thesis §1–§2): small strain, gaps s
+and normals ν computed once, in the reference configuration, and the
+non-penetration condition u·ν ≤ s linearised there. That is exact for a
+node sliding along a flat obstacle, whatever the distance, and accurate
+on a curved one while the sliding stays small against the surface's
+features. This module measures two breaches and says them in words:
+
+- *large sliding*: a free node of Γc moves tangentially (u − (u·ν)ν) by
+  more than one element of Γc against an obstacle that is not flat (its
+  normals at the nodes of Γc differ): its reference gap then describes
+  another part of the obstacle;
+- *large initial overlap*: the obstacle penetrates the undeformed body by
+  more than a tenth of the body's size (the diagonal of its bounding
+  box): the contact forces must then undo a deformation that is not small.
+
+Both are warnings (:class:`~solver.errors.KinematicsWarning`), not errors:
+the answer solves the linearised problem it was given."""
+
+import numpy as np
+
+from .geometry import node_displacement
+
+__all__ = ["SLIDING_ELEMENTS", "OVERLAP_FRACTION", "FLAT_COSINE",
+           "element_size", "sliding", "kinematic_breaches"]
+
+#: Sliding beyond this many elements of Γc breaks "small sliding".
+SLIDING_ELEMENTS = 1.0
+#: Initial overlap beyond this fraction of the body's size is "large".
+OVERLAP_FRACTION = 0.1
+#: Normals whose cosines to their mean all exceed this: a flat obstacle.
+FLAT_COSINE = 1.0 - 1e-12
+
+
+def element_size(problem):
+    """The median edge length of Γc: consecutive contact nodes in 2D, the
+    edges of ``contact_faces`` in 3D."""
+    x = problem.nodes
+    if problem.dim == 2:
+        chain = problem.contact_nodes
+        edges = np.column_stack([chain[:-1], chain[1:]])
+    else:
+        faces = np.asarray(problem.contact_faces)
+        edges = np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]],
+                                faces[:, [2, 0]]])
+    if not len(edges):
+        return np.nan
+    return float(np.median(np.linalg.norm(x[edges[:, 1]] - x[edges[:, 0]],
+                                          axis=1)))
+
+
+def sliding(problem, geometry, u):
+    """|u − (u·ν)ν| at the free contact nodes (geometry order) for the
+    reduced displacement u."""
+    moved = node_displacement(problem, u, geometry.index)
+    normal = np.asarray(geometry.normal, float)
+    along = np.einsum("ij,ij->i", moved, normal)
+    return np.linalg.norm(moved - along[:, None] * normal, axis=1)
+
+
+def _flat(normal):
+    """Whether the unit normals ``normal`` (k, d) are one direction."""
+    if len(normal) < 2:
+        return True
+    mean = normal.mean(axis=0)
+    size = np.linalg.norm(mean)
+    return size > 0 and bool(np.all(normal @ (mean / size) >= FLAT_COSINE))
+
+
+def kinematic_breaches(problem, geometry, u):
+    """Messages (a list of str, empty if none) naming the breaches of the
+    module docstring for the answer u (reduced, the last step's) of a
+    rigid-obstacle mesh problem."""
+    if problem.kind != "mesh" or not len(geometry.index):
+        return []
+    found = []
+    normal = np.asarray(geometry.normal, float)
+    h = element_size(problem)
+    if u is not None and np.isfinite(h) and not _flat(normal):
+        slip = sliding(problem, geometry, u)
+        worst = int(np.argmax(slip))
+        if slip[worst] > SLIDING_ELEMENTS * h:
+            node = int(problem.contact_nodes[geometry.index[worst]])
+            found.append(
+                f"node {node} slides {slip[worst]:.3g} along a curved "
+                f"obstacle, {slip[worst] / h:.1f} elements of Γc (h = "
+                f"{h:.3g}): gaps and normals are taken in the reference "
+                "configuration (small sliding), so the answer may be "
+                "inaccurate there")
+    x = problem.nodes
+    size = float(np.linalg.norm(x.max(axis=0) - x.min(axis=0)))
+    depth = float(np.max(-np.asarray(geometry.gap, float), initial=0.0))
+    if depth > OVERLAP_FRACTION * size:
+        found.append(
+            f"the obstacle overlaps the undeformed body by {depth:.3g}, "
+            f"{depth / size:.2f} of its size ({size:.3g}): the model "
+            "assumes small deformations (small strain, reference "
+            "configuration)")
+    return found
