@@ -49,6 +49,7 @@ OBLIQUE_MIN = 1e-6
 SUPPORT = "support: every DOF prescribed"
 SUPPORT_PARTIAL = "support: a DOF prescribed (rollers=False)"
 SUPPORT_ALONG = "support: the normal lies along its prescribed DOFs"
+NO_OBSTACLE = "no obstacle in reach (a bounded one ends before it)"
 UNCOVERED = "slave node not covered by the master"
 
 
@@ -160,13 +161,19 @@ def contact_geometry(problem, gap="obstacle", rollers=False):
     if problem.kind != "discrete" and gap not in GAP_MODES:
         raise SolverError(f"gap mode must be one of {GAP_MODES}, got {gap!r}")
     s, normal, foot = _gaps(problem, gap, nodes)
+    reach = s < np.inf  # +∞: no obstacle in reach (bounded obstacles)
+    unreached = nodes[~reach]
+    if not reach.all():
+        nodes, s, normal = nodes[reach], s[reach], normal[reach]
+        foot = None if foot is None else foot[reach]
     geometry = _frames(nodes, problem.contact_dofs[nodes], s, normal, foot,
                        "given" if problem.kind == "discrete" else gap,
                        _prescribed(problem, nodes))
     left = np.setdiff1d(np.arange(len(problem.contact_dofs)), geometry.index)
-    reason = np.where(constrained[left].all(axis=1), SUPPORT,
-                      np.where(eligible[left], SUPPORT_ALONG,
-                               SUPPORT_PARTIAL)).tolist()
+    reason = np.where(np.isin(left, unreached), NO_OBSTACLE,
+                      np.where(constrained[left].all(axis=1), SUPPORT,
+                               np.where(eligible[left], SUPPORT_ALONG,
+                                        SUPPORT_PARTIAL))).tolist()
     geometry.excluded = dict(index=left, reason=reason,
                              **_support_gaps(problem, gap, left))
     if problem.kind != "discrete":

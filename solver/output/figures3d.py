@@ -66,7 +66,9 @@ def pressure_vs_radius(target, radius, p, a=None, p0=None, title=None,
                                  f"{a:.4g} mm, $p_0$ = {p0:.4g} MPa")
             target_ax.axvline(a, color="C3", lw=0.6, ls=":")
         target_ax.set_xlim(left=0.0)
-        target_ax.set_ylim(bottom=0.0)
+        # headroom: a uniform pressure would sit on the frame otherwise
+        target_ax.set_ylim(0.0, max(target_ax.get_ylim()[1],
+                                    1.08 * p.max(initial=0.0)))
         target_ax.grid(True, lw=0.3)
     ax.set_xlabel(xlabel)
     ax.set_ylabel("contact pressure p [MPa]")

@@ -13,7 +13,8 @@ from .meta import parse_json
 __all__ = ["SURFACE_KINDS", "obstacle_surface", "surface_spec_text"]
 
 #: The kinds of obstacle surface a spec may name.
-SURFACE_KINDS = ("plane", "sphere", "graph", "parametric")
+SURFACE_KINDS = ("plane", "sphere", "graph", "parametric", "rectangle",
+                 "several")
 
 KEY = "obstacle_surface"
 
