@@ -1,0 +1,279 @@
+r"""A body held only by contact: the condensed system with its rigid-body
+modes (a semicoercive problem, solved exactly).
+
+K is singular; its kernel is spanned by the rigid motions R (n × r) that
+the supports leave free (:meth:`solver.problem.ContactProblem.rigid_modes`).
+With r DOFs F held (:func:`solver.linalg.kernel.fixing_dofs`) K_F is
+positive definite and K⁺b = K_F⁻¹b₀ a generalised inverse; every solution
+of K u = f + Pᵀr (r: the contact forces on the DOFs c of Γc) is
+
+.. math:: u = K^+(f + P^T r) + Rα, \qquad R^T(f + P^T r) = 0
+
+(TFETI: Dostál, Horák, Kučera, *Total FETI*, Commun. Numer. Meth. Engng
+22 (2006) 1155-1162; Dostál, Kozubek, Markopoulos, Menšík, Appl. Math.
+Comput. 217 (2011) 6067-6077). Condensed onto c with S_J the Schur
+complement of K_F and g̃ its condensed load, the unknowns y = (u_c, α)
+satisfy the symmetric positive semidefinite system
+
+.. math::
+    \begin{bmatrix} S_J & −S_J R_c \\ −R_c^T S_J & R_c^T S_J R_c
+    \end{bmatrix} y = \begin{bmatrix} g̃ + r \\ R^T f − R_c^T g̃
+    \end{bmatrix},
+
+whose first rows are the condensed equilibrium of Γc (u_c − R_cα = K⁺'s
+share) and whose last r rows are Rᵀ(f + Pᵀr) = 0, the load balanced by
+the contact forces. It is the system of a supported body with r extra
+unknowns that no contact touches, so the frictionless system (67), its
+Newton directions and its verification run on it unchanged; no penalty,
+no regularisation: the answer is exact to round-off. Its kernel (the
+rigid motions) is removed by the active contact constraints; the Newton
+matrices are regular exactly when those restrain every mode.
+
+Before any solve (:func:`check_load`) the load is checked against the
+contact: if a rigid motion d exists that moves no node into the obstacle
+(N d ≤ 0, N the modes' normal components at the contact nodes) and along
+which the load does work (Rᵀf · d > 0), no contact force can balance it
+(Farkas' lemma) and the problem has no solution: refused, naming d and the
+load's component along it. A motion that no contact node's normal sees
+(N d = 0, a frictionless flat pushed along itself) with no load along it
+leaves the answer non-unique; its share of α is set to 0 (a constraint
+on α that no equation sees: exact).
+
+The start (:meth:`FloatingSystem.free_start`): the rigid body's contact
+problem, a linear programme (min −(Rᵀf)·α subject to N α ≤ s), puts the
+body onto the obstacle at a vertex of r independent touching nodes; one
+primal-dual active set step with those nodes active then gives the first
+iterate, with contact forces at the touching nodes that balance the load."""
+
+import dataclasses
+
+import numpy as np
+import scipy.optimize as opt
+
+from ...errors import ProblemError
+from ..geometry import rotation
+
+__all__ = ["FloatingSystem", "check_load", "mode_text", "rigid_motion",
+           "LOAD_RTOL"]
+
+#: A load component along an unresisted mode above this × ‖f‖₂ is refused.
+LOAD_RTOL = 1e-9
+
+#: Gaps below this × the body's size count as touching in the start.
+TOUCH_RTOL = 1e-9
+
+
+def _normal_rows(problem, geometry):
+    """N (Nca, r): the normal displacement of each free contact node of
+    ``geometry`` (problem's DOFs) under each rigid mode."""
+    R, _ = problem.rigid_modes()
+    n = problem.n_dofs
+    Q, _, _, normal_rows = rotation(n, geometry)
+    return np.asarray(Q[normal_rows] @ R)
+
+
+def unresisted(N, rtol=1e-10):
+    """An orthonormal basis (r, k) of the modes that no contact normal
+    sees (N d = 0 to round-off)."""
+    if N.shape[1] == 0:
+        return np.zeros((0, 0))
+    _, s, Vt = np.linalg.svd(N, full_matrices=True)
+    s = np.concatenate([s, np.zeros(N.shape[1] - len(s))])
+    return Vt[s <= rtol * max(s.max(initial=0.0), 1e-300)].T
+
+
+def check_load(problem, geometry):
+    """Raise :class:`ProblemError` if the load of a floating ``problem``
+    has a component along a rigid-body mode that no contact of
+    ``geometry`` can resist (module docstring; frictionless contact), or
+    if it presses the body onto nothing (no resultant along the modes)."""
+    R, C = problem.rigid_modes()
+    if R.shape[1] == 0:
+        return
+    e = R.T @ problem.f
+    size = LOAD_RTOL * max(float(np.linalg.norm(problem.f)), 1e-300)
+    N = _normal_rows(problem, geometry)
+    scale = np.abs(N).max(initial=0.0)
+    if np.linalg.norm(e) <= size or scale == 0.0:
+        raise ProblemError(
+            f"f: the body is held by contact only ({_modes_text(problem)}) "
+            "but the load has no resultant along them: nothing presses it "
+            "onto the obstacle, its position is undetermined; support it "
+            "or load it towards the obstacle")
+    # Moreau: e = d + Nᵀμ, d the projection of e onto {d: N d ≤ 0} (the
+    # motions no contact stops), Nᵀμ (μ ≥ 0, NNLS) what contact forces can
+    # balance; d ≠ 0 is the load's share no contact resists, and d/|d| the
+    # motion along which the load does the most work.
+    mu, _ = opt.nnls(N.T / scale, e, maxiter=50 * max(len(N), 10))
+    d = e - N.T @ mu / scale
+    if float(e @ d) > size * np.linalg.norm(e):
+        motion = R @ d
+        peak = _peak(problem, motion)
+        component = float(problem.f @ motion) / peak
+        raise ProblemError(
+            f"f: the load has a component {component:.6g} along the "
+            f"rigid-body motion {mode_text(problem, C @ d / peak)} that no "
+            "contact resists (frictionless contact can only push): the "
+            "body would move away without bound; support it, or load it "
+            "towards the obstacle")
+
+
+def _peak(problem, motion):
+    """The largest nodal displacement of a reduced vector ``motion``."""
+    full = np.zeros((len(problem.nodes), problem.dim))
+    full[problem.dof_map[:, 0], problem.dof_map[:, 1]] = motion
+    return float(np.linalg.norm(full, axis=1).max(initial=0.0)) or 1.0
+
+
+def rigid_motion(problem, u):
+    """The rigid-body motion that best fits the displacement u (least
+    squares over the DOFs, independent of the DOFs held for K⁺): a dict
+    of ``alpha`` = Rᵀu, ``translation`` (of the centroid of the DOFs'
+    points) and ``rotation`` (the angle in 2D, the vector in 3D), in the
+    problem's units, and ``modes`` (r)."""
+    R, C = problem.rigid_modes()
+    alpha = R.T @ np.asarray(u, float)
+    points = problem.dof_points()
+    length = float(np.abs(points - points.mean(axis=0)).max(initial=0.0)) \
+        or 1.0
+    c = C @ alpha
+    d = problem.dim
+    return dict(alpha=alpha, translation=c[:d], rotation=c[d:] / length,
+                modes=int(R.shape[1]))
+
+
+def mode_text(problem, c):
+    """A rigid motion of coefficients ``c`` on the translations and
+    rotations (:func:`solver.linalg.kernel.rigid_motions`), in words."""
+    points = problem.dof_points()
+    centre = points.mean(axis=0)
+    length = float(np.abs(points - centre).max(initial=0.0)) or 1.0
+    d = problem.dim
+    names = "xyz"[:d]
+    c = np.asarray(c, float)
+    c = np.where(np.abs(c) <= 1e-9 * np.abs(c).max(initial=0.0), 0.0, c)
+    parts = []
+    t = c[:d]
+    if np.abs(t).max() > 1e-9 * np.abs(c).max():
+        parts.append("translation (" + ", ".join(f"{v:.3g}" for v in t)
+                     + ")")
+    w = c[d:] / length
+    if np.abs(c[d:]).max() > 1e-9 * np.abs(c).max():
+        at = ", ".join(f"{v:.4g}" for v in centre)
+        if d == 2:
+            parts.append(f"rotation {w[0]:.3g} rad about ({at})")
+        else:
+            parts.append("rotation (" + ", ".join(f"{v:.3g}" for v in w)
+                         + f") rad about ({at})")
+    return " + ".join(parts) or f"0 along {names}"
+
+
+def _modes_text(problem):
+    _, C = problem.rigid_modes()
+    return f"{C.shape[1]} rigid-body mode{'s' if C.shape[1] > 1 else ''} free"
+
+
+class FloatingSystem:
+    """The reduction of a body with rigid-body modes (module docstring):
+    K condensed onto the free DOFs of ``geometry``'s nodes with the modes'
+    amplitudes α as r more unknowns; the same interface as
+    :class:`~solver.contact.strategies.reduction.CondensedSystem`."""
+
+    name = "contact + rigid-body modes"
+    condensed = True
+
+    def __init__(self, problem, geometry, engine):
+        R, _ = problem.rigid_modes()
+        self.problem, self.modes = problem, R
+        c = geometry.free_dofs()
+        self.fixed, K_F = problem.held_stiffness()
+        # the factorisation of K_F refuses a K with more than rigid modes
+        self.condensation = engine.condensation(
+            dataclasses.replace(problem, K=K_F), c)
+        check_load(problem, geometry)  # a load no contact holds: refused
+        self.dofs = self.condensation.dofs
+        self.m, self.r = len(self.dofs), R.shape[1]
+        S = self.condensation.S
+        Rc = R[self.dofs]
+        SR = S @ Rc
+        K = np.empty((self.m + self.r,) * 2)
+        K[:self.m, :self.m] = S
+        K[:self.m, self.m:] = -SR
+        K[self.m:, :self.m] = -SR.T
+        K[self.m:, self.m:] = Rc.T @ SR
+        N = _normal_rows(problem, geometry)
+        self.N, self.free_modes = N, unresisted(N)
+        if self.free_modes.size:  # α ⊥ modes no normal sees (exact)
+            k = float(np.mean(np.diag(S))) if self.m else 1.0
+            K[self.m:, self.m:] += k * self.free_modes @ self.free_modes.T
+        self.K = 0.5 * (K + K.T)
+        self.geometry = geometry.compact()
+        self.linear_solver = engine.linear_solver
+        self._Rc = Rc
+        self.start_nodes = None
+
+    def load(self, f):
+        """(f̃, w): the augmented load (g̃, Rᵀf − R_cᵀg̃) and w = K⁺f."""
+        f = np.asarray(f, float)
+        f0 = f.copy()
+        f0[self.fixed] = 0.0
+        g, w = self.condensation.load(f0)
+        return np.concatenate([g, self.modes.T @ f - self._Rc.T @ g]), w
+
+    def restrict(self, u):
+        """(u_c, α) of a displacement u: α with (u − Rα)_F = 0."""
+        u = np.asarray(u, float)
+        alpha = np.linalg.solve(self.modes[self.fixed], u[self.fixed])
+        return np.concatenate([u[self.dofs], alpha])
+
+    def displacement(self, x, w):
+        """u = K⁺(f + Pᵀr) + Rα from y = (u_c, α) and w = K⁺f."""
+        x = np.asarray(x, float)
+        u_c, alpha = x[:self.m], x[self.m:]
+        u = self.condensation.displacement(u_c - self._Rc @ alpha, w) \
+            + self.modes @ alpha
+        if self.free_modes.size:  # no share along motions no normal sees
+            V = self.modes @ self.free_modes
+            u = u - V @ (V.T @ u)
+        return u
+
+    def alpha(self, x):
+        """The rigid-body amplitudes α of the unknowns x."""
+        return np.asarray(x, float)[self.m:]
+
+    def jacobian(self, system):
+        """The system's own Jacobian (dense, LAPACK)."""
+        return system.jacobian
+
+    def free_start(self, system, w):
+        """The first iterate (module docstring): the rigid body put onto
+        the obstacle by a linear programme, then one active set step with
+        the touching nodes active."""
+        e = self.modes.T @ self.problem.f
+        N, s = self.N, self.geometry.gap
+        scale = np.abs(N).max(initial=1.0)
+        extra = {}
+        if self.free_modes.size:
+            extra = dict(A_eq=self.free_modes.T,
+                         b_eq=np.zeros(self.free_modes.shape[1]))
+        found = opt.linprog(-e / max(np.abs(e).max(), 1e-300), A_ub=N / scale,
+                            b_ub=s / scale, bounds=[(None, None)] * self.r,
+                            method="highs", **extra)
+        if found.status != 0:
+            raise ProblemError(f"f: the body cannot be put onto the "
+                               f"obstacle as a rigid body ({found.message})")
+        alpha = found.x
+        remaining = s - N @ alpha
+        size = np.abs(s).max(initial=0.0) + np.abs(N @ alpha).max(initial=0.0)
+        touching = remaining <= TOUCH_RTOL * max(size, 1e-300)
+        self.start_nodes = int(touching.sum())
+        x0 = np.concatenate([self._Rc @ alpha, alpha])
+        E, A, B = system.residual(x0)
+        wa, wb = (~touching).astype(float), touching.astype(float)
+        J = system.jacobian(x0)
+        if hasattr(J, "combine"):
+            step = J.combine(wa, wb).direction(
+                np.concatenate([E, wa * A + wb * B]))
+        else:
+            step = None
+        return x0 if step is None else x0 + step
