@@ -51,13 +51,10 @@ import numpy as np
 import scipy.optimize as opt
 
 from ...errors import ProblemError
+from ...problem.rigid import check_rigid_load, rigid_motion
 from ..geometry import rotation
 
-__all__ = ["FloatingSystem", "check_load", "mode_text", "rigid_motion",
-           "LOAD_RTOL"]
-
-#: A load component along an unresisted mode above this × ‖f‖₂ is refused.
-LOAD_RTOL = 1e-9
+__all__ = ["FloatingSystem", "check_load", "rigid_motion"]
 
 #: Gaps below this × the body's size count as touching in the start.
 TOUCH_RTOL = 1e-9
@@ -86,91 +83,10 @@ def check_load(problem, geometry):
     """Raise :class:`ProblemError` if the load of a floating ``problem``
     has a component along a rigid-body mode that no contact of
     ``geometry`` can resist (module docstring; frictionless contact), or
-    if it presses the body onto nothing (no resultant along the modes)."""
-    R, C = problem.rigid_modes()
-    if R.shape[1] == 0:
-        return
-    e = R.T @ problem.f
-    size = LOAD_RTOL * max(float(np.linalg.norm(problem.f)), 1e-300)
-    N = _normal_rows(problem, geometry)
-    scale = np.abs(N).max(initial=0.0)
-    if np.linalg.norm(e) <= size or scale == 0.0:
-        raise ProblemError(
-            f"f: the body is held by contact only ({_modes_text(problem)}) "
-            "but the load has no resultant along them: nothing presses it "
-            "onto the obstacle, its position is undetermined; support it "
-            "or load it towards the obstacle")
-    # Moreau: e = d + Nᵀμ, d the projection of e onto {d: N d ≤ 0} (the
-    # motions no contact stops), Nᵀμ (μ ≥ 0, NNLS) what contact forces can
-    # balance; d ≠ 0 is the load's share no contact resists, and d/|d| the
-    # motion along which the load does the most work.
-    mu, _ = opt.nnls(N.T / scale, e, maxiter=50 * max(len(N), 10))
-    d = e - N.T @ mu / scale
-    if float(e @ d) > size * np.linalg.norm(e):
-        motion = R @ d
-        peak = _peak(problem, motion)
-        component = float(problem.f @ motion) / peak
-        raise ProblemError(
-            f"f: the load has a component {component:.6g} along the "
-            f"rigid-body motion {mode_text(problem, C @ d / peak)} that no "
-            "contact resists (frictionless contact can only push): the "
-            "body would move away without bound; support it, or load it "
-            "towards the obstacle")
-
-
-def _peak(problem, motion):
-    """The largest nodal displacement of a reduced vector ``motion``."""
-    full = np.zeros((len(problem.nodes), problem.dim))
-    full[problem.dof_map[:, 0], problem.dof_map[:, 1]] = motion
-    return float(np.linalg.norm(full, axis=1).max(initial=0.0)) or 1.0
-
-
-def rigid_motion(problem, u):
-    """The rigid-body motion that best fits the displacement u (least
-    squares over the DOFs, independent of the DOFs held for K⁺): a dict
-    of ``alpha`` = Rᵀu, ``translation`` (of the centroid of the DOFs'
-    points) and ``rotation`` (the angle in 2D, the vector in 3D), in the
-    problem's units, and ``modes`` (r)."""
-    R, C = problem.rigid_modes()
-    alpha = R.T @ np.asarray(u, float)
-    points = problem.dof_points()
-    length = float(np.abs(points - points.mean(axis=0)).max(initial=0.0)) \
-        or 1.0
-    c = C @ alpha
-    d = problem.dim
-    return dict(alpha=alpha, translation=c[:d], rotation=c[d:] / length,
-                modes=int(R.shape[1]))
-
-
-def mode_text(problem, c):
-    """A rigid motion of coefficients ``c`` on the translations and
-    rotations (:func:`solver.linalg.kernel.rigid_motions`), in words."""
-    points = problem.dof_points()
-    centre = points.mean(axis=0)
-    length = float(np.abs(points - centre).max(initial=0.0)) or 1.0
-    d = problem.dim
-    names = "xyz"[:d]
-    c = np.asarray(c, float)
-    c = np.where(np.abs(c) <= 1e-9 * np.abs(c).max(initial=0.0), 0.0, c)
-    parts = []
-    t = c[:d]
-    if np.abs(t).max() > 1e-9 * np.abs(c).max():
-        parts.append("translation (" + ", ".join(f"{v:.3g}" for v in t)
-                     + ")")
-    w = c[d:] / length
-    if np.abs(c[d:]).max() > 1e-9 * np.abs(c).max():
-        at = ", ".join(f"{v:.4g}" for v in centre)
-        if d == 2:
-            parts.append(f"rotation {w[0]:.3g} rad about ({at})")
-        else:
-            parts.append("rotation (" + ", ".join(f"{v:.3g}" for v in w)
-                         + f") rad about ({at})")
-    return " + ".join(parts) or f"0 along {names}"
-
-
-def _modes_text(problem):
-    _, C = problem.rigid_modes()
-    return f"{C.shape[1]} rigid-body mode{'s' if C.shape[1] > 1 else ''} free"
+    if it presses the body onto nothing (no resultant along the modes):
+    :func:`solver.problem.rigid.check_rigid_load` on the modes' normal
+    components at the nodes of ``geometry``."""
+    check_rigid_load(problem, _normal_rows(problem, geometry))
 
 
 class FloatingSystem:
