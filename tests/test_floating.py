@@ -146,11 +146,15 @@ def test_block_under_its_weight():
 
 def test_block_on_a_floor_below_it():
     """The floor 0.01 below: the body drops onto it (the rigid start),
-    then the same forces; FB converges to the same answer."""
+    then the same forces; FB and the free start (no coarse levels) reach
+    the same answer."""
     problem = block(floor=-0.01)
     a = solver.solve(problem)
     b = solver.solve(problem, method="fb")
-    assert a.success and b.success, (a.message, b.message)
+    c = solver.solve(problem, start="free")
+    assert a.success and b.success and c.success, (a.message, b.message)
+    np.testing.assert_allclose(c.u, a.u, rtol=0,
+                               atol=1e-8 * np.abs(a.u).max())
     bottom = problem.dof_map[:, 1] == 1
     bottom &= problem.nodes[problem.dof_map[:, 0], 1] == 0.0
     np.testing.assert_allclose(a.u[bottom], -0.01, rtol=0, atol=1e-12)
@@ -208,7 +212,6 @@ def test_singular_K_that_is_not_rigid_motion_is_still_refused():
 @pytest.mark.parametrize("options, phrase", [
     (dict(system="full"), "system='full' is not supported"),
     (dict(friction=0.3), "friction=0.3 is not supported"),
-    (dict(start="nested"), "start='nested' is not supported"),
     (dict(candidates=True), "candidates=True is not supported"),
 ])
 def test_options_refused_for_a_floating_body(options, phrase):

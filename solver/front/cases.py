@@ -227,11 +227,6 @@ RULES = tuple(
              "its modes' amplitudes are condensed with every DOF of Γc",
              lambda c, s, g: c.support == "floating" and s["candidates"],
              "candidates=True"),
-        Rule("start", "a body held by contact only",
-             "it starts from the rigid body put onto the obstacle "
-             "(start='free'); the nested start's coarse levels need K⁻¹f",
-             lambda c, s, g: c.support == "floating"
-             and s["start"] == "nested", "start='nested'"),
         Rule("system", "friction on the petsc engine",
              "friction on the full system (the thesis's formulation runs "
              "there) has no distributed Newton solve: use the condensed "
@@ -294,7 +289,7 @@ def resolve(case, options):
             s["start"] = "zero"
         elif s["start"] is None:
             s["start"] = "nested" if case.dim == 2 \
-                and not s["candidates"] and not floating else "free"
+                and not s["candidates"] else "free"
     if s["rollers"] is None:
         s["rollers"] = True
     geometry = s["geometry"]

@@ -73,7 +73,12 @@ def run_frictionless(problem, geometry, engine, method="min", tol=1e-10,
         space = reduction(problem, geometry, engine, condense)
         linear_solver, name = space.linear_solver, space.name
         f, w = space.load(problem.f)
-        if start == "nested":
+        if start == "nested" and hasattr(space, "nested"):
+            system = FrictionlessSystem(space.K, f, space.geometry,
+                                        gap_scale, stiffness, load_norm)
+            result = space.nested(system, method, tol, max_iter, gap_scale,
+                                  stiffness, options, load_norm)
+        elif start == "nested":
             from ..strategies.nested import contact_levels, solve_nested
 
             result, system = solve_nested(

@@ -165,31 +165,143 @@ class FloatingSystem:
         """The first iterate (module docstring): the rigid body put onto
         the obstacle by a linear programme, then one active set step with
         the touching nodes active."""
-        e = self.modes.T @ self.problem.f
-        N, s = self.N, self.geometry.gap
-        scale = np.abs(N).max(initial=1.0)
-        extra = {}
-        if self.free_modes.size:
-            extra = dict(A_eq=self.free_modes.T,
-                         b_eq=np.zeros(self.free_modes.shape[1]))
-        found = opt.linprog(-e / max(np.abs(e).max(), 1e-300), A_ub=N / scale,
-                            b_ub=s / scale, bounds=[(None, None)] * self.r,
-                            method="highs", **extra)
-        if found.status != 0:
-            raise ProblemError(f"f: the body cannot be put onto the "
-                               f"obstacle as a rigid body ({found.message})")
-        alpha = found.x
-        remaining = s - N @ alpha
-        size = np.abs(s).max(initial=0.0) + np.abs(N @ alpha).max(initial=0.0)
-        touching = remaining <= TOUCH_RTOL * max(size, 1e-300)
-        self.start_nodes = int(touching.sum())
-        x0 = np.concatenate([self._Rc @ alpha, alpha])
-        E, A, B = system.residual(x0)
-        wa, wb = (~touching).astype(float), touching.astype(float)
-        J = system.jacobian(x0)
-        if hasattr(J, "combine"):
-            step = J.combine(wa, wb).direction(
-                np.concatenate([E, wa * A + wb * B]))
-        else:
-            step = None
-        return x0 if step is None else x0 + step
+        y, self.start_nodes = rigid_start(system, self.N, self.geometry.gap,
+                                          self._Rc, self.problem)
+        if y is None:
+            raise ProblemError("f: the body cannot be put onto the "
+                               "obstacle as a rigid body")
+        return y
+
+    def nested(self, system, method, tol, max_iter, gap_scale, stiffness,
+               options, load_norm):
+        """Nested iteration (:mod:`.nested`'s, with α kept on every
+        level): the coarsest level from :func:`rigid_start`, each finer
+        one from the coarser answer prolonged by equilibrium. Returns the
+        finest level's result with the counts of all levels and
+        ``levels`` as :func:`.nested.solve_nested`."""
+        import time
+
+        from ...linalg.threads import single_blas_thread
+        from ...ncp import solve_ncp
+        from ..frictionless.system import FrictionlessSystem
+        from .nested import COARSEST, add_run
+
+        levels = [_Level(np.arange(len(self.geometry.gap)), self.K,
+                         system.f, self.geometry, self._Rc, self.N)]
+        with single_blas_thread():
+            while len(levels[-1].nodes) > COARSEST:
+                levels.append(levels[-1].coarsen(self.geometry))
+        y, report, budget = None, [], max_iter
+        totals, history = dict(nit=0, njev=0, nfev=0), {}
+        for depth in range(len(levels) - 1, -1, -1):
+            level = levels[depth]
+            clock = time.perf_counter()
+            sub = system if depth == 0 else FrictionlessSystem(
+                level.K, level.f, level.geometry, gap_scale, stiffness,
+                load_norm)
+            if y is None:
+                y, touching = rigid_start(sub, level.N, level.geometry.gap,
+                                          level.Rc, self.problem)
+                if y is None:  # these nodes cannot hold the body
+                    continue
+                self.start_nodes = touching
+            else:
+                y = level.prolong(y)
+            if depth and not budget:
+                continue
+            result = solve_ncp(sub.residual, sub.jacobian, y, method=method,
+                               tol=tol, max_iter=budget, options=options,
+                               error=sub.error, scale=sub.scale)
+            budget -= result.nit
+            y = result.x if result.success or result.status == 1 else None
+            add_run(totals, history, result, "level", len(level.nodes))
+            report.append(dict(n_nodes=len(level.nodes), nit=result.nit,
+                               njev=result.njev, nfev=result.nfev,
+                               success=bool(result.success),
+                               time=time.perf_counter() - clock))
+        result.update(totals, history=history, levels=report)
+        return result
+
+
+class _Level:
+    """One level of the nested start of a floating body: ``nodes``
+    (positions in the finest level's list), ``K`` (the augmented system
+    condensed onto their DOFs and α), ``f`` (its load), ``geometry``,
+    ``Rc`` (the modes at its DOFs), ``N`` (the modes' normal
+    displacements at its nodes); ``keep``, ``X`` = K_rr⁻¹K_rk and
+    ``z`` = K_rr⁻¹f_r prolong the next coarser level's iterate."""
+
+    def __init__(self, nodes, K, f, geometry, Rc, N):
+        self.nodes, self.K, self.f, self.geometry = nodes, K, f, geometry
+        self.Rc, self.N = Rc, N
+        self.keep = self.X = self.z = None
+
+    def prolong(self, y_coarse):
+        """This level's y from the coarser level's: the kept DOFs and α
+        take it, the dropped DOFs follow from equilibrium without contact
+        force, u_r = K_rr⁻¹(f_r − K_rk u_k)."""
+        kept = self._kept()
+        y = np.empty(len(self.f))
+        y[kept] = y_coarse
+        y[~kept] = self.z - self.X @ y_coarse
+        return y
+
+    def _kept(self):
+        counts = (self.geometry.node_dofs >= 0).sum(axis=1)
+        owner = np.repeat(np.arange(len(counts)), counts)
+        return np.concatenate([self.keep[owner],
+                               np.ones(len(self.f) - len(owner), bool)])
+
+    def coarsen(self, fine_geometry):
+        """The next coarser level: every other node (and the last) kept,
+        the others condensed out with no contact force on them."""
+        import scipy.linalg as sla
+
+        keep = np.zeros(len(self.nodes), bool)
+        keep[::2] = keep[-1] = True
+        self.keep = keep
+        kept = self._kept()
+        k, r = np.flatnonzero(kept), np.flatnonzero(~kept)
+        K_rk = self.K[np.ix_(r, k)]
+        cho = sla.cho_factor(self.K[np.ix_(r, r)])
+        self.X = sla.cho_solve(cho, K_rk)
+        self.z = sla.cho_solve(cho, self.f[r])
+        K = self.K[np.ix_(k, k)] - K_rk.T @ self.X
+        f = self.f[k] - K_rk.T @ self.z
+        nodes = self.nodes[keep]
+        m = int(kept[:len(kept) - self.Rc.shape[1]].sum())
+        return _Level(nodes, 0.5 * (K + K.T), f,
+                      fine_geometry.subset(nodes).compact(),
+                      self.Rc[kept[:len(self.Rc)]][:m], self.N[keep])
+
+
+def rigid_start(system, N, gap, Rc, problem):
+    """(y, touching nodes): the rigid body put onto the obstacle by the
+    linear programme min −(Rᵀf)·α subject to N α ≤ s, then one primal-dual
+    active set step of ``system`` with the touching nodes active (module
+    docstring); None if the programme has no solution (these nodes do not
+    hold the body)."""
+    R, _ = problem.rigid_modes()
+    e = R.T @ problem.f
+    scale = np.abs(N).max(initial=1.0)
+    free = unresisted(N)
+    extra = {}
+    if free.size:
+        extra = dict(A_eq=free.T, b_eq=np.zeros(free.shape[1]))
+    found = opt.linprog(-e / max(np.abs(e).max(), 1e-300), A_ub=N / scale,
+                        b_ub=gap / scale, bounds=[(None, None)] * len(e),
+                        method="highs", **extra)
+    if found.status != 0:
+        return None, 0
+    alpha = found.x
+    remaining = gap - N @ alpha
+    size = np.abs(gap).max(initial=0.0) + np.abs(N @ alpha).max(initial=0.0)
+    touching = remaining <= TOUCH_RTOL * max(size, 1e-300)
+    x0 = np.concatenate([Rc @ alpha, alpha])
+    E, A, B = system.residual(x0)
+    wa, wb = (~touching).astype(float), touching.astype(float)
+    J = system.jacobian(x0)
+    step = J.combine(wa, wb).direction(
+        np.concatenate([E, wa * A + wb * B])) if hasattr(J, "combine") \
+        else None
+    return (x0 if step is None else x0 + step), int(touching.sum())
