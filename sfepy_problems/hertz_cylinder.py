@@ -35,15 +35,18 @@ K reduced to the free DOFs F, f the lifting of the prescribed displacement
 :math:`\ul{u}_D` (there is no other load), M over the nodes of
 :math:`\Gamma_c` ordered along it (``_export.py``).
 
-**Why a prescribed displacement and not a load.** Under a pressure on the top
-edge the body would be held only by the contact: K would be singular (rigid
-body modes) and the contact problem not coercive. So the top edge is moved
-down by d (it stays straight and may slide sideways; only the top centre is
-pinned in x to remove the horizontal rigid motion). The total force per unit
-length P is then known only after the contact solve: it is the sum of the
-vertical contact forces :math:`P = \sum_i \lambda_i (-\nu_{i,y})` (ν from the
-body to the obstacle, here (0, -1); λ ≥ 0), equal to the reaction on the top
-edge. It is therefore **not** exported.
+**A prescribed displacement (default) or a force** (``load='force'``). By
+default the top edge is moved down by d (it stays straight and may slide
+sideways; only the top centre is pinned in x to remove the horizontal
+rigid motion): K is positive definite, and the total force per unit length
+P is known only after the contact solve: it is the sum of the vertical
+contact forces :math:`P = \sum_i \lambda_i (-\nu_{i,y})` (ν from the body
+to the obstacle, here (0, -1); λ ≥ 0), equal to the reaction on the top
+edge. With ``load='force'`` the top edge carries the uniform traction
+-P/(2R) instead and is free in y: the vertical translation and the
+rotation about (0, 0) are held by the contact only, K is singular, and the
+solver balances P by the contact forces exactly (issue 31,
+``solver/contact/strategies/floating.py``).
 
 **Hertz's solution** (rigid flat, :math:`E^* = E/(1-\nu^2)` in plane strain,
 :math:`E^* = E` in plane stress): half-width :math:`a = 2\sqrt{PR/(\pi E^*)}`,
@@ -80,7 +83,9 @@ The parameters of ``define()`` can all be set with ``-d``: ``mesh``,
 as ``.vtk``, named after the mesh), ``E``, ``nu``, ``plane`` ('strain' or
 'stress'), ``d`` (the prescribed downward displacement of the top edge),
 ``R`` (the radius of the mesh), ``gamma_c_y`` (Γc is the arc below y =
-gamma_c_y * R), ``obstacle_x``, ``obstacle_y``, ``order`` and ``verbose``.
+gamma_c_y * R), ``obstacle_x``, ``obstacle_y``, ``order``, ``load``
+('displacement' or 'force'), ``P`` (the force per unit length of
+``load='force'``) and ``verbose``.
 """
 import importlib.util
 import os.path as op

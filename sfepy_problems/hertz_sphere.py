@@ -25,9 +25,11 @@ elasticity tensor of E, ν. The exported K is reduced to the free DOFs, f is
 the lifting :math:`-(K_{full} u_D)_F` of the prescribed top displacement,
 M is :math:`\int_{\Gamma_c} \varphi_i \varphi_j` on the contact surface.
 
-**Why a prescribed displacement** (as in ``hertz_cylinder.py``): under a
-pressure the body would be held only by the contact and K would be
-singular. The top may slide in x and y; with the two symmetry planes this
+**A prescribed displacement (default) or a force** (as in
+``hertz_cylinder.py``): with ``load='force'`` the top carries the whole
+sphere's force P (P/4 on the quarter) as a uniform traction and is free in
+z, the vertical translation held by the contact only (K singular, solved
+exactly: issue 31). By default: The top may slide in x and y; with the two symmetry planes this
 removes every rigid motion, so K is symmetric positive definite. The total
 force of the *whole* sphere is :math:`P = 4 \sum_i \lambda_{i,z}` (four
 quarters), known after the contact solve (the sum of the vertical contact
