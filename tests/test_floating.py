@@ -10,7 +10,6 @@ support reactions, applied as the load, must give the same u; statics
 refusals (a load along a motion no contact resists has no solution)."""
 
 import dataclasses
-import importlib.util
 import pathlib
 
 import numpy as np
@@ -20,30 +19,18 @@ import scipy.sparse as sp
 import solver
 from solver.errors import ProblemError, SolverError
 from solver.verification import fit_semi_ellipse, hertz_line_contact
+from test_export3d import export_module
 from tri_elasticity import floor_block as block
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 E, NU, P = 2e5, 0.3, 1739.6
 
 
-def _export_module():
-    name = "_contact_ssn_sfepy_export"
-    import sys
-
-    if name not in sys.modules:
-        spec = importlib.util.spec_from_file_location(
-            name, ROOT / "sfepy_problems" / "_export.py")
-        module = importlib.util.module_from_spec(spec)
-        sys.modules[name] = module
-        spec.loader.exec_module(module)
-    return sys.modules[name]
-
-
 @pytest.fixture(scope="module")
 def hertz_force(tmp_path_factory):
     """The Hertz half-cylinder under the force P (load='force')."""
     path = tmp_path_factory.mktemp("floating") / "hertz_force.npz"
-    _export_module().export_only(
+    export_module().export_only(
         ROOT / "sfepy_problems" / "hertz_cylinder.py",
         mesh=str(ROOT / "meshes" / "hertz.mesh"), output=str(path),
         load="force", P=P)

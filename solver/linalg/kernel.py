@@ -103,10 +103,13 @@ def fixing_dofs(R, allowed):
 def held_stiffness(K, fixed):
     """K_F of the module docstring: K with the rows and columns of
     ``fixed`` replaced by their diagonal entries (CSR)."""
-    K = sp.csr_matrix(K)
-    keep = np.ones(K.shape[0])
-    keep[fixed] = 0.0
-    D = sp.diags(keep)
-    held = np.zeros(K.shape[0])
-    held[fixed] = K.diagonal()[fixed]
-    return sp.csr_matrix(D @ K @ D + sp.diags(held))
+    K = sp.csr_matrix(K, copy=True)
+    n = K.shape[0]
+    fixed = np.asarray(fixed, np.int64)
+    diagonal = K.diagonal()[fixed]
+    held = np.zeros(n, bool)
+    held[fixed] = True
+    rows = np.repeat(held, np.diff(K.indptr))
+    K.data[rows | held[K.indices]] = 0.0  # K's structure kept
+    return sp.csr_matrix(K + sp.csr_matrix((diagonal, (fixed, fixed)),
+                                           shape=(n, n)))

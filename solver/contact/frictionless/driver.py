@@ -105,7 +105,7 @@ def run_frictionless(problem, geometry, engine, method="min", tol=1e-10,
         un_free = system.normal_displacement(result.x)
         u = space.displacement(result.x, w)
         if hasattr(space, "alpha"):  # held by contact only: its rigid motion
-            from ..strategies.floating import rigid_motion
+            from ...problem.rigid import rigid_motion
 
             result.rigid_body = rigid_motion(problem, u)
             result.rigid_body["start_nodes"] = space.start_nodes

@@ -51,10 +51,10 @@ import numpy as np
 import scipy.optimize as opt
 
 from ...errors import ProblemError
-from ...problem.rigid import check_rigid_load, rigid_motion
+from ...problem.rigid import check_rigid_load
 from ..geometry import rotation
 
-__all__ = ["FloatingSystem", "check_load", "rigid_motion"]
+__all__ = ["FloatingSystem", "check_load", "rigid_start", "unresisted"]
 
 #: Gaps below this × the body's size count as touching in the start.
 TOUCH_RTOL = 1e-9
@@ -179,12 +179,9 @@ class FloatingSystem:
         one from the coarser answer prolonged by equilibrium. Returns the
         finest level's result with the counts of all levels and
         ``levels`` as :func:`.nested.solve_nested`."""
-        import time
-
         from ...linalg.threads import single_blas_thread
-        from ...ncp import solve_ncp
         from ..frictionless.system import FrictionlessSystem
-        from .nested import COARSEST, add_run
+        from .nested import COARSEST, run_level
 
         levels = [_Level(np.arange(len(self.geometry.gap)), self.K,
                          system.f, self.geometry, self._Rc, self.N)]
@@ -195,7 +192,6 @@ class FloatingSystem:
         totals, history = dict(nit=0, njev=0, nfev=0), {}
         for depth in range(len(levels) - 1, -1, -1):
             level = levels[depth]
-            clock = time.perf_counter()
             sub = system if depth == 0 else FrictionlessSystem(
                 level.K, level.f, level.geometry, gap_scale, stiffness,
                 load_norm)
@@ -209,16 +205,10 @@ class FloatingSystem:
                 y = level.prolong(y)
             if depth and not budget:
                 continue
-            result = solve_ncp(sub.residual, sub.jacobian, y, method=method,
-                               tol=tol, max_iter=budget, options=options,
-                               error=sub.error, scale=sub.scale)
+            result = run_level(sub, y, len(level.nodes), method, tol,
+                               budget, options, (totals, history, report))
             budget -= result.nit
             y = result.x if result.success or result.status == 1 else None
-            add_run(totals, history, result, "level", len(level.nodes))
-            report.append(dict(n_nodes=len(level.nodes), nit=result.nit,
-                               njev=result.njev, nfev=result.nfev,
-                               success=bool(result.success),
-                               time=time.perf_counter() - clock))
         result.update(totals, history=history, levels=report)
         return result
 
