@@ -34,16 +34,21 @@ contact: if a rigid motion d exists that moves no node into the obstacle
 (N d ≤ 0, N the modes' normal components at the contact nodes) and along
 which the load does work (Rᵀf · d > 0), no contact force can balance it
 (Farkas' lemma) and the problem has no solution: refused, naming d and the
-load's component along it. A motion that no contact node's normal sees
-(N d = 0, a frictionless flat pushed along itself) with no load along it
-leaves the answer non-unique; its share of α is set to 0 (a constraint
-on α that no equation sees: exact).
+load's component along it (:mod:`solver.problem.rigid`). A motion V
+that no contact node's normal sees (N V = 0, a frictionless flat pushed
+along itself) with no load along it leaves the answer non-unique: the
+term k̄ V Vᵀ added to the α block makes the Newton matrices regular
+without changing any equation's solution (no contact force or load acts
+along V), and the answer's share along V (of its best-fitting rigid
+motion) is then removed: exact.
 
-The start (:meth:`FloatingSystem.free_start`): the rigid body's contact
-problem, a linear programme (min −(Rᵀf)·α subject to N α ≤ s), puts the
-body onto the obstacle at a vertex of r independent touching nodes; one
-primal-dual active set step with those nodes active then gives the first
-iterate, with contact forces at the touching nodes that balance the load."""
+The start (:func:`rigid_start`): the rigid body's contact problem, a
+linear programme (min −(Rᵀf)·α subject to N α ≤ s), puts the body onto
+the obstacle at a vertex of r independent touching nodes; one primal-dual
+active set step with those nodes active gives the first iterate, with
+contact forces at the touching nodes that balance the load. In 2D it
+starts the coarsest level of the nested start (:meth:`FloatingSystem.
+nested`: every level keeps α), in 3D the Newton iteration on Γc."""
 
 import dataclasses
 
