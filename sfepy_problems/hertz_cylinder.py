@@ -135,8 +135,10 @@ def export_contact_problem(pb, variables):
         load='dw_surface_ltr.i.Top(load.val, v)' if force else None,
         obstacle=conf.obstacle,
         meta={'E': conf.E, 'nu': conf.nu, 'plane': conf.plane,
-              'R': R, 'd': None if force else conf.d, 'E_star': E_star,
-              'P': conf.P if force else None,
+              'R': R, 'E_star': E_star,
+              # the force P given, or the displacement d (P is then known
+              # only after the contact solve)
+              **({'P': conf.P} if force else {'d': conf.d}),
               'load': load,
               'mesh': op.basename(pb.conf.filename_mesh),
               'problem_file': 'sfepy_problems/hertz_cylinder.py',
