@@ -35,15 +35,18 @@ K reduced to the free DOFs F, f the lifting of the prescribed displacement
 :math:`\ul{u}_D` (there is no other load), M over the nodes of
 :math:`\Gamma_c` ordered along it (``_export.py``).
 
-**Why a prescribed displacement and not a load.** Under a pressure on the top
-edge the body would be held only by the contact: K would be singular (rigid
-body modes) and the contact problem not coercive. So the top edge is moved
-down by d (it stays straight and may slide sideways; only the top centre is
-pinned in x to remove the horizontal rigid motion). The total force per unit
-length P is then known only after the contact solve: it is the sum of the
-vertical contact forces :math:`P = \sum_i \lambda_i (-\nu_{i,y})` (ν from the
-body to the obstacle, here (0, -1); λ ≥ 0), equal to the reaction on the top
-edge. It is therefore **not** exported.
+**A prescribed displacement (default) or a force** (``load='force'``). By
+default the top edge is moved down by d (it stays straight and may slide
+sideways; only the top centre is pinned in x to remove the horizontal
+rigid motion): K is positive definite, and the total force per unit length
+P is known only after the contact solve: it is the sum of the vertical
+contact forces :math:`P = \sum_i \lambda_i (-\nu_{i,y})` (ν from the body
+to the obstacle, here (0, -1); λ ≥ 0), equal to the reaction on the top
+edge. With ``load='force'`` the top edge carries the uniform traction
+-P/(2R) instead and is free in y: the vertical translation and the
+rotation about (0, 0) are held by the contact only, K is singular, and the
+solver balances P by the contact forces exactly (issue 31,
+``solver/contact/strategies/floating.py``).
 
 **Hertz's solution** (rigid flat, :math:`E^* = E/(1-\nu^2)` in plane strain,
 :math:`E^* = E` in plane stress): half-width :math:`a = 2\sqrt{PR/(\pi E^*)}`,
@@ -80,7 +83,9 @@ The parameters of ``define()`` can all be set with ``-d``: ``mesh``,
 as ``.vtk``, named after the mesh), ``E``, ``nu``, ``plane`` ('strain' or
 'stress'), ``d`` (the prescribed downward displacement of the top edge),
 ``R`` (the radius of the mesh), ``gamma_c_y`` (Γc is the arc below y =
-gamma_c_y * R), ``obstacle_x``, ``obstacle_y``, ``order`` and ``verbose``.
+gamma_c_y * R), ``obstacle_x``, ``obstacle_y``, ``order``, ``load``
+('displacement' or 'force'), ``P`` (the force per unit length of
+``load='force'``) and ``verbose``.
 """
 import importlib.util
 import os.path as op
@@ -117,20 +122,31 @@ def export_contact_problem(pb, variables):
                          'pass R=... with -d, or another mesh')
     E_star = conf.E / (1.0 - conf.nu ** 2) if conf.plane == 'strain' \
         else conf.E
+    force = conf.load == 'force'
+    if force:
+        load = {'force_y': -conf.P, 'on': 'top edge y = 0, uniform traction '
+                f'{-conf.P / (2 * R):g}', 'u_x_pinned_at': [0.0, 0.0]}
+    else:
+        load = {'prescribed_displacement_y': -conf.d, 'on': 'top edge y = 0',
+                'u_x_pinned_at': [0.0, 0.0]}
     _load_export().export_contact_problem(
         pb, variables, conf.export,
-        stiffness='dw_lin_elastic.i.Omega(solid.D, v, u)', load=None,
+        stiffness='dw_lin_elastic.i.Omega(solid.D, v, u)',
+        load='dw_surface_ltr.i.Top(load.val, v)' if force else None,
         obstacle=conf.obstacle,
         meta={'E': conf.E, 'nu': conf.nu, 'plane': conf.plane,
-              'R': R, 'd': conf.d, 'E_star': E_star,
-              'load': {'prescribed_displacement_y': -conf.d,
-                       'on': 'top edge y = 0',
-                       'u_x_pinned_at': [0.0, 0.0]},
+              'R': R, 'E_star': E_star,
+              # the force P given, or the displacement d (P is then known
+              # only after the contact solve)
+              **({'P': conf.P} if force else {'d': conf.d}),
+              'load': load,
               'mesh': op.basename(pb.conf.filename_mesh),
               'problem_file': 'sfepy_problems/hertz_cylinder.py',
               'description': 'Hertz line contact: half-cylinder x^2 + y^2 '
                              '<= R^2, y <= 0 on the rigid line y = -R',
-              'supports': 'top edge y = 0: u_y = -d; u_x = 0 at (0, 0)',
+              'supports': 'u_x = 0 at (0, 0) (held by the contact in y '
+                          'and in rotation)' if force else
+                          'top edge y = 0: u_y = -d; u_x = 0 at (0, 0)',
               'contact_boundary': f'arc y < {conf.gamma_c_y:g} R',
               'hertz': 'a = 2 sqrt(P R / (pi E_star)), p0 = 2 P / (pi a), '
                        'P = sum of the vertical contact forces'},
@@ -139,8 +155,13 @@ def export_contact_problem(pb, variables):
 
 def define(mesh='meshes/hertz.mesh', output='output/hertz.npz',
            E=2e5, nu=0.3, plane='strain', d=0.016, R=1.0, gamma_c_y=-0.8,
-           obstacle_x='t', obstacle_y=None, order=1, verbose=None):
-    _load_export().set_verbosity(verbose)  # before SfePy's 'left over:'
+           obstacle_x='t', obstacle_y=None, order=1, load='displacement',
+           P=1739.6, verbose=None):
+    if load not in ('displacement', 'force'):
+        raise ValueError(f"load must be 'displacement' or 'force', got "
+                         f"{load!r}")
+    export = _load_export()
+    export.set_verbosity(verbose)  # before SfePy's 'left over:'
     from solver.geometry.curves.parametric import ParametricCurve
 
     filename_mesh = op.abspath(mesh)  # SfePy resolves relative paths from
@@ -155,11 +176,13 @@ def define(mesh='meshes/hertz.mesh', output='output/hertz.npz',
         'output_dir': output_dir,
         'output_format': 'vtk',
         'post_process_hook_final': export_contact_problem,
+        'save_results': load == 'displacement',  # SfePy solves nothing
         'nls': 'newton',
         'ls': 'ls',
         # Read by the hook:
         'export': op.abspath(output),
         'E': E, 'nu': nu, 'plane': plane, 'd': d, 'R': R,
+        'load': load, 'P': P,
         'gamma_c_y': gamma_c_y,
         'obstacle': ParametricCurve(obstacle_x, obstacle_y),
     }
@@ -179,6 +202,8 @@ def define(mesh='meshes/hertz.mesh', output='output/hertz.npz',
     materials = {
         'solid': ({'D': stiffness_from_youngpoisson(2, E, nu,
                                                     plane=plane)},),
+        # the force P per unit length as a uniform traction on the top edge
+        'load': ({'val': nm.array([[0.0], [-P / (2.0 * R)]])},),
     }
 
     fields = {
@@ -198,6 +223,8 @@ def define(mesh='meshes/hertz.mesh', output='output/hertz.npz',
         'pressed': ('Top', {'u.1': -d}),
         'pinned': ('Centre', {'u.0': 0.0}),
     }
+    if load == 'force':  # held in y and in rotation by the contact only
+        del ebcs['pressed']
 
     integrals = {
         'i': 2 * order,
@@ -205,13 +232,17 @@ def define(mesh='meshes/hertz.mesh', output='output/hertz.npz',
 
     equations = {
         'balance_of_forces':
-        """dw_lin_elastic.i.Omega(solid.D, v, u) = 0""",
+        """dw_lin_elastic.i.Omega(solid.D, v, u) = 0"""
+        if load == 'displacement' else
+        """dw_lin_elastic.i.Omega(solid.D, v, u)
+         = dw_surface_ltr.i.Top(load.val, v)""",
     }
 
     solvers = {
         'ls': ('ls.scipy_direct', {}),
-        'newton': ('nls.newton', {'i_max': 1, 'eps_a': 1e-6,
-                                  'eps_r': 1e-12}),
+        # K is singular under a force (no support in y): SfePy solves nothing
+        'newton': ('nls.newton', {'i_max': 1, 'eps_a': 1e-6, 'eps_r': 1e-12}
+                   if load == 'displacement' else dict(export.NO_SOLVE)),
     }
 
     return locals()

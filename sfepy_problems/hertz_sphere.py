@@ -25,9 +25,11 @@ elasticity tensor of E, ν. The exported K is reduced to the free DOFs, f is
 the lifting :math:`-(K_{full} u_D)_F` of the prescribed top displacement,
 M is :math:`\int_{\Gamma_c} \varphi_i \varphi_j` on the contact surface.
 
-**Why a prescribed displacement** (as in ``hertz_cylinder.py``): under a
-pressure the body would be held only by the contact and K would be
-singular. The top may slide in x and y; with the two symmetry planes this
+**A prescribed displacement (default) or a force** (as in
+``hertz_cylinder.py``): with ``load='force'`` the top carries the whole
+sphere's force P (P/4 on the quarter) as a uniform traction and is free in
+z, the vertical translation held by the contact only (K singular, solved
+exactly: issue 31). By default: The top may slide in x and y; with the two symmetry planes this
 removes every rigid motion, so K is symmetric positive definite. The total
 force of the *whole* sphere is :math:`P = 4 \sum_i \lambda_{i,z}` (four
 quarters), known after the contact solve (the sum of the vertical contact
@@ -101,6 +103,21 @@ def contact_size(coors, faces, radius):
     return float(nm.sqrt((edges ** 2).sum(axis=2)).mean())
 
 
+def top_area(filename_mesh, R):
+    """The area of the mesh's flat top z = R (its boundary triangles)."""
+    from sfepy.discrete.fem import Mesh
+
+    mesh = Mesh.from_file(filename_mesh)
+    coors, cells = mesh.coors, mesh.get_conn('3_4')
+    top = nm.abs(coors[:, 2] - R) < TOL * R
+    faces = cells[:, [[0, 1, 2], [0, 1, 3], [0, 2, 3], [1, 2, 3]]]
+    faces = faces.reshape(-1, 3)
+    tri = coors[faces[top[faces].all(axis=1)]]
+    return 0.5 * float(nm.linalg.norm(nm.cross(tri[:, 1] - tri[:, 0],
+                                               tri[:, 2] - tri[:, 0]),
+                                      axis=1).sum())
+
+
 def export_contact_problem(pb, variables):
     """``post_process_hook_final``: assemble K, f, M, write the ``.npz``."""
     conf = pb.conf.options
@@ -114,24 +131,32 @@ def export_contact_problem(pb, variables):
     cells = pb.domain.mesh.get_conn('3_4').astype(nm.int64)
     h = contact_size(coors, export.contact_triangles(pb, 'Gamma_c', cells,
                                                      coors), conf.a_target)
+    force = conf.load == 'force'
     return export.export_contact_problem(
         pb, variables, conf.export,
-        stiffness='dw_lin_elastic.i.Omega(solid.D, v, u)', load=None,
+        stiffness='dw_lin_elastic.i.Omega(solid.D, v, u)',
+        load='dw_surface_ltr.i.Top(load.val, v)' if force else None,
         obstacle={'kind': 'plane', 'point': [0.0, 0.0, 0.0],
                   'normal': [0.0, 0.0, 1.0]},
-        meta={'E': conf.E, 'nu': conf.nu, 'R': R, 'delta': conf.delta,
+        meta={'E': conf.E, 'nu': conf.nu, 'R': R,
+              **({'P': conf.P} if force else {'delta': conf.delta}),
               'E_star': conf.E / (1.0 - conf.nu ** 2),
               'a_target': conf.a_target, 'h_contact': h,
               'a_h': conf.a_target / h, 'quarter': True,
               'contact_center': [0.0, 0.0, 0.0],
-              'load': {'prescribed_displacement_z': -conf.delta,
-                       'on': 'top z = R'},
+              'load': ({'force_z': -conf.P, 'quarter_force_z': -conf.P / 4,
+                        'on': 'top z = R, uniform traction'}
+                       if force else
+                       {'prescribed_displacement_z': -conf.delta,
+                        'on': 'top z = R'}),
               'mesh': op.basename(pb.conf.filename_mesh),
               'problem_file': 'sfepy_problems/hertz_sphere.py',
               'description': 'Hertz point contact: quarter sphere '
                              '|x - (0,0,R)| <= R, x, y >= 0, z <= R on the '
                              'rigid plane z = 0',
-              'supports': 'top z = R: u_z = -delta; u_x = 0 on x = 0; '
+              'supports': ('u_x = 0 on x = 0; u_y = 0 on y = 0 (held by '
+                           'the contact in z)') if force else
+                          'top z = R: u_z = -delta; u_x = 0 on x = 0; '
                           'u_y = 0 on y = 0',
               'contact_boundary': f'sphere below z = {conf.gamma_c_z:g} R',
               'hertz': 'P = 4 * sum of the vertical contact forces (the '
@@ -142,7 +167,11 @@ def export_contact_problem(pb, variables):
 
 def define(mesh='meshes/hertz_sphere_4.mesh',
            output='output/hertz_sphere.npz', E=2e5, nu=0.3, R=1.0,
-           delta=0.00243, gamma_c_z=0.2, a_target=None, verbose=None):
+           delta=0.00243, gamma_c_z=0.2, a_target=None, load='displacement',
+           P=36.63, verbose=None):
+    if load not in ('displacement', 'force'):
+        raise ValueError(f"load must be 'displacement' or 'force', got "
+                         f"{load!r}")
     export = _load_export()
     export.set_verbosity(verbose)  # before SfePy's 'left over:'
 
@@ -158,6 +187,7 @@ def define(mesh='meshes/hertz_sphere_4.mesh',
         # Read by the hook:
         'export': op.abspath(output),
         'E': E, 'nu': nu, 'R': R, 'delta': delta, 'gamma_c_z': gamma_c_z,
+        'load': load, 'P': P,
         'a_target': 0.05 * R if a_target is None else a_target,
     }
 
@@ -177,6 +207,10 @@ def define(mesh='meshes/hertz_sphere_4.mesh',
 
     materials = {
         'solid': ({'D': stiffness_from_youngpoisson(3, E, nu)},),
+        # the whole sphere's force P: P/4 as a uniform traction on the
+        # quarter model's (polygonal) top face
+        'load': ({'val': nm.array([[0.0], [0.0],
+                                   [-P / 4 / top_area(filename_mesh, R)]])},),
     }
 
     fields = {
@@ -197,6 +231,8 @@ def define(mesh='meshes/hertz_sphere_4.mesh',
         'symmetry_x': ('X0', {'u.0': 0.0}),
         'symmetry_y': ('Y0', {'u.1': 0.0}),
     }
+    if load == 'force':  # the vertical translation is held by contact only
+        del ebcs['pressed']
 
     integrals = {
         'i': 2,
@@ -204,7 +240,10 @@ def define(mesh='meshes/hertz_sphere_4.mesh',
 
     equations = {
         'balance_of_forces':
-        """dw_lin_elastic.i.Omega(solid.D, v, u) = 0""",
+        """dw_lin_elastic.i.Omega(solid.D, v, u) = 0"""
+        if load == 'displacement' else
+        """dw_lin_elastic.i.Omega(solid.D, v, u)
+         = dw_surface_ltr.i.Top(load.val, v)""",
     }
 
     solvers = {

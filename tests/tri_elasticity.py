@@ -305,3 +305,32 @@ def block_on_parabola_body(stiffness_ratio, n_y=220, n_x=12, extent=11.0,
         [{"name": "block", **{k: BLOCK[k] for k in ("E", "nu")}},
          {"name": "parabola", "E": stiffness_ratio * BLOCK["E"],
           "nu": BLOCK["nu"]}], 0)
+
+
+def floor_block(load=(0.0, -1.0), n=(8, 4), floor=0.0, E_=100.0, where="all"):
+    """A 2 × 1 block of P1 triangles (tet_elasticity) on the rigid line
+    y = ``floor``, no Dirichlet condition: ``load`` on every node
+    ("all", lumped by nodal area) or at the top-left corner."""
+    from solver.geometry.curves.parametric import ParametricCurve
+
+    nodes, cells = rectangle(n, (2.0, 1.0))
+    bottom = np.flatnonzero(nodes[:, 1] == 0.0)
+    bottom = bottom[np.argsort(nodes[bottom, 0])]
+    faces = np.stack([bottom[:-1], bottom[1:]], 1)
+    problem = mesh_problem(nodes, cells, stiffness(nodes, cells, E_, 0.3),
+                           np.full(nodes.shape, np.nan), bottom, faces)
+    if where == "all":  # lumped: each triangle's area in thirds
+        a = nodes[cells]
+        area = 0.5 * np.abs(np.cross(a[:, 1] - a[:, 0], a[:, 2] - a[:, 0]))
+        share = np.bincount(cells.ravel(), np.repeat(area / 3, 3),
+                            len(nodes))
+    else:
+        share = np.zeros(len(nodes))
+        share[np.argmin(nodes[:, 0] - nodes[:, 1])] = 1.0
+    f = (share[:, None] * np.asarray(load, float)).ravel()
+    problem.f = f[2 * problem.dof_map[:, 0] + problem.dof_map[:, 1]]
+    problem.obstacle = ParametricCurve("t", repr(float(floor)))
+    problem.meta = {"E": E_, "nu": 0.3, "plane": "strain",
+                    "mesh": "2 x 1 block, P1 triangles",
+                    "load": f"{tuple(load)} {where}"}
+    return problem

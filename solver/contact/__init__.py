@@ -15,10 +15,11 @@ from .frictionless.driver import run_frictionless
 from .frictionless.system import FrictionlessSystem
 from .geometry import GAP_MODES, ContactGeometry, contact_geometry
 from .result import ContactResult
+from .strategies.floating import check_load as check_floating_load
 from .two_body import TwoBodyMap
 
 __all__ = ["SerialEngine", "GAP_MODES", "ContactGeometry",
            "contact_geometry", "FrictionlessSystem", "FrictionSystem",
            "run_frictionless", "run_friction", "default_method", "FORMULATIONS",
            "COULOMB",
-           "ContactResult", "TwoBodyMap"]
+           "ContactResult", "TwoBodyMap", "check_floating_load"]

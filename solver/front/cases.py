@@ -53,9 +53,12 @@ class Case:
     bodies: str
     contact: str
     engine: str
+    support: str = "supported"  # or "floating": K has rigid-body modes
 
     def __str__(self):
-        return (f"{self.dim}D, {self.bodies}, {self.contact}, "
+        held = ", held by contact only" if self.support == "floating" \
+            else ""
+        return (f"{self.dim}D, {self.bodies}{held}, {self.contact}, "
                 f"{self.engine} engine")
 
 
@@ -65,9 +68,10 @@ def case_of(problem, friction, engine):
               "rigid" if problem.kind == "mesh" else "discrete")
     name = engine if isinstance(engine, str) or engine is None \
         else engine.name
+    floating = bodies == "rigid" and problem.floating
     return Case(problem.dim, bodies,
                 "frictionless" if friction is None else "friction",
-                name or "serial")
+                name or "serial", "floating" if floating else "supported")
 
 
 def given_options(options):
@@ -204,6 +208,25 @@ RULES = tuple(
              "(engine='petsc', system='full')",
              lambda c, s, g: "ksp" in g and (c.engine != "petsc"
                                              or s["condense"])),
+        Rule("system", "a body held by contact only",
+             "its K is singular (rigid-body modes): it is solved on the "
+             "condensed system, with K⁺ and the modes' amplitudes",
+             lambda c, s, g: c.support == "floating" and not s["condense"],
+             "system='full'"),
+        Rule("engine", "a body held by contact only",
+             "the petsc engine factorises a positive definite K; the "
+             "serial engine solves bodies with rigid-body modes",
+             lambda c, s, g: c.support == "floating"
+             and c.engine == "petsc", "engine='petsc'"),
+        Rule("friction", "a body held by contact only",
+             "not yet: friction needs every load step's contact to hold "
+             "the body; support it (a prescribed displacement)",
+             lambda c, s, g: c.support == "floating"
+             and c.contact == "friction", "friction"),
+        Rule("candidates", "a body held by contact only",
+             "its modes' amplitudes are condensed with every DOF of Γc",
+             lambda c, s, g: c.support == "floating" and s["candidates"],
+             "candidates=True"),
         Rule("system", "friction on the petsc engine",
              "friction on the full system (the thesis's formulation runs "
              "there) has no distributed Newton solve: use the condensed "
@@ -253,8 +276,9 @@ def resolve(case, options):
     thesis = friction and s["formulation"] == "thesis"
     s["condense"] = {"auto": not thesis, "condensed": True,
                      "full": False}[s["system"]]
+    floating = case.support == "floating"
     if s["candidates"] is None:
-        s["candidates"] = s["condense"] and (
+        s["candidates"] = s["condense"] and not floating and (
             (case.dim == 3 and not thesis) if friction
             else (case.dim == 3 or case.engine == "petsc"))
     s["candidates"] = bool(s["candidates"])

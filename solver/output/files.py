@@ -111,6 +111,11 @@ def summary_of(result, problem, tol=None, **extra):
         "n_contact_nodes": int(result.n_contact),
         "max_contact_pressure": _number(np.max(result.contact_pressure)),
         "max_contact_force": _number(np.max(result.contact_force)),
+        # Σ −λ_i ν_i, the obstacle's force on the body (a vector)
+        "total_contact_force": [_number(v) for v in
+                                result.get("total_contact_force", [])],
+        # a body held by contact only: its rigid-body motion (else None)
+        "rigid_body_motion": _rigid_body_of(result.get("rigid_body")),
         "n_dof": int(problem.n_dofs),
         "n_contact_candidates": int(np.isfinite(result.gap).sum()),
         # 3D: the nodes condensed onto (normal unknowns), per round
@@ -129,6 +134,17 @@ def summary_of(result, problem, tol=None, **extra):
     }
     summary.update(extra, tol=tol)
     return summary
+
+
+def _rigid_body_of(rigid):
+    """The rigid-body motion of a floating body, JSON-safe (or None)."""
+    if not rigid:
+        return None
+    return {"modes": int(rigid["modes"]),
+            "translation": [_number(v) for v in rigid["translation"]],
+            "rotation": [_number(v) for v in rigid["rotation"]],
+            "alpha": [_number(v) for v in rigid["alpha"]],
+            "start_touching_nodes": int(rigid["start_nodes"] or 0)}
 
 
 def _candidates_of(candidates):

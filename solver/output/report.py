@@ -96,6 +96,23 @@ def format_friction_result(summary, outdir):
     return "\n".join(lines)
 
 
+def _force_lines(summary):
+    """The total contact force and, for a floating body, its rigid motion."""
+    total = summary.get("total_contact_force") or []
+    lines = []
+    if total:
+        lines.append("contact force     (" + ", ".join(_g(v) for v in total)
+                     + ") in total, on the body")
+    rigid = summary.get("rigid_body_motion")
+    if rigid:
+        lines.append(
+            f"rigid-body motion translation (" + ", ".join(
+                _g(v) for v in rigid["translation"]) + "), rotation ("
+            + ", ".join(_g(v) for v in rigid["rotation"]) + ") rad "
+            f"({rigid['modes']} modes held by contact only)")
+    return lines
+
+
 def _system_text(summary):
     if summary["system"] == "full":
         return ("full (the thesis's, in all unknowns)"
@@ -199,6 +216,7 @@ def format_result(summary, outdir):
         "(not on a support)",
         f"max pressure      {_g(summary['max_contact_pressure'])} "
         "(lumped, lambda_i / D_ii)",
+        *_force_lines(summary),
         f"reduced DOFs      {summary['n_dof']}",
         f"wall time         {_g(summary['wall_time'], '.3f')} s",
         f"outputs           {outdir}/"]

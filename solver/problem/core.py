@@ -52,6 +52,10 @@ class ContactProblem:
     source: str = field(default=None, compare=False)
     _checked: object = field(default=None, init=False, repr=False,
                              compare=False)
+    _modes: object = field(default=None, init=False, repr=False,
+                           compare=False)
+    _held: object = field(default=None, init=False, repr=False,
+                          compare=False)
 
     @property
     def kind(self):
@@ -182,16 +186,64 @@ class ContactProblem:
         return repr(self.obstacle)
 
     def check_stiffness(self):
-        """Check that K is positive definite
+        """Check that K is positive definite, or, for a body held by
+        contact only, that its kernel is its rigid-body modes (K with r DOFs
+        held, :mod:`solver.linalg.kernel`, is positive definite)
         (:func:`~.checks.check_positive_definite`): one sparse factorisation in
         a fill-reducing order, remembered for this K object (replace
         ``problem.K``, do not modify it in place); the condensed solvers get it
         from the factorisation they need anyway."""
         if self._checked is not self.K:
             from ..linalg import dof_ordering
-            check_positive_definite(self.K, "K", dof_ordering(self))
+            K = self.K
+            if self.kind == "mesh" and self.floating:  # K_F: K⁺'s factor
+                K = self.held_stiffness()[1]
+            check_positive_definite(K, "K", dof_ordering(self))
             self._checked = self.K
         return self
+
+    def rigid_modes(self):
+        """(R, C): the rigid-body motions that the Dirichlet conditions
+        leave free, an orthonormal basis R (Ñ, r) of them in ker K, and
+        their coefficients C on the translations and rotations about the
+        centroid (:func:`solver.linalg.kernel.rigid_modes`); r = 0 for a
+        supported body, a discrete problem and several bodies (whose K
+        must be positive definite). Remembered for this K object."""
+        if self._modes is None or self._modes[0] is not self.K:
+            if self.kind != "mesh" or self.n_bodies > 1:
+                modes = (np.zeros((self.n_dofs, 0)),
+                         np.zeros((3 if self.dim == 2 else 6, 0)))
+            else:
+                from ..linalg.kernel import rigid_modes
+
+                modes = rigid_modes(self.K, self.dof_points(),
+                                    self.dof_map[:, 1])
+            self._modes = (self.K, modes)
+        return self._modes[1]
+
+    def held_stiffness(self):
+        """(F, K_F) of a floating body: r DOFs F off Γc that remove the
+        rigid-body modes (:func:`solver.linalg.kernel.fixing_dofs`) and K
+        with them held (:func:`solver.linalg.kernel.held_stiffness`),
+        positive definite iff ker K is the modes. Remembered for this K."""
+        from ..linalg.kernel import fixing_dofs, held_stiffness
+
+        if self._held is None or self._held[0] is not self.K:
+            R, _ = self.rigid_modes()
+            allowed = np.ones(self.n_dofs, bool)
+            allowed[self.contact_dofs[self.contact_dofs >= 0]] = False
+            fixed, _ = fixing_dofs(R, np.flatnonzero(allowed))
+            self._held = (self.K, (fixed, held_stiffness(self.K, fixed)))
+        return self._held[1]
+
+    def dof_points(self):
+        """The coordinates of each reduced DOF's node (Ñ, d)."""
+        return self.nodes[self.dof_map[:, 0]]
+
+    @property
+    def floating(self):
+        """Whether K has rigid-body modes (a body held only by contact)."""
+        return self.rigid_modes()[0].shape[1] > 0
 
     def mark_stiffness_checked(self):
         """Record that K (this K object) was found positive definite by a

@@ -9,6 +9,7 @@ mortar's: for both only K is checked."""
 import numpy as np
 
 from ..errors import SolverError
+from .rigid import check_rigid_load
 
 __all__ = ["GAP_MODES", "refusals", "checks_made"]
 
@@ -18,7 +19,9 @@ GAP_MODES = ("obstacle", "body")
 
 def checks_made(problem, gap="obstacle"):
     """The names of the checks :func:`refusals` makes for ``problem``."""
-    made = ["K positive definite"]
+    made = ["K positive definite" if problem.kind != "mesh"
+            or not problem.floating else
+            "K positive semidefinite, its kernel the rigid-body modes"]
     if _has_obstacle(problem):
         made.append(f"gaps from the {gap} at "
                     f"{len(_candidates(problem))} contact nodes")
@@ -38,10 +41,24 @@ def refusals(problem, gap="obstacle"):
         found.append(_one_line(exc))
     if _has_obstacle(problem):
         try:
-            _gaps(problem, gap)
+            gaps = _gaps(problem, gap)
+            if not found and problem.floating:  # can contact hold it?
+                check_rigid_load(problem, _normal_rows(problem, gaps[1]))
         except SolverError as exc:
             found.append(_one_line(exc))
     return found
+
+
+def _normal_rows(problem, normal):
+    """N (Nc, r): the rigid modes' displacement along the ``normal`` of
+    each candidate (:func:`_candidates`) at its free DOFs."""
+    R, _ = problem.rigid_modes()
+    dofs = problem.contact_dofs[_candidates(problem)]
+    N = np.zeros((len(dofs), R.shape[1]))
+    for k in range(dofs.shape[1]):
+        free = dofs[:, k] >= 0
+        N[free] += normal[free, k, None] * R[dofs[free, k]]
+    return N
 
 
 def _one_line(exc):

@@ -76,7 +76,12 @@ def run_frictionless(problem, geometry, engine, method="min", tol=1e-10,
         space = reduction(problem, geometry, engine, condense)
         linear_solver, name = space.linear_solver, space.name
         f, w = space.load(problem.f)
-        if start == "nested":
+        if start == "nested" and hasattr(space, "nested"):
+            system = FrictionlessSystem(space.K, f, space.geometry,
+                                        gap_scale, stiffness, load_norm)
+            result = space.nested(system, method, tol, max_iter, gap_scale,
+                                  stiffness, options, load_norm)
+        elif start == "nested":
             from ..strategies.nested import contact_levels, solve_nested
 
             result, system = solve_nested(
@@ -91,7 +96,7 @@ def run_frictionless(problem, geometry, engine, method="min", tol=1e-10,
             if start == "x0":
                 start_x = space.restrict(x0)
             elif start == "free":
-                start_x = space.restrict(w)
+                start_x = space.free_start(system, w)
             else:
                 start_x = np.zeros(problem.n_dofs)
             result = solve_ncp(system.residual, space.jacobian(system),
@@ -103,6 +108,11 @@ def run_frictionless(problem, geometry, engine, method="min", tol=1e-10,
         un_free = system.normal_displacement(result.x)
         u = space.displacement(result.x, w)
         iterate = (system, result.x)
+        if hasattr(space, "alpha"):  # held by contact only: its rigid motion
+            from ...problem.rigid import rigid_motion
+
+            result.rigid_body = rigid_motion(problem, u)
+            result.rigid_body["start_nodes"] = space.start_nodes
     result.stopping["test"] = STOPPING_TEST
     result.x = u
     tol_v = verification_tolerance(tol)
@@ -148,6 +158,8 @@ def nodal_arrays(problem, geometry, u, lam_free, un_free, load_norm):
     comp = np.abs(np.minimum(lam, remaining))[geometry.index]
     threshold = 1e-9 * force_scale(load_norm, lam)
     in_contact = lam > threshold
+    # Σ −λ_i ν_i: the force of the obstacle on the body (ν: body → obstacle)
+    total = -(lam[geometry.index, None] * geometry.normal).sum(axis=0)
     if problem.kind == "mesh":
         displacement = problem.full_displacement(u)
     else:
@@ -157,4 +169,5 @@ def nodal_arrays(problem, geometry, u, lam_free, un_free, load_norm):
         contact_pressure=lumped, contact_pressure_consistent=pressure,
         gap=s, normal=normal, normal_displacement=un, in_contact=in_contact,
         complementarity=float(comp.max(initial=0.0)),
+        total_contact_force=total + 0.0,
         n_contact=int(in_contact.sum()))

@@ -40,7 +40,7 @@ from ...ncp import solve_ncp
 from ..frictionless.system import FrictionlessSystem
 
 __all__ = ["COARSEST", "ContactLevel", "contact_levels", "solve_nested",
-           "add_run"]
+           "add_run", "run_level"]
 
 #: Coarsening stops when a level has at most this many contact nodes.
 COARSEST = 8
@@ -157,22 +157,31 @@ def solve_nested(levels, method="min", tol=1e-10, max_iter=100,
         if depth and not budget:  # out of iterations: carry the iterate up
             u = x0
             continue
-        start = time.perf_counter()
         system = fine_system if depth == 0 else _system(
             level, gap_scale, stiffness, load_norm)
-        result = solve_ncp(system.residual, system.jacobian, x0,
-                           method=method, tol=tol, max_iter=budget,
-                           options=options, error=system.error,
-                           scale=system.scale)
+        result = run_level(system, x0, len(level.nodes), method, tol,
+                           budget, options, (totals, history, report))
         budget -= result.nit
         u = result.x if result.success or result.status == 1 else None
-        add_run(totals, history, result, "level", len(level.nodes))
-        report.append(dict(n_nodes=len(level.nodes), nit=result.nit,
-                           njev=result.njev, nfev=result.nfev,
-                           success=bool(result.success),
-                           time=time.perf_counter() - start))
     result.update(totals, history=history, levels=report)
     return result, system
+
+
+def run_level(system, x0, n_nodes, method, tol, budget, options, tally):
+    """Newton on one level's ``system`` from ``x0`` (at most ``budget``
+    iterations), its counts added to ``tally`` = (totals, history,
+    report): :func:`add_run` and one ``report`` entry (n_nodes, counts,
+    success, time). Returns the NCP result."""
+    totals, history, report = tally
+    start = time.perf_counter()
+    result = solve_ncp(system.residual, system.jacobian, x0, method=method,
+                       tol=tol, max_iter=budget, options=options,
+                       error=system.error, scale=system.scale)
+    add_run(totals, history, result, "level", n_nodes)
+    report.append(dict(n_nodes=n_nodes, nit=result.nit, njev=result.njev,
+                       nfev=result.nfev, success=bool(result.success),
+                       time=time.perf_counter() - start))
+    return result
 
 
 def _system(level, gap_scale, stiffness, load_norm=None):

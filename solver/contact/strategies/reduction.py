@@ -73,9 +73,19 @@ class CondensedSystem:
         """The system's own Jacobian (dense, LAPACK)."""
         return system.jacobian
 
+    def free_start(self, system, w):
+        """The free start: no contact force, u = K⁻¹f on the condensed
+        DOFs."""
+        return self.restrict(w)
+
 
 def reduction(problem, geometry, engine, condensed):
-    """:class:`CondensedSystem` if ``condensed``, else :class:`FullSystem`."""
+    """:class:`CondensedSystem` if ``condensed``, else :class:`FullSystem`;
+    :class:`~.floating.FloatingSystem` for a body with rigid-body modes."""
+    if condensed and problem.kind == "mesh" and problem.floating:
+        from .floating import FloatingSystem
+
+        return FloatingSystem(problem, geometry, engine)
     return (CondensedSystem if condensed else FullSystem)(problem, geometry,
                                                           engine)
 

@@ -1,0 +1,302 @@
+r"""A body held only by contact: the condensed system with its rigid-body
+modes (a semicoercive problem, solved exactly).
+
+K is singular; its kernel is spanned by the rigid motions R (n × r) that
+the supports leave free (:meth:`solver.problem.ContactProblem.rigid_modes`).
+With r DOFs F held (:func:`solver.linalg.kernel.fixing_dofs`) K_F is
+positive definite and K⁺b = K_F⁻¹b₀ a generalised inverse; every solution
+of K u = f + Pᵀr (r: the contact forces on the DOFs c of Γc) is
+
+.. math:: u = K^+(f + P^T r) + Rα, \qquad R^T(f + P^T r) = 0
+
+(TFETI: Dostál, Horák, Kučera, *Total FETI*, Commun. Numer. Meth. Engng
+22 (2006) 1155-1162; Dostál, Kozubek, Markopoulos, Menšík, Appl. Math.
+Comput. 217 (2011) 6067-6077). Condensed onto c with S_J the Schur
+complement of K_F and g̃ its condensed load, the unknowns y = (u_c, α)
+satisfy the symmetric positive semidefinite system
+
+.. math::
+    \begin{bmatrix} S_J & −S_J R_c \\ −R_c^T S_J & R_c^T S_J R_c
+    \end{bmatrix} y = \begin{bmatrix} g̃ + r \\ R^T f − R_c^T g̃
+    \end{bmatrix},
+
+whose first rows are the condensed equilibrium of Γc (u_c − R_cα = K⁺'s
+share) and whose last r rows are Rᵀ(f + Pᵀr) = 0, the load balanced by
+the contact forces. It is the system of a supported body with r extra
+unknowns that no contact touches, so the frictionless system (67), its
+Newton directions and its verification run on it unchanged; no penalty,
+no regularisation: the answer is exact to round-off. Its kernel (the
+rigid motions) is removed by the active contact constraints; the Newton
+matrices are regular exactly when those restrain every mode.
+
+Before any solve (:func:`check_load`) the load is checked against the
+contact: if a rigid motion d exists that moves no node into the obstacle
+(N d ≤ 0, N the modes' normal components at the contact nodes) and along
+which the load does work (Rᵀf · d > 0), no contact force can balance it
+(Farkas' lemma) and the problem has no solution: refused, naming d and the
+load's component along it (:mod:`solver.problem.rigid`). A motion V
+that no contact node's normal sees (N V = 0, a frictionless flat pushed
+along itself) with no load along it leaves the answer non-unique: the
+term k̄ V Vᵀ added to the α block makes the Newton matrices regular
+without changing any equation's solution (no contact force or load acts
+along V), and the answer's share along V (of its best-fitting rigid
+motion) is then removed: exact.
+
+The start (:func:`rigid_start`): the rigid body's contact problem, a
+linear programme (min −(Rᵀf)·α subject to N α ≤ s), puts the body onto
+the obstacle at a vertex of r independent touching nodes; one primal-dual
+active set step with those nodes active gives the first iterate, with
+contact forces at the touching nodes that balance the load. In 2D it
+starts the coarsest level of the nested start (:meth:`FloatingSystem.
+nested`: every level keeps α), in 3D the Newton iteration on Γc."""
+
+import dataclasses
+
+import numpy as np
+import scipy.optimize as opt
+
+from ...errors import ProblemError
+from ...problem.rigid import check_rigid_load
+from ..geometry import rotation
+
+__all__ = ["FloatingSystem", "check_load", "rigid_start", "unresisted"]
+
+#: Gaps below this × the body's size count as touching in the start.
+TOUCH_RTOL = 1e-9
+
+
+def _normal_rows(problem, geometry):
+    """N (Nca, r): the normal displacement of each free contact node of
+    ``geometry`` (problem's DOFs) under each rigid mode."""
+    R, _ = problem.rigid_modes()
+    n = problem.n_dofs
+    Q, _, _, normal_rows = rotation(n, geometry)
+    return np.asarray(Q[normal_rows] @ R)
+
+
+def unresisted(N, rtol=1e-10):
+    """An orthonormal basis (r, k) of the modes that no contact normal
+    sees (N d = 0 to round-off)."""
+    if N.shape[1] == 0:
+        return np.zeros((0, 0))
+    _, s, Vt = np.linalg.svd(N, full_matrices=True)
+    s = np.concatenate([s, np.zeros(N.shape[1] - len(s))])
+    return Vt[s <= rtol * max(s.max(initial=0.0), 1e-300)].T
+
+
+def check_load(problem, geometry):
+    """Raise :class:`ProblemError` if the load of a floating ``problem``
+    has a component along a rigid-body mode that no contact of
+    ``geometry`` can resist (module docstring; frictionless contact), or
+    if it presses the body onto nothing (no resultant along the modes):
+    :func:`solver.problem.rigid.check_rigid_load` on the modes' normal
+    components at the nodes of ``geometry``."""
+    check_rigid_load(problem, _normal_rows(problem, geometry))
+
+
+class FloatingSystem:
+    """The reduction of a body with rigid-body modes (module docstring):
+    K condensed onto the free DOFs of ``geometry``'s nodes with the modes'
+    amplitudes α as r more unknowns; the same interface as
+    :class:`~solver.contact.strategies.reduction.CondensedSystem`."""
+
+    name = "contact + rigid-body modes"
+    condensed = True
+
+    def __init__(self, problem, geometry, engine):
+        R, _ = problem.rigid_modes()
+        self.problem, self.modes = problem, R
+        c = geometry.free_dofs()
+        self.fixed, K_F = problem.held_stiffness()
+        # the factorisation of K_F refuses a K with more than rigid modes
+        self.condensation = engine.condensation(
+            dataclasses.replace(problem, K=K_F), c)
+        check_load(problem, geometry)  # a load no contact holds: refused
+        self.dofs = self.condensation.dofs
+        self.m, self.r = len(self.dofs), R.shape[1]
+        S = self.condensation.S
+        Rc = R[self.dofs]
+        SR = S @ Rc
+        K = np.empty((self.m + self.r,) * 2)
+        K[:self.m, :self.m] = S
+        K[:self.m, self.m:] = -SR
+        K[self.m:, :self.m] = -SR.T
+        K[self.m:, self.m:] = Rc.T @ SR
+        N = _normal_rows(problem, geometry)
+        self.N, self.free_modes = N, unresisted(N)
+        if self.free_modes.size:  # α ⊥ modes no normal sees (exact)
+            k = float(np.mean(np.diag(S))) if self.m else 1.0
+            K[self.m:, self.m:] += k * self.free_modes @ self.free_modes.T
+        self.K = 0.5 * (K + K.T)
+        self.geometry = geometry.compact()
+        self.linear_solver = engine.linear_solver
+        self._Rc = Rc
+        self.start_nodes = None
+
+    def load(self, f):
+        """(f̃, w): the augmented load (g̃, Rᵀf − R_cᵀg̃) and w = K⁺f."""
+        f = np.asarray(f, float)
+        f0 = f.copy()
+        f0[self.fixed] = 0.0
+        g, w = self.condensation.load(f0)
+        return np.concatenate([g, self.modes.T @ f - self._Rc.T @ g]), w
+
+    def restrict(self, u):
+        """(u_c, α) of a displacement u: α with (u − Rα)_F = 0."""
+        u = np.asarray(u, float)
+        alpha = np.linalg.solve(self.modes[self.fixed], u[self.fixed])
+        return np.concatenate([u[self.dofs], alpha])
+
+    def displacement(self, x, w):
+        """u = K⁺(f + Pᵀr) + Rα from y = (u_c, α) and w = K⁺f."""
+        x = np.asarray(x, float)
+        u_c, alpha = x[:self.m], x[self.m:]
+        u = self.condensation.displacement(u_c - self._Rc @ alpha, w) \
+            + self.modes @ alpha
+        if self.free_modes.size:  # no share along motions no normal sees
+            V = self.modes @ self.free_modes
+            u = u - V @ (V.T @ u)
+        return u
+
+    def alpha(self, x):
+        """The rigid-body amplitudes α of the unknowns x."""
+        return np.asarray(x, float)[self.m:]
+
+    def jacobian(self, system):
+        """The system's own Jacobian (dense, LAPACK)."""
+        return system.jacobian
+
+    def free_start(self, system, w):
+        """The first iterate (module docstring): the rigid body put onto
+        the obstacle by a linear programme, then one active set step with
+        the touching nodes active."""
+        y, self.start_nodes = rigid_start(system, self.N, self.geometry.gap,
+                                          self._Rc, self.problem)
+        if y is None:
+            raise ProblemError("f: the body cannot be put onto the "
+                               "obstacle as a rigid body")
+        return y
+
+    def nested(self, system, method, tol, max_iter, gap_scale, stiffness,
+               options, load_norm):
+        """Nested iteration (:mod:`.nested`'s, with α kept on every
+        level): the coarsest level from :func:`rigid_start`, each finer
+        one from the coarser answer prolonged by equilibrium. Returns the
+        finest level's result with the counts of all levels and
+        ``levels`` as :func:`.nested.solve_nested`."""
+        from ...linalg.threads import single_blas_thread
+        from ..frictionless.system import FrictionlessSystem
+        from .nested import COARSEST, run_level
+
+        levels = [_Level(np.arange(len(self.geometry.gap)), self.K,
+                         system.f, self.geometry, self._Rc, self.N)]
+        with single_blas_thread():
+            while len(levels[-1].nodes) > COARSEST:
+                levels.append(levels[-1].coarsen(self.geometry))
+        y, report, budget = None, [], max_iter
+        totals, history = dict(nit=0, njev=0, nfev=0), {}
+        for depth in range(len(levels) - 1, -1, -1):
+            level = levels[depth]
+            sub = system if depth == 0 else FrictionlessSystem(
+                level.K, level.f, level.geometry, gap_scale, stiffness,
+                load_norm)
+            if y is None:
+                y, touching = rigid_start(sub, level.N, level.geometry.gap,
+                                          level.Rc, self.problem)
+                if y is None:  # these nodes cannot hold the body
+                    continue
+                self.start_nodes = touching
+            else:
+                y = level.prolong(y)
+            if depth and not budget:
+                continue
+            result = run_level(sub, y, len(level.nodes), method, tol,
+                               budget, options, (totals, history, report))
+            budget -= result.nit
+            y = result.x if result.success or result.status == 1 else None
+        result.update(totals, history=history, levels=report)
+        return result
+
+
+class _Level:
+    """One level of the nested start of a floating body: ``nodes``
+    (positions in the finest level's list), ``K`` (the augmented system
+    condensed onto their DOFs and α), ``f`` (its load), ``geometry``,
+    ``Rc`` (the modes at its DOFs), ``N`` (the modes' normal
+    displacements at its nodes); ``keep``, ``X`` = K_rr⁻¹K_rk and
+    ``z`` = K_rr⁻¹f_r prolong the next coarser level's iterate."""
+
+    def __init__(self, nodes, K, f, geometry, Rc, N):
+        self.nodes, self.K, self.f, self.geometry = nodes, K, f, geometry
+        self.Rc, self.N = Rc, N
+        self.keep = self.X = self.z = None
+
+    def prolong(self, y_coarse):
+        """This level's y from the coarser level's: the kept DOFs and α
+        take it, the dropped DOFs follow from equilibrium without contact
+        force, u_r = K_rr⁻¹(f_r − K_rk u_k)."""
+        kept = self._kept()
+        y = np.empty(len(self.f))
+        y[kept] = y_coarse
+        y[~kept] = self.z - self.X @ y_coarse
+        return y
+
+    def _kept(self):
+        counts = (self.geometry.node_dofs >= 0).sum(axis=1)
+        owner = np.repeat(np.arange(len(counts)), counts)
+        return np.concatenate([self.keep[owner],
+                               np.ones(len(self.f) - len(owner), bool)])
+
+    def coarsen(self, fine_geometry):
+        """The next coarser level: every other node (and the last) kept,
+        the others condensed out with no contact force on them."""
+        import scipy.linalg as sla
+
+        keep = np.zeros(len(self.nodes), bool)
+        keep[::2] = keep[-1] = True
+        self.keep = keep
+        kept = self._kept()
+        k, r = np.flatnonzero(kept), np.flatnonzero(~kept)
+        K_rk = self.K[np.ix_(r, k)]
+        cho = sla.cho_factor(self.K[np.ix_(r, r)])
+        self.X = sla.cho_solve(cho, K_rk)
+        self.z = sla.cho_solve(cho, self.f[r])
+        K = self.K[np.ix_(k, k)] - K_rk.T @ self.X
+        f = self.f[k] - K_rk.T @ self.z
+        nodes = self.nodes[keep]
+        m = int(kept[:len(kept) - self.Rc.shape[1]].sum())
+        return _Level(nodes, 0.5 * (K + K.T), f,
+                      fine_geometry.subset(nodes).compact(),
+                      self.Rc[kept[:len(self.Rc)]][:m], self.N[keep])
+
+
+def rigid_start(system, N, gap, Rc, problem):
+    """(y, touching nodes): the rigid body put onto the obstacle by the
+    linear programme min −(Rᵀf)·α subject to N α ≤ s, then one primal-dual
+    active set step of ``system`` with the touching nodes active (module
+    docstring); None if the programme has no solution (these nodes do not
+    hold the body)."""
+    R, _ = problem.rigid_modes()
+    e = R.T @ problem.f
+    scale = np.abs(N).max(initial=1.0)
+    free = unresisted(N)
+    extra = {}
+    if free.size:
+        extra = dict(A_eq=free.T, b_eq=np.zeros(free.shape[1]))
+    found = opt.linprog(-e / max(np.abs(e).max(), 1e-300), A_ub=N / scale,
+                        b_ub=gap / scale, bounds=[(None, None)] * len(e),
+                        method="highs", **extra)
+    if found.status != 0:
+        return None, 0
+    alpha = found.x
+    remaining = gap - N @ alpha
+    size = np.abs(gap).max(initial=0.0) + np.abs(N @ alpha).max(initial=0.0)
+    touching = remaining <= TOUCH_RTOL * max(size, 1e-300)
+    x0 = np.concatenate([Rc @ alpha, alpha])
+    E, A, B = system.residual(x0)
+    wa, wb = (~touching).astype(float), touching.astype(float)
+    J = system.jacobian(x0)
+    step = J.combine(wa, wb).direction(
+        np.concatenate([E, wa * A + wb * B])) if hasattr(J, "combine") \
+        else None
+    return (x0 if step is None else x0 + step), int(touching.sum())

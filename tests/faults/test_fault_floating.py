@@ -1,0 +1,66 @@
+"""Loads that no contact can hold on a body held by contact only (issue
+31): one ``error:`` line naming the rigid-body motion and the load's
+component along it, exit code 2, nothing written (no output that looks
+like a solution). Reference: Farkas' lemma, statics of the rigid block
+(components: the 2 × 1 block's area 2 times the load per unit area, or
+the unit corner force)."""
+
+import numpy as np
+import pytest
+
+from fault_tools import assert_one_error_line, run_cli
+from solver.problem import save_problem
+from tri_elasticity import floor_block
+
+CASES = [
+    ("pulled away from the floor", dict(load=(0.0, 1.0)),
+     [], "component 2 along the rigid-body motion translation (0, 1)"),
+    ("frictionless flat on flat pushed sideways",
+     dict(load=(1.0, -1.0), where="corner"), [],
+     "component 1 along the rigid-body motion translation (1, 0)"),
+    ("no load towards the floor", dict(load=(0.0, 0.0)), [],
+     "the load has no resultant along them"),
+    ("tangential load with friction", dict(load=(0.1, -1.0),
+                                           where="corner"),
+     ["--friction", "0.5"], "is not supported for 2D, rigid, "
+                            "held by contact only"),
+    ("full system", dict(), ["--system", "full"],
+     "--system full is not supported"),
+]
+
+
+@pytest.mark.parametrize("name, block, argv, phrase", CASES,
+                         ids=[c[0] for c in CASES])
+def test_unheld_load_is_refused(tmp_path, capsys, name, block, argv,
+                                phrase):
+    path = save_problem(tmp_path / "p.npz", floor_block(**block))
+    before = sorted(p.name for p in tmp_path.iterdir())
+    code, out, err = run_cli([path, *argv, "-o", tmp_path / "out"], capsys)
+    assert_one_error_line(code, out, err, phrase)
+    assert out == ""
+    assert sorted(p.name for p in tmp_path.iterdir()) == before
+
+
+def test_info_names_the_same_refusal(tmp_path, capsys):
+    """``--info`` says what the solve would refuse, in the same words."""
+    path = save_problem(tmp_path / "p.npz", floor_block(load=(0.0, 1.0)))
+    code, out, err = run_cli([path, "--info"], capsys)
+    assert code == 2 and "translation (0, 1)" in err
+    assert "a solve would refuse this problem" in out
+
+
+def test_a_held_block_solves_from_the_command_line(tmp_path, capsys):
+    """The same block under its weight: exit 0, the total contact force
+    (the weight, 2 for the 2 × 1 block under a unit load per area) and the
+    rigid-body motion in the printout and in summary.json."""
+    import json
+
+    path = save_problem(tmp_path / "p.npz", floor_block())
+    code, out, err = run_cli([path, "-o", tmp_path / "out"], capsys)
+    assert code == 0, err
+    assert "contact force     (0, 2) in total, on the body" in out
+    assert "3 modes held by contact only" in out
+    summary = json.loads((tmp_path / "out" / "summary.json").read_text())
+    np.testing.assert_allclose(summary["total_contact_force"], [0.0, 2.0],
+                               rtol=0, atol=1e-12)
+    assert summary["rigid_body_motion"]["modes"] == 3
