@@ -33,8 +33,8 @@ from ..geometry.mortar import (mortar_coupling, node_to_segment,
                                triangle_coupling)
 from ..problem import ContactProblem
 
-__all__ = ["VARIANTS", "interface_coupling", "equivalent_problem",
-           "interface_stiffness", "TwoBodyMap"]
+__all__ = ["VARIANTS", "interface_coupling", "symmetry_normals",
+           "equivalent_problem", "interface_stiffness", "TwoBodyMap"]
 
 #: Couplings: the dual mortar, and node-to-segment (patch-test foil), by
 #: dimension (3D: the dual mortar on triangles only).
@@ -48,6 +48,13 @@ OVERLAP_ROUNDOFF = 1e-8
 
 #: |coverage − 1| above which a slave node takes no part.
 COVERAGE_TOLERANCE = 1e-8
+
+#: A slave node with a zero Dirichlet component c (a symmetry plane of a
+#: half or quarter model) whose averaged normal has |n_c| at most this
+#: lies on the plane: the whole model's normal there lies in the plane
+#: (n_c = 0 by symmetry), and the one-sided average's n_c (of the order
+#: of h/R on a curved surface) is set to 0 (:func:`symmetry_normals`).
+SYMMETRY_NORMAL = 0.1
 
 
 def interface_coupling(problem, variant="mortar"):
@@ -71,7 +78,7 @@ def interface_coupling(problem, variant="mortar"):
         ids = problem.contact_nodes[np.isin(problem.contact_nodes, slave)]
         parts.append(coupling(problem.nodes, slave, master, ids))
     if len(parts) == 1:
-        return parts[0]
+        return symmetry_normals(problem, parts[0])
     position = np.full(len(problem.nodes), -1)
     position[problem.contact_nodes] = np.arange(problem.n_contact)
     order = np.argsort(position[np.concatenate([p.slave_nodes
@@ -79,10 +86,29 @@ def interface_coupling(problem, variant="mortar"):
     join = (lambda name: np.concatenate([getattr(p, name) for p in parts])
             [order])
     first = parts[0]
-    return type(first)(join("slave_nodes"), join("D"),
-                       sp.vstack([p.M for p in parts]).tocsr()[order],
-                       join("normal"), join("gap"), join("coverage"),
-                       first.variant)
+    return symmetry_normals(problem, type(first)(
+        join("slave_nodes"), join("D"),
+        sp.vstack([p.M for p in parts]).tocsr()[order], join("normal"),
+        join("gap"), join("coverage"), first.variant))
+
+
+def symmetry_normals(problem, coupling):
+    """``coupling`` with the normals of the slave nodes on symmetry planes
+    in the plane (:data:`SYMMETRY_NORMAL`; then such a node is an exact
+    roller, which friction accepts, not an oblique node) and their weighted
+    gaps g̃_j = n_j·(Σ_k M_jk x_k − D_jj x_j) recomputed."""
+    prescribed = np.asarray(problem.u_prescribed)[problem.contact_nodes]
+    plane = (problem.contact_dofs < 0) & (prescribed == 0) \
+        & (np.abs(coupling.normal) <= SYMMETRY_NORMAL)
+    if not plane.any():
+        return coupling
+    normal = np.where(plane, 0.0, coupling.normal)
+    normal /= np.linalg.norm(normal, axis=1)[:, None]
+    nodes = problem.nodes
+    gap = np.einsum("ij,ij->i", normal, coupling.M @ nodes - coupling.D[
+        :, None] * nodes[coupling.slave_nodes])
+    return type(coupling)(coupling.slave_nodes, coupling.D, coupling.M,
+                          normal, gap, coupling.coverage, coupling.variant)
 
 
 def _pairs(pairs, segments):

@@ -23,13 +23,15 @@ def _last(result, key):
 
 
 def two_sphere_reference(meta, P):
-    """(a, p₀) of Hertz for two spheres pressed by the force P, from
-    ``meta["radii"]`` (one per body) and ``meta["bodies"]`` (E, ν); None
-    when the radii are not given or P ≤ 0."""
+    """(a, p₀) of Hertz for two spheres pressed by the force P of the model
+    (the whole pair's: P / ``meta["fraction"]``, ¼ for a quarter model),
+    from ``meta["radii"]`` (one per body) and ``meta["bodies"]`` (E, ν);
+    None when the radii are not given or P ≤ 0."""
     radii = (meta or {}).get("radii")
     bodies = (meta or {}).get("bodies")
     if not radii or not bodies or not P > 0:
         return None
+    P = P / float((meta or {}).get("fraction", 1.0))  # the whole pair's
     R = 1.0 / sum(1.0 / float(r) for r in radii)
     E = 1.0 / sum((1 - b["nu"] ** 2) / b["E"] for b in bodies)
     a = (3.0 * P * R / (4.0 * E)) ** (1.0 / 3.0)
@@ -37,9 +39,12 @@ def two_sphere_reference(meta, P):
 
 
 def interface_frame(problem, result):
-    """(centre, normal, tangents (2, 3)) of the loaded interface: the
-    centre the pressure-weighted mean of the slave nodes (their positions
-    if none carries load), the normal the D-weighted mean slave normal."""
+    """(centre, normal, tangents (2, 3)) of the loaded interface:
+    ``meta["contact_center"]`` and ``meta["contact_axis"]`` if given (a
+    quarter model's), else the pressure-weighted mean of the slave nodes
+    (their positions if none carries load) and the D-weighted mean slave
+    normal."""
+    meta = problem.meta or {}
     points = problem.nodes[problem.contact_nodes]
     p = np.nan_to_num(np.asarray(_last(result, "contact_pressure"), float))
     D = np.asarray(result.mortar_D, float)
@@ -47,6 +52,10 @@ def interface_frame(problem, result):
     centre = (force @ points / force.sum() if force.sum() > 0
               else points.mean(axis=0))
     normal = (D[:, None] * np.asarray(result.normal, float)).sum(axis=0)
+    if meta.get("contact_center") is not None:
+        centre = np.asarray(meta["contact_center"], float)
+    if meta.get("contact_axis") is not None:
+        normal = np.asarray(meta["contact_axis"], float)
     normal /= np.linalg.norm(normal)
     helper = np.eye(3)[int(np.argmin(np.abs(normal)))]
     t1 = np.cross(normal, helper)
