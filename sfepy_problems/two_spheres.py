@@ -193,7 +193,6 @@ def define(mesh='meshes/two_spheres_6.mesh',
         'Surface': ('vertices of surface', 'facet'),
         'Top': (f'vertices in (z > {R0 - tol})', 'facet'),
         'Bottom': (f'vertices in (z < {-R1 + tol})', 'facet'),
-        'X0': (f'vertices in (x < {tol}) & (x > {-tol})', 'facet'),
         'Y0': (f'vertices in (y < {tol})', 'facet'),
         # the facets with every vertex on the sphere (one touching node of
         # the other body is on it too, but none of its facets)
@@ -203,6 +202,8 @@ def define(mesh='meshes/two_spheres_6.mesh',
         'Gamma_s': (f'(r.Surface *s r.CapS) -s {symmetry}', 'facet'),
         'Gamma_m': (f'(r.Surface *s r.CapM) -s {symmetry}', 'facet'),
     }
+    if not half:
+        regions['X0'] = (f'vertices in (x < {tol}) & (x > {-tol})', 'facet')
 
     materials = {
         'solid': ({'D': {

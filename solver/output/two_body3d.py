@@ -10,6 +10,7 @@ import os
 
 import numpy as np
 
+from ..verification import hertz_two_spheres
 from .figures import pyplot, save_png
 from .figures3d import contact_radius, pressure_vs_radius
 
@@ -32,10 +33,7 @@ def two_sphere_reference(meta, P):
     if not radii or not bodies or not P > 0:
         return None
     P = P / float((meta or {}).get("fraction", 1.0))  # the whole pair's
-    R = 1.0 / sum(1.0 / float(r) for r in radii)
-    E = 1.0 / sum((1 - b["nu"] ** 2) / b["E"] for b in bodies)
-    a = (3.0 * P * R / (4.0 * E)) ** (1.0 / 3.0)
-    return a, 3.0 * P / (2.0 * np.pi * a * a)
+    return hertz_two_spheres(P, radii, [(b["E"], b["nu"]) for b in bodies])
 
 
 def interface_frame(problem, result):
@@ -79,8 +77,8 @@ def plot_interface3d(problem, result, path=None):
         path, r[covered], p[covered], a=a, p0=p0, zoom=True,
         xlabel="distance from the contact axis r [mm]",
         title=f"interface pressure λ_j (dual mortar), normal force "
-              f"P = {P:.4g} N" + ("" if reference is None else
-                                  "; Hertz for two spheres"))
+              f"{P:.4g} N (the model's)" + ("" if reference is None else
+                                            "; Hertz for two spheres"))
 
 
 def plot_stick_slip_map(problem, result, path=None):
