@@ -5,13 +5,13 @@ pair search both use (:mod:`.search`) and what a coupling holds
 (:mod:`.coupling`)."""
 
 from .coupling import MortarCoupling, assemble_coupling
-from .search import box_pairs, candidate_pairs, default_reach
+from .search import box_pairs, candidate_pairs, default_reach, facet_reach
 from .segments import (chain_order, mortar_coupling, nodal_normals,
                        node_to_segment, segment_normals)
 from .triangles import overlap_polygons, triangle_areas, triangle_coupling
 
 __all__ = ["MortarCoupling", "assemble_coupling", "box_pairs",
-           "candidate_pairs", "default_reach", "chain_order",
+           "candidate_pairs", "default_reach", "facet_reach", "chain_order",
            "mortar_coupling", "nodal_normals", "node_to_segment",
            "segment_normals", "overlap_polygons", "triangle_areas",
            "triangle_coupling"]

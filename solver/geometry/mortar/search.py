@@ -6,7 +6,7 @@ slave × master array."""
 
 import numpy as np
 
-__all__ = ["box_pairs", "candidate_pairs", "default_reach"]
+__all__ = ["box_pairs", "candidate_pairs", "default_reach", "facet_reach"]
 
 
 def box_pairs(lo_s, hi_s, lo_m, hi_m):
@@ -38,8 +38,12 @@ def box_pairs(lo_s, hi_s, lo_m, hi_m):
 def candidate_pairs(nodes, slave, master, reach):
     """(I, J): the slave and master facets (rows of node ids, 2 or 3 per
     facet) whose bounding boxes overlap, the slave's enlarged by ``reach``
-    (:func:`box_pairs`)."""
+    (a length; one per slave facet, :func:`facet_reach`; or one per facet
+    and axis; :func:`box_pairs`)."""
     ps, pm = nodes[np.asarray(slave)], nodes[np.asarray(master)]
+    reach = np.asarray(reach, float)
+    if reach.ndim < 2:  # one length for all facets, or one per facet
+        reach = np.reshape(reach, (-1, 1))
     return box_pairs(ps.min(axis=1) - reach, ps.max(axis=1) + reach,
                      pm.min(axis=1), pm.max(axis=1))
 
@@ -60,3 +64,24 @@ def default_reach(nodes, slave, master):
 def _longest_edge(nodes, facets):
     p = nodes[np.asarray(facets)]
     return float(np.linalg.norm(p - np.roll(p, 1, axis=1), axis=2).max())
+
+
+def facet_reach(nodes, slave, master, tilt=1.5):
+    """A reach per slave facet that finds every master facet overlapping it
+    along a normal: the distance g from a point of the facet to the master
+    surface along a normal is at most ``tilt`` (1/cos of the angle between
+    that normal and the master's, 48° for 1.5) times its distance to the
+    master surface, itself at most the largest distance from the facet's
+    vertices to their nearest master node plus the facet's longest edge;
+    so the slave box enlarged by g meets the master facet's box. Local:
+    coarse, distant facets at the rim of an interface do not enlarge the
+    search in the contact zone (as :func:`default_reach`, one length for
+    all, would)."""
+    from scipy.spatial import cKDTree
+
+    slave = np.asarray(slave)
+    distance, _ = cKDTree(nodes[np.unique(master)]).query(
+        nodes[slave.ravel()])
+    p = nodes[slave]
+    edge = np.linalg.norm(p - np.roll(p, 1, axis=1), axis=2).max(axis=1)
+    return tilt * (distance.reshape(slave.shape).max(axis=1) + edge)

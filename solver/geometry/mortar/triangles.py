@@ -13,7 +13,8 @@ Popp, Gitterle, Gee & Wall, IJNME 83 (2010) 1428, (20)), so that
 D diagonal (a third of the slave triangles' areas at j), M sparse,
 integrated segment to segment (Puso & Laursen, CMAME 193 (2004) 601;
 Popp et al. 2010, §3.3-3.4): for each facing slave/master triangle pair
-whose bounding boxes overlap (:func:`~.search.candidate_pairs`), both
+whose bounding boxes overlap (:func:`~.search.candidate_pairs`, the
+slave's enlarged by :func:`~.search.facet_reach`), both
 triangles are projected onto the auxiliary plane through the slave
 triangle's centroid with normal n₀ (the slave's nodal normals averaged at
 the centroid), the projected master triangle is clipped by the projected
@@ -43,7 +44,7 @@ import numpy as np
 from ..frames import tangent_basis
 from ..surfaces.normals import surface_normals
 from .coupling import assemble_coupling
-from .search import candidate_pairs, default_reach
+from .search import candidate_pairs, facet_reach
 
 __all__ = ["GAUSS_TRIANGLE", "TRIANGLE_PAIR_CHUNK", "triangle_areas",
            "triangle_coupling", "overlap_polygons"]
@@ -135,9 +136,11 @@ def triangle_coupling(nodes, slave, master, slave_nodes=None, search=None):
     rule to its body's outward normal; module docstring), vectorised over
     the facing pairs of :func:`~.search.candidate_pairs` in chunks of
     :data:`TRIANGLE_PAIR_CHUNK`; rows in the order ``slave_nodes`` (default:
-    sorted). Pairs whose master lies farther than ``search`` (default
-    :func:`~.search.default_reach`, unchecked) from the auxiliary plane are
-    left out."""
+    sorted). The slave boxes are enlarged by ``search``, if given, and the
+    pairs whose master lies farther than it from the auxiliary plane left
+    out; by default facet by facet by the bound G of
+    :func:`~.search.facet_reach` on the gap along n₀, axis k by G |n₀_k|
+    (a master point X_s + g n₀ with g ≤ G lies in that box)."""
     nodes = np.asarray(nodes, float)
     slave, master = np.asarray(slave, np.int64), np.asarray(master, np.int64)
     slave_nodes = np.unique(slave) if slave_nodes is None \
@@ -149,8 +152,15 @@ def triangle_coupling(nodes, slave, master, slave_nodes=None, search=None):
     normal = surface_normals(nodes, slave, slave_nodes)
     D = np.bincount(pos[slave].ravel(), np.repeat(area_s / 3, 3),
                     minlength=len(slave_nodes))
-    reach = default_reach(nodes, slave, master) if search is None \
-        else float(search)
+    if search is None:  # the gap g along the plane's normal n₀ moves a
+        # point by g |n₀_k| along axis k: the box grows by that much
+        n0 = normal[pos[slave]].sum(axis=1)
+        n0 /= np.linalg.norm(n0, axis=1)[:, None]
+        size = float(np.ptp(nodes[slave].reshape(-1, 3), axis=0).max())
+        reach = facet_reach(nodes, slave, master)[:, None] * np.abs(n0) \
+            + INSIDE_TOL * size
+    else:
+        reach = float(search)
     I, J = candidate_pairs(nodes, slave, master, reach)
     facing = np.einsum("ij,ij->i", n_s[I], n_m[J]) < -1e-8
     I, J = I[facing], J[facing]
