@@ -163,6 +163,10 @@ def equivalent_problem(problem, coupling, friction=False):
         load_path_friction=problem.load_path_friction,
         source=problem.source)
     equivalent.node_graph = lambda: _node_graph(problem, extra)
+    # how far the prescribed displacements move the bodies before they
+    # deform: the candidates' screening margin (strategies.candidates)
+    equivalent.approach_length = float(np.linalg.norm(
+        prescribed, axis=1).max(initial=0.0))
     return equivalent, T_inv, covered
 
 
