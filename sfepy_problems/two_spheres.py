@@ -66,25 +66,19 @@ from sfepy.mechanics.matcoefs import stiffness_from_youngpoisson
 TOL = 1e-8
 
 
-def _load_export():
-    """``sfepy_problems/_export.py`` by path (this folder is not a package)."""
-    name = '_contact_ssn_sfepy_export'
+def _load(name, filename):
+    """A sibling file of this folder by path (it is not a package)."""
     if name not in sys.modules:
         spec = importlib.util.spec_from_file_location(
-            name, op.join(op.dirname(op.abspath(__file__)), '_export.py'))
+            name, op.join(op.dirname(op.abspath(__file__)), filename))
         module = importlib.util.module_from_spec(spec)
         sys.modules[name] = module
         spec.loader.exec_module(module)
     return sys.modules[name]
 
 
-def contact_size(coors, faces, radius):
-    """Mean edge length of the triangles with a vertex within ``radius`` of
-    the z axis (the element size h at the contact)."""
-    near = (nm.hypot(coors[faces, 0], coors[faces, 1]) < radius).any(axis=1)
-    tri = coors[faces[near]]
-    edges = tri - tri[:, [1, 2, 0]]
-    return float(nm.sqrt((edges ** 2).sum(axis=2)).mean())
+def _load_export():
+    return _load('_contact_ssn_sfepy_export', '_export.py')
 
 
 def export_contact_problem(pb, variables):
@@ -94,7 +88,8 @@ def export_contact_problem(pb, variables):
     coors = pb.domain.mesh.coors
     cells = pb.domain.mesh.get_conn('3_4').astype(nm.int64)
     slave = export.contact_triangles(pb, 'Gamma_s', cells, coors)
-    h = contact_size(coors, slave, conf.a_target)
+    sphere = _load('_contact_ssn_hertz_sphere', 'hertz_sphere.py')
+    h = sphere.contact_size(coors, slave, conf.a_target)
     fraction = 0.5 if conf.half else 0.25
     stages, load = None, {'prescribed_displacement_z': -conf.delta,
                           'on': 'slave top z = R0'}

@@ -7,6 +7,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from tet_elasticity import box, mesh_problem, stiffness
+from tri_elasticity import attach_interface as attach_2d
 
 
 def plane_faces(nodes, tets, axis, value):
@@ -102,18 +103,11 @@ def stacked_boxes(n_upper=(3, 3, 2), n_lower=(4, 4, 2), heights=(0.5, 0.5),
 
 
 def attach_interface(problem, body, slave, master, bodies, slave_body):
-    """The two-body fields of a 3D file on ``problem``."""
-    problem.body = np.asarray(body, np.int64)
-    problem.mortar_slave = np.asarray(slave, np.int64)
-    problem.mortar_master = np.asarray(master, np.int64)
-    problem.mortar_slave_pair = np.zeros(len(slave), np.int64)
-    problem.mortar_master_pair = np.zeros(len(master), np.int64)
-    problem.meta = dict(problem.meta, bodies=bodies, slave_body=slave_body,
-                        master_body=1 - slave_body,
-                        E=bodies[slave_body]["E"],
-                        nu=bodies[slave_body]["nu"],
-                        load="prescribed displacement",
-                        mesh="tests/tet_two_body.py")
+    """The two-body fields of a 3D file on ``problem``: those of the 2D
+    helper (tests/tri_elasticity.py) without ``plane``."""
+    attach_2d(problem, body, slave, master, bodies, slave_body)
+    problem.meta.pop("plane")
+    problem.meta["mesh"] = "tests/tet_two_body.py"
     return problem
 
 
