@@ -10,11 +10,17 @@ point: h = a/N within 1.5 a, growing to 0.15 R; reproducible), with the
 same contact radius a to refine for, so the two interface meshes are
 independent and do not match. The bodies share no node.
 
+``--box``: body 1 is instead the box [0, R₀]² × [−R₀, 0] (x from −R₀
+with ``--half``), graded from the origin like the spheres: an elastic
+sphere on an elastic box, whose stiff limit is the sphere on the rigid
+plane z = 0 (``sfepy_problems/hertz_sphere.py``, the same sphere mesh).
+
 Usage::
 
     python meshes/two_spheres.py --a-over-h 6 -o meshes/two_spheres_6.mesh
     python meshes/two_spheres.py --a-over-h 6 --radii 1 1 --half \\
         -o meshes/two_spheres_half_6.mesh
+    python meshes/two_spheres.py --a-over-h 4 --box -o sphere_box_4.mesh
 
 Written as Medit ``.mesh`` with the tetrahedra's reference ids 1 and 2
 (SfePy's ``cells of group 1`` and ``2``). gmsh is imported only when
@@ -65,6 +71,66 @@ def two_spheres_mesh(a_over_h: float, radii=RADII, a: float | None = None,
     return points, tets, group
 
 
+def box_mesh(a_over_h: float, width: float, depth: float, a: float,
+             half: bool = False):
+    """(points, tets) of the box [0, W]² × [−D, 0] (``half``: [−W, W] ×
+    [0, W] × [−D, 0]) graded from the origin like the spheres: h = a/N
+    within 1.5 a, growing to 0.15 W at 0.7 W."""
+    sphere = _hertz_sphere()
+    gmsh = sphere._load_generate()._import_gmsh()
+    own = not gmsh.isInitialized()
+    if own:
+        gmsh.initialize(readConfigFiles=False, interruptible=False)
+    try:
+        gmsh.model.add("box")
+        sphere.set_options(gmsh)
+        occ = gmsh.model.occ
+        occ.addBox(-width if half else 0.0, 0.0, -depth,
+                   (2 if half else 1) * width, width, depth)
+        occ.synchronize()
+        eps = 1e-9 * width
+        tip = gmsh.model.getEntitiesInBoundingBox(-eps, -eps, -eps, eps, eps,
+                                                  eps, 0)
+        if not tip:  # the half box: the origin is on an edge, add it
+            tip = [(0, occ.addPoint(0.0, 0.0, 0.0))]
+            occ.synchronize()
+        field = gmsh.model.mesh.field
+        distance = field.add("Distance")
+        field.setNumbers(distance, "PointsList", [tip[0][1]])
+        threshold = field.add("Threshold")
+        field.setNumber(threshold, "InField", distance)
+        field.setNumber(threshold, "SizeMin", a / a_over_h)
+        field.setNumber(threshold, "SizeMax", sphere.H_FAR * width)
+        field.setNumber(threshold, "DistMin", sphere.DIST_FINE * a)
+        field.setNumber(threshold, "DistMax", sphere.DIST_COARSE * width)
+        field.setAsBackgroundMesh(threshold)
+        gmsh.model.mesh.generate(3)
+        points, tets = sphere.tetrahedra(gmsh)
+    finally:
+        if own:
+            gmsh.finalize()
+        else:
+            gmsh.model.remove()
+    planes = ((0, 0.0), (1, 0.0), (2, 0.0), (2, -depth))[half:]
+    points = sphere.snap(points, planes, width)
+    return points, sphere.orient(points, tets)
+
+
+def sphere_on_box_mesh(a_over_h: float, radius: float = 1.0,
+                       a: float | None = None, half: bool = False):
+    """(points, tets, group): the upper sphere as in
+    :func:`two_spheres_mesh` (group 1) on the box [0, R]² × [−R, 0]
+    (group 2; ``half``: x from −R)."""
+    sphere = _hertz_sphere()
+    a = A_TARGET * radius if a is None else a
+    upper = sphere.hertz_sphere_mesh(a_over_h, radius, a, half)
+    lower = box_mesh(a_over_h, radius, radius, a, half)
+    points = np.concatenate([upper[0], lower[0]])
+    tets = np.concatenate([upper[1], lower[1] + len(upper[0])])
+    group = np.repeat([1, 2], [len(upper[1]), len(lower[1])])
+    return points, tets, group
+
+
 def write_mesh(path, points, tets, group) -> None:
     """Medit ``.mesh``, cell reference ids ``group``."""
     import meshio
@@ -91,11 +157,18 @@ def main(argv=None) -> int:
                              f"{A_TARGET} R0)")
     parser.add_argument("--half", action="store_true",
                         help="the halves y >= 0 (default: the quarters)")
+    parser.add_argument("--box", action="store_true",
+                        help="the master a box [0, R0]^2 x [-R0, 0] (the "
+                             "rigid limit), not a sphere")
     parser.add_argument("-o", "--output", required=True)
     args = parser.parse_args(argv)
     try:
-        points, tets, group = two_spheres_mesh(args.a_over_h, args.radii,
-                                               args.a, args.half)
+        if args.box:
+            points, tets, group = sphere_on_box_mesh(
+                args.a_over_h, args.radii[0], args.a, args.half)
+        else:
+            points, tets, group = two_spheres_mesh(
+                args.a_over_h, args.radii, args.a, args.half)
         write_mesh(args.output, points, tets, group)
     except (ValueError, RuntimeError, OSError,
             sphere._load_generate().GmshMissingError) as exc:

@@ -47,12 +47,18 @@ Usage (from the repository root)::
       -d "mesh='meshes/two_spheres_6.mesh', output='output/two_spheres_6.npz'"
   python -m solver output/two_spheres_6.npz --plots
 
+**A sphere on a box** (``master='box'``, a mesh of ``meshes/two_spheres.py
+--box``): the master is the box [0, R₀]² × [−R₀, 0], its top z = 0 the
+master surface, its bottom clamped; ``E_ratio`` sets E1 = E_ratio × E0.
+As E1 grows the run tends to the sphere on the rigid plane
+(``hertz_sphere.py`` on the same sphere mesh): the rigid limit.
+
 Parameters (``-d``): ``mesh``, ``output``, ``E0`` (2e5), ``nu0`` (0.3),
 ``E1`` (1e5), ``nu1`` (0.25), ``R0`` (1), ``R1`` (1.5) (the mesh's radii),
 ``delta`` (0.0041: a ≈ 0.05 R₀ for the defaults), ``a_target`` (0.05 R₀,
 the contact radius the mesh is refined for), ``cap``, ``load`` ('press' or
 'cattaneo'), ``shift`` (1e-3), ``steps_normal`` (1), ``steps_shear`` (5),
-``verbose``.
+``master`` ('sphere' or 'box'), ``E_ratio``, ``verbose``.
 """
 import importlib.util
 import os.path as op
@@ -102,6 +108,8 @@ def export_contact_problem(pb, variables):
                            'shear: top to (shift, 0, -delta), friction'],
                 'shift': conf.shift, 'on': 'slave top z = R0 (clamped)'}
     (E0, nu0), (E1, nu1) = conf.bodies
+    box = conf.master == 'box'
+    radii = [conf.R0] if box else [conf.R0, conf.R1]
     return export.export_contact_problem(
         pb, variables, conf.export,
         stiffness='dw_lin_elastic.i.Omega(solid.D, v, u)', load=None,
@@ -111,19 +119,21 @@ def export_contact_problem(pb, variables):
         meta={'E': E0, 'nu': nu0,
               'bodies': [{'name': 'upper sphere (slave)', 'E': E0,
                           'nu': nu0},
-                         {'name': 'lower sphere (master)', 'E': E1,
+                         {'name': ('box (master)' if box else
+                                   'lower sphere (master)'), 'E': E1,
                           'nu': nu1}],
               'slave_body': 0, 'master_body': 1,
-              'radii': [conf.R0, conf.R1], 'delta': conf.delta,
+              'radii': radii, 'delta': conf.delta,
               'a_target': conf.a_target, 'h_contact': h,
               'a_h': conf.a_target / h, 'fraction': fraction,
               'contact_center': [0.0, 0.0, 0.0],
               'contact_axis': [0.0, 0.0, 1.0],
               'load': load, 'mesh': op.basename(pb.conf.filename_mesh),
               'problem_file': 'sfepy_problems/two_spheres.py',
-              'description': 'two elastic spheres touching at the origin '
-                             f'({"half" if conf.half else "quarter"} '
-                             'model)',
+              'description': ('an elastic sphere on an elastic box'
+                              if box else 'two elastic spheres')
+              + ' touching at the origin '
+              f'({"half" if conf.half else "quarter"} model)',
               'supports': 'master bottom z = -R1 clamped; slave top z = R0 '
                           'moved; symmetry planes',
               'hertz': 'P = interface normal force / fraction; 1/R* = '
@@ -136,13 +146,19 @@ def define(mesh='meshes/two_spheres_6.mesh',
            output='output/two_spheres.npz', E0=2e5, nu0=0.3, E1=1e5,
            nu1=0.25, R0=1.0, R1=1.5, delta=0.0041, a_target=None, cap=None,
            load='press', shift=1e-3, steps_normal=1, steps_shear=5,
-           verbose=None):
+           master='sphere', E_ratio=None, verbose=None):
     import meshio
 
     export = _load_export()
     export.set_verbosity(verbose)  # before SfePy's 'left over:'
     if load not in ('press', 'cattaneo'):
         raise ValueError(f"load must be 'press' or 'cattaneo', got {load!r}")
+    if master not in ('sphere', 'box'):
+        raise ValueError(f"master must be 'sphere' or 'box', got "
+                         f"{master!r}")
+    if E_ratio is not None:
+        E1 = E_ratio * E0
+    depth = R0 if master == 'box' else R1  # of the master's flat bottom
     filename_mesh = op.abspath(mesh)
     points = meshio.read(filename_mesh).points
     tol = TOL * R0
@@ -164,6 +180,7 @@ def define(mesh='meshes/two_spheres_6.mesh',
         'export': op.abspath(output), 'bodies': [(E0, nu0), (E1, nu1)],
         'R0': R0, 'R1': R1, 'delta': delta, 'a_target': a_target,
         'half': half, 'load': load, 'shift': float(shift),
+        'master': master,
         'steps_normal': int(steps_normal), 'steps_shear': int(steps_shear),
     }
 
@@ -179,15 +196,25 @@ def define(mesh='meshes/two_spheres_6.mesh',
             return nm.flatnonzero((abs(d - radius) < 1e-6 * radius) & near)
         return (select,)
 
+    def on_plane(within):
+        """The vertices on z = 0 within ``within`` of the z axis (the
+        box's top)."""
+        def select(coors, domain=None):
+            near = nm.hypot(coors[:, 0], coors[:, 1]) < within
+            return nm.flatnonzero((abs(coors[:, 2]) < 1e-9 * R0) & near)
+        return (select,)
+
     functions = {'sphere_s': on_sphere(R0, R0, cap),
-                 'sphere_m': on_sphere(-R1, R1, 1.25 * cap)}
+                 'sphere_m': (on_sphere(-R1, R1, 1.25 * cap)
+                              if master == 'sphere'
+                              else on_plane(1.25 * cap))}
     regions = {
         'Omega': 'all',
         'Upper': 'cells of group 1',
         'Lower': 'cells of group 2',
         'Surface': ('vertices of surface', 'facet'),
         'Top': (f'vertices in (z > {R0 - tol})', 'facet'),
-        'Bottom': (f'vertices in (z < {-R1 + tol})', 'facet'),
+        'Bottom': (f'vertices in (z < {-depth + tol})', 'facet'),
         'Y0': (f'vertices in (y < {tol})', 'facet'),
         # the facets with every vertex on the sphere (one touching node of
         # the other body is on it too, but none of its facets)
