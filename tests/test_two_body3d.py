@@ -14,7 +14,6 @@ import numpy as np
 import pytest
 
 from solver import solve
-from solver.errors import SolverError
 from solver.problem import load_problem, save_problem
 from tet_two_body import stacked_boxes, top_reaction, uniaxial_pressure
 
@@ -80,11 +79,17 @@ def test_full_slip_friction_force(direction, coulomb, system):
         < 1e-6
 
 
-def test_node_to_segment_is_refused_in_3d():
-    """variant='node-to-segment' is 2D-only: one clear SolverError."""
-    problem, _, _ = stacked_boxes()
-    with pytest.raises(SolverError, match="2D-only"):
-        solve(problem, variant="node-to-segment")
+@pytest.mark.parametrize("slave", ["upper", "lower"])
+def test_node_to_segment_fails_the_patch_test(slave):
+    """The same patch tests with the node-to-segment coupling (slave node
+    projected onto the master, M_jk = D_jj N_k(ξ_j)): the pressure is not
+    uniform (Taylor & Papadopoulos 1991), 2 % off somewhere at least."""
+    problem, _, _ = stacked_boxes(materials=MATERIALS, slave=slave)
+    result = solve(problem, variant="node-to-segment")
+    assert result.success, result.message
+    exact = uniaxial_pressure((0.5, 0.5), MATERIALS, 1e-3)
+    deviation = np.abs(result.contact_pressure / exact - 1).max()
+    assert deviation > 0.02, deviation
 
 
 def test_cli_outputs(tmp_path):

@@ -30,16 +30,16 @@ import scipy.sparse as sp
 from ..errors import SolverError
 from ..geometry.frames import tangent_basis
 from ..geometry.mortar import (mortar_coupling, node_to_segment,
-                               triangle_coupling)
+                               node_to_triangle, triangle_coupling)
 from ..problem import ContactProblem
 
 __all__ = ["VARIANTS", "interface_coupling", "symmetry_normals",
            "equivalent_problem", "interface_stiffness", "TwoBodyMap"]
 
 #: Couplings: the dual mortar, and node-to-segment (patch-test foil), by
-#: dimension (3D: the dual mortar on triangles only).
+#: dimension.
 VARIANTS = {"mortar": {2: mortar_coupling, 3: triangle_coupling},
-            "node-to-segment": {2: node_to_segment}}
+            "node-to-segment": {2: node_to_segment, 3: node_to_triangle}}
 
 #: Overlaps of the undeformed bodies below this fraction of the slave
 #: segments' length are the round-off of the integrated weighted gaps

@@ -146,11 +146,6 @@ RULES = tuple(
              "obstacle; this runs on the serial engine",
              lambda c, s, g: c.engine == "petsc" and c.bodies != "rigid",
              "engine='petsc'"),
-        Rule("variant", "two bodies in 3D",
-             "the node-to-segment coupling (the 2D patch test's foil) is "
-             "2D-only; 3D runs the dual mortar",
-             lambda c, s, g: s["variant"] == "node-to-segment"
-             and c.dim == 3, "variant='node-to-segment'"),
         Rule("formulation", "3D",
              "the thesis's split formulation (Δu_t⁺, Δu_t⁻) is 2D-only; "
              "use formulation='projection'",

@@ -8,10 +8,11 @@ from .coupling import MortarCoupling, assemble_coupling
 from .search import box_pairs, candidate_pairs, default_reach, facet_reach
 from .segments import (chain_order, mortar_coupling, nodal_normals,
                        node_to_segment, segment_normals)
-from .triangles import overlap_polygons, triangle_areas, triangle_coupling
+from .triangles import (node_to_triangle, overlap_polygons, triangle_areas,
+                        triangle_coupling)
 
 __all__ = ["MortarCoupling", "assemble_coupling", "box_pairs",
            "candidate_pairs", "default_reach", "facet_reach", "chain_order",
            "mortar_coupling", "nodal_normals", "node_to_segment",
            "segment_normals", "overlap_polygons", "triangle_areas",
-           "triangle_coupling"]
+           "triangle_coupling", "node_to_triangle"]

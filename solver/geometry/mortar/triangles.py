@@ -47,7 +47,7 @@ from .coupling import assemble_coupling
 from .search import candidate_pairs, facet_reach
 
 __all__ = ["GAUSS_TRIANGLE", "TRIANGLE_PAIR_CHUNK", "triangle_areas",
-           "triangle_coupling", "overlap_polygons"]
+           "triangle_coupling", "overlap_polygons", "node_to_triangle"]
 
 
 def _radon():
@@ -216,3 +216,51 @@ def _overlaps(nodes, slave, master, I, J, area_s, normal, pos, search):
     rows = np.repeat(pos[slave[I]][:, :, None], 3, axis=2)
     cols = np.repeat(master[J][:, None, :], 3, axis=1)
     return rows.ravel(), cols.ravel(), vals.ravel()
+
+
+def node_to_triangle(nodes, slave, master, slave_nodes=None):
+    """The node-to-segment coupling in 3D, in the same form: D_jj = ∫N_j
+    (a third of the slave areas at j), M_jk = D_jj N^m_k(ξ_j) at the
+    closest point ξ_j of x_j on the facing master triangles (the
+    barycentric coordinates of its projection, clipped to the triangle);
+    coverage 0 where that point lies outside every master triangle. Dense
+    over node × triangle: the contact patch test's foil (it fails it on
+    non-matching meshes; Taylor & Papadopoulos, IJNME 31 (1991) 1087), not
+    for large interfaces."""
+    nodes = np.asarray(nodes, float)
+    slave, master = np.asarray(slave, np.int64), np.asarray(master, np.int64)
+    slave_nodes = np.unique(slave) if slave_nodes is None \
+        else np.asarray(slave_nodes, np.int64)
+    pos = np.full(len(nodes), -1)
+    pos[slave_nodes] = np.arange(len(slave_nodes))
+    _, area_s = triangle_areas(nodes, slave)
+    n_m, _ = triangle_areas(nodes, master)
+    normal = surface_normals(nodes, slave, slave_nodes)
+    D = np.bincount(pos[slave].ravel(), np.repeat(area_s / 3, 3),
+                    minlength=len(slave_nodes))
+    x = nodes[slave_nodes]                              # (ns, 3)
+    a = nodes[master[:, 0]]
+    e1 = nodes[master[:, 1]] - a
+    e2 = nodes[master[:, 2]] - a
+    rel = x[:, None] - a[None]                          # (ns, nm, 3)
+    g11, g12, g22 = (e1 * e1).sum(1), (e1 * e2).sum(1), (e2 * e2).sum(1)
+    r1 = np.einsum("snk,nk->sn", rel, e1)
+    r2 = np.einsum("snk,nk->sn", rel, e2)
+    det = g11 * g22 - g12 * g12
+    s = (g22 * r1 - g12 * r2) / det
+    t = (g11 * r2 - g12 * r1) / det
+    bary = np.stack([1 - s - t, s, t], axis=-1)          # (ns, nm, 3)
+    inside = (bary >= -INSIDE_TOL).all(axis=-1)
+    clipped = np.clip(bary, 0, None)
+    clipped /= clipped.sum(axis=-1, keepdims=True)
+    foot = np.einsum("snv,nvk->snk", clipped, nodes[master])
+    dist = np.linalg.norm(x[:, None] - foot, axis=-1)
+    dist[normal @ n_m.T >= 0] = np.inf                   # facing only
+    k = np.argmin(dist, axis=1)
+    j = np.arange(len(slave_nodes))
+    covered = inside[j, k] & np.isfinite(dist[j, k])
+    N = clipped[j, k] * (D * covered)[:, None]
+    rows = np.repeat(j, 3)
+    cols = master[k].ravel()
+    return assemble_coupling(slave_nodes, len(nodes), D, rows, cols,
+                             N.ravel(), nodes, normal, "node-to-segment")
