@@ -446,9 +446,10 @@ def two_body_keys(pb, mortar, cells, coors):
     Returns
     -------
     dict
-        ``body`` (n_nodes,), ``mortar_slave`` (in chain order),
-        ``mortar_master`` (in chain order if they form one) and
-        ``contact_nodes`` (the slave chain).
+        ``body`` (n_nodes,), ``mortar_slave`` (2D: in chain order; 3D:
+        outward triangles, :func:`contact_triangles`), ``mortar_master``
+        (2D: in chain order if they form one) and ``contact_nodes`` (2D:
+        the slave chain; 3D: the slave triangles' vertices, increasing).
     """
     regions = pb.domain.regions
     body = nm.full(len(coors), -1, dtype=nm.int64)
@@ -460,6 +461,11 @@ def two_body_keys(pb, mortar, cells, coors):
     if nm.any(body < 0):
         raise ValueError(f'{int(nm.sum(body < 0))} nodes are in no body '
                          'region')
+    if coors.shape[1] == 3 and cells.shape[1] == 4:  # 3D: triangles
+        slave, master = (contact_triangles(pb, mortar[side], cells, coors)
+                         for side in ('slave', 'master'))
+        return dict(body=body, contact_nodes=nm.unique(slave),
+                    mortar_slave=slave, mortar_master=master)
     slave = _segments(pb, mortar['slave'], cells, coors)
     chain = _chain(slave, cells, coors)
     if chain is None:

@@ -11,14 +11,25 @@ lumped λ_i/D_ii (exact for a uniform pressure) or, with ``pressure=``, the
 consistent M⁻¹λ, an L² projection that overshoots where Hertz's profile
 has an infinite slope, at r = a (``notebooks/three_d.ipynb``). Hertz's
 paraboloid is itself off a true sphere by O((a/R)²)
-(:func:`solver.verification.sphere_flat_contact`)."""
+(:func:`solver.verification.sphere_flat_contact`).
+
+The 3D two-body checks (issue 32): Hertz for two spheres, Cattaneo–
+Mindlin's stick radius for two identical spheres, and Coulomb's law on the
+totals at full slip, each from a problem and a result of
+:func:`solver.solve`, as a dict. Forces on the model: the slave's contact
+forces D_jj λ_j (normal) and D_jj g_t,j (friction), summed as vectors from
+the slave tractions (``result.traction``); a quarter or half model's totals
+are the whole pair's times ``meta["fraction"]``, ratios the whole pair's."""
 
 import numpy as np
 
-from .verification import (contact_radius_from_moment, fit_hertz_profile,
-                           hertz_point_contact, hertz_pressure)
+from .verification import (cattaneo_mindlin_stick_radius,
+                           contact_radius_from_moment, fit_hertz_profile,
+                           hertz_point_contact, hertz_pressure,
+                           hertz_two_spheres)
 
-__all__ = ["hertz_sphere_row", "HERTZ_COLUMNS"]
+__all__ = ["hertz_sphere_row", "HERTZ_COLUMNS", "interface_force",
+           "hertz_checks", "stick_radius_checks", "full_slip_checks"]
 
 #: Columns of :func:`hertz_sphere_row`, in order.
 HERTZ_COLUMNS = ("a/h", "DOFs", "in contact", "P", "a Hertz",
@@ -54,3 +65,97 @@ def hertz_sphere_row(problem, result, pressure="contact_pressure"):
               100 * (a_fit / a - 1), 100 * (p0_fit / p0 - 1),
               100 * (p.max() / p0 - 1), 100 * rms / p0)
     return dict(zip(HERTZ_COLUMNS, values))
+
+
+def _last(result, key):
+    value = np.asarray(result[key])
+    return value[-1] if result.get("records") is not None else value
+
+
+def interface_force(result):
+    """Σ_j D_jj t_j: the contact force on the slave body (d,), t the slave
+    traction −λ n + Σ g_t τ of the (last) step."""
+    D = np.asarray(result.mortar_D)
+    return (D[:, None] * _last(result, "traction")).sum(axis=0)
+
+
+def _axis(problem):
+    meta = problem.meta or {}
+    centre = np.asarray(meta.get("contact_center", (0.0, 0.0, 0.0)), float)
+    axis = np.asarray(meta.get("contact_axis", (0.0, 0.0, 1.0)), float)
+    return centre, axis / np.linalg.norm(axis)
+
+
+def hertz_checks(problem, result):
+    """Two spheres against Hertz (``meta``: ``radii``, ``bodies``,
+    ``fraction``, ``contact_center``, ``contact_axis``): P of the pair,
+    Hertz's a and p0 for it, and the relative errors of a from the first
+    moment of the nodal forces, of (a, p0) fitted together to the nodal
+    pressures λ_j, and of the largest λ_j; a/h from ``meta["h_contact"]``."""
+    meta = problem.meta
+    centre, axis = _axis(problem)
+    D = np.asarray(result.mortar_D)
+    lam = np.asarray(_last(result, "contact_pressure"), float)
+    covered = np.asarray(result.covered, bool)
+    P = float(D @ lam) / float(meta.get("fraction", 1.0))
+    a, p0 = hertz_two_spheres(P, meta["radii"],
+                              [(b["E"], b["nu"]) for b in meta["bodies"]])
+    d = problem.nodes[problem.contact_nodes] - centre
+    r = np.linalg.norm(d - np.outer(d @ axis, axis), axis=1)
+    a_moment = contact_radius_from_moment(r, D * lam)
+    a_fit, p0_fit = fit_hertz_profile(r[covered], lam[covered], (a, p0))
+    return dict(P=P, a=a, p0=p0, a_over_h=a / meta["h_contact"],
+                in_contact=int(np.sum(_last(result, "in_contact"))),
+                a_moment=a_moment / a - 1, a_fit=a_fit / a - 1,
+                p0_fit=p0_fit / p0 - 1, max_p=lam.max() / p0 - 1)
+
+
+def stick_radius_checks(problem, result, friction):
+    """Two identical spheres pressed, then sheared (a half model, y ≥ 0):
+    Q/(f_c P) of the last step, Hertz's a for P, Cattaneo–Mindlin's
+    c = a(1 − Q/(f_c P))^⅓, and two estimates of the computed stick
+    radius about the stick nodes' D-weighted centre (on y = 0): the
+    midpoint between the outermost stick and the innermost slip node
+    (``c_indicator``) and √(Σ_stick D_jj / (fraction · π)) (``c_area``),
+    with their relative errors, and the centre's shift along x over a."""
+    meta = problem.meta
+    force = interface_force(result)
+    centre, axis = _axis(problem)
+    P = abs(force @ axis)
+    Q = np.linalg.norm(force - (force @ axis) * axis)
+    fraction = float(meta.get("fraction", 1.0))
+    a, _ = hertz_two_spheres(P / fraction, meta["radii"],
+                             [(b["E"], b["nu"]) for b in meta["bodies"]])
+    c = cattaneo_mindlin_stick_radius(a, Q, P, friction)
+    D = np.asarray(result.mortar_D)
+    covered = np.asarray(result.covered, bool)
+    stick = np.asarray(_last(result, "stick"), bool) & covered
+    slip = np.asarray(_last(result, "slip"), bool) & covered
+    x = problem.nodes[problem.contact_nodes]
+    middle = (D[stick] @ x[stick]) / D[stick].sum()
+    middle[1] = centre[1]                       # on the symmetry plane
+    d = x - middle
+    r = np.linalg.norm(d - np.outer(d @ axis, axis), axis=1)
+    c_indicator = 0.5 * (r[stick].max() + r[slip].min())
+    c_area = np.sqrt(D[stick].sum() / (fraction * np.pi))
+    return dict(P=P / fraction, Q=Q / fraction, ratio=Q / (friction * P),
+                a=a, c=c, c_indicator=c_indicator / c - 1,
+                c_area=c_area / c - 1, shift=(middle[0] - centre[0]) / a,
+                stick=int(stick.sum()), slip=int(slip.sum()),
+                separated=bool(r[stick].max() < r[slip].min()))
+
+
+def full_slip_checks(result, friction):
+    """Coulomb's law on the totals of the last step: the resultant friction
+    force |Σ D_jj g_t,j| over f_c times the normal force Σ D_jj λ_j of the
+    bound (this step's λ with the implicit bound, the previous step's
+    with the lagged one: Σ D_jj bound_j / f_c), minus 1; and whether every
+    covered slave node slips."""
+    D = np.asarray(result.mortar_D)
+    g = np.asarray(result.friction_traction)[-1]
+    bound = np.asarray(result.friction_bound)[-1]
+    total = np.linalg.norm((D[:, None] * g.reshape(len(D), -1)).sum(axis=0))
+    covered = np.asarray(result.covered, bool)
+    return dict(friction_force=total, normal_force=float(D @ bound)
+                / friction, ratio=total / float(D @ bound) - 1,
+                all_slip=bool(np.asarray(result.slip)[-1][covered].all()))

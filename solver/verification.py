@@ -20,7 +20,9 @@ Hertz point contact (§4.2): an elastic sphere of radius R on a rigid flat,
     a = \left(\frac{3PR}{4E^*}\right)^{1/3}, \qquad p_0 = \frac{3P}{2\pi a^2},
     \qquad p(r) = p_0 \sqrt{1 − r^2/a^2},
 
-its stick radius (§7.2) c = a(1 − Q/(f_c P))^{1/3}; the first moment
+its stick radius (§7.2) c = a(1 − Q/(f_c P))^{1/3}; two elastic spheres
+(§4.2) by the same formulas with 1/R* = 1/R₁ + 1/R₂ and 1/E* = (1 − ν₁²)/E₁
++ (1 − ν₂²)/E₂ (:func:`hertz_two_spheres`); the first moment
 ∫ p r dA / ∫ p dA = 3πa/16 gives a from the nodal contact forces without
 a fit (:func:`contact_radius_from_moment`).
 
@@ -47,7 +49,8 @@ import numpy as np
 
 __all__ = ["hertz_line_contact", "hertz_pressure", "fit_semi_ellipse",
            "cattaneo_mindlin_stick_half_width",
-           "zone_of", "hertz_point_contact", "cattaneo_mindlin_stick_radius",
+           "zone_of", "hertz_point_contact", "hertz_two_spheres",
+           "cattaneo_mindlin_stick_radius",
            "contact_radius_from_moment", "fit_hertz_profile",
            "sphere_flat_contact", "sphere_flat_pressure"]
 
@@ -112,6 +115,15 @@ def zone_of(x, mask):
 def hertz_point_contact(P, R, E, nu):
     """(a, p0) of Hertz's sphere on a rigid flat (Johnson §4.2)."""
     E_star = E / (1 - nu ** 2)
+    a = (3.0 * P * R / (4.0 * E_star)) ** (1.0 / 3.0)
+    return a, 3.0 * P / (2.0 * np.pi * a ** 2)
+
+
+def hertz_two_spheres(P, radii, materials):
+    """(a, p0) of Hertz's two spheres of ``radii`` (R₁, R₂) and
+    ``materials`` ((E₁, ν₁), (E₂, ν₂)) pressed by P (Johnson §4.2)."""
+    R = 1.0 / sum(1.0 / float(r) for r in radii)
+    E_star = 1.0 / sum((1 - nu ** 2) / E for E, nu in materials)
     a = (3.0 * P * R / (4.0 * E_star)) ** (1.0 / 3.0)
     return a, 3.0 * P / (2.0 * np.pi * a ** 2)
 

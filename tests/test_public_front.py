@@ -22,7 +22,8 @@ WRAPPERS = {"solve_frictionless", "solve_friction", "solve_two_body"}
 #: Modules below the front that these files may import, and why.
 BELOW_THE_FRONT = {
     "solver.studies": "the thesis's tables as data and their study loops",
-    "solver.studies3d": "the Hertz sphere's table row",
+    "solver.studies3d": "the Hertz sphere's table row, the 3D two-body "
+                        "checks",
     "solver.verification": "closed forms (Hertz, Cattaneo-Mindlin, Sneddon)",
     "solver.examples": "the bar's closed form (two_dof_bar_closed_form)",
     "solver.output.thesis_figures": "the thesis's figures",

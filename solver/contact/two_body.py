@@ -9,8 +9,9 @@ weighted gap of slave node j under displacements u is
         = D_{jj}\,(s_j − n_j·v_j), \qquad v_j = u_j − Σ_k P_{jk} u_k,
 
 P = D⁻¹M, s_j = g̃⁰_j / D_jj (Hüeber & Wohlmuth, CMAME 194 (2005) 3147;
-Popp, Gee & Wall, IJNME 79 (2009) 1354). The change of variables
-u = T⁻¹v, T⁻¹ = I + E with E the block P ⊗ I₂ from the free master DOFs
+Popp, Gee & Wall, IJNME 79 (2009) 1354; in 3D Popp, Gitterle, Gee & Wall,
+IJNME 83 (2010) 1428). The change of variables
+u = T⁻¹v, T⁻¹ = I + E with E the block P ⊗ I_d from the free master DOFs
 to the free slave DOFs (E² = 0, so T = I − E), turns ½uᵀKu − fᵀu into
 ½vᵀK̃v − f̃ᵀv, K̃ = T⁻ᵀKT⁻¹ (sparse SPD), f̃ = T⁻ᵀf, and every contact
 constraint into n_j·v_j ≤ s_j: a *discrete* problem (``M = diag(D)``)
@@ -27,14 +28,18 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..errors import SolverError
-from ..geometry.mortar import mortar_coupling, node_to_segment
+from ..geometry.frames import tangent_basis
+from ..geometry.mortar import (mortar_coupling, node_to_segment,
+                               node_to_triangle, triangle_coupling)
 from ..problem import ContactProblem
 
-__all__ = ["VARIANTS", "interface_coupling", "equivalent_problem",
-           "interface_stiffness", "TwoBodyMap"]
+__all__ = ["VARIANTS", "interface_coupling", "symmetry_normals",
+           "equivalent_problem", "interface_stiffness", "TwoBodyMap"]
 
-#: Couplings: the dual mortar, and node-to-segment (patch-test foil).
-VARIANTS = {"mortar": mortar_coupling, "node-to-segment": node_to_segment}
+#: Couplings: the dual mortar, and node-to-segment (patch-test foil), by
+#: dimension.
+VARIANTS = {"mortar": {2: mortar_coupling, 3: triangle_coupling},
+            "node-to-segment": {2: node_to_segment, 3: node_to_triangle}}
 
 #: Overlaps of the undeformed bodies below this fraction of the slave
 #: segments' length are the round-off of the integrated weighted gaps
@@ -44,6 +49,13 @@ OVERLAP_ROUNDOFF = 1e-8
 #: |coverage − 1| above which a slave node takes no part.
 COVERAGE_TOLERANCE = 1e-8
 
+#: A slave node with a zero Dirichlet component c (a symmetry plane of a
+#: half or quarter model) whose averaged normal has |n_c| at most this
+#: lies on the plane: the whole model's normal there lies in the plane
+#: (n_c = 0 by symmetry), and the one-sided average's n_c (of the order
+#: of h/R on a curved surface) is set to 0 (:func:`symmetry_normals`).
+SYMMETRY_NORMAL = 0.1
+
 
 def interface_coupling(problem, variant="mortar"):
     """The coupling of every contact pair of ``problem`` (``variant`` of
@@ -52,6 +64,9 @@ def interface_coupling(problem, variant="mortar"):
     if variant not in VARIANTS:
         raise SolverError(f"variant must be one of {tuple(VARIANTS)}, got "
                           f"{variant!r}")
+    if problem.dim not in VARIANTS[variant]:
+        raise SolverError(f"variant {variant!r} is 2D-only")
+    coupling = VARIANTS[variant][problem.dim]
     slave_pair = _pairs(problem.mortar_slave_pair, problem.mortar_slave)
     master_pair = _pairs(problem.mortar_master_pair, problem.mortar_master)
     parts = []
@@ -61,9 +76,9 @@ def interface_coupling(problem, variant="mortar"):
         if not len(master):
             raise SolverError(f"contact pair {pair} has no master segment")
         ids = problem.contact_nodes[np.isin(problem.contact_nodes, slave)]
-        parts.append(VARIANTS[variant](problem.nodes, slave, master, ids))
+        parts.append(coupling(problem.nodes, slave, master, ids))
     if len(parts) == 1:
-        return parts[0]
+        return symmetry_normals(problem, parts[0])
     position = np.full(len(problem.nodes), -1)
     position[problem.contact_nodes] = np.arange(problem.n_contact)
     order = np.argsort(position[np.concatenate([p.slave_nodes
@@ -71,10 +86,29 @@ def interface_coupling(problem, variant="mortar"):
     join = (lambda name: np.concatenate([getattr(p, name) for p in parts])
             [order])
     first = parts[0]
-    return type(first)(join("slave_nodes"), join("D"),
-                       sp.vstack([p.M for p in parts]).tocsr()[order],
-                       join("normal"), join("gap"), join("coverage"),
-                       first.variant)
+    return symmetry_normals(problem, type(first)(
+        join("slave_nodes"), join("D"),
+        sp.vstack([p.M for p in parts]).tocsr()[order], join("normal"),
+        join("gap"), join("coverage"), first.variant))
+
+
+def symmetry_normals(problem, coupling):
+    """``coupling`` with the normals of the slave nodes on symmetry planes
+    in the plane (:data:`SYMMETRY_NORMAL`; then such a node is an exact
+    roller, which friction accepts, not an oblique node) and their weighted
+    gaps g̃_j = n_j·(Σ_k M_jk x_k − D_jj x_j) recomputed."""
+    prescribed = np.asarray(problem.u_prescribed)[problem.contact_nodes]
+    plane = (problem.contact_dofs < 0) & (prescribed == 0) \
+        & (np.abs(coupling.normal) <= SYMMETRY_NORMAL)
+    if not plane.any():
+        return coupling
+    normal = np.where(plane, 0.0, coupling.normal)
+    normal /= np.linalg.norm(normal, axis=1)[:, None]
+    nodes = problem.nodes
+    gap = np.einsum("ij,ij->i", normal, coupling.M @ nodes - coupling.D[
+        :, None] * nodes[coupling.slave_nodes])
+    return type(coupling)(coupling.slave_nodes, coupling.D, coupling.M,
+                          normal, gap, coupling.coverage, coupling.variant)
 
 
 def _pairs(pairs, segments):
@@ -97,7 +131,7 @@ def equivalent_problem(problem, coupling, friction=False):
     prescribed = problem.u_prescribed
     shift = np.zeros(nc)
     rows, cols, vals = [], [], []
-    for c in range(2):
+    for c in range(problem.dim):
         r, q = reduced[problem.contact_nodes[j], c], reduced[k, c]
         free = (r >= 0) & (q >= 0)
         rows.append(r[free]), cols.append(q[free]), vals.append(p[free])
@@ -129,6 +163,10 @@ def equivalent_problem(problem, coupling, friction=False):
         load_path_friction=problem.load_path_friction,
         source=problem.source)
     equivalent.node_graph = lambda: _node_graph(problem, extra)
+    # how far the prescribed displacements move the bodies before they
+    # deform: the candidates' screening margin (strategies.candidates)
+    equivalent.approach_length = float(np.linalg.norm(
+        prescribed, axis=1).max(initial=0.0))
     return equivalent, T_inv, covered
 
 
@@ -170,8 +208,9 @@ class TwoBodyMap:
         self.coupling = interface_coupling(problem, variant)
         self.equivalent, self.T_inv, self.covered = equivalent_problem(
             problem, self.coupling, friction=friction)
-        n = self.coupling.normal
-        self.tangent = np.column_stack([-n[:, 1], n[:, 0]])
+        #: (Nc, d − 1, d): the tangents of the friction traction's
+        #: components (those of the contact geometry, :meth:`mark_uncovered`)
+        self.tangents = tangent_basis(self.coupling.normal)
 
     def mark_uncovered(self, geometry):
         """Record the uncovered slave nodes among ``geometry``'s excluded
@@ -181,6 +220,7 @@ class TwoBodyMap:
         from ..geometry.checks import warn_penetration
         from .geometry import UNCOVERED
 
+        self.tangents[geometry.index] = geometry.tangents
         excluded = geometry.excluded
         uncovered = ~self.covered[excluded["index"]]
         excluded["reason"] = [UNCOVERED if u else r for u, r in
@@ -190,18 +230,21 @@ class TwoBodyMap:
         nodes = self.problem.nodes
         slave = self.problem.mortar_slave
         size = np.linalg.norm(nodes[slave[:, 1]] - nodes[slave[:, 0]],
-                              axis=1).mean()
+                              axis=1).mean()  # an edge length
         warn_penetration(geometry.gap, nodes[ids], node_ids=ids,
                          what="the undeformed bodies overlap",
                          floor=OVERLAP_ROUNDOFF * size)
         return geometry
 
     def _traction(self, pressure, friction_traction=None):
-        """−λ_j n_j + g_t,j τ_j on the slave surface (…, Nc, 2)."""
+        """−λ_j n_j + Σ_a g_t,ja τ_ja on the slave surface (…, Nc, d)."""
         traction = -np.asarray(pressure)[..., None] * self.coupling.normal
         if friction_traction is not None:
-            traction = traction + np.asarray(friction_traction)[
-                ..., None] * self.tangent
+            g = np.asarray(friction_traction, float)
+            if self.tangents.shape[1] == 1:  # 2D: one scalar per node
+                g = g[..., None]
+            traction = traction + np.einsum("...ia,iad->...id", g,
+                                            self.tangents)
         return traction
 
     def step_fields(self, prescribed):
@@ -213,6 +256,7 @@ class TwoBodyMap:
         prescribed = iter(prescribed)
 
         def convert(fields):
+            fields = dict(fields)  # the driver keeps its own (in v)
             v = fields["u"]
             u = self.T_inv @ v
             fields.update(

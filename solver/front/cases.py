@@ -150,10 +150,6 @@ RULES = tuple(
              "obstacle; this runs on the serial engine",
              lambda c, s, g: c.engine == "petsc" and c.bodies != "rigid",
              "engine='petsc'"),
-        Rule("bodies", "two bodies in 3D",
-             "the dual mortar is built for 2D interfaces only",
-             lambda c, s, g: c.bodies == "two-body" and c.dim == 3,
-             "two bodies"),
         Rule("formulation", "3D",
              "the thesis's split formulation (Δu_t⁺, Δu_t⁻) is 2D-only; "
              "use formulation='projection'",

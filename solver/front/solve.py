@@ -33,7 +33,7 @@ def solve(problem, *, friction=None, method=None, system="auto", start=None,
     ----------
     problem : ContactProblem
         From :func:`solver.load_problem`: one body against a rigid obstacle
-        (2D curve or 3D surface), two elastic bodies (2D, dual mortar), or a
+        (2D curve or 3D surface), two elastic bodies (dual mortar), or a
         discrete problem with given gaps (the §6 bar).
     friction : float, optional
         The coefficient of friction f_c ≥ 0: Coulomb friction in load steps

@@ -23,7 +23,20 @@ def format_summary(info):
              f"max |K_ij| = {_g(info['K_norm_max'])}",
              f"‖f‖               {_g(info['f_norm'])}",
              f"sum of M          {_g(info['M_sum'], '.12g')}"]
-    if info["kind"] == "mesh" and info.get("dim", 2) == 3:
+    if info["kind"] == "mesh" and "bodies" in info:  # two bodies
+        facet = "segments" if info.get("dim", 2) == 2 else "triangles"
+        cells = "triangles" if info.get("dim", 2) == 2 else "tetrahedra"
+        lines += [f"mesh              {meta.get('mesh')}: "
+                  f"{info[cells]} {cells}, {info['nodes']} nodes, "
+                  f"{info['bodies']} bodies",
+                  *(f"body {i}            {b.get('name')}: "
+                    f"E = {_g(b['E'], 'g')}, nu = {_g(b['nu'], 'g')}"
+                    for i, b in enumerate(meta["bodies"])),
+                  f"interface         {info['pairs']} pair(s), "
+                  f"{info[f'slave_{facet}']} slave {facet} (body "
+                  f"{meta['slave_body']}), {info[f'master_{facet}']} master "
+                  f"{facet} (body {meta['master_body']})"]
+    elif info["kind"] == "mesh" and info.get("dim", 2) == 3:
         lines += [f"mesh              {meta.get('mesh')}: "
                   f"{info['tetrahedra']} tetrahedra, {info['nodes']} nodes, "
                   f"{info['contact_faces']} contact triangles",
@@ -31,17 +44,6 @@ def format_summary(info):
                   f"nu = {_g(meta['nu'], 'g')}",
                   "obstacle          " + json.dumps(info["obstacle"],
                                                     sort_keys=True)]
-    elif info["kind"] == "mesh" and "slave_segments" in info:  # two bodies
-        lines += [f"mesh              {meta.get('mesh')}: "
-                  f"{info['triangles']} triangles, {info['nodes']} nodes, "
-                  f"{info['bodies']} bodies",
-                  *(f"body {i}            {b.get('name')}: "
-                    f"E = {_g(b['E'], 'g')}, nu = {_g(b['nu'], 'g')}"
-                    for i, b in enumerate(meta["bodies"])),
-                  f"interface         {info['pairs']} pair(s), "
-                  f"{info['slave_segments']} slave segments (body "
-                  f"{meta['slave_body']}), {info['master_segments']} master "
-                  f"segments (body {meta['master_body']})"]
     elif info["kind"] == "mesh":
         obstacle = info["obstacle"]  # [x(t), y(t)], or a polyline's repr
         if isinstance(obstacle, (list, tuple)):

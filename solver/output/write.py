@@ -118,10 +118,13 @@ def _figures(folder, problem, result):
                                       _saved_steps(folder, result))
     if problem.is_mortar:
         from .two_body import write_two_body_figures
+        from .two_body3d import write_two_body_figures3d
 
         if result.get("friction") is not None:
             result = _saved_steps(folder, result)
-        return write_two_body_figures(folder.path, problem, result)
+        write = write_two_body_figures if problem.dim == 2 \
+            else write_two_body_figures3d
+        return write(folder.path, problem, result)
     if problem.dim == 2:
         from .figures import write_figures
 

@@ -106,7 +106,9 @@ class ContactProblem:
                           dof_map=self.dof_map,
                           u_prescribed=self.u_prescribed,
                           contact_nodes=self.contact_nodes)
-            if self.dim == 3:
+            if self.dim == 3 and self.is_mortar:
+                pass  # the interface is mortar_slave, mortar_master
+            elif self.dim == 3:
                 arrays["contact_faces"] = self.contact_faces
                 arrays["obstacle_surface"] = np.array(
                     surface_spec_text(self.obstacle))
@@ -160,13 +162,14 @@ class ContactProblem:
         if self.kind == "mesh":
             parts += [f"{self._cell_name}={len(self.cells)}",
                       f"nodes={len(self.nodes)}"]
-            if self.dim == 3:
+            if self.dim == 3 and not self.is_mortar:
                 parts.append(f"contact_faces={len(self.contact_faces)}")
             if self.body is not None:
                 parts.append(f"bodies={self.n_bodies}")
             if self.is_mortar:
-                parts.append(f"slave_segments={len(self.mortar_slave)}, "
-                             f"master_segments={len(self.mortar_master)}")
+                facet = "segments" if self.dim == 2 else "triangles"
+                parts.append(f"slave_{facet}={len(self.mortar_slave)}, "
+                             f"master_{facet}={len(self.mortar_master)}")
             else:
                 parts.append(f"obstacle={self._obstacle_text}")
         if self.load_path is not None:
@@ -332,7 +335,7 @@ class ContactProblem:
             "f_norm": stable_norm(self.f),
             "M_sum": float(self.M.sum()),
         }
-        if self.kind == "mesh" and self.dim == 3:
+        if self.kind == "mesh" and self.dim == 3 and not self.is_mortar:
             spec = self.obstacle.spec() if hasattr(self.obstacle, "spec") \
                 else self.obstacle
             info.update(nodes=int(len(self.nodes)),
@@ -340,13 +343,14 @@ class ContactProblem:
                         contact_faces=int(len(self.contact_faces)),
                         obstacle=spec)
         elif self.is_mortar:
-            info.update(nodes=int(len(self.nodes)),
-                        triangles=int(len(self.cells)),
-                        bodies=self.n_bodies,
-                        pairs=int(max(self.mortar_slave_pair.max(),
-                                      self.mortar_master_pair.max())) + 1,
-                        slave_segments=int(len(self.mortar_slave)),
-                        master_segments=int(len(self.mortar_master)))
+            facet = "segments" if self.dim == 2 else "triangles"
+            info.update({"nodes": int(len(self.nodes)),
+                         self._cell_name: int(len(self.cells)),
+                         "bodies": self.n_bodies,
+                         "pairs": int(max(self.mortar_slave_pair.max(),
+                                          self.mortar_master_pair.max())) + 1,
+                         f"slave_{facet}": int(len(self.mortar_slave)),
+                         f"master_{facet}": int(len(self.mortar_master))})
         elif self.kind == "mesh":
             info.update(nodes=int(len(self.nodes)),
                         triangles=int(len(self.cells)),

@@ -10,7 +10,8 @@ is the number of columns of ``contact_dofs``. Notation (thesis §3.2): Ñ
 reduced DOFs, Nc contact nodes, in any order.
 
 Versions (docs/npz-format.md, "Versions"): 1 is the 2D layout, 3 adds 3D,
-4 two elastic bodies in contact (2D); 2 was never written. The table
+4 two elastic bodies in contact (2D segments or 3D triangles); 2 was
+never written. The table
 :data:`KEYS` is the specification; ``docs/npz-format.md`` is generated
 from it (:func:`format_table`)."""
 
@@ -40,7 +41,8 @@ SYMMETRY_RTOL = 1e-10
 #: refused for the other; "mesh3d" = required in a 3D mesh file, refused
 #: elsewhere; "optional" = may be absent in either kind (the 2D obstacle
 #: keys are refused in 3D, see :data:`ONLY_2D`); "two-body" = optional in a
-#: 2D mesh file of version 4, refused elsewhere (:data:`TWO_BODY`).
+#: mesh file of version 4, refused elsewhere (:data:`TWO_BODY`; in 3D they
+#: replace contact_faces and obstacle_surface).
 KEYS = {
     "format_version": ("all", "int", "()",
                        "layout version: 4 (written); 1, 2, 3 and 4 are read"),
@@ -120,24 +122,29 @@ KEYS = {
                          "(docs/npz-format.md, solver.geometry.surfaces)"),
     "body": ("two-body", "int", "(n_nodes,)",
              "body id (0 … B−1, each used) of every node; the bodies share "
-             "no node and no triangle, so K is block-diagonal. Absent = one "
+             "no node and no cell, so K is block-diagonal. Absent = one "
              "body (all 0)"),
-    "mortar_slave": ("two-body", "int", "(n_s, 2)",
-                     "slave interface segments (a, b) as global node ids, "
-                     "boundary edges of the mesh with the body on the LEFT "
-                     "of a→b (its outward normal is (t_y, −t_x)/|t|, t = "
-                     "x_b − x_a); each pair's segments form one open chain, "
-                     "listed in contact_nodes in their direction; replaces "
-                     "the obstacle keys (refused with it)"),
-    "mortar_master": ("two-body", "int", "(n_m, 2)",
-                      "master interface segments, oriented like "
+    "mortar_slave": ("two-body", "int", "(n_s, d)",
+                     "slave interface facets as global node ids. 2D: "
+                     "segments (a, b), boundary edges of the mesh with the "
+                     "body on the LEFT of a→b (its outward normal is (t_y, "
+                     "−t_x)/|t|, t = x_b − x_a); each pair's segments form "
+                     "one open chain, listed in contact_nodes in their "
+                     "direction. 3D: triangles, each a face of one "
+                     "tetrahedron, oriented so that the right-hand rule gives "
+                     "the body's outward normal (as contact_faces); "
+                     "contact_nodes are their vertices, pair by pair. "
+                     "Replaces the obstacle keys (refused with it; in 3D "
+                     "also contact_faces)"),
+    "mortar_master": ("two-body", "int", "(n_m, d)",
+                      "master interface facets, oriented like "
                       "mortar_slave, in another body than the slave "
-                      "segments of their pair; needs mortar_slave"),
+                      "facets of their pair; needs mortar_slave"),
     "mortar_slave_pair": ("two-body", "int", "(n_s,)",
-                          "contact pair (interface) of each slave segment, "
+                          "contact pair (interface) of each slave facet, "
                           "0 … P−1 (absent = all 0: one pair)"),
     "mortar_master_pair": ("two-body", "int", "(n_m,)",
-                           "contact pair of each master segment (absent = "
+                           "contact pair of each master facet (absent = "
                            "all 0)"),
     "load_path": ("optional", "float", "(n_stages, Ñ)",
                   "load vectors at the ends of the load stages of a friction "
@@ -167,7 +174,7 @@ KINDS = ("mesh", "discrete")
 ONLY_2D = ("obstacle_x", "obstacle_y", "obstacle_points", "obstacle_t_range",
            "obstacle_search_interval")
 
-#: The two-body keys (version 4, 2D mesh kind only; docs/npz-format.md).
+#: The two-body keys (version 4, mesh kind only; docs/npz-format.md).
 TWO_BODY = ("body", "mortar_slave", "mortar_master", "mortar_slave_pair",
             "mortar_master_pair")
 
@@ -217,6 +224,6 @@ def format_table():
         need = {"all": "both kinds", "mesh": "mesh only",
                 "discrete": "discrete only", "mesh3d": "3D mesh only",
                 "optional": "optional",
-                "two-body": "2D two-body (optional)"}[need]
+                "two-body": "two-body (optional)"}[need]
         lines.append(f"| `{key}` | {need} | {dtype} | {shape} | {doc} |")
     return "\n".join(lines)

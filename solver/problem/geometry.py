@@ -16,7 +16,7 @@ from ..geometry.curves.parametric import ParametricCurve
 from ..geometry.curves.polyline import PolylineCurve
 from .checks import check_array, check_range, fail
 from .format import ONLY_2D, TWO_BODY
-from .geometry3d import validate_solid
+from .geometry3d import check_tetrahedra, validate_solid
 
 __all__ = ["COORDINATE_LIMIT", "RESOLUTION", "validate_mesh"]
 
@@ -70,7 +70,13 @@ def validate_mesh(arrays, n, contact_dofs):
                   u_prescribed=u_prescribed, contact_nodes=contact_nodes)
     if d == 3:
         _check_contact_dofs(flat, n_nodes, contact_nodes, contact_dofs)
-        fields.update(validate_solid(arrays, nodes, cells, contact_nodes))
+        if "mortar_slave" in arrays:  # two bodies: the triangles are
+            # checked by solver.problem.two_body
+            check_tetrahedra(nodes, cells)
+            fields.update(contact_faces=None, obstacle=None)
+        else:
+            fields.update(validate_solid(arrays, nodes, cells,
+                                         contact_nodes))
         return fields
     if any(k in arrays for k in TWO_BODY[1:]):  # two bodies: no obstacle;
         # the segments and the slave chain: solver.problem.two_body

@@ -10,7 +10,8 @@ from ..geometry.checks import RESOLUTION
 from .checks import check_array, check_range, fail
 from .surface_spec import obstacle_surface
 
-__all__ = ["FLAT_RTOL", "validate_solid"]
+__all__ = ["FLAT_RTOL", "check_tetrahedra", "check_contact_faces",
+           "validate_solid"]
 
 #: A tetrahedron (triangle) whose 6·volume (2·area) is below this fraction
 #: of L³ (L²) is flat.
@@ -41,9 +42,10 @@ def check_tetrahedra(nodes, cells):
                       "tetrahedra have the other orientation")
 
 
-def check_contact_faces(faces, nodes, cells, contact_nodes):
-    """The contact triangles (see the module docstring)."""
-    key = "contact_faces"
+def check_contact_faces(faces, nodes, cells, contact_nodes,
+                        key="contact_faces"):
+    """The contact triangles (see the module docstring) of the key ``key``
+    (also the two bodies' ``mortar_slave`` and ``mortar_master``)."""
     n_nodes = len(nodes)
     if len(faces) < 1:
         fail(key, "no triangles")
@@ -54,7 +56,8 @@ def check_contact_faces(faces, nodes, cells, contact_nodes):
     if off.any():
         i, j = np.argwhere(off)[0]
         fail(key, f"triangle {i} has vertex {faces[i, j]}, which is not in "
-                  "contact_nodes")
+                  "contact_nodes" if key != "mortar_master" else
+                  f"triangle {i} has vertex {faces[i, j]} off the master")
     used = np.zeros(n_nodes, bool)
     used[faces] = True
     lonely = ~used[contact_nodes]

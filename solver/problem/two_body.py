@@ -1,13 +1,14 @@
-"""Validation of the two-body keys of a 2D mesh file (format version 4):
+"""Validation of the two-body keys of a mesh file (format version 4):
 two elastic bodies in one mesh, their interface given as slave and master
-segments (dual mortar, :mod:`solver.geometry.mortar`), checked by the
-rules of docs/npz-format.md ("Two bodies"); each failure a one-line
-:class:`~solver.errors.ProblemError` naming the key."""
+segments (2D) or triangles (3D) (dual mortar, :mod:`solver.geometry.
+mortar`), checked by the rules of docs/npz-format.md ("Two bodies"); each
+failure a one-line :class:`~solver.errors.ProblemError` naming the key."""
 
 import numpy as np
 
 from .checks import check_array, check_range, fail
 from .format import TWO_BODY
+from .geometry3d import check_contact_faces
 from .meta import check_bodies
 
 __all__ = ["validate_body", "validate_two_body", "check_block_diagonal"]
@@ -27,7 +28,8 @@ def validate_body(arrays, cells, n_nodes):
     mixed = np.flatnonzero((ids != ids[:, :1]).any(axis=1))
     if len(mixed):
         i = int(mixed[0])
-        fail("cells", f"triangle {i} joins nodes of bodies "
+        name = "triangle" if cells.shape[1] == 3 else "tetrahedron"
+        fail("cells", f"{name} {i} joins nodes of bodies "
                       f"{sorted(set(ids[i].tolist()))} (the bodies must "
                       "share no node)")
     return body
@@ -78,6 +80,35 @@ def _segments(arrays, key, nodes, cells):
                   f"on the right ({len(wrong)} segments): the body must lie "
                   "on the left of a→b (outward normal (t_y, −t_x))")
     return segments
+
+
+def _triangles(arrays, key, nodes, cells, contact_nodes):
+    """The triangles of one facet key in 3D: faces of one tetrahedron each,
+    oriented outwards (:func:`~.geometry3d.check_contact_faces`); the slave
+    triangles' vertices are exactly ``contact_nodes``."""
+    faces = check_array(arrays, key, "int", 2, (None, 3))
+    if not len(faces):
+        fail(key, "no triangles")
+    check_range(key, faces, 0, len(nodes))
+    own = contact_nodes if key == "mortar_slave" else np.unique(faces)
+    check_contact_faces(faces, nodes, cells, own, key)
+    return faces
+
+
+def _slave_nodes_3d(slave, pair, contact_nodes, n_nodes):
+    """3D: no node on the slave side of two pairs, contact_nodes listed
+    pair by pair (any order inside a pair)."""
+    node_pair = np.full(n_nodes, -1, dtype=np.int64)
+    node_pair[slave.ravel()] = np.repeat(pair, 3)
+    twice = np.flatnonzero(node_pair[slave] != pair[:, None])
+    if len(twice):
+        f, k = divmod(int(twice[0]), 3)
+        fail("mortar_slave_pair", f"node {slave[f, k]} is on the slave side "
+                                  f"of pairs {pair[f]} and "
+                                  f"{node_pair[slave[f, k]]}")
+    if (np.diff(node_pair[contact_nodes]) < 0).any():
+        fail("contact_nodes", "not ordered pair by pair (the slave nodes of "
+                              "pair 0 first, then of pair 1, ...)")
 
 
 def _pairs(arrays, key, count):
@@ -166,7 +197,7 @@ def check_block_diagonal(K, dof_map, body):
 
 
 def validate_two_body(arrays, fields, K, meta):
-    """The two-body keys of a 2D mesh file, given the ``fields`` of
+    """The two-body keys of a mesh file, given the ``fields`` of
     :func:`solver.problem.geometry.validate_mesh`: ``body``,
     ``mortar_slave``, ``mortar_master``, ``mortar_slave_pair``,
     ``mortar_master_pair`` (absent keys: None; the pair indices of a
@@ -190,8 +221,14 @@ def validate_two_body(arrays, fields, K, meta):
     if body is None:
         fail("mortar_slave", "a two-body file needs the key body (the slave "
                              "and master segments lie in different bodies)")
-    slave = _segments(arrays, "mortar_slave", nodes, cells)
-    master = _segments(arrays, "mortar_master", nodes, cells)
+    dim = nodes.shape[1]
+    if dim == 2:
+        slave = _segments(arrays, "mortar_slave", nodes, cells)
+        master = _segments(arrays, "mortar_master", nodes, cells)
+    else:
+        slave, master = (_triangles(arrays, key, nodes, cells,
+                                    fields["contact_nodes"])
+                         for key in ("mortar_slave", "mortar_master"))
     slave_pair = _pairs(arrays, "mortar_slave_pair", len(slave))
     master_pair = _pairs(arrays, "mortar_master_pair", len(master))
     n_pairs = int(max(slave_pair.max(), master_pair.max())) + 1
@@ -212,8 +249,12 @@ def validate_two_body(arrays, fields, K, meta):
         fail("mortar_master", f"pair {q}: the master segments lie in the "
                               f"slave body {int(slave_body[q])} (self-"
                               "contact is not supported)")
-    _slave_chains(slave, slave_pair, fields["contact_nodes"], len(nodes),
-                  n_pairs)
+    if dim == 2:
+        _slave_chains(slave, slave_pair, fields["contact_nodes"],
+                      len(nodes), n_pairs)
+    else:
+        _slave_nodes_3d(slave, slave_pair, fields["contact_nodes"],
+                        len(nodes))
     check_bodies(meta, n_bodies, slave_body, master_body)
     out.update(mortar_slave=slave, mortar_master=master,
                mortar_slave_pair=slave_pair, mortar_master_pair=master_pair)

@@ -108,8 +108,7 @@ def _validate(arrays):
     problem = dict(K=K, f=f, M=M, contact_dofs=contact_dofs, meta=meta)
     if kind == "mesh":
         problem.update(validate_mesh(arrays, n, contact_dofs))
-        if dim == 2:
-            problem.update(validate_two_body(arrays, problem, K, meta))
+        problem.update(validate_two_body(arrays, problem, K, meta))
     else:
         if (contact_dofs < 0).any():
             fail("contact_dofs", "a discrete problem has no Dirichlet DOFs "
@@ -133,8 +132,15 @@ def _check_keys(arrays, kind, dim):
     if kind == "mesh" and dim == 3:
         needs.add("mesh3d")
     allowed = {k for k, (need, *_rest) in KEYS.items() if need in needs}
-    if kind == "mesh" and dim == 2:
+    if kind == "mesh":
         allowed |= set(TWO_BODY)
+    if kind == "mesh" and dim == 3 and "mortar_slave" in arrays:
+        for key in ("contact_faces", "obstacle_surface"):
+            if key in arrays:
+                fail(key, "not allowed in a two-body file (mortar_slave): "
+                          "the contact is with the master body, whose "
+                          "triangles are mortar_master")
+        allowed -= {"contact_faces", "obstacle_surface"}
     if kind == "discrete":
         allowed -= set(ONLY_2D) | {"load_path_prescribed"}
     if dim == 3:

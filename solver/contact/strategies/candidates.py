@@ -57,7 +57,11 @@ def initial_candidates(gap, margin=None, approach=0.0):
 
 def approach(problem):
     """a of the module docstring: the largest prescribed nodal
-    displacement of ``problem`` (0 without any)."""
+    displacement of ``problem`` (0 without any; a two-body problem's
+    nodewise form carries its bodies' as ``approach_length``)."""
+    given = getattr(problem, "approach_length", None)
+    if given is not None:
+        return float(given)
     prescribed = getattr(problem, "u_prescribed", None)
     if prescribed is None or not np.size(prescribed):
         return 0.0

@@ -28,41 +28,17 @@ takes no part. :func:`node_to_segment` builds the classical coupling in
 the same form; it fails the contact patch test on non-matching meshes
 (Taylor & Papadopoulos, IJNME 31 (1991) 1087)."""
 
-from dataclasses import dataclass
-
 import numpy as np
-import scipy.sparse as sp
 
-__all__ = ["MortarCoupling", "segment_normals", "nodal_normals", "chain_order",
-           "mortar_coupling", "default_reach", "candidate_pairs",
-           "node_to_segment"]
+from .coupling import PAIR_CHUNK, assemble_coupling
+from .search import candidate_pairs, default_reach
+
+__all__ = ["segment_normals", "nodal_normals", "chain_order",
+           "mortar_coupling", "node_to_segment"]
 
 #: Gauss-Legendre points on [0, 1] used on every overlap cell (3: exact
 #: for the quadratic ψ_j N_k of a flat interface, near-exact when curved).
 N_GAUSS = 3
-
-
-@dataclass
-class MortarCoupling:
-    """D, M, normals and gaps of the slave nodes (module docstring).
-
-    Attributes: ``slave_nodes`` (ns,) global ids in chain order; ``D``
-    (ns,) the diagonal; ``M`` (ns, n_nodes) CSR; ``normal`` (ns, 2) unit
-    n_j; ``gap`` (ns,) weighted gap g̃_j; ``coverage`` (ns,) Σ_k M_jk/D_jj;
-    ``variant`` "mortar" or "node-to-segment"."""
-
-    slave_nodes: np.ndarray
-    D: np.ndarray
-    M: sp.csr_matrix
-    normal: np.ndarray
-    gap: np.ndarray
-    coverage: np.ndarray
-    variant: str = "mortar"
-
-    @property
-    def P(self):
-        """P = D⁻¹M (sparse): v_j = u_j − Σ_k P_jk u_k."""
-        return sp.diags(1.0 / self.D) @ self.M
 
 
 def _cross(a, b):
@@ -122,23 +98,6 @@ def _gauss(n):
     return 0.5 * (p + 1), 0.5 * w
 
 
-def _assemble(slave_nodes, n_nodes, D, rows, cols, vals, nodes, normal,
-              variant):
-    """MortarCoupling from the triplets of M and the diagonal D."""
-    ns = len(slave_nodes)
-    M = sp.csr_matrix((vals, (rows, cols)), shape=(ns, n_nodes))
-    M.sum_duplicates()
-    gap = np.einsum("ij,ij->i", normal, M @ nodes - D[:, None]
-                    * nodes[slave_nodes])
-    coverage = np.asarray(M.sum(axis=1)).ravel() / D
-    return MortarCoupling(slave_nodes, D, M, normal, gap, coverage, variant)
-
-
-#: Candidate pairs integrated at once (bounds the memory: a few arrays of
-#: this many floats times the Gauss points).
-PAIR_CHUNK = 200_000
-
-
 def _interface(nodes, slave, master, slave_nodes):
     """What both couplings start from: nodes, slave, master, slave_nodes,
     each node's row ``pos`` (−1 off the slave side), the segment normals and
@@ -179,46 +138,8 @@ def mortar_coupling(nodes, slave, master, slave_nodes=None,
              for i in range(0, max(len(I), 1), PAIR_CHUNK)]
     rows, cols, vals = (np.concatenate([p[k] for p in parts])
                         for k in range(3))
-    return _assemble(slave_nodes, len(nodes), D, rows, cols, vals, nodes,
+    return assemble_coupling(slave_nodes, len(nodes), D, rows, cols, vals, nodes,
                      normal, "mortar")
-
-
-def default_reach(nodes, slave, master):
-    """The screening's reach: twice the largest distance from a slave node
-    to its nearest master node plus the longest segment (a search distance of
-    the order of the gap and the element size: Yang & Laursen 2008; Popp,
-    Gee & Wall 2009, §3.1)."""
-    from scipy.spatial import cKDTree
-
-    master_nodes = np.unique(master)
-    distance, _ = cKDTree(nodes[master_nodes]).query(nodes[np.unique(slave)])
-    length = [np.hypot(*(nodes[s[:, 1]] - nodes[s[:, 0]]).T).max()
-              for s in (slave, master)]
-    return 2 * float(distance.max()) + sum(length)
-
-
-def candidate_pairs(nodes, slave, master, reach):
-    """(I, J): the slave and master segments whose axis-aligned bounding
-    boxes overlap, the slave's enlarged by ``reach``, by sort and sweep along
-    the longer axis of the interface (the master boxes sorted by their lower
-    end, each slave box's range found by bisection), no ns × nm array."""
-    lo_s = np.minimum(nodes[slave[:, 0]], nodes[slave[:, 1]]) - reach
-    hi_s = np.maximum(nodes[slave[:, 0]], nodes[slave[:, 1]]) + reach
-    lo_m = np.minimum(nodes[master[:, 0]], nodes[master[:, 1]])
-    hi_m = np.maximum(nodes[master[:, 0]], nodes[master[:, 1]])
-    axis = int(np.argmax(np.ptp(np.r_[lo_m, hi_m], axis=0)))
-    order = np.argsort(lo_m[:, axis], kind="stable")
-    start = lo_m[order, axis]
-    widest = float((hi_m - lo_m)[:, axis].max())
-    first = np.searchsorted(start, lo_s[:, axis] - widest, side="left")
-    last = np.searchsorted(start, hi_s[:, axis], side="right")
-    count = np.maximum(last - first, 0)
-    I = np.repeat(np.arange(len(slave)), count)
-    offset = np.arange(count.sum()) - np.repeat(np.cumsum(count) - count,
-                                                count)
-    J = order[np.repeat(first, count) + offset]
-    overlap = ((lo_s[I] <= hi_m[J]) & (lo_m[J] <= hi_s[I])).all(axis=1)
-    return I[overlap], J[overlap]
 
 
 def _overlaps(nodes, slave, master, I, J, ls, normal, pos, n_gauss,
@@ -279,5 +200,5 @@ def node_to_segment(nodes, slave, master, slave_nodes=None):
     rows = np.concatenate([j, j])
     cols = np.concatenate([master[k, 0], master[k, 1]])
     vals = np.concatenate([D * (1 - eta), D * eta]) * np.tile(inside, 2)
-    return _assemble(slave_nodes, len(nodes), D, rows, cols, vals, nodes,
+    return assemble_coupling(slave_nodes, len(nodes), D, rows, cols, vals, nodes,
                      normal, "node-to-segment")

@@ -1,0 +1,118 @@
+"""Two unequal spheres in 3D by the dual mortar (issue 32): accuracy
+against Hertz and time against the fastest factorisation of K.
+
+Usage::
+
+    python benchmarks/two_spheres3d.py [--a-over-h N] [--workdir DIR]
+                                       [--backends a,b] [--mesh FILE]
+
+The problem: ``sfepy_problems/two_spheres.py`` (a quarter model of two
+unequal spheres, defaults: R = 1 and 1.5, E = 2e5 and 1e5, ν = 0.3 and
+0.25) on ``meshes/two_spheres.py --a-over-h N`` (default 22: about 10⁵
+DOFs), exported in-process (SfePy assembles, solves nothing). Then, in
+this process:
+
+* **floor** ``<backend>``: factorise K (both bodies, block-diagonal) and
+  solve K u = f once (``measure.floor``); **fastest**: the shortest;
+* **mortar**: the solve's ``geometry_time``, what :func:`solver.solve`
+  does before it iterates: the mortar integration (pair search, clipping,
+  D and M on the triangles), the change of variables K̃ = T⁻ᵀKT⁻¹ and the
+  contact geometry (an upper bound on the integration alone);
+* **solve**: ``solve(problem, backend=fastest)``, every other argument at
+  its default (mortar coupling, change of variables, the condensed Newton
+  on the candidates, verification, mapping back), "time (time / fastest
+  floor)", and the mortar integration's share of it;
+* Hertz's checks (:func:`solver.studies3d.hertz_checks`): a/h on the
+  slave, a from the first moment, (a, p0) fitted, the largest λ_j.
+
+It prints one Markdown table (wall times; CPU times in brackets).
+"""
+
+import argparse
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+sys.path.insert(1, str(ROOT))
+
+
+def export(mesh, npz):
+    """The two-sphere problem file exported in-process."""
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location(
+        "_contact_ssn_sfepy_export", ROOT / "sfepy_problems" / "_export.py")
+    module = importlib.util.module_from_spec(spec)
+    sys.modules[spec.name] = module
+    spec.loader.exec_module(module)
+    module.export_only(ROOT / "sfepy_problems" / "two_spheres.py",
+                       mesh=str(mesh), output=str(npz))
+
+
+def main(argv=None):
+    from measure import Clock, floor
+    from run import installed
+    from solver import load_problem, solve
+    from solver.studies3d import hertz_checks
+
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--a-over-h", type=float, default=22.0)
+    parser.add_argument("--workdir")
+    parser.add_argument("--mesh", help="an existing two_spheres mesh")
+    parser.add_argument("--backends")
+    args = parser.parse_args(argv)
+    backends, _ = installed(args.backends, True)
+    with tempfile.TemporaryDirectory() as scratch:
+        folder = Path(args.workdir or scratch)
+        folder.mkdir(parents=True, exist_ok=True)
+        mesh = Path(args.mesh) if args.mesh else \
+            folder / f"two_spheres_{args.a_over_h:g}.mesh"
+        clock = time.perf_counter()
+        if not mesh.exists():
+            import subprocess
+            subprocess.run([sys.executable,
+                            str(ROOT / "meshes" / "two_spheres.py"),
+                            "--a-over-h", f"{args.a_over_h:g}", "-o",
+                            str(mesh)], check=True)
+        npz = folder / (mesh.stem + ".npz")
+        if not npz.exists():
+            export(mesh, npz)
+        prepared = time.perf_counter() - clock
+        problem = load_problem(npz)
+        floors = {b: floor(problem, b) for b in backends}
+        fastest = min(floors, key=lambda b: floors[b]["time"])
+        with Clock() as run:
+            result = solve(problem, backend=fastest)
+        check = hertz_checks(problem, result)
+    base = floors[fastest]
+    cells = {
+        "DOFs": problem.n_dofs, "slave nodes": problem.n_contact,
+        "a/h": f"{check['a_over_h']:.1f}",
+        "mesh + export [s]": f"{prepared:.0f}",
+        **{f"floor {b} [s]": f"{t['time']:.2f} ({t['cpu']:.2f})"
+           for b, t in floors.items()},
+        "mortar [s]": f"{result.geometry_time:.2f} "
+                      f"({result.geometry_time / run.times['time']:.1%} of "
+                      "the solve)",
+        f"solve {fastest} [s] (/floor)":
+            f"{run.times['time']:.2f} ({run.times['time'] / base['time']:.2f}"
+            f"; CPU {run.times['cpu'] / base['cpu']:.2f})"
+            + ("" if result.success else " NOT CONVERGED"),
+        "J/F": f"{result.njev}/{result.nfev}",
+        "in contact": check["in_contact"],
+        "a moment": f"{check['a_moment']:+.2%}",
+        "a fit": f"{check['a_fit']:+.2%}",
+        "p0 fit": f"{check['p0_fit']:+.2%}",
+        "max p": f"{check['max_p']:+.2%}",
+    }
+    print("| " + " | ".join(cells) + " |")
+    print("|" + "---|" * len(cells))
+    print("| " + " | ".join(str(v) for v in cells.values()) + " |")
+    return 0 if result.success else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())
