@@ -6,6 +6,8 @@ run it as a subprocess.
 """
 
 import importlib.util
+import re
+import subprocess
 import sys
 from pathlib import Path
 
@@ -15,6 +17,15 @@ ROOT = Path(__file__).resolve().parent.parent
 MESHES = ROOT / "meshes"
 BLOCK_PROBLEM = ROOT / "sfepy_problems" / "block_obstacle.py"
 THESIS_MESHES = (118, 454, 1878)
+
+
+def assert_pasteable(block):
+    """A shell block of the docs parses (bash -n) and holds no
+    alternatives ``[a|b]`` or placeholders ``<NAME>`` to fill in."""
+    subprocess.run(["bash", "-n"], input=block, text=True, check=True)
+    code = re.sub(r"#.*", "", block)
+    assert not re.search(r"\[[\w-]+\|[\w-]+", code), block
+    assert not re.search(r"<[A-Za-z_]+>", code), block
 
 
 def load_script(name, path):
