@@ -63,7 +63,7 @@ def test_large_sliding_on_a_curved_obstacle_warns(options):
     result, caught = warned(block(1.5 * 2 / N, 0.1), **options)
     assert len(caught) == 1
     text = str(caught[0].message)
-    assert "slides" in text and "1.5 elements" in text
+    assert "slides" in text and "1.51 elements" in text
     assert result.verification["kinematics"] == [text]
 
 

@@ -35,11 +35,13 @@ FLAT_COSINE = 1.0 - 1e-12
 
 def element_size(problem):
     """The median edge length of Γc: consecutive contact nodes in 2D, the
-    edges of ``contact_faces`` in 3D."""
+    edges of ``contact_faces`` in 3D (NaN without them: not checked)."""
     x = problem.nodes
     if problem.dim == 2:
         chain = problem.contact_nodes
         edges = np.column_stack([chain[:-1], chain[1:]])
+    elif problem.contact_faces is None:  # built without its faces
+        return np.nan
     else:
         faces = np.asarray(problem.contact_faces)
         edges = np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]],
@@ -84,7 +86,7 @@ def kinematic_breaches(problem, geometry, u):
             node = int(problem.contact_nodes[geometry.index[worst]])
             found.append(
                 f"node {node} slides {slip[worst]:.3g} along a curved "
-                f"obstacle, {slip[worst] / h:.1f} elements of Γc (h = "
+                f"obstacle, {slip[worst] / h:.3g} elements of Γc (h = "
                 f"{h:.3g}): gaps and normals are taken in the reference "
                 "configuration (small sliding), so the answer may be "
                 "inaccurate there")

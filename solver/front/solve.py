@@ -232,11 +232,14 @@ def _warn_excluded(problem, result):
 
 def _warn_kinematics(result):
     """A :class:`~solver.errors.KinematicsWarning` for each breach of the
-    model's kinematic assumptions (:mod:`solver.contact.kinematics`)."""
+    model's kinematic assumptions (:mod:`solver.contact.kinematics`) by
+    an answer (a run that failed has its own message)."""
     import warnings
 
     from ..errors import KinematicsWarning
 
+    if not result.get("success"):
+        return
     for message in (result.get("verification") or {}).get("kinematics", []):
         warnings.warn(message, KinematicsWarning, stacklevel=3)
 
