@@ -97,6 +97,14 @@ def format_friction_result(summary, outdir):
 
 
 def _system_text(summary):
+    if summary.get("linear_solver") == "amg":
+        krylov = summary.get("krylov_per_system") or []
+        text = ("full primal system, active set method, AMG-preconditioned "
+                f"CG ({summary.get('krylov_iterations')} CG iterations, "
+                f"at most {max(krylov, default=0)} per Newton system)")
+        reason = summary.get("linear_solver_reason")
+        return text + (f"\nlinear solver     amg ({reason})" if reason
+                       else "")
     if summary["system"] == "full":
         return ("full (the thesis's, in all unknowns)"
                 if _table1_applies(summary) else "full (in all unknowns)")
