@@ -167,3 +167,18 @@ def test_cli_linear_solver_amg(exported, tmp_path, capsys):
     assert summary["linear_solver_reason"] == "backend='amg' given"
     assert summary["krylov_iterations"] > 0
     assert "AMG-preconditioned CG" in out
+    assert "linear solver     amg (backend='amg' given)" in out
+
+
+def test_cli_auto_says_why(exported, tmp_path, capsys, monkeypatch):
+    """``--linear-solver auto`` with (pretend) 100 kB available: the
+    printout and summary.json name the AMG path and the estimate."""
+    monkeypatch.setattr(amg, "available_memory", lambda: 1e5)
+    code, out, err = run_cli([exported(454)[0], "-o", tmp_path / "out"],
+                             capsys)
+    assert code == 0, err
+    summary = json.loads((tmp_path / "out" / "summary.json").read_text())
+    assert summary["linear_solver"] == "amg"
+    assert summary["linear_solver_reason"].startswith("auto: ")
+    assert f"linear solver     amg ({summary['linear_solver_reason']})" \
+        in out
