@@ -62,7 +62,11 @@ def solve(problem, *, friction=None, method=None, system="auto", start=None,
         body's normals (§2.1.2-2.1.3).
     backend, engine, ksp
         The serial engine's sparse solver ("auto", "superlu", "pardiso",
-        "cholmod"); "petsc" for the PETSc engine under ``mpiexec`` (inside
+        "cholmod"), or "amg": no factorisation, the active set method on
+        the full system with AMG-preconditioned CG (frictionless, one body
+        against a rigid obstacle; "auto" takes it when CHOLMOD's estimate
+        of the factor exceeds the memory, and ``linear_solver_reason``
+        says why); "petsc" for the PETSc engine under ``mpiexec`` (inside
         :func:`solver.mpi.engine.spmd`; docs/mpi.md) or an engine object; its
         full system's Newton systems by "mumps" or CG + "gamg".
     tol, max_iter : float, int
