@@ -27,6 +27,12 @@ problem, which every stage holds). Stages:
 * ``friction``: ``solve(problem, friction=0.3, ...)``, STEPS load steps,
   projection formulation, φ_min and the lagged bound unless COULOMB
   ("lagged", "implicit") and METHOD ("min", "fb") say otherwise;
+* ``amg``: ``solve(problem, backend="amg")`` (the iterative path, issue
+  33): Newton systems, CG iterations in all and per system, the AMG
+  hierarchy; ``agreement`` is ‖u − u_direct‖₂/‖u_direct‖₂ against the
+  ``min`` stage's saved solution of BACKEND (3rd argument), if there;
+* ``amg_floor``: build the AMG hierarchy of K and solve K u = f once by
+  AMG-preconditioned CG to 1e-8 (relative): the iterative path's floor;
 * ``clarabel``, ``sfepy``: the peers of ``peers.py`` on the same K, f and
   gaps; ``agreement`` is their max-norm distance to our φ_min solution
   (relative).
@@ -109,6 +115,39 @@ def friction(problem, backend, steps, coulomb="lagged", method="min"):
             "enlarged": screening.get("enlarged"), "message": r.message}
 
 
+def iterative(problem, path, reference):
+    with Clock() as clock:
+        r = solve(problem, backend="amg")
+    np.save(f"{path}.min.amg.npy", r.u)
+    krylov = r.history["krylov"]
+    out = {**clock.times, "J": r.njev, "krylov": r.krylov,
+           "krylov_max": max(krylov), "krylov_mean": r.krylov / len(krylov),
+           "krylov_per_system": krylov, "active": r.history["active"],
+           "converged": bool(r.success),
+           "verified": bool(r.verification["passed"]),
+           "contact": r.n_contact, "amg": r.engine,
+           "reason": r.get("linear_solver_reason")}
+    if Path(reference).exists():
+        direct = np.load(reference)
+        out["agreement"] = float(np.linalg.norm(r.u - direct)
+                                 / np.linalg.norm(direct))
+    return out
+
+
+def iterative_floor(problem):
+    from solver.linalg import amg, threads
+
+    with Clock() as clock, threads.single_blas_thread():
+        modes = amg.rigid_body_modes(problem.nodes[problem.dof_map[:, 0]],
+                                     problem.dof_map[:, 1])
+        multigrid = amg.Multigrid(problem.K, modes)
+        out = amg.projected_cg(problem.K, problem.f, multigrid,
+                               np.zeros(problem.n_dofs),
+                               atol=1e-8 * np.linalg.norm(problem.f))
+    return {**clock.times, "krylov": out.iterations,
+            "converged": out.converged, "setup": multigrid.setup_time}
+
+
 def peer(problem, name, reference):
     import peers
 
@@ -140,6 +179,10 @@ def main(argv):
         out.update(frictionless(problem, stage, backend, path))
     elif stage == "friction":
         out.update(friction(problem, backend, int(argv[3]), *argv[4:6]))
+    elif stage == "amg":
+        out.update(iterative(problem, path, f"{path}.min.{backend}.npy"))
+    elif stage == "amg_floor":
+        out.update(iterative_floor(problem))
     elif stage in ("clarabel", "sfepy"):
         out.update(peer(problem, stage, f"{path}.min.{backend}.npy"))
     else:

@@ -5,8 +5,9 @@ The enumeration: problem (2D and 3D against a rigid obstacle, with and
 without roller nodes; two bodies in 2D; the discrete §6 bar) × contact
 (frictionless; friction: projection/thesis × lagged/implicit) × method
 (min, fb) × system (auto, condensed, full) × start (default, nested,
-free) × backend (every installed one), on the serial engine here and on
-the PETSc engine under ``mpiexec`` on 1 and 2 ranks
+free) × backend (every installed one, and the iterative ``amg``), on the
+serial engine here and on the PETSc engine under ``mpiexec`` on 1 and 2
+ranks
 (:func:`test_petsc_combinations`, where petsc4py is installed).
 
 For each: either :func:`solver.solve` returns a converged answer and an
@@ -42,7 +43,7 @@ from solver import load_problem, save_problem, two_dof_bar  # noqa: E402
 from solver.contact import TwoBodyMap, contact_geometry  # noqa: E402
 from solver.front.cases import RULES  # noqa: E402
 from solver.geometry.surfaces import surface_from_spec  # noqa: E402
-from solver.linalg import available_backends  # noqa: E402
+from solver.linalg import amg, available_backends  # noqa: E402
 
 TOL = 1e-7  # of the check, relative to F (solver: tol 1e-10, tol_v 1e-9)
 STEPS = 3
@@ -51,7 +52,8 @@ CONTACTS = [None, ("projection", "lagged"), ("projection", "implicit"),
 METHODS = ("min", "fb")
 SYSTEMS = ("auto", "condensed", "full")
 STARTS = (None, "nested", "free")
-BACKENDS = ("auto",) + tuple(available_backends())
+BACKENDS = ("auto",) + tuple(available_backends()) + (
+    ("amg",) if amg.available() else ())  # the iterative path, issue 33
 
 
 def quarter_block_3d(n=2, nz=1):

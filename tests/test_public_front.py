@@ -31,7 +31,9 @@ BELOW_THE_FRONT = {
     "solver.output.figures": "the README's figures (make_figures.py)",
     "solver.output.friction_figures": "the README's figures (make_figures.py)",
     "solver.linalg": "benchmarks: the floor, one factorisation of K by a "
-                     "backend, and the list of backends",
+                     "backend, and the list of backends; the AMG path's "
+                     "floor, one AMG-PCG solve of K u = f (measure.py "
+                     "amg_floor)",
     "solver.contact.strategies.reduction": "benchmarks: the condensation "
                                            "onto Γc alone (measure.py schur)",
     "solver.mpi.engine": "the PETSc engine: spmd, service and PetscEngine "

@@ -100,15 +100,20 @@ def build_parser():
                              "default nested (the full system starts from "
                              "the thesis's u = 0)")
     parser.add_argument("--linear-solver",
-                        choices=("auto", "superlu", "pardiso", "cholmod"),
+                        choices=("auto", "superlu", "pardiso", "cholmod",
+                                 "amg"),
                         default="auto",
                         help="sparse direct solver of the condensed system "
                              "(factorisation of K and its Schur complement "
                              "on the contact DOFs): superlu (SciPy, always "
                              "there), pardiso (pip install '.[mkl]'), "
-                             "cholmod (pip install '.[cholmod]'); default "
-                             "auto = the first installed of pardiso, "
-                             "cholmod, superlu; summary.json records it")
+                             "cholmod (pip install '.[cholmod]'); or amg: "
+                             "no factorisation, the active set method with "
+                             "AMG-preconditioned CG (frictionless, one body; "
+                             "pip install '.[amg]'); default auto = the "
+                             "first installed of pardiso, cholmod, superlu, "
+                             "or amg when a factorisation would not fit the "
+                             "memory; summary.json records it and why")
     friction = parser.add_argument_group(
         "Coulomb friction by load steps (thesis §5)")
     friction.add_argument("--friction", type=_nonnegative_float,

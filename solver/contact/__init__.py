@@ -7,7 +7,7 @@ Coulomb friction (:mod:`.friction`), on a reduction chosen by a strategy
 and verify every answer (:mod:`.verify`); two bodies become a nodewise
 problem (:mod:`.two_body`). The public front is :func:`solver.solve`."""
 
-from .engine import SerialEngine
+from .engine import IterativeEngine, SerialEngine
 from .friction.driver import (COULOMB, FORMULATIONS, default_method,
                               run_friction)
 from .friction.system import FrictionSystem
@@ -18,7 +18,7 @@ from .result import ContactResult
 from .strategies.floating import check_load as check_floating_load
 from .two_body import TwoBodyMap
 
-__all__ = ["SerialEngine", "GAP_MODES", "ContactGeometry",
+__all__ = ["SerialEngine", "IterativeEngine", "GAP_MODES", "ContactGeometry",
            "contact_geometry", "FrictionlessSystem", "FrictionSystem",
            "run_frictionless", "run_friction", "default_method", "FORMULATIONS",
            "COULOMB",

@@ -7,11 +7,13 @@ RKRᵀ condensed onto candidate normal DOFs
 (:meth:`~SerialEngine.normal_condensation`) or the full system's Jacobian
 (:meth:`~SerialEngine.full_jacobian`). :class:`SerialEngine` runs in this
 process on a :mod:`solver.linalg` backend,
-:class:`solver.mpi.engine.PetscEngine` on the ranks of ``mpiexec``."""
+:class:`IterativeEngine` in this process by AMG-preconditioned CG (no
+factorisation), :class:`solver.mpi.engine.PetscEngine` on the ranks of
+``mpiexec``."""
 
 from ..linalg import Condensation, resolve
 
-__all__ = ["SerialEngine"]
+__all__ = ["SerialEngine", "IterativeEngine"]
 
 
 class SerialEngine:
@@ -52,3 +54,49 @@ class SerialEngine:
     def summary(self):
         """Nothing to report beyond ``linear_solver``."""
         return None
+
+
+class IterativeEngine:
+    """The linear algebra in this process without a factorisation of K:
+    one smoothed-aggregation hierarchy of K (:mod:`solver.linalg.amg`)
+    preconditions CG on every Newton system of the frictionless active set
+    method (:mod:`.frictionless.active_set`). ``reason``: why it runs (the
+    choice of ``backend="auto"``, or None when asked for by name)."""
+
+    name = "serial"
+    iterative = True
+    backend = linear_solver = "amg"
+
+    def __init__(self, reason=None):
+        from ..linalg import amg
+
+        if not amg.available():
+            from ..errors import SolverError
+
+            raise SolverError(f"linear solver 'amg' is not installed: pip "
+                              f"install 'contact-ssn[{amg.EXTRA}]' "
+                              f"({amg.REQUIRES})")
+        self.reason = reason
+        self._built = None  # (K, Multigrid)
+
+    def multigrid(self, problem):
+        """The AMG hierarchy of ``problem.K`` with its rigid-body modes
+        (built once per K)."""
+        from ..linalg.amg import Multigrid, rigid_body_modes
+        from ..linalg.threads import single_blas_thread
+
+        if self._built is None or self._built[0] is not problem.K:
+            modes = rigid_body_modes(problem.nodes[problem.dof_map[:, 0]],
+                                     problem.dof_map[:, 1])
+            with single_blas_thread():  # its dense parts are small
+                self._built = (problem.K, Multigrid(problem.K, modes))
+        return self._built[1]
+
+    def summary(self):
+        """The hierarchy: levels, operator complexity, setup time."""
+        if self._built is None:
+            return None
+        mg = self._built[1]
+        return dict(name="amg", levels=mg.levels,
+                    operator_complexity=mg.operator_complexity,
+                    setup_time=mg.setup_time)

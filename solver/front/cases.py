@@ -15,9 +15,10 @@ import numpy as np
 
 from ..contact import COULOMB, FORMULATIONS, GAP_MODES, default_method
 from ..errors import SolverError
-from ..linalg import BACKENDS
+from ..linalg import BACKENDS, ITERATIVE
 
-__all__ = ["Case", "Rule", "RULES", "DEFAULTS", "METHODS", "SYSTEMS",
+__all__ = ["Case", "Rule", "RULES", "AMG_REFUSALS", "auto_eligible",
+           "DEFAULTS", "METHODS", "SYSTEMS",
            "STARTS", "ENGINES", "KSPS", "VARIANTS", "case_of", "given_options",
            "resolve", "check_geometry_rules", "support_table"]
 
@@ -128,11 +129,37 @@ def _frictionless_only(name):
                 lambda c, s, g: name in g and c.contact == "friction")
 
 
+def _amg(where, reason, applies):
+    return Rule("backend", where, reason,
+                lambda c, s, g: s["backend"] == "amg" and applies(c, s, g),
+                "backend='amg'")
+
+
+#: What the iterative path (backend="amg": the active set method, its
+#: Newton systems by AMG-preconditioned CG) does not do yet.
+AMG_REFUSALS = (
+    ("friction", "friction's Newton systems are not symmetric (GMRES on "
+     "them is not built yet); use a factorisation",
+     lambda c, s, g: c.contact == "friction"),
+    ("two bodies, discrete problems", "its near-null space is the "
+     "rigid-body modes of one meshed body against a rigid obstacle",
+     lambda c, s, g: c.bodies != "rigid"),
+    ("system='condensed'", "it iterates on the full primal system; "
+     "condensing onto Γc factorises K",
+     lambda c, s, g: s["system"] == "condensed"),
+    ("method='fb'", "the active set method is semismooth Newton with "
+     "φ_min", lambda c, s, g: s["method"] != "min"),
+    ("options", "they tune the damped Newton's line search; the active "
+     "set method takes full steps", lambda c, s, g: "options" in g),
+)
+
+
 #: The refused combinations, checked in order (the first that applies is
 #: reported).
 RULES = tuple(
     [_friction_only(n) for n in FRICTION_ONLY]
     + [_frictionless_only(n) for n in FRICTIONLESS_ONLY]
+    + [_amg(*refusal) for refusal in AMG_REFUSALS]
     + [
         Rule("gap", "two bodies, discrete problems",
              "gap chooses how the gaps to a rigid obstacle are found; this "
@@ -192,7 +219,7 @@ RULES = tuple(
              "LU (backend='superlu' or backend='auto'); the other backends "
              "factorise K for the condensed system",
              lambda c, s, g: not s["condense"] and c.engine == "serial"
-             and s["backend"] not in ("auto", "superlu"),
+             and s["backend"] not in ("auto", "superlu", "amg"),
              "backend='pardiso' or 'cholmod'"),
         Rule("backend", "the petsc engine",
              "the petsc engine factorises with MUMPS; backend chooses the "
@@ -260,7 +287,7 @@ def resolve(case, options):
         _choice("gap", s["gap"], GAP_MODES)
     if case.bodies == "rigid":
         s["gap"] = s["gap"] or "obstacle"
-    _choice("backend", s["backend"], ("auto",) + BACKENDS)
+    _choice("backend", s["backend"], ("auto",) + BACKENDS + ITERATIVE)
     if s["ksp"] is not None:
         _choice("ksp", s["ksp"], KSPS)
     if s["variant"] is not None:
@@ -273,6 +300,8 @@ def resolve(case, options):
     s["condense"] = {"auto": not thesis, "condensed": True,
                      "full": False}[s["system"]]
     floating = case.support == "floating"
+    if s["backend"] == "amg" and s["system"] == "auto":
+        s["condense"] = False  # the active set method's full system
     if s["candidates"] is None:
         s["candidates"] = s["condense"] and not floating and (
             (case.dim == 3 and not thesis) if friction
@@ -303,6 +332,19 @@ def resolve(case, options):
     if case.engine == "petsc" and not s["condense"]:
         s["ksp"] = s["ksp"] or "mumps"
     return s
+
+
+def auto_eligible(case, given):
+    """Whether ``backend="auto"`` may choose the iterative path for this
+    call: a frictionless rigid-obstacle problem on the serial engine with
+    none of the options that path refuses (:data:`AMG_REFUSALS`) or that
+    need the condensed system."""
+    return (case.contact == "frictionless" and case.bodies == "rigid"
+            and case.engine == "serial" and given["backend"] == "auto"
+            and given["method"] in (None, "min")
+            and given["system"] == "auto"
+            and all(given[name] is None for name in (
+                "start", "candidates", "margin", "options")))
 
 
 def _check_numbers(s):

@@ -12,10 +12,12 @@ variables, and hands them to a driver
 
 import time
 
-from ..contact import SerialEngine, TwoBodyMap, contact_geometry
+from ..contact import (IterativeEngine, SerialEngine, TwoBodyMap,
+                       contact_geometry)
 from ..contact.friction.driver import check_friction
 from ..errors import SolverError
-from .cases import DEFAULTS, case_of, check_geometry_rules, resolve
+from .cases import (DEFAULTS, auto_eligible, case_of, check_geometry_rules,
+                    resolve)
 
 __all__ = ["solve", "prepare", "Plan", "solve_frictionless",
            "solve_friction", "solve_two_body", "make_engine"]
@@ -60,7 +62,11 @@ def solve(problem, *, friction=None, method=None, system="auto", start=None,
         body's normals (§2.1.2-2.1.3).
     backend, engine, ksp
         The serial engine's sparse solver ("auto", "superlu", "pardiso",
-        "cholmod"); "petsc" for the PETSc engine under ``mpiexec`` (inside
+        "cholmod"), or "amg": no factorisation, the active set method on
+        the full system with AMG-preconditioned CG (frictionless, one body
+        against a rigid obstacle; "auto" takes it when CHOLMOD's estimate
+        of the factor exceeds the memory, and ``linear_solver_reason``
+        says why); "petsc" for the PETSc engine under ``mpiexec`` (inside
         :func:`solver.mpi.engine.spmd`; docs/mpi.md) or an engine object; its
         full system's Newton systems by "mumps" or CG + "gamg".
     tol, max_iter : float, int
@@ -161,6 +167,9 @@ class Plan:
         summary = self.engine.summary()
         if summary is not None:
             result["engine"] = summary
+        reason = s.get("linear_solver_reason")
+        if reason is not None:
+            result["linear_solver_reason"] = reason
         result.update(geometry_time=self.geometry_time,
                       time=self.geometry_time + time.perf_counter() - clock)
         return result
@@ -181,6 +190,10 @@ def prepare(problem, **options):
     friction = given["friction"]
     case = case_of(problem, friction, given["engine"])
     settings = resolve(case, given)
+    if auto_eligible(case, given) and problem.kind == "mesh":
+        settings = _choose_path(problem, case, given, settings)
+    if settings["backend"] == "amg":
+        settings.setdefault("linear_solver_reason", "backend='amg' given")
     if friction is not None:
         check_friction(problem, friction, given["steps"])
     engine = make_engine(given["engine"], settings)
@@ -198,10 +211,27 @@ def prepare(problem, **options):
         if mapping is not None:
             mapping.mark_uncovered(geometry)
     check_geometry_rules(case, settings, geometry)
-    if not settings["condense"] and case.engine == "serial":
+    if not settings["condense"] and case.engine == "serial" \
+            and settings["backend"] != "amg":  # CG reports a K not SPD
         target.check_stiffness()  # before anything is written
     return Plan(problem, case, settings, engine, geometry, mapping, target,
                 clock)
+
+
+def _choose_path(problem, case, given, settings):
+    """``backend="auto"``: the iterative path when a factorisation of K
+    would not fit the memory (:func:`solver.linalg.amg.direct_fits`) and
+    pyamg is installed; ``linear_solver_reason`` says why."""
+    from ..linalg import amg
+
+    fits, reason = amg.direct_fits(problem.K)
+    if not fits and amg.available():
+        settings = resolve(case, dict(given, backend="amg"))
+    elif not fits:
+        reason += (f" (not installed: pip install "
+                   f"'contact-ssn[{amg.EXTRA}]'; factorising)")
+    settings["linear_solver_reason"] = reason
+    return settings
 
 
 def _warn_excluded(problem, result):
@@ -251,6 +281,9 @@ def _chain(first, then):
 def make_engine(engine, settings):
     """The engine object of ``engine`` ("serial", "petsc", None or an
     engine object)."""
+    if (engine is None or engine == "serial") \
+            and settings["backend"] == "amg":
+        return IterativeEngine(settings.get("linear_solver_reason"))
     if engine is None or engine == "serial":
         return SerialEngine(settings["backend"])
     if engine == "petsc":

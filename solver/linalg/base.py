@@ -23,7 +23,8 @@ import numpy as np
 
 from ..errors import ProblemError, SolverError
 
-__all__ = ["PIVOT_RTOL", "BACKENDS", "AUTO_ORDER", "Factor", "check_pivots",
+__all__ = ["PIVOT_RTOL", "BACKENDS", "ITERATIVE", "AUTO_ORDER", "Factor",
+           "check_pivots",
            "available_backends", "get_backend", "resolve", "factorize"]
 
 #: A pivot below this fraction of the largest counts as zero.
@@ -31,6 +32,10 @@ PIVOT_RTOL = 1e-10
 
 #: Every backend, by name (module ``solver.linalg.<name>``).
 BACKENDS = ("superlu", "pardiso", "cholmod")
+
+#: The iterative path, by name (:mod:`solver.linalg.amg`; no factorisation,
+#: so not a backend of :func:`factorize`).
+ITERATIVE = ("amg",)
 
 #: ``auto`` picks the first installed of these (fastest first).
 AUTO_ORDER = ("pardiso", "cholmod", "superlu")

@@ -15,7 +15,7 @@ import threading
 
 import numpy as np
 
-__all__ = ["trailing_block", "solve_columns"]
+__all__ = ["trailing_block", "solve_columns", "supernodal_size"]
 
 _size, _ptr, _int = ctypes.c_size_t, ctypes.c_void_p, ctypes.c_int
 
@@ -52,6 +52,16 @@ def _factor(F):
         return None, None
     pointer = api.PyCapsule_GetPointer(F, name)
     return _Factor.from_address(pointer), pointer
+
+
+def supernodal_size(F):
+    """The number of values of the supernodal factor F (``xsize``; known
+    after ``cholmod.symbolic``), or None if F is not a supernodal CHOLMOD
+    factor."""
+    struct, _ = _factor(F)
+    if struct is None or not struct.is_super:
+        return None
+    return int(struct.xsize)
 
 
 def trailing_block(F, order, m):

@@ -95,6 +95,8 @@ def summary_of(result, problem, tol=None, **extra):
         "gap": result.gap_mode,
         "system": "condensed" if result.get("condensed") else "full",
         "linear_solver": result.get("linear_solver"),
+        # why backend "auto" took this path (None: no estimate was needed)
+        "linear_solver_reason": result.get("linear_solver_reason"),
         "status": "converged" if result.success else "not_converged",
         "converged": bool(result.success),
         "ncp_status": int(result.status),
@@ -123,6 +125,9 @@ def summary_of(result, problem, tol=None, **extra):
         "line_search_failures": int(sum(history["line_search_failed"])),
         "gradient_steps": int(sum(s == "gradient" for s in history["step"])),
         "gap_scale": float(result.gap_scale),
+        # the iterative path: CG iterations in all and per Newton system
+        "krylov_iterations": result.get("krylov"),
+        "krylov_per_system": list(history.get("krylov", [])) or None,
         "start": result.get("start", "zero"),
         # nested start: per level, coarsest first (n_nodes, nit, njev, nfev,
         # success, time); the counts above include them all

@@ -116,6 +116,11 @@ def _force_lines(summary):
 
 
 def _system_text(summary):
+    if summary.get("linear_solver") == "amg":
+        krylov = summary.get("krylov_per_system") or []
+        return ("full primal system, active set method, AMG-preconditioned "
+                f"CG ({summary.get('krylov_iterations')} CG iterations, "
+                f"at most {max(krylov, default=0)} per Newton system)")
     if summary["system"] == "full":
         return ("full (the thesis's, in all unknowns)"
                 if _table1_applies(summary) else "full (in all unknowns)")
@@ -135,6 +140,15 @@ def _system_text(summary):
                  f"{levels[0]['n_nodes']}..{levels[-1]['n_nodes']} contact "
                  f"nodes; J per level {[lv['njev'] for lv in levels]}")
     return text
+
+
+def _reason_text(summary):
+    """The linear solver and why, when ``auto`` estimated the factor's
+    memory or ``amg`` was given (empty otherwise)."""
+    reason = summary.get("linear_solver_reason")
+    if not reason:
+        return []
+    return [f"linear solver     {summary['linear_solver']} ({reason})"]
 
 
 def _nodes(count):
@@ -208,6 +222,7 @@ def format_result(summary, outdir):
         f"evaluations       J {summary['n_jacobian']}, F "
         f"{summary['n_residual']}" + _counts_note(summary),
         f"system            {_system_text(summary)}",
+        *_reason_text(summary),
         f"stopping test     {stopping_text(summary)}",
         f"final ||Phi||     {_e(summary['residual'])}",
         *verification_text(summary),

@@ -9,12 +9,16 @@ semismooth Newton, its answer verified and reported over every node of Γc
   the Newton iterations on the full Γc at a fixed small number.
 * 3D default: condensed onto the *normal* DOF of *candidate* nodes only
   (:mod:`solver.contact.strategies.candidates`), from the free start λ = 0.
-* ``condense=False``: the thesis's system in all Ñ unknowns."""
+* ``condense=False``: the thesis's system in all Ñ unknowns.
+* An iterative engine (``backend="amg"``): the active set method on the
+  full primal system, its Newton systems by AMG-preconditioned CG
+  (:mod:`.active_set`), nothing factorised."""
 
 import time
 
 import numpy as np
 import scipy.sparse.linalg as sla
+from scipy.optimize import OptimizeResult
 
 from ...ncp import MESSAGES, solve_ncp, stable_norm
 from ..geometry import contact_stiffness
@@ -58,13 +62,23 @@ def run_frictionless(problem, geometry, engine, method="min", tol=1e-10,
     clock = time.perf_counter()
     load_norm = stable_norm(problem.f)
     stiffness = contact_stiffness(problem.K, geometry)
-    if gap_scale is None:
-        gap_scale = stiffness if condense else 1.0
+    iterative = getattr(engine, "iterative", False)
+    if gap_scale is None:  # the active set method's c = k̄: unit-free
+        gap_scale = stiffness if condense or iterative else 1.0
     if condense:  # c = k̄ and (26) unit-free: iterates independent of units
         options = unit_free_options(method, options, load_norm, stiffness,
                                     geometry.gap)
     screening, iterate = None, None
-    if candidates:
+    if iterative:
+        from .active_set import solve_active_set
+
+        result, lam_free, un_free = solve_active_set(
+            problem, geometry, engine.multigrid(problem), tol, max_iter, x0,
+            gap_scale, stiffness, load_norm)
+        result = OptimizeResult(result)
+        u = result.x
+        linear_solver, name = engine.linear_solver, "none"
+    elif candidates:
         from ..strategies.candidates import solve_on_candidates
 
         result, u, lam_free, un_free, screening = solve_on_candidates(

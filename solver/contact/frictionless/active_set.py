@@ -1,0 +1,145 @@
+r"""The frictionless system (67) on the full primal system, by the
+primal–dual active set method with inexact Newton systems solved by
+AMG-preconditioned projected CG: the iterative path (``backend="amg"``),
+which factorises nothing mesh-sized.
+
+Semismooth Newton with φ_min on (67) *is* the primal–dual active set method
+(Hintermüller, Ito & Kunisch, SIAM J. Optim. 13, 2002; for contact Hüeber,
+Stadler & Wohlmuth, SISC 30, 2008): at the iterate u with normal contact
+forces λ = −Y(RKu − Rf) (:mod:`.system`) the active set is
+
+.. math::  A = \{ i : λ_i − c (s_i − u_{n,i}) > 0 \},
+
+and the Newton step solves K u = f − C_Aᵀ λ_A with u_n = s on A and λ = 0
+off A, C the normal rows of R. Eliminating λ_A leaves the SPD problem
+P_A K u = P_A f on the affine set C_A u = s_A
+(:func:`solver.linalg.amg.projected_cg`); λ follows from u. Every Newton
+system is solved with the one AMG hierarchy of K (built once per solve),
+warm-started from the previous u moved onto the new constraints.
+
+Inexact Newton: while the active set changes, the system is solved to
+‖P_A(f − Ku)‖ ≤ η_k·err_k with Eisenstat & Walker's (SISC 17, 1996)
+choice 2, η_k = γ (err_k / err_{k−1})², safeguarded by γη_{k−1}² when that
+exceeds 0.1 and capped at :data:`ETA_MAX`; once the active set repeats,
+the system is the last one (unless a sign is wrong) and is solved to
+:data:`FINAL_FRACTION` of the stopping test's bound. The stopping test and
+the verification are those of every other path
+(:mod:`solver.contact.verify`)."""
+
+import time
+
+import numpy as np
+
+from ...linalg.amg import projected_cg
+from ...linalg.threads import single_blas_thread
+from ...ncp import MESSAGES, stable_norm
+from ..geometry import rotation
+from ..verify import force_scale
+
+__all__ = ["solve_active_set", "ETA_MIN", "ETA_MAX", "ETA_GAMMA", "FINAL_FRACTION",
+           "KRYLOV_MAX"]
+
+#: η_0 and the cap of the forcing terms.
+ETA_MAX = 0.1
+#: The floor of the forcing terms while the active set changes: a system
+#: whose active set is still wrong is not worth solving more accurately.
+ETA_MIN = 0.01
+#: γ of Eisenstat–Walker's choice 2.
+ETA_GAMMA = 0.9
+#: The last Newton system is solved to this fraction of tol·F.
+FINAL_FRACTION = 0.5
+#: CG iterations at most per Newton system.
+KRYLOV_MAX = 2000
+
+
+def solve_active_set(problem, geometry, multigrid, tol, max_iter, x0,
+                     gap_scale, stiffness, load_norm):
+    """Solve (67) for ``problem`` (its reduced K, f) and the contact
+    ``geometry`` by the active set method of the module, with the
+    preconditioner ``multigrid`` (a V-cycle of K), from ``x0`` (None: u =
+    0) and c = ``gap_scale``. Returns (result, λ, u_n): the NCP result
+    fields (``x``, ``success``, ``status``, ``message``, ``nit``, ``njev``
+    = Newton systems solved, ``nfev``, ``history`` with ``krylov`` per
+    system, ``krylov`` in total, ``stopping``) and the answer's normal
+    forces and displacements at the nodes of ``geometry``."""
+    with single_blas_thread():  # vectors: BLAS threads only spin
+        return _iterate(problem, geometry, multigrid, tol, max_iter, x0,
+                        gap_scale, stiffness, load_norm)
+
+
+def _iterate(problem, geometry, multigrid, tol, max_iter, x0, gap_scale,
+             stiffness, load_norm):
+    clock = time.perf_counter()
+    K, f, s = problem.K, problem.f, geometry.gap
+    n = problem.n_dofs
+    R, _, _, normal_rows = rotation(n, geometry)
+    other = np.ones(n, bool)
+    other[normal_rows] = False
+    C = R[normal_rows].tocsr()
+    row_norm = np.asarray(C.multiply(C).sum(axis=1)).ravel()
+    u = np.zeros(n) if x0 is None else np.array(x0, float)
+    history = {k: [] for k in ("residual", "error", "merit", "alpha",
+                               "step", "active", "line_search_failed",
+                               "krylov", "forcing")}
+    previous_set, previous_error, eta = None, None, ETA_MAX
+    status, detail, njev, nfev = 1, "", 0, 0
+    while True:
+        Rr = R @ (K @ u - f)
+        E, lam = Rr[other], -Rr[normal_rows]
+        un = C @ u
+        comp = np.minimum(lam, stiffness * (s - un))
+        err = float(np.hypot(stable_norm(E), stable_norm(comp)))
+        residual = float(np.hypot(stable_norm(E), stable_norm(
+            np.minimum(lam, gap_scale * (s - un)))))
+        scale = force_scale(load_norm, lam)
+        if not np.isfinite(err) or not np.all(np.isfinite(u)):
+            status, detail = 4, "the iterate is not finite"
+            break
+        nfev += 1
+        if err <= tol * scale:
+            status = 0
+            break
+        if njev >= max_iter:
+            break
+        active = lam - gap_scale * (s - un) > 0
+        history["residual"].append(residual)  # before each Newton step
+        history["error"].append(err)
+        history["merit"].append(0.5 * residual ** 2)
+        history["active"].append(int(active.sum()))
+        final = previous_set is not None and np.array_equal(active,
+                                                            previous_set)
+        if previous_error is not None and not final:
+            eta_new = ETA_GAMMA * (err / previous_error) ** 2
+            if ETA_GAMMA * eta ** 2 > 0.1:
+                eta_new = max(eta_new, ETA_GAMMA * eta ** 2)
+            eta = min(max(eta_new, ETA_MIN), ETA_MAX)
+        floor = FINAL_FRACTION * tol * scale
+        atol = floor if final else max(eta * err, floor)
+        rows = np.flatnonzero(active)
+        CA = C[rows]
+        start = u + CA.T @ ((s[rows] - un[rows]) / row_norm[rows])
+        krylov = projected_cg(K, f, multigrid, start, CA, atol=atol,
+                              maxiter=KRYLOV_MAX)
+        njev += 1
+        history["step"].append(float(np.linalg.norm(krylov.x - u)))
+        history["alpha"].append(1.0)
+        history["line_search_failed"].append(False)
+        history["krylov"].append(krylov.iterations)
+        history["forcing"].append(atol / err if err > 0 else 0.0)
+        u = krylov.x
+        previous_set, previous_error = active, err
+        if not krylov.converged:
+            status, detail = 5, (f"CG did not reach its tolerance in "
+                                 f"{krylov.iterations} iterations")
+            break
+    message = MESSAGES[status] + (f": {detail}" if detail else "")
+    result = dict(
+        x=u, success=status == 0, status=status, message=message,
+        nit=njev, njev=njev, nfev=nfev, residual=residual, error=err,
+        method="min",
+        krylov=int(sum(history["krylov"])), history=history, levels=[],
+        stopping=dict(test="error(x) ≤ tol·scale(x)", tol=float(tol),
+                      scale=float(scale), absolute=float(err),
+                      relative=float(err / scale) if scale > 0 else 0.0),
+        time=time.perf_counter() - clock)
+    return result, lam, un

@@ -1,0 +1,222 @@
+r"""Algebraic multigrid for K: the iterative path beside the factorisations.
+
+Smoothed aggregation (Vaněk, Mandel & Brezina, Computing 56, 1996) by
+pyamg (``pip install '.[amg]'``; MIT licence), built once on the reduced
+stiffness K with the rigid-body modes as near-null space (Wiesner, Mayr,
+Popp, Gee & Wall, IJNME 122, 2021, use the same for mortar contact): the
+d translations and the d(d − 1)/2 infinitesimal rotations ω × (x − x̄),
+evaluated at the node of every reduced DOF (3 modes in 2D, 6 in 3D). One
+V-cycle is the preconditioner of conjugate gradients.
+
+The contact systems it serves are K restricted to an affine set: on an
+active set A of contact nodes the normal displacements are prescribed,
+C_A u = s_A, with C_A the normal rows of the rotation R (one row per node,
+disjoint supports, so C_A C_Aᵀ = D diagonal). :func:`projected_cg` solves
+
+.. math::  P K u = P f, \quad C_A u = s_A, \qquad P = I − C_A^T D^{-1} C_A,
+
+by CG on the range of the orthogonal projector P with the preconditioner
+P M P (M the V-cycle): PKP is SPD on that range, so CG applies (the
+projected CG of constrained quadratic programs; Dostál, *Optimal quadratic
+programming algorithms*, Springer 2009, §5.9). P costs one sparse product
+with C_A; nothing mesh-sized is factorised.
+
+:func:`factor_memory` estimates, before anything is factorised, the bytes
+a Cholesky factor of K would take from CHOLMOD's symbolic analysis (its
+fill-reducing ordering and the supernodal column counts), so that
+``backend="auto"`` can choose this path when a factorisation would not fit
+the memory."""
+
+import time
+
+import numpy as np
+import scipy.sparse as sp
+
+__all__ = ["NAME", "EXTRA", "REQUIRES", "LICENCE", "available",
+           "rigid_body_modes", "Multigrid", "projected_cg", "KrylovResult",
+           "factor_memory", "available_memory", "direct_fits",
+           "FACTOR_OVERHEAD", "MEMORY_SHARE"]
+
+NAME, EXTRA, REQUIRES = "amg", "amg", "pyamg>=5.2"
+LICENCE = "MIT (pyamg)"
+
+
+def available():
+    """Whether pyamg imports."""
+    try:
+        import pyamg  # noqa: F401
+    except ImportError:
+        return False
+    return True
+
+
+def rigid_body_modes(points, components):
+    """The rigid-body modes at the reduced DOFs, shape (n, 3) in 2D or
+    (n, 6) in 3D: ``points`` (n, d) the coordinates of each DOF's node,
+    ``components`` (n,) its direction 0..d−1. Columns: the d translations
+    e_k, then the rotations ω × (x − x̄) about the axes (2D: about z),
+    x̄ the centroid (it keeps the columns well conditioned)."""
+    points = np.asarray(points, float)
+    comp = np.asarray(components, np.int64)
+    n, d = points.shape
+    x = points - points.mean(axis=0)
+    modes = [(comp == k).astype(float) for k in range(d)]
+    if d == 2:
+        modes.append(np.where(comp == 0, -x[:, 1], x[:, 0]))
+    else:
+        # ω = e_x: (0, −z, y); ω = e_y: (z, 0, −x); ω = e_z: (−y, x, 0)
+        for a in range(3):
+            b, c = (a + 1) % 3, (a + 2) % 3
+            modes.append(np.where(comp == b, -x[:, c],
+                                  np.where(comp == c, x[:, b], 0.0)))
+    return np.column_stack(modes)
+
+
+class Multigrid:
+    """One smoothed-aggregation hierarchy of the SPD K (module docstring)
+    with the near-null space ``modes`` (:func:`rigid_body_modes`):
+    ``levels``, ``operator_complexity``, ``setup_time``; calling it applies
+    one V-cycle (the preconditioner M ≈ K⁻¹)."""
+
+    def __init__(self, K, modes):
+        import pyamg
+
+        clock = time.perf_counter()
+        K = sp.csr_matrix(K)
+        self._ml = pyamg.smoothed_aggregation_solver(
+            K, B=np.ascontiguousarray(modes), symmetry="hermitian",
+            max_coarse=300, coarse_solver="splu")
+        self._cycle = self._ml.aspreconditioner(cycle="V")
+        self.levels = len(self._ml.levels)
+        self.operator_complexity = float(self._ml.operator_complexity())
+        self.setup_time = time.perf_counter() - clock
+        self.n = K.shape[0]
+
+    def __call__(self, r):
+        return self._cycle @ r
+
+
+class KrylovResult:
+    """What :func:`projected_cg` did: ``x``, ``iterations``,
+    ``converged``, ``residual`` ‖P(f − Kx)‖₂ at the end."""
+
+    def __init__(self, x, iterations, converged, residual):
+        self.x, self.iterations = x, iterations
+        self.converged, self.residual = converged, residual
+
+
+def projected_cg(K, f, precondition, x0, C=None, atol=0.0, maxiter=None):
+    """Solve P K x = P f on {x : C x = C x0} by preconditioned CG (module
+    docstring); ``x0`` must already satisfy the constraints (the warm
+    start), ``C`` (m, n) sparse rows with disjoint supports (None: no
+    constraint, plain PCG). Stops when ‖P(f − Kx)‖₂ ≤ ``atol`` or after
+    ``maxiter`` iterations (default n)."""
+    x = np.array(x0, float)
+    if C is not None and C.shape[0]:
+        C = sp.csr_matrix(C)
+        d_inv = 1.0 / np.asarray(C.multiply(C).sum(axis=1)).ravel()
+
+        def project(v):
+            return v - C.T @ (d_inv * (C @ v))
+    else:
+        def project(v):
+            return v
+    maxiter = K.shape[0] if maxiter is None else int(maxiter)
+    r = project(f - K @ x)
+    norm = float(np.linalg.norm(r))
+    if norm <= atol:
+        return KrylovResult(x, 0, True, norm)
+    z = project(precondition(r))
+    p = z.copy()
+    rz = float(r @ z)
+    for k in range(1, maxiter + 1):
+        q = project(K @ p)
+        pq = float(p @ q)
+        if not pq > 0:  # breakdown: p in the kernel (cannot happen on SPD)
+            return KrylovResult(x, k, False, norm)
+        alpha = rz / pq
+        x += alpha * p
+        r -= alpha * q
+        norm = float(np.linalg.norm(r))
+        if norm <= atol:
+            return KrylovResult(x, k, True, norm)
+        z = project(precondition(r))
+        rz, rz_old = float(r @ z), rz
+        p *= rz / rz_old
+        p += z
+    return KrylovResult(x, maxiter, False, norm)
+
+
+def factor_memory(K):
+    """The bytes of the values of a supernodal Cholesky factor of K, from
+    CHOLMOD's symbolic analysis (its ordering: AMD or METIS, whichever it
+    picks), or None if kvxopt is not installed or the analysis cannot be
+    read. Costs about one copy of K's lower triangle; nothing numeric."""
+    try:
+        from kvxopt import cholmod, matrix, spmatrix
+    except ImportError:
+        return None
+    from .cholmod_struct import supernodal_size
+
+    L = sp.tril(sp.csr_matrix(K), format="coo")
+    n = L.shape[0]
+    lower = spmatrix(matrix(np.ones(L.nnz)), matrix(L.row.astype(np.int64)),
+                     matrix(L.col.astype(np.int64)), (n, n))
+    del L
+    saved = dict(cholmod.options)
+    cholmod.options.update(supernodal=2)
+    try:
+        F = cholmod.symbolic(lower, uplo="L")
+    finally:
+        cholmod.options.clear()
+        cholmod.options.update(saved)
+    size = supernodal_size(F)
+    return None if size is None else 8 * size
+
+
+def available_memory():
+    """The bytes this machine can still give (``MemAvailable`` of
+    /proc/meminfo), or None where that file does not exist."""
+    try:
+        with open("/proc/meminfo") as meminfo:
+            for line in meminfo:
+                if line.startswith("MemAvailable:"):
+                    return 1024 * int(line.split()[1])
+    except OSError:
+        return None
+    return None
+
+
+#: A factorisation is taken to need this many times the bytes of its
+#: factor's values (index arrays, workspace, the solve's own arrays).
+FACTOR_OVERHEAD = 1.25
+
+#: The share of the available memory a factorisation may take.
+MEMORY_SHARE = 0.8
+
+
+def direct_fits(K):
+    """Whether a factorisation of K fits this machine's memory, and why
+    (a sentence, or None when no estimate was needed): the bound of a dense
+    triangle, n²/2 values, is tried first, then :func:`factor_memory`
+    (times :data:`FACTOR_OVERHEAD`, plus K), against
+    :data:`MEMORY_SHARE` of :func:`available_memory`."""
+    n = K.shape[0]
+    free = available_memory()
+    if free is None:
+        return True, "auto: the available memory is unknown, so factorise"
+    budget = MEMORY_SHARE * free
+    if 8 * FACTOR_OVERHEAD * n * (n + 1) / 2 <= budget:
+        return True, None
+    values = factor_memory(K)
+    if values is None:
+        return True, ("auto: no symbolic analysis (kvxopt) to estimate the "
+                      "factor's size, so factorise")
+    K = sp.csr_matrix(K)
+    need = FACTOR_OVERHEAD * values + K.data.nbytes + K.indices.nbytes
+    text = (f"a Cholesky factor of K needs ≈ {need / 1e9:.3g} GB "
+            f"(CHOLMOD's symbolic analysis), {free / 1e9:.3g} GB available")
+    if need <= budget:
+        return True, f"auto: {text}: factorise"
+    return False, (f"auto: {text}, more than {MEMORY_SHARE:.0%} of it: "
+                   "AMG-preconditioned CG instead")
