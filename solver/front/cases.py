@@ -144,6 +144,10 @@ AMG_REFUSALS = (
     ("two bodies, discrete problems", "its near-null space is the "
      "rigid-body modes of one meshed body against a rigid obstacle",
      lambda c, s, g: c.bodies != "rigid"),
+    ("a body held by contact only", "its K is singular (rigid-body "
+     "modes) and the active set method iterates on the full system; such a "
+     "body is solved on the condensed system with K⁺",
+     lambda c, s, g: c.support == "floating"),
     ("system='condensed'", "it iterates on the full primal system; "
      "condensing onto Γc factorises K",
      lambda c, s, g: s["system"] == "condensed"),
