@@ -35,7 +35,7 @@ import pytest
 import scipy.sparse as sp
 
 from solver import ParametricCurve, save_problem, solve_frictionless
-from solver.errors import ProblemError
+from solver.errors import SolverError
 from tet_elasticity import mesh_problem, rectangle, stiffness
 from test_mpi import REASON, mpirun
 
@@ -104,13 +104,19 @@ def paths(tmp_path_factory):
     return out
 
 
+#: Floating blocks (K's kernel the x translation): the serial engine
+#: solves them condensed (issue 31) and refuses their full system; the
+#: petsc engine refuses them by its pivot check.
+HELD = ("flat", "curved")
+
+
 def serial_refusal(path, condense=True):
     from solver import load_problem
 
     try:
         solve_frictionless(load_problem(path), method="min",
                            condense=condense)
-    except ProblemError as exc:
+    except SolverError as exc:
         return str(exc)
     return None
 
@@ -128,10 +134,14 @@ def test_engine_refuses_what_serial_refuses(paths, tmp_path, n):
             assert value == ["solved", True], key
             continue
         serial = serial_refusal(paths[name], system == "condensed")
-        assert serial is not None, key
         text, input_error = value
         assert input_error, value  # the CLI's exit 2
         assert text.startswith("K_data: K is not positive definite"), text
+        if name in HELD:  # issue 31: the serial engine solves these
+            assert serial is None or "held by contact only" in serial
+            assert "singular stiffness" in text or ksp == "gamg", text
+            continue
+        assert serial is not None, key
         if ksp == "gamg":  # CG tells singular from indefinite only at times
             continue
         singular = "singular stiffness" in serial

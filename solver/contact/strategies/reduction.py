@@ -82,7 +82,8 @@ class CondensedSystem:
 def reduction(problem, geometry, engine, condensed):
     """:class:`CondensedSystem` if ``condensed``, else :class:`FullSystem`;
     :class:`~.floating.FloatingSystem` for a body with rigid-body modes."""
-    if condensed and problem.kind == "mesh" and problem.floating:
+    if condensed and engine.name == "serial" and problem.kind == "mesh" \
+            and problem.floating:
         from .floating import FloatingSystem
 
         return FloatingSystem(problem, geometry, engine)
