@@ -130,17 +130,11 @@ def overlap_polygons(s2, m2):
     return np.take_along_axis(points, order[..., None], axis=1), count
 
 
-def triangle_coupling(nodes, slave, master, slave_nodes=None, search=None):
-    """The dual mortar D, M, n_j, g̃_j of slave triangles ``slave`` against
-    master triangles ``master`` (node ids, each oriented by the right-hand
-    rule to its body's outward normal; module docstring), vectorised over
-    the facing pairs of :func:`~.search.candidate_pairs` in chunks of
-    :data:`TRIANGLE_PAIR_CHUNK`; rows in the order ``slave_nodes`` (default:
-    sorted). The slave boxes are enlarged by ``search``, if given, and the
-    pairs whose master lies farther than it from the auxiliary plane left
-    out; by default facet by facet by the bound G of
-    :func:`~.search.facet_reach` on the gap along n₀, axis k by G |n₀_k|
-    (a master point X_s + g n₀ with g ≤ G lies in that box)."""
+def _interface(nodes, slave, master, slave_nodes):
+    """What both couplings start from: nodes, slave, master, slave_nodes
+    (default sorted), each node's row ``pos`` (−1 off the slave side), the
+    slave triangles' unit normals and areas, the master's unit normals, the
+    slave nodal normals and D (a third of the areas at each node)."""
     nodes = np.asarray(nodes, float)
     slave, master = np.asarray(slave, np.int64), np.asarray(master, np.int64)
     slave_nodes = np.unique(slave) if slave_nodes is None \
@@ -152,6 +146,23 @@ def triangle_coupling(nodes, slave, master, slave_nodes=None, search=None):
     normal = surface_normals(nodes, slave, slave_nodes)
     D = np.bincount(pos[slave].ravel(), np.repeat(area_s / 3, 3),
                     minlength=len(slave_nodes))
+    return nodes, slave, master, slave_nodes, pos, n_s, area_s, n_m, \
+        normal, D
+
+
+def triangle_coupling(nodes, slave, master, slave_nodes=None, search=None):
+    """The dual mortar D, M, n_j, g̃_j of slave triangles ``slave`` against
+    master triangles ``master`` (node ids, each oriented by the right-hand
+    rule to its body's outward normal; module docstring), vectorised over
+    the facing pairs of :func:`~.search.candidate_pairs` in chunks of
+    :data:`TRIANGLE_PAIR_CHUNK`; rows in the order ``slave_nodes`` (default:
+    sorted). The slave boxes are enlarged by ``search``, if given, and the
+    pairs whose master lies farther than it from the auxiliary plane left
+    out; by default facet by facet by the bound G of
+    :func:`~.search.facet_reach` on the gap along n₀, axis k by G |n₀_k|
+    (a master point X_s + g n₀ with g ≤ G lies in that box)."""
+    nodes, slave, master, slave_nodes, pos, n_s, area_s, n_m, normal, D = \
+        _interface(nodes, slave, master, slave_nodes)
     if search is None:  # the gap g along the plane's normal n₀ moves a
         # point by g |n₀_k| along axis k: the box grows by that much
         n0 = normal[pos[slave]].sum(axis=1)
@@ -227,17 +238,8 @@ def node_to_triangle(nodes, slave, master, slave_nodes=None):
     over node × triangle: the contact patch test's foil (it fails it on
     non-matching meshes; Taylor & Papadopoulos, IJNME 31 (1991) 1087), not
     for large interfaces."""
-    nodes = np.asarray(nodes, float)
-    slave, master = np.asarray(slave, np.int64), np.asarray(master, np.int64)
-    slave_nodes = np.unique(slave) if slave_nodes is None \
-        else np.asarray(slave_nodes, np.int64)
-    pos = np.full(len(nodes), -1)
-    pos[slave_nodes] = np.arange(len(slave_nodes))
-    _, area_s = triangle_areas(nodes, slave)
-    n_m, _ = triangle_areas(nodes, master)
-    normal = surface_normals(nodes, slave, slave_nodes)
-    D = np.bincount(pos[slave].ravel(), np.repeat(area_s / 3, 3),
-                    minlength=len(slave_nodes))
+    nodes, slave, master, slave_nodes, pos, _, _, n_m, normal, D = \
+        _interface(nodes, slave, master, slave_nodes)
     x = nodes[slave_nodes]                              # (ns, 3)
     a = nodes[master[:, 0]]
     e1 = nodes[master[:, 1]] - a
