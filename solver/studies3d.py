@@ -13,7 +13,7 @@ has an infinite slope, at r = a (``notebooks/three_d.ipynb``). Hertz's
 paraboloid is itself off a true sphere by O((a/R)²)
 (:func:`solver.verification.sphere_flat_contact`).
 
-The 3D two-body checks (issue 32): Hertz for two spheres, Cattaneo–
+The 3D two-body checks: Hertz for two spheres, Cattaneo–
 Mindlin's stick radius for two identical spheres, and Coulomb's law on the
 totals at full slip, each from a problem and a result of
 :func:`solver.solve`, as a dict. Forces on the model: the slave's contact
