@@ -248,7 +248,7 @@ BAD_3D = [
      "nodes: node 0 at (1e+31, 1e+31, 1e+31) is out of the supported range "
      "|x|, |y|, |z| <= 1e+30 (rescale the units)"),
     ("cells triangles", _edit("cells", lambda v: v[:, :3]),
-     "cells: expected shape (?, 4), got (48, 3)"),
+     "cells: expected shape (?, 4) or (?, 8) (tetrahedra or hexahedra), got (48, 3)"),
     ("cells float", _edit("cells", lambda v: v.astype(float)),
      "cells: expected integers, got dtype float64"),
     ("cells out of range", _edit("cells", lambda v: np.where(v == 26, 27, v)),
@@ -306,7 +306,7 @@ BAD_3D = [
     ("obstacle_surface unknown kind",
      lambda a: dict(a, obstacle_surface=np.array('{"kind": "torus"}')),
      "obstacle_surface: 'kind' must be one of plane, sphere, graph, "
-     "parametric, got 'torus'"),
+     "parametric, rectangle, several, got 'torus'"),
     ("obstacle_surface no kind",
      lambda a: dict(a, obstacle_surface=np.array('{"point": [0, 0, 0]}')),
      "obstacle_surface: 'kind' must be one of"),
