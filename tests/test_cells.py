@@ -12,12 +12,10 @@ body normals and the same patch answer; hand-made bad cells for the
 validation.
 """
 
-import sys
-
 import numpy as np
 import pytest
 
-from conftest import MESHES, ROOT
+from conftest import MESHES, ROOT, load_script
 from test_export import export_module
 
 import solver
@@ -27,8 +25,9 @@ from solver.geometry.curves.normals import boundary_normals
 from solver.geometry.surfaces.normals import surface_normals
 from solver.problem import load_problem, validate_arrays
 
-sys.path.insert(0, str(MESHES))
-import structured  # noqa: E402  (meshes/structured.py)
+# meshes/ stays off sys.path: its hertz_sphere.py would shadow the problem
+# file of that name when SfePy imports it.
+structured = load_script("_contact_ssn_structured", MESHES / "structured.py")
 
 SQUEEZED = ROOT / "sfepy_problems" / "squeezed_block.py"
 E, DELTA = 100.0, 1e-3
@@ -210,3 +209,38 @@ def test_two_body_files_refuse_quadrilaterals(quad_arrays):
     arrays = {k: v for k, v in arrays.items()
               if not k.startswith("obstacle")}
     assert _bad(arrays).startswith("cells: a two-body file")
+
+
+def test_readme_quadrilateral_rows_are_what_the_solver_counts(tmp_path):
+    """The README's quadrilateral Table 1 rows (thesis's system, u = 0)
+    and the total contact forces, on the quads and on the same nodes cut
+    into triangles."""
+    from conftest import solve_block
+
+    section = (ROOT / "README.md").read_text().split(
+        "### Quadrilaterals: Table 1 on the block", 1)[1].split("\n### ")[0]
+    rows = [[c.strip() for c in line.strip("|").split("|")]
+            for line in section.splitlines() if line.startswith("| φ")]
+    nodes, quads = structured.block(10, 20)
+    meshes = {"200 quadrilaterals": MESHES / "block_quad_200.mesh",
+              "the same nodes, 400 triangles": tmp_path / "tri.mesh"}
+    structured.write(meshes["the same nodes, 400 triangles"], nodes, quads,
+                     cut=True)
+    checked = 0
+    for name, mesh in meshes.items():
+        out = tmp_path / (mesh.stem + ".npz")
+        solve_block(mesh, out)
+        problem = load_problem(out)
+        for method, label in (("fb", "φ_FB"), ("min", "φ_min")):
+            row = next(r for r in rows if r[0] == label and r[1] == name)
+            counts = []
+            for gap in ("obstacle", "body"):
+                result = solver.solve(problem, method=method, gap=gap,
+                                      system="full")
+                assert result.success
+                counts.append(f"{result.njev} / {result.nfev}")
+                if gap == "obstacle":
+                    force = f"{np.nansum(result.contact_force):.1f}"
+            assert row[2:] == counts + [force], (row, counts, force)
+            checked += 1
+    assert checked == 4
