@@ -37,13 +37,17 @@ def check_tetrahedra(nodes, cells):
         i = int(np.argmax(flat))
         fail("cells", f"tetrahedron {i} (nodes {cells[i].tolist()}) has "
                       "zero volume")
-    negative = vol6 < 0
+    _one_orientation(vol6 < 0, cells, "tetrahedron", "tetrahedra")
+
+
+def _one_orientation(negative, cells, name, names):
+    """``cells`` error naming a cell of the smaller orientation group."""
     if negative.any() and not negative.all():
         few = negative if negative.sum() <= len(cells) / 2 else ~negative
         i = int(np.argmax(few))
-        fail("cells", f"tetrahedron {i} (nodes {cells[i].tolist()}) is "
+        fail("cells", f"{name} {i} (nodes {cells[i].tolist()}) is "
                       f"inverted: {int(few.sum())} of {len(cells)} "
-                      "tetrahedra have the other orientation")
+                      f"{names} have the other orientation")
 
 
 def _corners(nodes, cells, name):
@@ -83,13 +87,7 @@ def check_hexahedra(nodes, cells):
         fail("cells", f"hexahedron {i} (nodes {cells[i].tolist()}) is "
                       "twisted or not in VTK node order (its corners have "
                       "both orientations)")
-    negative = ~positive[:, 0]
-    if negative.any() and not negative.all():
-        few = negative if negative.sum() <= len(cells) / 2 else ~negative
-        i = int(np.argmax(few))
-        fail("cells", f"hexahedron {i} (nodes {cells[i].tolist()}) is "
-                      f"inverted: {int(few.sum())} of {len(cells)} "
-                      "hexahedra have the other orientation")
+    _one_orientation(~positive[:, 0], cells, "hexahedron", "hexahedra")
 
 
 def check_contact_faces(faces, nodes, cells, contact_nodes):
