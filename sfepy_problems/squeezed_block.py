@@ -2,8 +2,9 @@ r"""
 A block on rollers pressed by a rigid plane: the contact patch test of any
 cell kind (triangles, quadrilaterals, tetrahedra, hexahedra; issue 35).
 
-The block :math:`[0, L]^d` (the mesh's extent, d = 2 or 3) rests on rollers
-on its faces x = 0, y = 0 (and z = 0): :math:`u_x = 0`, :math:`u_y = 0`
+The block (the mesh's bounding box, of length L along x, d = 2 or 3;
+below with its lowest corner at the origin) rests on rollers on its faces
+x = 0, y = 0 (and z = 0): :math:`u_x = 0`, :math:`u_y = 0`
 (:math:`u_z = 0`) there. A rigid plane enters its face x = L by δ: the
 plane x = L − δ, the obstacle on its right. No load. The exact solution is
 uniaxial compression, :math:`\varepsilon_{xx} = -\delta/L`, all other
@@ -28,6 +29,9 @@ Usage::
       -d "mesh='meshes/box_hex_4.mesh', output='output/box_hex_4.npz'"
   python sfepy_problems/squeezed_block.py \
       -d "mesh='meshes/block_quad_200.mesh', output='output/squeezed_quad.npz'"
+
+Any box-shaped mesh will do, e.g. SfePy's own ``meshes/3d/cube_medium_hexa.mesh``
+(in the ``sfepy`` package's data folder).
 
 ``-d`` also takes ``E``, ``nu``, ``delta`` and ``verbose``.
 """
@@ -55,12 +59,14 @@ def _load_export():
     return sys.modules[name]
 
 
-def obstacle(dim, length, delta):
-    """The plane x = L − δ: a vertical line (polyline) in 2D, a plane spec
-    in 3D, its normal towards the body (−x)."""
-    x = float(length - delta)
+def obstacle(dim, low, high, delta):
+    """The plane x = x_max − δ (``low``, ``high``: the box's corners): a
+    vertical line (polyline) in 2D, a plane spec in 3D, its normal towards
+    the body (−x)."""
+    x = float(high[0] - delta)
     if dim == 2:
-        return {'points': [[x, -length], [x, 2.0 * length]]}
+        span = float(high[1] - low[1])
+        return {'points': [[x, low[1] - span], [x, high[1] + span]]}
     return {'kind': 'plane', 'point': [x, 0.0, 0.0],
             'normal': [-1.0, 0.0, 0.0]}
 
@@ -74,13 +80,13 @@ def export_contact_problem(pb, variables):
             'problem_file': 'sfepy_problems/squeezed_block.py',
             'supports': 'rollers on x = 0, y = 0' + (', z = 0' if dim == 3
                                                      else ''),
-            'contact_boundary': f'face x = {conf.L:g}'}
+            'contact_boundary': f'face x = {conf.high[0]:g}'}
     if dim == 2:
         meta['plane'] = 'strain'
     return _load_export().export_contact_problem(
         pb, variables, conf.export,
         stiffness='dw_lin_elastic.i.Omega(solid.D, v, u)', load=None,
-        obstacle=obstacle(dim, conf.L, conf.delta), meta=meta)
+        obstacle=obstacle(dim, conf.low, conf.high, conf.delta), meta=meta)
 
 
 def define(mesh='meshes/box_hex_4.mesh', output='output/box_hex_4.npz',
@@ -92,11 +98,8 @@ def define(mesh='meshes/box_hex_4.mesh', output='output/box_hex_4.npz',
     filename_mesh = op.abspath(mesh)
     coors = Mesh.from_file(filename_mesh).coors
     dim = coors.shape[1]
-    L = float(coors[:, 0].max())
-    if nm.abs(coors.min(axis=0)).max() > TOL * L:
-        raise ValueError(f'{mesh}: the block must start at the origin '
-                         '(x, y, z >= 0 with 0 attained)')
-    tol = TOL * L
+    low, high = coors.min(axis=0).tolist(), coors.max(axis=0).tolist()
+    tol = TOL * max(h - lo for lo, h in zip(low, high))
     options = {
         'output_dir': op.dirname(op.abspath(output)),
         'output_format': 'vtk',
@@ -105,15 +108,15 @@ def define(mesh='meshes/box_hex_4.mesh', output='output/box_hex_4.npz',
         'nls': 'newton',
         'ls': 'ls',
         'export': op.abspath(output),
-        'E': E, 'nu': nu, 'delta': delta, 'L': L,
+        'E': E, 'nu': nu, 'delta': delta, 'low': low, 'high': high,
     }
     axes = 'xyz'[:dim]
     regions = {'Omega': 'all',
-               'Gamma_c': (f'vertices in (x > {L - tol})', 'facet')}
+               'Gamma_c': (f'vertices in (x > {high[0] - tol})', 'facet')}
     ebcs = {}
     for k, axis in enumerate(axes):
-        regions[f'Roller_{axis}'] = (f'vertices in ({axis} < {tol})',
-                                     'facet')
+        regions[f'Roller_{axis}'] = (
+            f'vertices in ({axis} < {low[k] + tol})', 'facet')
         ebcs[f'roller_{axis}'] = (f'Roller_{axis}', {f'u.{k}': 0.0})
 
     materials = {

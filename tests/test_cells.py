@@ -244,3 +244,23 @@ def test_readme_quadrilateral_rows_are_what_the_solver_counts(tmp_path):
             assert row[2:] == counts + [force], (row, counts, force)
             checked += 1
     assert checked == 4
+
+
+def test_sfepys_own_hexahedral_cube(tmp_path):
+    """SfePy's ``meshes/3d/cube_medium_hexa.mesh`` (the mesh of its contact
+    examples, issue 35: 1000 hexahedra on [−½, ½]³) as it ships: the
+    squeezed-block pressure E δ / L to 1e-10 on all 121 nodes of Γc."""
+    import sfepy
+
+    mesh = ROOT.joinpath(sfepy.data_dir, "meshes", "3d",
+                         "cube_medium_hexa.mesh")
+    out = tmp_path / "cube.npz"
+    export_module().export_only(SQUEEZED, mesh=str(mesh), output=str(out),
+                                E=E, nu=0.3, delta=DELTA)
+    problem = load_problem(out)
+    assert problem.cells.shape == (1000, 8)
+    with pytest.warns(InitialPenetrationWarning):
+        result = solver.solve(problem)
+    assert result.success and result.n_contact == 121
+    np.testing.assert_allclose(result.contact_pressure, E * DELTA,
+                               rtol=1e-10)
