@@ -26,8 +26,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-from solver import solve  # noqa: E402
-from solver.problem import load_problem  # noqa: E402
+from solver import load_problem, solve  # noqa: E402
 from solver.studies3d import hertz_sphere_row  # noqa: E402
 
 COLUMNS = ("a/h", "DOFs", "in contact", "a moment err %", "a fit err %",
