@@ -57,7 +57,9 @@ slave chain in the segments' direction, M on the slave region, no obstacle.
 
 **2D and 3D.** The dimension d is the mesh's. Full field DOF numbers are
 ``d * node + component``, nodal arrays have d columns, the cells are SfePy's
-``'2_3'`` triangles or ``'3_4'`` tetrahedra. In 3D a problem file exports
+``'2_3'`` triangles, ``'2_4'`` quadrilaterals, ``'3_4'`` tetrahedra or
+``'3_8'`` hexahedra, one kind per mesh (:func:`mesh_cells`; issue 35), and
+the contact faces of a hexahedral mesh quadrilaterals. In 3D a problem file exports
 *without* SfePy's own solve (:func:`export_only`, or ``sfepy-run`` with the
 no-solve Newton settings :data:`NO_SOLVE`): its direct solve of the
 elasticity problem alone takes minutes at 10⁴–10⁵ DOFs, and nothing of it is
@@ -76,6 +78,7 @@ from solver.problem import ContactProblem, save_problem
 
 __all__ = ['export_contact_problem', 'obstacle_curve', 'reduced_system',
            'full_stiffness', 'stage_loads', 'contact_triangles',
+           'mesh_cells',
            'two_body_keys',
            'export_only', 'NO_SOLVE',
            'set_verbosity', 'main', 'VERBOSE_ENV']
@@ -325,7 +328,7 @@ def export_contact_problem(pb, variables, filename, *, stiffness, load=None,
     K, f, eqi, u_prescribed = reduced_system(pb, u, stiffness, load)
     dof_map = nm.stack([eqi // dim, eqi % dim], axis=1).astype(nm.int64)
 
-    cells = mesh.get_conn(f'{dim}_{dim + 1}').astype(nm.int64)
+    cells = mesh_cells(mesh)
     if mortar is not None:
         region = mortar['slave']
     gamma_c = pb.domain.regions[region]
@@ -336,7 +339,7 @@ def export_contact_problem(pb, variables, filename, *, stiffness, load=None,
     elif dim == 2:  # the vertices of Gamma_c, ordered along the boundary
         contact_nodes = order_along_boundary(gamma_c.vertices, cells,
                                              mesh.coors)
-    else:  # its triangles, outward; the nodes in increasing order
+    else:  # its triangles (quads), outward; the nodes in increasing order
         faces['contact_faces'] = contact_triangles(pb, region, cells,
                                                    mesh.coors)
         contact_nodes = nm.unique(faces['contact_faces'])
@@ -480,34 +483,58 @@ def two_body_keys(pb, mortar, cells, coors):
                 mortar_master=master)
 
 
+def mesh_cells(mesh):
+    """The cells of a SfePy mesh of one first-order kind (``2_3``, ``2_4``,
+    ``3_4``, ``3_8``) as an int64 array in SfePy's (= VTK's) node order.
+
+    Raises
+    ------
+    ValueError
+        For a mesh of several cell kinds or of another kind.
+    """
+    kinds = list(dict.fromkeys(mesh.descs))
+    if len(kinds) != 1 or kinds[0] not in ('2_3', '2_4', '3_4', '3_8'):
+        raise ValueError(f'the mesh has cells {kinds}: the export takes one '
+                         'kind of first-order cell, 2_3 or 2_4 (2D), 3_4 '
+                         'or 3_8 (3D)')
+    return mesh.get_conn(kinds[0]).astype(nm.int64)
+
+
 def contact_triangles(pb, region, cells, coors):
-    """The facets of the 3D facet region ``region`` as triangles (global
-    node ids) oriented outward: the right-hand normal (x1 − x0) × (x2 − x0)
-    points away from the one tetrahedron each facet bounds.
+    """The facets of the 3D facet region ``region`` as triangles (of
+    tetrahedra) or quadrilaterals (of hexahedra), global node ids, oriented
+    outward: the right-hand normal, (x1 − x0) × (x2 − x0) for a triangle,
+    (x2 − x0) × (x3 − x1) for a quadrilateral, points away from the centre
+    of the one cell each facet bounds.
 
     Raises
     ------
     ValueError
         If a facet of the region is not on the surface (it bounds two
-        tetrahedra).
+        cells).
     """
     cmesh = pb.domain.cmesh
     facets = pb.domain.regions[region].facets
     cmesh.setup_connectivity(2, 0)
     cmesh.setup_connectivity(2, 3)
     vertices, offsets = cmesh.get_incident(0, facets, 2, ret_offsets=True)
-    if nm.any(nm.diff(offsets) != 3):
-        raise ValueError(f'{region}: the facets are not triangles')
-    faces = nm.asarray(vertices, dtype=nm.int64).reshape(-1, 3)
+    width = 4 if cells.shape[1] == 8 else 3
+    if nm.any(nm.diff(offsets) != width):
+        raise ValueError(f'{region}: the facets are not '
+                         + ('quadrilaterals' if width == 4 else 'triangles'))
+    faces = nm.asarray(vertices, dtype=nm.int64).reshape(-1, width)
     owner, offsets = cmesh.get_incident(3, facets, 2, ret_offsets=True)
     if nm.any(nm.diff(offsets) != 1):
         raise ValueError(f'{region}: a facet bounds two cells (not on the '
                          'surface)')
-    opposite = cells[owner].sum(axis=1) - faces.sum(axis=1)
-    a = coors[faces[:, 0]]
-    normal = nm.cross(coors[faces[:, 1]] - a, coors[faces[:, 2]] - a)
-    inward = nm.einsum('ij,ij->i', normal, coors[opposite] - a) > 0
-    faces[inward] = faces[inward][:, [0, 2, 1]]
+    p = coors[faces]
+    if width == 3:
+        normal = nm.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0])
+    else:
+        normal = nm.cross(p[:, 2] - p[:, 0], p[:, 3] - p[:, 1])
+    centre = coors[cells[owner]].mean(axis=1)
+    inward = nm.einsum('ij,ij->i', normal, centre - p.mean(axis=1)) > 0
+    faces[inward] = faces[inward][:, [0] + list(range(width - 1, 0, -1))]
     return faces
 
 

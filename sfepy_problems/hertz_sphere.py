@@ -95,11 +95,12 @@ def _load_export():
 
 
 def contact_size(coors, faces, radius):
-    """Mean edge length of the triangles with a vertex within ``radius`` of
-    the z axis (the element size h at the contact)."""
+    """Mean edge length of the faces (triangles or quadrilaterals) with a
+    vertex within ``radius`` of the z axis (the element size h at the
+    contact)."""
     near = (nm.hypot(coors[faces, 0], coors[faces, 1]) < radius).any(axis=1)
     tri = coors[faces[near]]
-    edges = tri - tri[:, [1, 2, 0]]
+    edges = tri - nm.roll(tri, -1, axis=1)
     return float(nm.sqrt((edges ** 2).sum(axis=2)).mean())
 
 
@@ -128,7 +129,7 @@ def export_contact_problem(pb, variables):
         raise ValueError(f'the mesh has radius {radius:g}, but R = {R:g}: '
                          'pass R=... with -d, or another mesh')
     export = _load_export()
-    cells = pb.domain.mesh.get_conn('3_4').astype(nm.int64)
+    cells = export.mesh_cells(pb.domain.mesh)
     h = contact_size(coors, export.contact_triangles(pb, 'Gamma_c', cells,
                                                      coors), conf.a_target)
     force = conf.load == 'force'

@@ -248,7 +248,7 @@ BAD_3D = [
      "nodes: node 0 at (1e+31, 1e+31, 1e+31) is out of the supported range "
      "|x|, |y|, |z| <= 1e+30 (rescale the units)"),
     ("cells triangles", _edit("cells", lambda v: v[:, :3]),
-     "cells: expected shape (?, 4), got (48, 3)"),
+     "cells: expected shape (?, 4) or (?, 8) (tetrahedra or hexahedra), got (48, 3)"),
     ("cells float", _edit("cells", lambda v: v.astype(float)),
      "cells: expected integers, got dtype float64"),
     ("cells out of range", _edit("cells", lambda v: np.where(v == 26, 27, v)),

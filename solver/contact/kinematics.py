@@ -43,9 +43,11 @@ def element_size(problem):
     elif problem.contact_faces is None:  # built without its faces
         return np.nan
     else:
-        faces = np.asarray(problem.contact_faces)
-        edges = np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]],
-                                faces[:, [2, 0]]])
+        faces = np.asarray(problem.contact_faces)  # triangles or quads
+        if faces.ndim != 2:
+            return np.nan
+        edges = np.stack([faces, np.roll(faces, -1, axis=1)],
+                         axis=-1).reshape(-1, 2)
     if not len(edges):
         return np.nan
     return float(np.median(np.linalg.norm(x[edges[:, 1]] - x[edges[:, 0]],

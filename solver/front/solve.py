@@ -262,13 +262,14 @@ def _warn_excluded(problem, result):
 
 def _warn_kinematics(result):
     """A :class:`~solver.errors.KinematicsWarning` for each breach of the
-    model's kinematic assumptions (:mod:`solver.contact.kinematics`) by
-    an answer (a run that failed has its own message)."""
+    model's kinematic assumptions (:mod:`solver.contact.kinematics`), for
+    a converged answer only: a failed solve says why in its one error line
+    (its breaches stay in ``verification['kinematics']``)."""
     import warnings
 
     from ..errors import KinematicsWarning
 
-    if not result.get("success"):
+    if not result.get("success", False):
         return
     for message in (result.get("verification") or {}).get("kinematics", []):
         warnings.warn(message, KinematicsWarning, stacklevel=3)

@@ -1,16 +1,20 @@
-"""Topology of triangle meshes: boundary edges and the order of nodes on
-Γc, which problem files store ordered along Γc (the thesis's spline of
+"""Topology of 2D meshes (triangles or quadrilaterals, cut into triangles
+by :func:`solver.geometry.cells.simplices`, which keeps the boundary):
+boundary edges and the order of nodes on Γc, which problem files store ordered along Γc (the thesis's spline of
 §2.1.3 runs through consecutive contact nodes); vectorised over the mesh."""
 
 import numpy as np
+
+from .cells import simplices
 
 __all__ = ["boundary_edges", "order_along_boundary", "is_boundary_chain"]
 
 
 def boundary_edges(cells):
-    """Edges that belong to exactly one triangle of ``cells`` (n, 3): an
-    int64 array of rows ``(a, b)``, ``a < b``, in lexicographic order."""
-    cells = np.asarray(cells, dtype=np.int64)
+    """Edges that belong to exactly one triangle (quadrilateral) of
+    ``cells`` (n, 3) or (n, 4): an int64 array of rows ``(a, b)``,
+    ``a < b``, in lexicographic order."""
+    cells = simplices(cells, 2)
     edges = np.concatenate([cells[:, [0, 1]], cells[:, [1, 2]],
                             cells[:, [2, 0]]])
     edges.sort(axis=1)

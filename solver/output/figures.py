@@ -8,10 +8,11 @@ were built in those units, as ``sfepy_problems/`` does."""
 
 import numpy as np
 
+from ..geometry.cells import cell_edges
 from ..geometry.mesh import boundary_edges
 from .scene import moved_obstacle, obstacle_in_box
 
-__all__ = ["UNITS", "magnification", "carries_load", "zoom_window",
+__all__ = ["UNITS", "draw_mesh", "magnification", "carries_load", "zoom_window",
            "zoomed_axes", "finish_overview", "plot_deformed",
            "plot_displacement_arrows", "step_halvings", "plot_convergence",
            "plot_contact_pressure", "write_jobs", "write_figures"]
@@ -25,6 +26,17 @@ UNITS = ("lengths in mm, forces in N and pressures in MPa = N/mm², "
 #: should appear as (:func:`magnification`).
 TARGET_FRACTION = 0.12
 
+
+
+def draw_mesh(ax, xy, cells, **style):
+    """The edges of the 2D cells (triangles or quadrilaterals) at the
+    positions ``xy`` on ``ax``, as one LineCollection (``style``: its
+    color, lw, ...)."""
+    from matplotlib.collections import LineCollection
+
+    edges = cell_edges(cells, 2)
+    ax.add_collection(LineCollection(np.asarray(xy)[edges], **style))
+    ax.autoscale_view()
 
 def pyplot():
     """pyplot, on the Agg backend unless the caller (a notebook) already
@@ -133,7 +145,7 @@ def plot_deformed(problem, result, scale=None, path=None, title=None):
     outline = boundary_edges(problem.cells)
     ax.add_collection(LineCollection(nodes[outline], colors="0.55", lw=1.0,
                                      linestyles="--", label="undeformed"))
-    ax.triplot(xy[:, 0], xy[:, 1], problem.cells, color="0.6", lw=0.5)
+    draw_mesh(ax, xy, problem.cells, color="0.6", lw=0.5)
     ax.add_collection(LineCollection(xy[outline], colors="k", lw=1.0,
                                      label=f"deformed, displacements × "
                                      f"{scale:g}"))
@@ -205,8 +217,7 @@ def plot_displacement_arrows(problem, result, path=None):
     else:
         size = (8, float(np.clip(6.5 * height / width + 1.3, 3.2, 7)))
     fig, ax = plt.subplots(figsize=size, layout="constrained")
-    ax.triplot(problem.nodes[:, 0], problem.nodes[:, 1], problem.cells,
-               color="0.75", lw=0.5)
+    draw_mesh(ax, problem.nodes, problem.cells, color="0.75", lw=0.5)
     q = ax.quiver(problem.nodes[:, 0], problem.nodes[:, 1], u[:, 0], u[:, 1],
                   np.hypot(u[:, 0], u[:, 1]), cmap="viridis")
     fig.colorbar(q, ax=ax, label="|u| [mm]")

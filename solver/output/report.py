@@ -38,8 +38,10 @@ def format_summary(info):
                   f"{facet} (body {meta['master_body']})"]
     elif info["kind"] == "mesh" and info.get("dim", 2) == 3:
         lines += [f"mesh              {meta.get('mesh')}: "
-                  f"{info['tetrahedra']} tetrahedra, {info['nodes']} nodes, "
-                  f"{info['contact_faces']} contact triangles",
+                  f"{_cells(info)}, {info['nodes']} nodes, "
+                  f"{info['contact_faces']} contact "
+                  + ("quadrilaterals" if "hexahedra" in info else
+                     "triangles"),
                   f"material          E = {_g(meta['E'], 'g')}, "
                   f"nu = {_g(meta['nu'], 'g')}",
                   "obstacle          " + json.dumps(info["obstacle"],
@@ -51,7 +53,7 @@ def format_summary(info):
             obstacle = f"x(t) = {x}, y(t) = {y}"
         rng = info["obstacle_t_range"]
         lines += [f"mesh              {meta.get('mesh')}: "
-                  f"{info['triangles']} triangles, {info['nodes']} nodes",
+                  f"{_cells(info)}, {info['nodes']} nodes",
                   f"material          E = {_g(meta['E'], 'g')}, "
                   f"nu = {_g(meta['nu'], 'g')},"
                   f" plane {meta['plane']}",
@@ -238,3 +240,11 @@ def format_result(summary, outdir):
         f"wall time         {_g(summary['wall_time'], '.3f')} s",
         f"outputs           {outdir}/"]
     return "\n".join(lines)
+
+
+def _cells(info):
+    """"454 triangles" (or quadrilaterals, tetrahedra, hexahedra) of a
+    ``summary()``."""
+    name = next(k for k in ("triangles", "quadrilaterals", "tetrahedra",
+                            "hexahedra") if k in info)
+    return f"{info[name]} {name}"

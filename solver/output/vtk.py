@@ -1,8 +1,9 @@
 """VTK output for ParaView (written with meshio): the deformed body of a
 frictionless solve (``result.vtu``) and one file per load step of a
 friction run with a ``result.pvd`` index; the point data are listed in
-docs/results.md ("VTK"). Cells: triangles in 2D, tetrahedra (meshio
-``"tetra"``) in 3D. A contact field given per contact node as a vector
+docs/results.md ("VTK"). Cells: the problem's own, triangles or
+quadrilaterals (VTK_QUAD, 9) in 2D, tetrahedra or hexahedra
+(VTK_HEXAHEDRON, 12) in 3D. A contact field given per contact node as a vector
 (shape (Nc, k)) is written as a k-component point field; the 3D friction
 traction, components in per-node tangent frames, as the 3-vector
 Σ_k g_k τ_k when the frames are given (:func:`step_mesh`)."""
@@ -21,8 +22,10 @@ def vtk_points(problem):
 
 
 def vtk_cells(problem):
-    """meshio cell block: triangles in 2D, tetrahedra in 3D."""
-    kind = "tetra" if problem.nodes.shape[1] == 3 else "triangle"
+    """meshio cell block of the problem's cells (module docstring)."""
+    kind = {(2, 3): "triangle", (2, 4): "quad", (3, 4): "tetra",
+            (3, 8): "hexahedron"}[problem.nodes.shape[1],
+                                  np.shape(problem.cells)[1]]
     return [(kind, problem.cells)]
 
 

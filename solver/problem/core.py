@@ -7,6 +7,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..errors import ProblemError
+from ..geometry.cells import cell_name
 from ..geometry.curves.parametric import ParametricCurve, check_interval
 from ..geometry.curves.polyline import PolylineCurve
 from ..ncp import stable_norm
@@ -179,7 +180,9 @@ class ContactProblem:
 
     @property
     def _cell_name(self):
-        return "triangles" if self.dim == 2 else "tetrahedra"
+        name = cell_name(self.dim, np.shape(self.cells)[1]) or "cell"
+        return {"hexahedron": "hexahedra", "tetrahedron": "tetrahedra"}.get(
+            name, name + "s")
 
     @property
     def _obstacle_text(self):
@@ -338,8 +341,8 @@ class ContactProblem:
         if self.kind == "mesh" and self.dim == 3 and not self.is_mortar:
             spec = self.obstacle.spec() if hasattr(self.obstacle, "spec") \
                 else self.obstacle
-            info.update(nodes=int(len(self.nodes)),
-                        tetrahedra=int(len(self.cells)),
+            info.update({"nodes": int(len(self.nodes)),
+                         self._cell_name: int(len(self.cells))},
                         contact_faces=int(len(self.contact_faces)),
                         obstacle=spec)
         elif self.is_mortar:
@@ -352,8 +355,8 @@ class ContactProblem:
                          f"slave_{facet}": int(len(self.mortar_slave)),
                          f"master_{facet}": int(len(self.mortar_master))})
         elif self.kind == "mesh":
-            info.update(nodes=int(len(self.nodes)),
-                        triangles=int(len(self.cells)),
+            info.update({"nodes": int(len(self.nodes)),
+                         self._cell_name: int(len(self.cells))},
                         obstacle=(
                             [self.obstacle.x_text, self.obstacle.y_text]
                             if isinstance(self.obstacle, ParametricCurve)

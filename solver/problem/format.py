@@ -79,9 +79,13 @@ KEYS = {
                      "— unless it is a roller: see below); d = 2 or 3 is "
                      "the problem's dimension"),
     "nodes": ("mesh", "float", "(n_nodes, d)", "node coordinates"),
-    "cells": ("mesh", "int", "(n_cells, d+1)",
-              "triangles (2D) or tetrahedra (3D, all of one orientation, "
-              "none flat) as node indices"),
+    "cells": ("mesh", "int", "(n_cells, d+1) or (n_cells, 2^d)",
+              "first-order cells as node indices, one kind per file: "
+              "triangles or quadrilaterals (2D; quadrilaterals counter-"
+              "clockwise and convex), tetrahedra or hexahedra (3D, VTK/SfePy "
+              "3_8 node order: 0-1-2-3 counter-clockwise seen from 4-5-6-7, "
+              "node k + 4 above node k; all of one orientation); no cell "
+              "flat at a corner; a two-body file takes triangles only"),
     "dof_map": ("mesh", "int", "(Ñ, 2)",
                 "(node, component) of each reduced DOF; component 0 = x, "
                 "1 = y, 2 = z"),
@@ -109,11 +113,12 @@ KEYS = {
                                  "the gaps (2D mesh kind only; absent = found "
                                  "from the body's extent; CLI: "
                                  "--search-interval)"),
-    "contact_faces": ("mesh3d", "int", "(n_faces, 3)",
+    "contact_faces": ("mesh3d", "int", "(n_faces, 3) or (n_faces, 4)",
                       "3D mesh kind only (required there): the contact "
-                      "surface as triangles of contact_nodes (global node "
-                      "ids), each a face of one tetrahedron, oriented so "
-                      "that the right-hand rule gives the body's outward "
+                      "surface as triangles (of tetrahedra) or "
+                      "quadrilaterals (of hexahedra) of contact_nodes "
+                      "(global node ids), each a face of one cell, oriented "
+                      "so that the right-hand rule gives the body's outward "
                       "normal; every contact node is a vertex of one"),
     "obstacle_surface": ("mesh3d", "str", "()",
                          "3D mesh kind only (required there): the rigid "

@@ -10,13 +10,15 @@ import numpy as np
 
 from ..errors import GeometryError, ProblemError
 from ..geometry.checks import COORDINATE_LIMIT, RESOLUTION
+from ..geometry.cells import cell_name
 from ..geometry.mesh import is_boundary_chain
 from ..geometry.curves.normals import boundary_normals
 from ..geometry.curves.parametric import ParametricCurve
 from ..geometry.curves.polyline import PolylineCurve
 from .checks import check_array, check_range, fail
 from .format import ONLY_2D, TWO_BODY
-from .geometry3d import check_tetrahedra, validate_solid
+from .geometry3d import (check_quadrilaterals, check_tetrahedra,
+                         validate_solid)
 
 __all__ = ["COORDINATE_LIMIT", "RESOLUTION", "validate_mesh"]
 
@@ -48,11 +50,18 @@ def validate_mesh(arrays, n, contact_dofs):
     nodes = check_array(arrays, "nodes", "float", 2, (None, d))
     n_nodes = len(nodes)
     _check_coordinates(nodes)
-    cells = check_array(arrays, "cells", "int", 2, (None, d + 1))
+    cells = check_array(arrays, "cells", "int", 2)
+    if cell_name(d, cells.shape[1]) is None:
+        fail("cells", f"expected shape (?, {d + 1}) or (?, {2 ** d}) ("
+                      + ("triangles or quadrilaterals" if d == 2 else
+                         "tetrahedra or hexahedra")
+                      + f"), got {cells.shape}")
     if len(cells) < 1:
         fail("cells", "the mesh has no " + ("triangles" if d == 2
                                               else "tetrahedra"))
     check_range("cells", cells, 0, n_nodes)
+    if d == 2 and cells.shape[1] == 4:
+        check_quadrilaterals(nodes, cells)
     dof_map = check_array(arrays, "dof_map", "int", 2, (n, 2))
     check_range("dof_map", dof_map[:, 0], 0, n_nodes)
     check_range("dof_map", dof_map[:, 1], 0, d)
@@ -72,6 +81,10 @@ def validate_mesh(arrays, n, contact_dofs):
         _check_contact_dofs(flat, n_nodes, contact_nodes, contact_dofs)
         if "mortar_slave" in arrays:  # two bodies: the triangles are
             # checked by solver.problem.two_body
+            if cells.shape[1] != 4:
+                fail("cells", "a two-body file (mortar_slave) needs "
+                              "tetrahedra; hexahedra are not supported "
+                              "there yet")
             check_tetrahedra(nodes, cells)
             fields.update(contact_faces=None, obstacle=None)
         else:
@@ -80,6 +93,9 @@ def validate_mesh(arrays, n, contact_dofs):
         return fields
     if any(k in arrays for k in TWO_BODY[1:]):  # two bodies: no obstacle;
         # the segments and the slave chain: solver.problem.two_body
+        if cells.shape[1] != 3:
+            fail("cells", "a two-body file (mortar_slave) needs triangles; "
+                          "quadrilaterals are not supported there yet")
         for key in ONLY_2D:
             if key in arrays:
                 fail(key, "not allowed in a two-body file (mortar_slave): "

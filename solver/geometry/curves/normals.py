@@ -28,6 +28,7 @@ import numpy as np
 from scipy.interpolate import CubicSpline
 
 from ...errors import GeometryError
+from ..cells import simplices
 
 __all__ = ["CORNER_ANGLE", "chord_parameters", "spline_tangents",
            "spline_normals", "outward_sign", "corners", "boundary_normals"]
@@ -97,12 +98,15 @@ def outward_sign(nodes, cells, chain):
     the outward normal is the tangent turned clockwise, :math:`(T_y, -T_x)`
     (the body lies left of the direction of travel), −1 if counter-clockwise.
     Every edge (a, b) of the ordered ``chain`` (n ≥ 2) must be a side of
-    exactly one of the triangles ``cells``, whose third vertex *c* lies inside
+    exactly one of the triangles ``cells`` (quadrilaterals: of their cuts,
+    :func:`~solver.geometry.cells.simplices`), whose third vertex *c* lies inside
     the body: :math:`(e_y, -e_x)`, :math:`e = X_b - X_a`, points outward iff
     :math:`(X_c - X_a) \cdot (e_y, -e_x) < 0`. GeometryError naming the nodes
     otherwise, for a zero-area triangle on Γc, or if the edges disagree."""
     nodes = np.asarray(nodes, dtype=float)
     cells = np.asarray(cells, dtype=np.int64)
+    if cells.ndim == 2 and cells.shape[1] == 4:  # quadrilaterals
+        cells = simplices(cells, 2)
     chain = np.asarray(chain, dtype=np.int64)
     if chain.ndim != 1 or len(chain) < 2:
         only = f" (node {chain.ravel()[0]})" if chain.size == 1 else ""

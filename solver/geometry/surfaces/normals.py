@@ -1,9 +1,12 @@
 r"""Outward normals of the body's contact surface in 3D.
 
 The 3D counterpart of :mod:`solver.geometry.curves.normals` (§2.1.3): the
-contact surface is a set of triangles (``contact_faces``), oriented so
-that the right-hand rule gives the body's outward normal (inconsistently
-oriented faces are refused). Three nodal normals:
+contact surface is a set of triangles or quadrilaterals
+(``contact_faces``), oriented so that the right-hand rule gives the body's
+outward normal (inconsistently oriented faces are refused); a
+quadrilateral a-b-c-d enters as the triangles a-b-c and a-c-d
+(:func:`~solver.geometry.cells.face_triangles`), whose angle weights at a
+node sum to the quadrilateral's angle there when it is planar. Three nodal normals:
 
 ``"angle"`` (default)
     facet normals weighted by the triangle's angle at the node (Thürmer &
@@ -28,6 +31,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from ...errors import GeometryError, ProblemError
+from ..cells import face_triangles
 from .jets import jet_normals
 
 __all__ = ["WEIGHTINGS", "facet_normals", "surface_normals"]
@@ -44,15 +48,16 @@ def _check(nodes, faces, contact_nodes):
     contact_nodes = np.asarray(contact_nodes)
     for name, a, dims in (("contact_faces", faces, 2),
                           ("contact_nodes", contact_nodes, 1)):
-        if a.ndim != dims or (dims == 2 and a.shape[1] != 3) or \
+        if a.ndim != dims or (dims == 2 and a.shape[1] not in (3, 4)) or \
                 (a.size and a.dtype.kind not in "iu"):
             raise ProblemError(f"{name}: need integer node ids of shape "
-                               f"{'(n_f, 3)' if dims == 2 else '(Nc,)'}, got "
+                               f"{'(n_f, 3) or (n_f, 4)' if dims == 2 else '(Nc,)'}, got "
                                f"{a.dtype} {a.shape}")
         if a.size and (a.min() < 0 or a.max() >= len(nodes)):
             raise ProblemError(f"{name}: node id out of range [0, "
                                f"{len(nodes)})")
-    return nodes, faces.astype(np.int64), contact_nodes.astype(np.int64)
+    return (nodes, face_triangles(faces.astype(np.int64)),
+            contact_nodes.astype(np.int64))
 
 
 def facet_normals(nodes, faces):

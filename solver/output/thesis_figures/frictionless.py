@@ -3,6 +3,7 @@
 
 import numpy as np
 
+from ..figures import draw_mesh
 from .common import LENGTH, PRESSURE, save_png, panel_position, pyplot
 from .model import outline, obstacle_for_display, contact_offset
 
@@ -34,7 +35,7 @@ def deformed_and_directions(problem, displacement, in_contact, scale=None,
     scale = nice_scale(problem, u) if scale is None else scale
     xy = problem.nodes + scale * u
     fig, (left, right) = plt.subplots(1, 2, figsize=(8.5, 5.6))
-    left.triplot(xy[:, 0], xy[:, 1], problem.cells, color="0.6", lw=0.5)
+    draw_mesh(left, xy, problem.cells, color="0.6", lw=0.5)
     contact = problem.contact_nodes[np.asarray(in_contact, bool)]
     left.plot(xy[contact, 0], xy[contact, 1], "r*", ms=10,
               label=f"in contact ({len(contact)} nodes)")

@@ -3,16 +3,13 @@
 
 import numpy as np
 
+from ...geometry.mesh import boundary_edges
 from .common import LENGTH, FORCE, PRESSURE, save_png, pyplot
 
 
 def outline(problem):
-    """Boundary edges of the triangle mesh (edges used by one cell)."""
-    cells = np.asarray(problem.cells)
-    edges = np.sort(np.r_[cells[:, [0, 1]], cells[:, [1, 2]],
-                          cells[:, [2, 0]]], axis=1)
-    unique, count = np.unique(edges, axis=0, return_counts=True)
-    return unique[count == 1]
+    """Boundary edges of the 2D mesh (edges used by one cell)."""
+    return boundary_edges(problem.cells)
 
 
 def obstacle_for_display(problem, scale, t):
