@@ -106,9 +106,16 @@ def plot_stick_slip_map(problem, result, path=None):
         title = "stick and slip on the slave surface (friction traction)"
     else:
         p = np.asarray(_last(result, "contact_pressure"), float)
-        dots = ax.scatter(*xy[contact].T, c=p[contact], s=10,
-                          cmap="viridis")
-        fig.colorbar(dots, ax=ax, label="pressure λ_j [MPa]")
+        shown = p[contact]
+        low, high = (shown.min(), shown.max()) if len(shown) else (0, 1)
+        if high - low < 0.02 * max(abs(high), 1e-300):  # uniform: no noise
+            low, high = 0.99 * low, 1.01 * high  # of round-off in colour
+        dots = ax.scatter(*xy[contact].T, c=shown, s=10, cmap="viridis",
+                          vmin=low, vmax=high)
+        bar = fig.colorbar(dots, ax=ax, label="pressure λ_j [MPa]",
+                           shrink=0.8)
+        bar.formatter.set_useOffset(False)
+        bar.update_ticks()
         title = "interface pressure on the slave surface"
     ax.set_aspect("equal")
     if contact.any():
