@@ -58,7 +58,8 @@ KEYS = {
              "slave body"),
     "K_data": ("all", "float", "(nnz,)",
                "reduced stiffness K (Ñ×Ñ, Dirichlet DOFs eliminated, "
-               "symmetric positive definite) in CSR: values"),
+               "symmetric positive definite, or semidefinite with rigid-body "
+               "modes only: a body held by contact) in CSR: values"),
     "K_indices": ("all", "int", "(nnz,)", "CSR column indices of K"),
     "K_indptr": ("all", "int", "(Ñ+1,)", "CSR row pointers of K"),
     "K_shape": ("all", "int", "(2,)", "(Ñ, Ñ)"),
@@ -85,7 +86,8 @@ KEYS = {
               "clockwise and convex), tetrahedra or hexahedra (3D, VTK/SfePy "
               "3_8 node order: 0-1-2-3 counter-clockwise seen from 4-5-6-7, "
               "node k + 4 above node k; all of one orientation); no cell "
-              "flat at a corner; a two-body file takes triangles only"),
+              "flat at a corner; a two-body file takes triangles or "
+              "tetrahedra only"),
     "dof_map": ("mesh", "int", "(Ñ, 2)",
                 "(node, component) of each reduced DOF; component 0 = x, "
                 "1 = y, 2 = z"),
