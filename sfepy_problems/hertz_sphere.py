@@ -105,17 +105,25 @@ def contact_size(coors, faces, radius):
 
 
 def top_area(filename_mesh, R):
-    """The area of the mesh's flat top z = R (its boundary triangles)."""
+    """The area of the mesh's flat top z = R (its boundary faces: triangles
+    of tetrahedra or quadrilaterals of hexahedra, area ½|d₁ × d₂| by the
+    diagonals)."""
     from sfepy.discrete.fem import Mesh
 
     mesh = Mesh.from_file(filename_mesh)
-    coors, cells = mesh.coors, mesh.get_conn('3_4')
+    coors = mesh.coors
+    if '3_8' in mesh.descs:
+        cells = mesh.get_conn('3_8')
+        corners = [[0, 1, 2, 3], [4, 5, 6, 7], [0, 1, 5, 4], [1, 2, 6, 5],
+                   [2, 3, 7, 6], [3, 0, 4, 7]]
+    else:
+        cells = mesh.get_conn('3_4')
+        corners = [[0, 1, 2, 2], [0, 1, 3, 3], [0, 2, 3, 3], [1, 2, 3, 3]]
     top = nm.abs(coors[:, 2] - R) < TOL * R
-    faces = cells[:, [[0, 1, 2], [0, 1, 3], [0, 2, 3], [1, 2, 3]]]
-    faces = faces.reshape(-1, 3)
-    tri = coors[faces[top[faces].all(axis=1)]]
-    return 0.5 * float(nm.linalg.norm(nm.cross(tri[:, 1] - tri[:, 0],
-                                               tri[:, 2] - tri[:, 0]),
+    faces = cells[:, corners].reshape(-1, 4)
+    p = coors[faces[top[faces].all(axis=1)]]
+    return 0.5 * float(nm.linalg.norm(nm.cross(p[:, 2] - p[:, 0],
+                                               p[:, 3] - p[:, 1]),
                                       axis=1).sum())
 
 
