@@ -27,6 +27,8 @@ problem, which every stage holds). Stages:
 * ``friction``: ``solve(problem, friction=0.3, ...)``, STEPS load steps,
   projection formulation, φ_min and the lagged bound unless COULOMB
   ("lagged", "implicit") and METHOD ("min", "fb") say otherwise;
+  ``friction_read``: the same, then reading ``result.displacement`` (every
+  step's field in all unknowns, recovered on first read) inside the clock;
 * ``amg``: ``solve(problem, backend="amg")`` (the iterative path, issue
   33): Newton systems, CG iterations in all and per system, the AMG
   hierarchy; ``agreement`` is ‖u − u_direct‖₂/‖u_direct‖₂ against the
@@ -101,12 +103,15 @@ def frictionless(problem, method, backend, path):
             "candidates": (r.get("candidates") or {}).get("n_candidates")}
 
 
-def friction(problem, backend, steps, coulomb="lagged", method="min"):
+def friction(problem, backend, steps, coulomb="lagged", method="min",
+             read=False):
     get_backend(backend)
     with Clock() as clock:
         r = solve(problem, friction=0.3, steps=steps,
                   formulation="projection", method=method, coulomb=coulomb,
                   backend=backend)
+        if read:  # every step's displacement in all unknowns, timed too
+            r.displacement
     screening = r.get("candidates") or {}
     return {**clock.times, "J": r.njev, "F": r.nfev,
             "converged": bool(r.success),
@@ -177,8 +182,9 @@ def main(argv):
         out.update(schur(problem, backend))
     elif stage in ("min", "fb"):
         out.update(frictionless(problem, stage, backend, path))
-    elif stage == "friction":
-        out.update(friction(problem, backend, int(argv[3]), *argv[4:6]))
+    elif stage in ("friction", "friction_read"):
+        out.update(friction(problem, backend, int(argv[3]), *argv[4:6],
+                            read=stage == "friction_read"))
     elif stage == "amg":
         out.update(iterative(problem, path, f"{path}.min.{backend}.npy"))
     elif stage == "amg_floor":

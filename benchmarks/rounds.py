@@ -24,8 +24,9 @@ and (stage, backend), wall and CPU:
 Stages: ``min``, ``fb`` (frictionless, every default), ``friction``
 (``measure.py``'s: projection formulation, lagged bound, φ_min, f_c = 0.3,
 ``--friction-steps`` steps: issue 17's benchmark configuration) and
-``friction-fb`` (the same with φ_FB: the defaults of ``solve(..., friction=)`` and
-of ``python -m solver X.npz --friction 0.3``).
+``friction-fb`` (the same with φ_FB), ``friction-read`` (``friction``, then
+every step's displacement read from the result: the recovery that waits
+for a first read, timed too).
 """
 
 import argparse
@@ -42,7 +43,8 @@ MEASURE = str(Path(__file__).resolve().parent / "measure.py")
 def measure(problem, stage, backend, steps):
     argv = [sys.executable, MEASURE, problem, stage, backend]
     if stage.startswith("friction"):
-        argv[3] = "friction"
+        argv[3] = ("friction_read" if stage == "friction-read"
+                   else "friction")
         argv += [str(steps), "lagged", "fb" if stage == "friction-fb"
                  else "min"]
     done = subprocess.run(argv, capture_output=True, text=True, check=False)

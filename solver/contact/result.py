@@ -2,12 +2,30 @@
 (scipy.optimize's rule): an ``OptimizeResult`` (a dict with attribute
 access) whose short repr names what was solved and how it ended, never
 the arrays. Its fields are listed in docs/results.md; ``list(result)``
-shows the keys."""
+shows the keys.
+
+A field may be :class:`Deferred`: computed on its first read, by any
+access (``result.u``, ``result["u"]``, ``get``, ``items``, ``dict(result)``,
+pickling), and stored in place of the placeholder. A friction run keeps its
+steps' displacements in all unknowns that way (:mod:`~solver.contact.
+friction.stream`)."""
 
 import numpy as np
 from scipy.optimize import OptimizeResult
 
-__all__ = ["ContactResult"]
+__all__ = ["ContactResult", "Deferred"]
+
+
+class Deferred:
+    """Placeholder of the fields ``keys`` of a :class:`ContactResult`,
+    which ``compute()`` returns together as a dict on the first read of any
+    of them."""
+
+    def __init__(self, compute, keys):
+        self.compute, self.keys = compute, tuple(keys)
+
+    def __repr__(self):
+        return f"<computed on first read: {', '.join(self.keys)}>"
 
 
 def _counts(result):
@@ -34,3 +52,30 @@ class ContactResult(OptimizeResult):
                 f"{'condensed' if self.get('condensed') else 'full'} system>")
 
     __str__ = __repr__
+
+    def __getitem__(self, key):
+        value = dict.__getitem__(self, key)
+        if isinstance(value, Deferred):
+            computed = value.compute()
+            for name in value.keys:
+                dict.__setitem__(self, name, computed[name])
+            value = computed[key]
+        return value
+
+    def get(self, key, default=None):
+        return self[key] if key in self else default
+
+    def __iter__(self):  # dict(result), {**result}: keys, then self[key]
+        return iter(dict.keys(self))
+
+    def items(self):
+        return [(key, self[key]) for key in self.keys()]
+
+    def values(self):
+        return [self[key] for key in self.keys()]
+
+    def copy(self):
+        return type(self)(self.items())
+
+    def __reduce__(self):  # pickle and copy the computed fields
+        return type(self), (self.items(),)

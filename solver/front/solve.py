@@ -91,7 +91,9 @@ def solve(problem, *, friction=None, method=None, system="auto", start=None,
         (:func:`solver.contact.contact_geometry`).
     progress, on_step, keep_steps : friction only
         Called with each completed step's record, and with its fields; keep
-        the per-step arrays in the result (default True).
+        the per-step arrays in the result (default True; on the condensed
+        system the steps' ``u`` and ``displacement`` are recovered when
+        first read, docs/results.md).
 
     Returns
     -------

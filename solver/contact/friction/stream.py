@@ -4,9 +4,19 @@ On the condensed system a step is solved on Γc only; its displacement in
 all unknowns is recovered later, for up to :data:`BATCH` steps in one
 solve with many right-hand sides. The :class:`StepStream` then passes each
 step, complete, to the caller's ``on_step`` and keeps it in memory only if
-asked, so that a long run can be written to disk in bounded memory."""
+asked, so that a long run can be written to disk in bounded memory.
+
+Kept without an ``on_step`` on the condensed system, the steps' fields in
+all unknowns (``u``, ``displacement``) are recovered only when first read
+(:class:`~solver.contact.result.Deferred`): every step is fully
+determined by its Γc unknowns and w = K⁻¹f, and those back-substitutions
+in all unknowns cost more than the Newton iterations on Γc, for a history
+the caller may never read (the contact fields of every step are kept as
+they come)."""
 
 import numpy as np
+
+from ..result import Deferred
 
 __all__ = ["StepStream", "STEP_FIELDS", "MAX_LOAD_STEPS", "BATCH"]
 
@@ -15,6 +25,13 @@ STEP_FIELDS = ("load_factor", "stage", "u", "displacement", "contact_force",
                "contact_pressure", "contact_pressure_consistent",
                "friction_traction", "friction_bound",
                "tangential_displacement", "in_contact", "stick", "slip")
+
+#: The per-step fields over Γc, kept as the steps come.
+CONTACT_FIELDS = tuple(key for key in STEP_FIELDS
+                       if key not in ("u", "displacement"))
+
+#: The per-step fields in all unknowns, recovered when first read.
+RECOVERED = ("u", "displacement")
 
 #: Largest number of load steps a run accepts (the thesis uses 100).
 MAX_LOAD_STEPS = 100_000
@@ -38,11 +55,19 @@ class StepStream:
         self.pending, self.count = [], 0
         self.total = total  # number of steps of the run, if known
         self.kept = {}  # key -> (capacity, ...) array, rows < count filled
+        # kept and condensed, no caller to serve: u, displacement on demand
+        self.deferred = [] if (keep and on_step is None
+                               and space.condensed) else None
 
     def add(self, fields, u, w, prescribed):
         """A converged step: its Γc fields, u (reduced, or on Γc with ``w`` =
         K⁻¹f of the step when the reduction ``space`` is condensed) and its
         Dirichlet values."""
+        if self.deferred is not None:
+            self.deferred.append((np.array(u, copy=True), w, prescribed))
+            self._keep(fields, CONTACT_FIELDS)
+            self.count += 1
+            return
         self.pending.append((fields, np.array(u, copy=True), w, prescribed))
         if not self.space.condensed or len(self.pending) >= BATCH:
             self.flush()
@@ -71,10 +96,10 @@ class StepStream:
             if self.on_step is not None:
                 self.on_step(fields)
 
-    def _keep(self, fields):
+    def _keep(self, fields, keys=STEP_FIELDS):
         """Store step ``count``'s fields in the preallocated arrays."""
         k = self.count
-        for key in STEP_FIELDS:
+        for key in keys:
             value = np.asarray(fields[key])
             array = self.kept.get(key)
             if array is None or k >= len(array):
@@ -93,4 +118,33 @@ class StepStream:
             return {}
         if not self.kept:  # no step completed
             return {key: np.array([]) for key in STEP_FIELDS}
-        return {key: array[:self.count] for key, array in self.kept.items()}
+        arrays = {key: array[:self.count]
+                  for key, array in self.kept.items()}
+        if self.deferred is not None:
+            recovery = Deferred(self._recover, RECOVERED)
+            arrays.update({key: recovery for key in RECOVERED})
+        return arrays
+
+    def _recover(self):
+        """``u`` and ``displacement`` of every kept step, in batches of
+        :data:`BATCH` back-substitutions (then the inputs are dropped)."""
+        steps, self.deferred = self.deferred, []
+        problem, count = self.problem, len(steps)
+        u = np.empty((count, problem.n_dofs))
+        mesh = problem.kind == "mesh"
+        for start in range(0, count, BATCH):
+            batch = steps[start:start + BATCH]
+            u[start:start + len(batch)] = self.space.displacement(
+                np.column_stack([entry[0] for entry in batch]),
+                np.column_stack([entry[1] for entry in batch])).T
+            steps[start:start + BATCH] = [(None, None, entry[2])
+                                          for entry in batch]  # w freed
+        if not mesh:
+            return dict(u=u, displacement=u[:, problem.contact_dofs])
+        displacement = np.empty((count,) + problem.u_prescribed.shape)
+        for k, (_, _, prescribed) in enumerate(steps):
+            displacement[k] = problem.u_prescribed if prescribed is None \
+                else prescribed
+        rows, columns = problem.dof_map[:, 0], problem.dof_map[:, 1]
+        displacement[:, rows, columns] = u
+        return dict(u=u, displacement=displacement)
