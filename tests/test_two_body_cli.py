@@ -68,3 +68,33 @@ def test_rigid_only_options_refused(patch_file, tmp_path, capsys, option):
     err = capsys.readouterr().err.strip()
     assert len(err.splitlines()) == 1 and "obstacle" in err
     assert not out.exists()
+
+
+def test_variant_node_to_segment_fails_the_patch_test(patch_file, tmp_path,
+                                                      capsys):
+    """``--variant``: the mortar coupling passes the patch test, the
+    node-to-segment one does not on these non-matching meshes (exact
+    reference: the uniform pressure of the stacked blocks)."""
+    exact = uniform_pressure((1.0, 1.0), MATERIALS, 1e-3)
+    errors = {}
+    for variant in ("mortar", "node-to-segment"):
+        out = tmp_path / variant
+        assert main([str(patch_file), "--variant", variant, "-o",
+                     str(out)]) == 0
+        summary = json.loads((out / "summary.json").read_text())
+        assert summary["coupling"] == variant
+        with np.load(out / "result.npz") as data:
+            errors[variant] = np.abs(data["contact_pressure"] / exact
+                                     - 1).max()
+    assert errors["mortar"] < 1e-10 and errors["node-to-segment"] > 1e-3
+
+
+def test_variant_refused_on_one_body(tmp_path, capsys):
+    from solver.examples import two_dof_bar
+
+    path = tmp_path / "bar.npz"
+    save_problem(path, two_dof_bar())
+    assert main([str(path), "--variant", "mortar"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.startswith("error: --variant mortar is not supported") \
+        and "\n" not in err

@@ -91,6 +91,13 @@ def build_parser():
                              "the iteration counts of Tables 1 and 2); "
                              "default auto = condensed, except full for the "
                              "thesis's friction formulation")
+    parser.add_argument("--variant", choices=("mortar", "node-to-segment"),
+                        default=None,
+                        help="coupling of two bodies: mortar (dual mortar, "
+                             "weighted gaps; passes the patch test) or "
+                             "node-to-segment (each slave node against the "
+                             "master surface; for comparison); default "
+                             "mortar")
     parser.add_argument("--start", choices=("nested", "free"),
                         help="start of a condensed frictionless solve: "
                              "nested = solve on ever coarser subsets of the "

@@ -29,7 +29,7 @@ def options_of(args):
         steps=args.steps, gap=args.gap, backend=args.linear_solver,
         engine=None if args.engine == "serial" else args.engine,
         ksp=args.ksp, tol=args.tol, max_iter=args.max_iter,
-        gap_scale=args.gap_scale,
+        gap_scale=args.gap_scale, variant=args.variant,
         search_interval=(None if args.search_interval is None
                          else tuple(args.search_interval)))
     return options
@@ -54,7 +54,7 @@ def default_outdir(args, plan):
     so that different runs write different folders."""
     s, case = plan.settings, plan.case
     stem = os.path.splitext(args.problem)[0]
-    gap = {"rigid": s["gap"], "two-body": "mortar",
+    gap = {"rigid": s["gap"], "two-body": s["variant"] or "mortar",
            "discrete": "given"}[case.bodies]
     if plan.friction is not None:
         steps = "path" if plan.problem.load_path is not None else \
