@@ -9,7 +9,7 @@ import numpy as np
 from ..errors import GeometryError, InitialPenetrationWarning
 
 __all__ = ["GapError", "warn_penetration", "COORDINATE_LIMIT",
-           "RESOLUTION"]
+           "RESOLUTION", "Misses"]
 
 #: Largest accepted |coordinate| of the body's nodes and of the numbers
 #: that place an obstacle: beyond it gaps, squared distances and the forces
@@ -70,6 +70,25 @@ def normal_line_misses(bad, points, node_ids, reason):
         f"the normal line of contact node {label} at ({x:g}, {y:g}) misses "
         f"the obstacle: {reason(i)}{more}")
 
+
+class Misses:
+    """Where the normal lines of n nodes miss the obstacle: each call with
+    a mask ``bad`` raises :class:`GapError` about its first node
+    (:func:`normal_line_misses`), or, ``tolerant``, only marks the nodes in
+    ``mask``: a node a bounded obstacle of several does not reach is out of
+    its reach, not an input error (:mod:`solver.geometry.curves.several`)."""
+
+    def __init__(self, n, tolerant=False):
+        self.mask = np.zeros(n, bool)
+        self.tolerant = bool(tolerant)
+
+    def __call__(self, bad, points, node_ids, reason):
+        bad = np.asarray(bad, bool) & ~self.mask
+        if not bad.any():
+            return
+        if not self.tolerant:
+            normal_line_misses(bad, points, node_ids, reason)
+        self.mask |= bad
 
 
 def warn_penetration(gap, points, node_ids=None,

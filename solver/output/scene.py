@@ -13,8 +13,14 @@ def obstacle_in_box(curve, low, high, samples=1201):
     where it leaves the box: the parameter window (``t_range``, or as
     :func:`solver.geometry.curves.window.start_window`) doubled until the
     curve leaves the box at both ends, then narrowed to the samples inside;
-    a polyline's vertices always among the samples."""
+    a polyline's vertices always among the samples; several curves
+    (``parts``) one after the other, a NaN row between them."""
     low, high = np.asarray(low, float), np.asarray(high, float)
+    parts = getattr(curve, "parts", None)
+    if parts is not None:
+        gap = np.full((1, 2), np.nan)
+        return np.concatenate([row for part in parts for row in (
+            obstacle_in_box(part, low, high, samples), gap)])
 
     def inside(points):
         return np.all((points >= low) & (points <= high), axis=-1)
