@@ -422,9 +422,10 @@ def _segments(pb, region, cells, coors):
     if not len(segments) or nm.any(nm.diff(offsets) != 1):
         raise ValueError(f'{region}: empty, or a facet bounds two cells '
                          '(not on the surface)')
-    third = cells[owner].sum(axis=1) - segments.sum(axis=1)
+    # the body lies on the side of its cell's centroid (triangles or
+    # quadrilaterals)
     a, b = coors[segments[:, 0], :2], coors[segments[:, 1], :2]
-    c = coors[third, :2]
+    c = coors[cells[owner], :2].mean(axis=1)
     right = ((b - a)[:, 0] * (c - a)[:, 1] - (b - a)[:, 1] * (c - a)[:, 0]) < 0
     segments[right] = segments[right][:, ::-1]
     return segments

@@ -84,9 +84,9 @@ def validate_mesh(arrays, n, contact_dofs):
         if "mortar_slave" in arrays:  # two bodies: the triangles are
             # checked by solver.problem.two_body
             if cells.shape[1] != 4:
-                fail("cells", "a two-body file (mortar_slave) needs "
+                fail("cells", "a 3D two-body file (mortar_slave) needs "
                               "tetrahedra; hexahedra are not supported "
-                              "there yet")
+                              "there (no dual basis of bilinear faces)")
             check_tetrahedra(nodes, cells)
             fields.update(contact_faces=None, obstacle=None)
         else:
@@ -95,9 +95,6 @@ def validate_mesh(arrays, n, contact_dofs):
         return fields
     if any(k in arrays for k in TWO_BODY[1:]):  # two bodies: no obstacle;
         # the segments and the slave chain: solver.problem.two_body
-        if cells.shape[1] != 3:
-            fail("cells", "a two-body file (mortar_slave) needs triangles; "
-                          "quadrilaterals are not supported there yet")
         for key in ONLY_2D:
             if key in arrays:
                 fail(key, "not allowed in a two-body file (mortar_slave): "
