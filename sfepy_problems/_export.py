@@ -504,7 +504,8 @@ def mesh_cells(mesh):
     if len(kinds) != 1 or kinds[0] not in ('2_3', '2_4', '3_4', '3_8'):
         raise ValueError(f'the mesh has cells {kinds}: the export takes one '
                          'kind of first-order cell, 2_3 or 2_4 (2D), 3_4 '
-                         'or 3_8 (3D)')
+                         'or 3_8 (3D) (SfePy builds a field on one '
+                         'reference geometry only)')
     return mesh.get_conn(kinds[0]).astype(nm.int64)
 
 

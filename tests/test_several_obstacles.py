@@ -235,6 +235,29 @@ def test_each_node_takes_the_nearer_curve():
     np.testing.assert_allclose(nu, body[:2])
 
 
+def test_at_a_corner_the_nearer_curve_wins():
+    """Two lines meeting at the corner (1, 1) (a right and a top wall):
+    below the bisector y = x the node takes the right wall, above it the
+    top, on it the first listed; the normal jumps across the bisector."""
+    right = {"points": [[1, -1], [1, 1]]}
+    top = {"x": "t", "y": "1", "t_range": [-1, 1]}
+    curves = SeveralCurves([right, top])
+    points = np.array([[0.9, 0.8], [0.8, 0.9], [0.9, 0.9]])
+    body = np.full((3, 2), 0.5 ** 0.5)  # a body corner's bisector
+    for gap in ("obstacle", "body"):
+        s, nu, foot = obstacle_gaps(points, curves, body, gap, warn=False)
+        if gap == "obstacle":
+            np.testing.assert_allclose(s, [0.1, 0.1, 0.1])
+            np.testing.assert_allclose(nu, [[1, 0], [0, 1], [1, 0]],
+                                       atol=1e-15)
+            np.testing.assert_allclose(foot, [[1, 0.8], [0.8, 1], [1, 0.9]])
+        else:  # along the bisector: the nearer wall's intersection
+            np.testing.assert_allclose(s, np.array([0.1, 0.1, 0.1]) * 2
+                                       ** 0.5, rtol=1e-12)
+            np.testing.assert_allclose(foot, [[1, 0.9], [0.9, 1], [1, 1]],
+                                       atol=1e-12)
+
+
 def test_a_node_no_curve_reaches_is_excluded(two_sided):
     """A segment x = L − δ, 0.3 ≤ y ≤ 0.7 reaches one node of the right
     side (y = 0.5; the others' nearest point is an end of it, not a foot

@@ -5,7 +5,25 @@ geometry on arrays; :mod:`.figures` draws it."""
 
 import numpy as np
 
-__all__ = ["obstacle_in_box", "closest_on_polyline", "moved_obstacle"]
+from ..geometry.mesh import chain_pieces
+
+__all__ = ["obstacle_in_box", "closest_on_polyline", "moved_obstacle",
+           "piece_joins", "with_breaks"]
+
+
+def piece_joins(problem):
+    """The indices j of the steps contact_nodes[j] → [j + 1] that join two
+    separate pieces of a 2D Γc (:func:`~solver.geometry.mesh.
+    chain_pieces`): no boundary edge, nothing to draw or project onto."""
+    pieces = chain_pieces(problem.contact_nodes, problem.cells)
+    return np.array([hi - 1 for _, hi in pieces[:-1]], dtype=np.int64)
+
+
+def with_breaks(points, joins):
+    """``points`` (n, 2) with a NaN row after each of ``joins`` (matplotlib
+    leaves the line open there)."""
+    return np.insert(np.asarray(points, float), np.asarray(joins) + 1,
+                     np.nan, axis=0)
 
 
 def obstacle_in_box(curve, low, high, samples=1201):
@@ -53,11 +71,12 @@ def obstacle_in_box(curve, low, high, samples=1201):
     return points
 
 
-def closest_on_polyline(points, chain, chunk=512):
+def closest_on_polyline(points, chain, chunk=512, skip=None):
     """For each point, the closest point of the polyline through ``chain``
     ((n, 2), n ≥ 2): the segment index j and the fraction τ ∈ [0, 1] along
-    it (closest point chain[j] + τ (chain[j + 1] − chain[j])). NaN points
-    get j = 0, τ = 0. Vectorised over points × segments, in chunks."""
+    it (closest point chain[j] + τ (chain[j + 1] − chain[j])), never one of
+    the segments ``skip`` (indices: the joins between separate pieces). NaN
+    points get j = 0, τ = 0. Vectorised over points × segments, in chunks."""
     points = np.asarray(points, float)
     a, d = chain[:-1], np.diff(chain, axis=0)
     length2 = np.maximum(np.einsum("ij,ij->i", d, d), np.finfo(float).tiny)
@@ -69,7 +88,10 @@ def closest_on_polyline(points, chain, chunk=512):
         rel = points[rows, None, :] - a[None]                 # (m, s, 2)
         frac = np.clip(np.einsum("msk,sk->ms", rel, d) / length2, 0.0, 1.0)
         gap = rel - frac[..., None] * d[None]
-        best = np.argmin(np.einsum("msk,msk->ms", gap, gap), axis=1)
+        d2 = np.einsum("msk,msk->ms", gap, gap)
+        if skip is not None:
+            d2[:, skip] = np.inf
+        best = np.argmin(d2, axis=1)
         segment[rows] = best
         tau[rows] = frac[np.arange(len(rows)), best]
     return segment, tau
@@ -84,7 +106,8 @@ def moved_obstacle(problem, displacement, scale, points):
     u = np.asarray(displacement, float)
     gc = problem.contact_nodes
     chain = problem.nodes[gc] + u[gc]
-    segment, tau = closest_on_polyline(points, chain)
+    segment, tau = closest_on_polyline(points, chain,
+                                       skip=piece_joins(problem))
     along = ((1 - tau)[:, None] * u[gc][segment]
              + tau[:, None] * u[gc][segment + 1])
     return points + (scale - 1.0) * along

@@ -86,8 +86,8 @@ KEYS = {
               "clockwise and convex), tetrahedra or hexahedra (3D, VTK/SfePy "
               "3_8 node order: 0-1-2-3 counter-clockwise seen from 4-5-6-7, "
               "node k + 4 above node k; all of one orientation); no cell "
-              "flat at a corner; a two-body file takes triangles or "
-              "tetrahedra only"),
+              "flat at a corner; a 3D two-body file takes tetrahedra "
+              "only"),
     "dof_map": ("mesh", "int", "(Ñ, 2)",
                 "(node, component) of each reduced DOF; component 0 = x, "
                 "1 = y, 2 = z"),

@@ -200,8 +200,11 @@ def boundary_normals(nodes, cells, chain, corner_angle=CORNER_ANGLE):
             raise GeometryError(
                 f"contact nodes {chain[i]} and {chain[i + 1]} coincide at "
                 f"({points[i, 0]:g}, {points[i, 1]:g})")
-    pieces = chain_pieces(chain, cells) if chain.ndim == 1 and len(chain) \
-        and 0 <= chain.min() else [(0, len(chain))]
+    try:  # malformed cells or chain: one piece, refused by outward_sign
+        pieces = chain_pieces(chain, cells) if chain.ndim == 1 \
+            and len(chain) and 0 <= chain.min() else [(0, len(chain))]
+    except (ValueError, TypeError, IndexError):
+        pieces = [(0, len(chain))]
     if len(pieces) > 1:  # Γc of separate parts: each its own normals
         return np.concatenate([
             boundary_normals(nodes, cells, chain[lo:hi], corner_angle)
