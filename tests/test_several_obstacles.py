@@ -304,4 +304,5 @@ def test_obstacle_curves_round_trip_and_refusals(two_sided, tmp_path):
         problem.set_search_interval(0, 1)
     arrays3 = two_sided["tetrahedra"].to_arrays()
     with pytest.raises(ProblemError, match="obstacle_curves"):
-        validate_arrays(dict(arrays3, obstacle_curves=arrays["obstacle_curves"]))
+        validate_arrays(dict(arrays3,
+                             obstacle_curves=arrays["obstacle_curves"]))

@@ -6,10 +6,10 @@ import warnings
 
 import numpy as np
 
-from ..errors import GeometryError, InitialPenetrationWarning
+from ..errors import GeometryError, InitialPenetrationWarning, ProblemError
 
 __all__ = ["GapError", "warn_penetration", "COORDINATE_LIMIT",
-           "RESOLUTION", "Misses"]
+           "RESOLUTION", "Misses", "check_obstacle_list"]
 
 #: Largest accepted |coordinate| of the body's nodes and of the numbers
 #: that place an obstacle: beyond it gaps, squared distances and the forces
@@ -69,6 +69,16 @@ def normal_line_misses(bad, points, node_ids, reason):
     raise GapError(
         f"the normal line of contact node {label} at ({x:g}, {y:g}) misses "
         f"the obstacle: {reason(i)}{more}")
+
+
+def check_obstacle_list(items, name, what, limit):
+    """The specs of several obstacles (2D curves, 3D surfaces): a non-empty
+    list or tuple of at most ``limit``; ProblemError ``"{name}: ..."``."""
+    if not isinstance(items, (list, tuple)) or not items:
+        raise ProblemError(f"{name}: need a non-empty list of {what} specs")
+    if len(items) > limit:
+        raise ProblemError(f"{name}: at most {limit} obstacles, got "
+                           f"{len(items)}")
 
 
 class Misses:

@@ -36,6 +36,7 @@ across the bisector; at equal gaps it takes the first listed."""
 import numpy as np
 
 from ...errors import ProblemError
+from ..checks import check_obstacle_list
 from .closest import nearest_obstacle_points, orient_normals
 from .parametric import ParametricCurve
 from .polyline import PolylineCurve
@@ -95,12 +96,7 @@ class SeveralCurves:
     search_interval = None
 
     def __init__(self, curves):
-        if not isinstance(curves, (list, tuple)) or not curves:
-            raise ProblemError("obstacle curves: need a non-empty list of "
-                               "curve specs")
-        if len(curves) > MAX_CURVES:
-            raise ProblemError(f"obstacle curves: at most {MAX_CURVES} "
-                               f"obstacles, got {len(curves)}")
+        check_obstacle_list(curves, "obstacle curves", "curve", MAX_CURVES)
         self.parts = [c if isinstance(c, (ParametricCurve, PolylineCurve))
                       else curve_from_spec(c) for c in curves]
 
