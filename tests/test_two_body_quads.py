@@ -9,9 +9,11 @@ SfePy assembling K on bilinear quadrilaterals): two blocks [0, 1] × [0,
 by δ: a uniform uniaxial stress, so every slave node carries the closed
 form p = δ / (h0/E'0 + h1/E'1), E' = E/(1 − ν²) (plane strain;
 ``meta["p_exact"]``), which bilinear elements and the dual mortar
-reproduce to round-off, fine slave on coarse master and the reverse."""
+reproduce to round-off, fine slave on coarse master and the reverse. The
+same on unstructured quadrilaterals: ``meshes/two_body_patch.mesh``'s
+triangles cut into three quadrilaterals each (``meshes/structured.py
+quads``)."""
 
-import meshio
 import numpy as np
 import pytest
 
@@ -26,6 +28,8 @@ PATCH = ROOT / "sfepy_problems" / "two_body_patch.py"
 
 @pytest.fixture(scope="module")
 def quad_patch(tmp_path_factory):
+    """The patch on structured quadrilaterals and on the cut triangles of
+    the repository's patch mesh, each with either slave."""
     structured = load_script("_contact_ssn_structured",
                              MESHES / "structured.py")
     lower, lower_cells = structured.grid((5, 3), (0, 0), (1, 0.5))
@@ -35,28 +39,34 @@ def quad_patch(tmp_path_factory):
     group = np.r_[np.ones(len(lower_cells), int),
                   np.full(len(upper_cells), 2)]  # body id + 1
     folder = tmp_path_factory.mktemp("quad_patch")
-    mesh = folder / "patch_quad.mesh"
-    meshio.write(str(mesh), meshio.Mesh(
-        nodes, [("quad", cells)],
-        point_data={"medit:ref": np.zeros(len(nodes), int)},
-        cell_data={"medit:ref": [group]}), file_format="medit")
+    meshes = {"structured": folder / "patch_quad.mesh",
+              "cut": folder / "patch_cut.mesh"}
+    structured.write(str(meshes["structured"]), nodes, cells,
+                     groups=group)
+    cut_nodes, cut_cells, cut_group = structured.read_quads(
+        MESHES / "two_body_patch.mesh")
+    structured.write(str(meshes["cut"]), cut_nodes, cut_cells,
+                     groups=cut_group)
     problems = {}
-    for slave in ("upper", "lower"):
-        out = folder / f"patch_{slave}.npz"
-        export_module().export_only(PATCH, mesh=str(mesh), output=str(out),
-                                    slave=slave)
-        problems[slave] = load_problem(out)
+    for name, mesh in meshes.items():
+        for slave in ("upper", "lower"):
+            out = folder / f"{name}_{slave}.npz"
+            export_module().export_only(PATCH, mesh=str(mesh),
+                                        output=str(out), slave=slave)
+            problems[name, slave] = load_problem(out)
     return problems
 
 
+@pytest.mark.parametrize("mesh", ["structured", "cut"])
 @pytest.mark.parametrize("slave", ["upper", "lower"])
 @pytest.mark.parametrize("options", [{}, dict(system="full"),
                                      dict(method="fb")],
                          ids=["default", "full", "fb"])
-def test_quad_patch_test_is_uniform(quad_patch, slave, options):
-    problem = quad_patch[slave]
+def test_quad_patch_test_is_uniform(quad_patch, mesh, slave, options):
+    problem = quad_patch[mesh, slave]
     assert problem.cells.shape[1] == 4 and problem.is_mortar
-    assert len(problem.mortar_slave) == (8 if slave == "upper" else 5)
+    segments = (8, 5) if mesh == "structured" else (16, 10)  # halved
+    assert len(problem.mortar_slave) == segments[slave == "lower"]
     result = solver.solve(problem, **options)
     assert result.success, result.message
     p = result.contact_pressure
