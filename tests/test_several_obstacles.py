@@ -283,8 +283,17 @@ def test_a_node_no_curve_reaches_is_excluded(two_sided):
     np.testing.assert_allclose(geometry.foot[far, 0], DELTA, rtol=1e-12)
 
 
-def test_obstacle_curves_round_trip_and_refusals(two_sided, tmp_path):
+def test_obstacle_curves_round_trip_and_refusals(two_sided, tmp_path,
+                                                 capsys):
     problem = two_sided["triangles"]
+    from solver.cli import main
+    from solver.problem import save_problem
+
+    save_problem(tmp_path / "two.npz", problem)
+    assert main([str(tmp_path / "two.npz"), "--info"]) == 0
+    out = capsys.readouterr().out
+    assert 'obstacle          {"curves": [{"t_range"' in out
+    assert "gaps from the obstacle at 10 contact nodes: passed" in out
     arrays = problem.to_arrays()
     assert "obstacle_curves" in arrays and "obstacle_points" not in arrays
     again = validate_arrays(dict(arrays))

@@ -368,7 +368,7 @@ class ContactProblem:
                         obstacle=(
                             [self.obstacle.x_text, self.obstacle.y_text]
                             if isinstance(self.obstacle, ParametricCurve)
-                            else self.obstacle.spec()
+                            else {"curves": self.obstacle.spec()}
                             if isinstance(self.obstacle, SeveralCurves)
                             else repr(self.obstacle)),
                         obstacle_t_range=self.obstacle.t_range,
