@@ -18,35 +18,19 @@ Usage::
 """
 
 import argparse
-import subprocess
 import sys
 import tempfile
-import time
 from pathlib import Path
 
 import numpy as np
 
-ROOT = Path(__file__).resolve().parents[1]
-sys.path.insert(0, str(ROOT))
-
-from solver import load_problem, solve  # noqa: E402
-
-
-def run(*argv):
-    subprocess.run([sys.executable, *map(str, argv)], check=True,
-                   capture_output=True, cwd=ROOT)
+from hertz_sphere_hex import ROOT, export_and_solve, run
 
 
 def measure(mesh, workdir):
     """One row: DOFs, slave nodes, in contact, a and p0 errors (%), s."""
-    out = workdir / (mesh.stem + ".npz")
-    run(ROOT / "sfepy_problems" / "two_cylinders.py", "-d",
-        f"mesh='{mesh}', output='{out}'")
-    problem = load_problem(out)
-    start = time.perf_counter()
-    result = solve(problem)
-    seconds = time.perf_counter() - start
-    assert result.success, result.message
+    problem, result, seconds = export_and_solve("two_cylinders.py", mesh,
+                                                workdir)
     D = np.asarray(result.mortar_D)
     D = D if D.ndim == 1 else D.diagonal()
     lam = np.asarray(result.contact_pressure)
