@@ -38,15 +38,24 @@ def run(*argv):
                    capture_output=True, cwd=ROOT)
 
 
-def measure(mesh, workdir):
-    out = workdir / (mesh.stem + ".npz")
-    run(ROOT / "sfepy_problems" / "hertz_sphere.py", "-d",
+def export_and_solve(problem_file, mesh, workdir, **options):
+    """Export ``mesh`` with ``sfepy_problems/problem_file`` into
+    ``workdir`` and solve it with ``options``: (problem, result, solve
+    seconds); the solve must succeed."""
+    out = workdir / (Path(mesh).stem + ".npz")
+    run(ROOT / "sfepy_problems" / problem_file, "-d",
         f"mesh='{mesh}', output='{out}'")
     problem = load_problem(out)
     start = time.perf_counter()
-    result = solve(problem, method="min")
+    result = solve(problem, **options)
     seconds = time.perf_counter() - start
     assert result.success, result.message
+    return problem, result, seconds
+
+
+def measure(mesh, workdir):
+    problem, result, seconds = export_and_solve("hertz_sphere.py", mesh,
+                                                workdir, method="min")
     row = hertz_sphere_row(problem, result)
     return [f"{row['a/h']:.1f}", f"{row['DOFs']}", f"{row['in contact']}",
             *(f"{row[c]:+.2f}" for c in COLUMNS[3:-1]),

@@ -14,8 +14,12 @@ cut into hexahedra, four per tetrahedron (a corner, its three edge
 midpoints, three face centroids and the centroid), which halves the
 element size and keeps the grading: the Hertz sphere's graded tetrahedra
 (``hertz_sphere.py``) give a hexahedral sphere; new nodes on the sphere
-(``--sphere-radius``, centre (0, 0, R)) are put on it radially. Medit ``.mesh`` files, written by
-meshio, read by ``sfepy.discrete.fem.Mesh.from_file``.
+(``--sphere-radius``, centre (0, 0, R)) are put on it radially. ``quads``:
+a triangular mesh cut into quadrilaterals, three per triangle (a corner,
+its two edge midpoints and the centroid), counter-clockwise, each keeping
+its triangle's cell group (medit reference: the body of a two-body mesh).
+Medit ``.mesh`` files, written by meshio, read by
+``sfepy.discrete.fem.Mesh.from_file``.
 
 Usage::
 
@@ -24,6 +28,7 @@ Usage::
     python meshes/structured.py box 4 --dim 3 -o meshes/box_hex_4.mesh
     python meshes/structured.py box 4 --dim 3 --simplices -o output/box_tet_4.mesh
     python meshes/structured.py hexes meshes/hertz_sphere_8.mesh --sphere-radius 1 -o output/hertz_sphere_hex_16.mesh
+    python meshes/structured.py quads meshes/two_body_patch.mesh -o output/two_body_patch_quad.mesh
 """
 
 import argparse
@@ -124,8 +129,34 @@ def tets_to_hexes(points, tets, radius=None):
     return nodes, hexes.reshape(-1, 8)
 
 
-def write(path, nodes, cells, cut=False):
-    """Medit file of the cells (cut into simplices if ``cut``)."""
+def tris_to_quads(points, triangles):
+    """Three quadrilaterals per triangle (module docstring): (nodes, quads,
+    the triangle of each quadrilateral); the corners' quadrilaterals in the
+    order of the triangles, repeated for corners 0, 1, 2."""
+    points = np.asarray(points, float)[:, :2]
+    tri = np.asarray(triangles, np.int64)
+    n, m = len(points), len(tri)
+    edges = np.sort(np.concatenate([tri[:, [0, 1]], tri[:, [1, 2]],
+                                    tri[:, [2, 0]]]), axis=1)
+    unique, inverse = np.unique(edges, axis=0, return_inverse=True)
+    mid = n + inverse.ravel().reshape(3, m)  # edges 01, 12, 20
+    centre = n + len(unique) + np.arange(m)
+    quads = np.concatenate([
+        np.c_[tri[:, 0], mid[0], centre, mid[2]],
+        np.c_[tri[:, 1], mid[1], centre, mid[0]],
+        np.c_[tri[:, 2], mid[2], centre, mid[1]]])
+    nodes = np.concatenate([points, points[unique].mean(axis=1),
+                            points[tri].mean(axis=1)])
+    a, b, c = (nodes[quads[:, k]] for k in range(3))
+    clockwise = ((b - a)[:, 0] * (c - a)[:, 1]
+                 - (b - a)[:, 1] * (c - a)[:, 0]) < 0
+    quads[clockwise] = quads[clockwise][:, ::-1]
+    return nodes + 0.0, quads, np.tile(np.arange(m), 3)
+
+
+def write(path, nodes, cells, cut=False, groups=None):
+    """Medit file of the cells (cut into simplices if ``cut``), with their
+    cell ``groups`` (medit references) if given."""
     import meshio
 
     dim = nodes.shape[1]
@@ -134,32 +165,54 @@ def write(path, nodes, cells, cut=False):
     kind = {(2, 3): "triangle", (2, 4): "quad", (3, 4): "tetra",
             (3, 8): "hexahedron"}[dim, cells.shape[1]]
     Path(path).parent.mkdir(parents=True, exist_ok=True)
-    meshio.write(path, meshio.Mesh(nodes, [(kind, cells)]),
+    extra = {} if groups is None else dict(
+        point_data={"medit:ref": np.zeros(len(nodes), np.int64)},
+        cell_data={"medit:ref": [np.asarray(groups, np.int64)]})
+    meshio.write(path, meshio.Mesh(nodes, [(kind, cells)], **extra),
                  file_format="medit")
+
+
+def read_quads(path):
+    """The triangles of a medit file as quadrilaterals (:func:`tris_to_quads`)
+    with their triangles' cell groups: (nodes, quads, groups)."""
+    import meshio
+
+    mesh = meshio.read(str(path))
+    blocks = [i for i, b in enumerate(mesh.cells) if b.type == "triangle"]
+    triangles = np.concatenate([mesh.cells[i].data for i in blocks])
+    refs = mesh.cell_data.get("medit:ref")
+    group = np.concatenate([refs[i] for i in blocks]) if refs else \
+        np.zeros(len(triangles), np.int64)
+    nodes, quads, parent = tris_to_quads(mesh.points, triangles)
+    return nodes, quads, group[parent]
 
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("shape", choices=("block", "box", "hexes"))
+    parser.add_argument("shape", choices=("block", "box", "hexes", "quads"))
     parser.add_argument("counts", nargs="+",
-                        help="block: nx ny; box: n; hexes: a .mesh file")
+                        help="block: nx ny; box: n; hexes, quads: a .mesh "
+                             "file")
     parser.add_argument("--sphere-radius", type=float, default=None)
     parser.add_argument("--dim", type=int, default=3, choices=(2, 3))
     parser.add_argument("--simplices", action="store_true",
                         help="cut the cells into triangles / tetrahedra")
     parser.add_argument("-o", "--output", required=True)
     args = parser.parse_args(argv)
+    groups = None
     if args.shape == "block":
         nodes, cells = block(*map(int, args.counts[:2]))
     elif args.shape == "box":
         nodes, cells = box(int(args.counts[0]), args.dim)
+    elif args.shape == "quads":
+        nodes, cells, groups = read_quads(args.counts[0])
     else:
         import meshio
 
         tet = meshio.read(args.counts[0])
         nodes, cells = tets_to_hexes(tet.points, tet.cells_dict["tetra"],
                                      args.sphere_radius)
-    write(args.output, nodes, cells, args.simplices)
+    write(args.output, nodes, cells, args.simplices, groups)
     print(f"wrote {args.output}: {len(nodes)} nodes")
     return 0
 

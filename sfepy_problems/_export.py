@@ -40,7 +40,8 @@ What is exported (``docs/npz-format.md``):
 * **u_prescribed**, the Dirichlet values per node and component.
 * **contact_nodes**, the vertices of the facet region Γc, and their reduced
   DOFs. In 2D ordered along the boundary
-  (:func:`solver.geometry.mesh.order_along_boundary`); in 3D in increasing
+  (:func:`solver.geometry.mesh.order_along_boundary`; a Γc of separate
+  parts, chain after chain); in 3D in increasing
   node number, with **contact_faces**, the facets of Γc as triangles oriented
   outward (:func:`contact_triangles`).
 * **M**, :math:`M_{ij} = \int_{\Gamma_c} \varphi_i \varphi_j` for the scalar
@@ -337,8 +338,9 @@ def export_contact_problem(pb, variables, filename, *, stiffness, load=None,
         faces = two_body_keys(pb, mortar, cells, mesh.coors)
         contact_nodes = faces.pop('contact_nodes')
     elif dim == 2:  # the vertices of Gamma_c, ordered along the boundary
+        # (several chains where it has separate parts, e.g. two sides)
         contact_nodes = order_along_boundary(gamma_c.vertices, cells,
-                                             mesh.coors)
+                                             mesh.coors, pieces=True)
     else:  # its triangles (quads), outward; the nodes in increasing order
         faces['contact_faces'] = contact_triangles(pb, region, cells,
                                                    mesh.coors)
@@ -375,7 +377,9 @@ def obstacle_curve(spec):
     """The 2D obstacle of a spec dict: ``{'x': 'x(t)', 'y': 'y(t)'}``
     (optional ``'t_range'``, ``'search_interval'``) as the solver's
     ``ParametricCurve``, or ``{'points': [[x, y], ...]}`` (optional
-    ``'search_interval'``, in arc length) as its ``PolylineCurve``. The
+    ``'search_interval'``, in arc length) as its ``PolylineCurve``, or
+    ``{'curves': [spec, ...]}`` (several obstacles, each spec one of the
+    two) as its ``SeveralCurves``. The
     expressions take what the ``.npz`` format takes
     (``docs/npz-format.md``: arithmetic in t, sin, cos, sqrt, ...).
     A dict keeps a problem file free of the solver's class names.
@@ -386,8 +390,11 @@ def obstacle_curve(spec):
         For a dict that is neither (naming the keys it has and may have).
     """
     from solver.geometry import ParametricCurve, PolylineCurve
+    from solver.geometry.curves import SeveralCurves
 
     keys = set(spec)
+    if keys == {'curves'}:
+        return SeveralCurves([obstacle_curve(c) for c in spec['curves']])
     if keys >= {'x', 'y'} and keys <= {'x', 'y', 't_range',
                                        'search_interval'}:
         return ParametricCurve(spec['x'], spec['y'],
@@ -415,9 +422,10 @@ def _segments(pb, region, cells, coors):
     if not len(segments) or nm.any(nm.diff(offsets) != 1):
         raise ValueError(f'{region}: empty, or a facet bounds two cells '
                          '(not on the surface)')
-    third = cells[owner].sum(axis=1) - segments.sum(axis=1)
+    # the body lies on the side of its cell's centroid (triangles or
+    # quadrilaterals)
     a, b = coors[segments[:, 0], :2], coors[segments[:, 1], :2]
-    c = coors[third, :2]
+    c = coors[cells[owner], :2].mean(axis=1)
     right = ((b - a)[:, 0] * (c - a)[:, 1] - (b - a)[:, 1] * (c - a)[:, 0]) < 0
     segments[right] = segments[right][:, ::-1]
     return segments
@@ -496,7 +504,8 @@ def mesh_cells(mesh):
     if len(kinds) != 1 or kinds[0] not in ('2_3', '2_4', '3_4', '3_8'):
         raise ValueError(f'the mesh has cells {kinds}: the export takes one '
                          'kind of first-order cell, 2_3 or 2_4 (2D), 3_4 '
-                         'or 3_8 (3D)')
+                         'or 3_8 (3D) (SfePy builds a field on one '
+                         'reference geometry only)')
     return mesh.get_conn(kinds[0]).astype(nm.int64)
 
 

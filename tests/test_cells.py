@@ -203,12 +203,15 @@ def test_bad_hexahedra_and_faces_are_refused_in_one_line(hex_arrays):
     assert "repeats a vertex" in _bad(hex_arrays, contact_faces=repeated)
 
 
-def test_two_body_files_refuse_quadrilaterals(quad_arrays):
-    arrays = dict(quad_arrays, mortar_slave=np.array([[0, 1]]),
-                  mortar_master=np.array([[1, 2]]))
+def test_two_body_files_refuse_hexahedra(hex_arrays):
+    """Quadrilaterals take two bodies (tests/test_two_body_quads.py);
+    hexahedra not: the 3D mortar has no dual basis of bilinear faces."""
+    arrays = dict(hex_arrays, mortar_slave=np.array([[0, 1, 2]]),
+                  mortar_master=np.array([[1, 2, 3]]))
     arrays = {k: v for k, v in arrays.items()
-              if not k.startswith("obstacle")}
-    assert _bad(arrays).startswith("cells: a two-body file")
+              if not k.startswith("obstacle") and k != "contact_faces"}
+    assert _bad(arrays).startswith("cells: a 3D two-body file (mortar_slave) "
+                                   "needs tetrahedra")
 
 
 def test_readme_quadrilateral_rows_are_what_the_solver_counts(tmp_path):

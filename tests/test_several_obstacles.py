@@ -1,4 +1,4 @@
-"""Several rigid obstacles in one 3D problem (issue 35, point 2).
+"""Several rigid obstacles in one problem, 3D and 2D (issue 35, point 2).
 
 A box [0, L]³ on rollers (u_y = 0 on y = 0, u_z = 0 on z = 0, u_x = 0 on
 the mid-plane x = L/2) squeezed by two rigid planes that enter its faces
@@ -8,8 +8,23 @@ both faces carries the contact pressure p = 2Eδ/L and moves by δ
 inwards, while u_y = −ν ε_xx y and u_z = −ν ε_xx z (P1 elements reproduce
 the linear field exactly, to round-off). The same with the obstacles given
 as bounded rectangles, and with a third obstacle (a rectangle above the
-top) that no node reaches, which is listed among the excluded nodes."""
+top) that no node reaches, which is listed among the excluded nodes.
 
+2D and every cell kind: ``sfepy_problems/squeezed_block.py`` with
+``sides=2`` (SfePy assembles K): the unit block on rollers (u_y = 0 on its
+bottom, u_x = 0 at the bottom's midpoint) between two rigid lines entering
+its sides by δ (``obstacle_curves``: a parametric line and a polyline) or
+two planes (3D). The same closed form, ε_xx = −2δ/L about x = L/2: in
+plane strain (the format's default plane of the export) p = 2E'δ/L,
+E' = E/(1 − ν²), u_y = 2ν'δy/L, ν' = ν/(1 − ν); in 3D p = 2Eδ/L,
+u_y = 2νδy/L, u_z = 2νδz/L. With Coulomb friction the closed form holds
+where nothing slides along the obstacles: ν = 0 (any bound), or, with the
+default lagged bound, ν = 0.3 too, since the first load step carries the
+whole squeeze before any bound exists (with the implicit bound friction
+then holds the sides' Poisson sliding, and the pressure is no longer
+uniform)."""
+
+import copy
 import json
 import sys
 from pathlib import Path
@@ -21,8 +36,11 @@ sys.path.insert(0, str(Path(__file__).parent))
 from tet_elasticity import box, mesh_problem, stiffness  # noqa: E402
 
 import solver  # noqa: E402
+from conftest import MESHES, ROOT, load_script  # noqa: E402
 from solver.errors import InitialPenetrationWarning, ProblemError  # noqa: E402
+from solver.geometry.curves import SeveralCurves, obstacle_gaps  # noqa: E402
 from solver.geometry.surfaces import surface_from_spec  # noqa: E402
+from solver.problem import load_problem, validate_arrays  # noqa: E402
 
 E, NU, L, DELTA, N = 100.0, 0.3, 1.0, 1e-3, 4
 
@@ -132,3 +150,185 @@ def test_a_node_no_obstacle_reaches_is_excluded():
 def test_bad_specs_are_refused_in_one_line(spec, phrase):
     with pytest.raises(ProblemError, match=phrase):
         surface_from_spec(json.loads(json.dumps(spec)))
+
+
+# -- 2D, and every cell kind through the SfePy export -----------------------
+
+SQUEEZED = ROOT / "sfepy_problems" / "squeezed_block.py"
+KINDS = {"triangles": (2, 4, True), "quadrilaterals": (2, 4, False),
+         "tetrahedra": (3, 2, True), "hexahedra": (3, 2, False)}
+
+
+@pytest.fixture(scope="module")
+def two_sided(tmp_path_factory):
+    """The block squeezed from both sides, one export per cell kind (ν =
+    NU) and one with ν = 0 (keyed (kind, 0.0))."""
+    from test_export import export_module
+
+    structured = load_script("_contact_ssn_structured",
+                             MESHES / "structured.py")
+    folder = tmp_path_factory.mktemp("two_sided")
+    problems = {}
+    for name, (dim, n, cut) in KINDS.items():
+        nodes, cells = structured.box(n, dim)
+        mesh = folder / f"{name}.mesh"
+        structured.write(mesh, nodes, cells, cut)
+        for nu in (NU, 0.0):
+            out = folder / f"{name}_{nu}.npz"
+            export_module().export_only(SQUEEZED, mesh=str(mesh),
+                                        output=str(out), E=E, nu=nu,
+                                        delta=DELTA, sides=2)
+            problem = load_problem(out)
+            problems[name if nu == NU else (name, nu)] = problem
+    return problems
+
+
+def two_sided_exact(problem):
+    """p and u of the two-sided squeeze (module docstring)."""
+    x, nu = problem.nodes, problem.meta["nu"]
+    e_mod, nu_side = (E, nu) if problem.dim == 3 else (E / (1 - nu ** 2),
+                                                       nu / (1 - nu))
+    strain = 2 * DELTA / L
+    u = nu_side * strain * x
+    u[:, 0] = -strain * (x[:, 0] - L / 2)
+    if problem.dim == 3:
+        u[:, 2] = nu * strain * x[:, 2]
+    return e_mod * strain, u
+
+
+@pytest.mark.parametrize("kind", list(KINDS))
+@pytest.mark.parametrize("options", [
+    {}, dict(system="full"), dict(gap="body"), dict(friction=0.2, steps=2),
+    dict(friction=0.2, steps=2, gap="body"),
+    dict(friction=0.2, steps=2, coulomb="implicit", nu=0.0),
+    dict(friction=0.2, steps=2, coulomb="implicit", nu=0.0, gap="body")],
+    ids=["default", "full", "body", "friction", "friction-body",
+         "friction-implicit-nu0", "friction-implicit-nu0-body"])
+def test_block_between_two_obstacles_on_every_cell_kind(two_sided, kind,
+                                                         options):
+    """Friction: with the default lagged bound the first step, which
+    carries the whole squeeze (the gaps enter at once), has no bound yet,
+    so ν = 0.3 gives the frictionless answer; with the implicit bound
+    friction holds the Poisson sliding of the sides and ν = 0 (no sliding)
+    is the case with a closed form."""
+    options = dict(options)
+    problem = two_sided[kind] if options.pop("nu", NU) == NU \
+        else two_sided[kind, 0.0]
+    assert problem.cells.shape[1] == {"triangles": 3, "quadrilaterals": 4,
+                                      "tetrahedra": 4, "hexahedra": 8}[kind]
+    if problem.dim == 2:
+        assert isinstance(problem.obstacle, SeveralCurves)
+    with pytest.warns(InitialPenetrationWarning):  # both obstacles enter
+        result = solver.solve(problem, **options)
+    assert result.success, result.message
+    p, u_exact = two_sided_exact(problem)
+    pressure = np.atleast_2d(result.contact_pressure)[-1]
+    free = ~np.isnan(np.atleast_2d(result.gap)[-1])
+    assert free.sum() == len(problem.contact_nodes)  # both sides, corners
+    np.testing.assert_allclose(pressure[free], p, rtol=1e-10)
+    u = problem.full_displacement(np.atleast_2d(result.u)[-1])
+    np.testing.assert_allclose(u, u_exact, rtol=0, atol=1e-10 * DELTA)
+    assert result.verification["excluded"]["nodes"] == 0
+
+
+LEFT = {"x": "0.001", "y": "t"}  # unbounded, x = δ
+RIGHT = {"points": [[L - DELTA, -1.0], [L - DELTA, 2.0]]}
+
+
+def test_each_node_takes_the_nearer_curve():
+    """2D: a node takes the line of smaller gap; along the body normals the
+    line behind a node does not count (its normal line meets it too)."""
+    curves = SeveralCurves([LEFT, RIGHT])
+    points = np.array([[0, 0.5], [L, 0.5], [0.4, 0.5]])
+    body = np.array([[-1.0, 0], [1, 0], [-1, 0]])
+    gap, nu, foot = obstacle_gaps(points, curves, body, warn=False)
+    np.testing.assert_allclose(gap, [-DELTA, -DELTA, 0.4 - DELTA])
+    np.testing.assert_allclose(nu, [[-1, 0], [1, 0], [-1, 0]])
+    np.testing.assert_allclose(foot, [[DELTA, 0.5], [L - DELTA, 0.5],
+                                      [DELTA, 0.5]])
+    gap, nu, _ = obstacle_gaps(points[:2], curves, body[:2], "body",
+                               warn=False)
+    np.testing.assert_allclose(gap, [-DELTA, -DELTA])
+    np.testing.assert_allclose(nu, body[:2])
+
+
+def test_at_a_corner_the_nearer_curve_wins():
+    """Two lines meeting at the corner (1, 1) (a right and a top wall):
+    below the bisector y = x the node takes the right wall, above it the
+    top, on it the first listed; the normal jumps across the bisector."""
+    right = {"points": [[1, -1], [1, 1]]}
+    top = {"x": "t", "y": "1", "t_range": [-1, 1]}
+    curves = SeveralCurves([right, top])
+    points = np.array([[0.9, 0.8], [0.8, 0.9], [0.9, 0.9]])
+    body = np.full((3, 2), 0.5 ** 0.5)  # a body corner's bisector
+    for gap in ("obstacle", "body"):
+        s, nu, foot = obstacle_gaps(points, curves, body, gap, warn=False)
+        if gap == "obstacle":
+            np.testing.assert_allclose(s, [0.1, 0.1, 0.1])
+            np.testing.assert_allclose(nu, [[1, 0], [0, 1], [1, 0]],
+                                       atol=1e-15)
+            np.testing.assert_allclose(foot, [[1, 0.8], [0.8, 1], [1, 0.9]])
+        else:  # along the bisector: the nearer wall's intersection
+            np.testing.assert_allclose(s, np.array([0.1, 0.1, 0.1]) * 2
+                                       ** 0.5, rtol=1e-12)
+            np.testing.assert_allclose(foot, [[1, 0.9], [0.9, 1], [1, 1]],
+                                       atol=1e-12)
+
+
+def test_a_node_no_curve_reaches_is_excluded(two_sided):
+    """A segment x = L − δ, 0.3 ≤ y ≤ 0.7 reaches one node of the right
+    side (y = 0.5; the others' nearest point is an end of it, not a foot
+    point). Along the body normals the left line lies behind the other 4
+    right nodes: no obstacle in reach, excluded. Measured from the
+    obstacles (as in 3D) the left line reaches them through the body, at
+    gap L − δ, so they take part and stay far from contact."""
+    problem = copy.copy(two_sided["quadrilaterals"])  # the fixture's kept
+    problem.obstacle = SeveralCurves([
+        LEFT, {"points": [[L - DELTA, 0.3], [L - DELTA, 0.7]]}])
+    with pytest.warns(InitialPenetrationWarning):
+        geometry = solver.contact_geometry(problem, gap="body", rollers=True)
+    assert geometry.excluded["reason"].count(
+        "no obstacle in reach (a bounded one ends before it)") == 4
+    assert len(geometry.index) == 5 + 1
+    with pytest.warns(InitialPenetrationWarning):
+        geometry = solver.contact_geometry(problem, rollers=True)
+    assert len(geometry.index) == 10
+    x = problem.nodes[problem.contact_nodes[geometry.index], 0]
+    far = (x == L) & (np.abs(geometry.foot[:, 1] - 0.5) > 0.1)
+    assert far.sum() == 4
+    np.testing.assert_allclose(geometry.gap[far], L - DELTA, rtol=1e-12)
+    np.testing.assert_allclose(geometry.foot[far, 0], DELTA, rtol=1e-12)
+
+
+def test_obstacle_curves_round_trip_and_refusals(two_sided, tmp_path,
+                                                 capsys):
+    problem = two_sided["triangles"]
+    from solver.cli import main
+    from solver.problem import save_problem
+
+    save_problem(tmp_path / "two.npz", problem)
+    assert main([str(tmp_path / "two.npz"), "--info"]) == 0
+    out = capsys.readouterr().out
+    assert 'obstacle          {"curves": [{"t_range"' in out
+    assert "gaps from the obstacle at 10 contact nodes: passed" in out
+    arrays = problem.to_arrays()
+    assert "obstacle_curves" in arrays and "obstacle_points" not in arrays
+    again = validate_arrays(dict(arrays))
+    assert again.obstacle.spec() == problem.obstacle.spec()
+    for changes, phrase in [
+            (dict(obstacle_x=np.array("t")), "obstacle_x: not allowed with "
+                                             "obstacle_curves"),
+            (dict(obstacle_curves=np.array("{}")), "must be a JSON list"),
+            (dict(obstacle_curves=np.array("[]")), "non-empty list"),
+            (dict(obstacle_curves=np.array('[{"z": 1}]')),
+             "an obstacle curve is"),
+            (dict(obstacle_curves=np.array("[" + ", ".join(
+                [json.dumps(RIGHT)] * 65) + "]")), "at most 64")]:
+        with pytest.raises(ProblemError, match=phrase):
+            validate_arrays(dict(arrays, **changes))
+    with pytest.raises(ProblemError, match="several obstacle curves"):
+        problem.set_search_interval(0, 1)
+    arrays3 = two_sided["tetrahedra"].to_arrays()
+    with pytest.raises(ProblemError, match="obstacle_curves"):
+        validate_arrays(dict(arrays3,
+                             obstacle_curves=arrays["obstacle_curves"]))

@@ -68,7 +68,8 @@ class ContactGeometry:
     gap, normal, tangents : (Nca,), (Nca, d), (Nca, d − 1, d) float
         s (< 0: penetration), ν and the tangents.
     foot : (Nca,) or (Nca, d) float, or None
-        The obstacle parameter t (2D) or point (3D) the gap is measured to.
+        The obstacle parameter t (2D) or point (3D; 2D with several
+        curves) the gap is measured to.
     mode, dim : str, int
         ``"obstacle"``, ``"body"`` or ``"given"`` (discrete problems); d.
     rollers, oblique : (Nca,) bool
@@ -188,18 +189,19 @@ def _gaps(problem, gap, nodes):
         return problem.gap[nodes], problem.normal[nodes], None
     if problem_dim(problem) == 3:
         return _geometry_3d(problem, gap, nodes)
-    from ..geometry.curves import gap_along_normals, gap_from_obstacle
+    from ..geometry.curves import SeveralCurves, obstacle_gaps
     from ..geometry.curves.normals import boundary_normals
 
     body = boundary_normals(problem.nodes, problem.cells,
-                            problem.contact_nodes)[nodes]
+                            problem.contact_nodes)
+    if isinstance(problem.obstacle, SeveralCurves):  # oriented by all of Γc
+        ids = problem.contact_nodes
+        s, normal, foot = obstacle_gaps(problem.nodes[ids], problem.obstacle,
+                                        body, gap, node_ids=ids, warn=False)
+        return s[nodes], normal[nodes], foot[nodes]
     ids = problem.contact_nodes[nodes]
-    points = problem.nodes[ids]
-    if gap == "obstacle":
-        return gap_from_obstacle(points, problem.obstacle, body,
-                                 node_ids=ids, warn=False)
-    return gap_along_normals(points, body, problem.obstacle, node_ids=ids,
-                             warn=False)
+    return obstacle_gaps(problem.nodes[ids], problem.obstacle, body[nodes],
+                         gap, node_ids=ids, warn=False)
 
 
 def _support_gaps(problem, gap, left):

@@ -20,6 +20,7 @@ the answer solves the linearised problem it was given."""
 
 import numpy as np
 
+from ..geometry.mesh import chain_pieces
 from .geometry import node_displacement
 
 __all__ = ["SLIDING_ELEMENTS", "OVERLAP_FRACTION", "FLAT_COSINE",
@@ -34,12 +35,15 @@ FLAT_COSINE = 1.0 - 1e-12
 
 
 def element_size(problem):
-    """The median edge length of Γc: consecutive contact nodes in 2D, the
-    edges of ``contact_faces`` in 3D (NaN without them: not checked)."""
+    """The median edge length of Γc: consecutive contact nodes of one
+    piece in 2D, the edges of ``contact_faces`` in 3D (NaN without them:
+    not checked)."""
     x = problem.nodes
-    if problem.dim == 2:
+    if problem.dim == 2:  # each piece of Γc (several: not their joins)
         chain = problem.contact_nodes
-        edges = np.column_stack([chain[:-1], chain[1:]])
+        edges = np.concatenate([
+            np.column_stack([chain[lo:hi - 1], chain[lo + 1:hi]])
+            for lo, hi in chain_pieces(chain, problem.cells)])
     elif problem.contact_faces is None:  # built without its faces
         return np.nan
     else:

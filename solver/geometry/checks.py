@@ -6,10 +6,10 @@ import warnings
 
 import numpy as np
 
-from ..errors import GeometryError, InitialPenetrationWarning
+from ..errors import GeometryError, InitialPenetrationWarning, ProblemError
 
 __all__ = ["GapError", "warn_penetration", "COORDINATE_LIMIT",
-           "RESOLUTION"]
+           "RESOLUTION", "Misses", "check_obstacle_list"]
 
 #: Largest accepted |coordinate| of the body's nodes and of the numbers
 #: that place an obstacle: beyond it gaps, squared distances and the forces
@@ -70,6 +70,35 @@ def normal_line_misses(bad, points, node_ids, reason):
         f"the normal line of contact node {label} at ({x:g}, {y:g}) misses "
         f"the obstacle: {reason(i)}{more}")
 
+
+def check_obstacle_list(items, name, what, limit):
+    """The specs of several obstacles (2D curves, 3D surfaces): a non-empty
+    list or tuple of at most ``limit``; ProblemError ``"{name}: ..."``."""
+    if not isinstance(items, (list, tuple)) or not items:
+        raise ProblemError(f"{name}: need a non-empty list of {what} specs")
+    if len(items) > limit:
+        raise ProblemError(f"{name}: at most {limit} obstacles, got "
+                           f"{len(items)}")
+
+
+class Misses:
+    """Where the normal lines of n nodes miss the obstacle: each call with
+    a mask ``bad`` raises :class:`GapError` about its first node
+    (:func:`normal_line_misses`), or, ``tolerant``, only marks the nodes in
+    ``mask``: a node a bounded obstacle of several does not reach is out of
+    its reach, not an input error (:mod:`solver.geometry.curves.several`)."""
+
+    def __init__(self, n, tolerant=False):
+        self.mask = np.zeros(n, bool)
+        self.tolerant = bool(tolerant)
+
+    def __call__(self, bad, points, node_ids, reason):
+        bad = np.asarray(bad, bool) & ~self.mask
+        if not bad.any():
+            return
+        if not self.tolerant:
+            normal_line_misses(bad, points, node_ids, reason)
+        self.mask |= bad
 
 
 def warn_penetration(gap, points, node_ids=None,

@@ -10,7 +10,7 @@ import numpy as np
 
 from ..geometry.cells import cell_edges
 from ..geometry.mesh import boundary_edges
-from .scene import moved_obstacle, obstacle_in_box
+from .scene import moved_obstacle, obstacle_in_box, piece_joins, with_breaks
 
 __all__ = ["UNITS", "draw_mesh", "magnification", "carries_load", "zoom_window",
            "zoomed_axes", "finish_overview", "plot_deformed",
@@ -174,9 +174,10 @@ def plot_deformed(problem, result, scale=None, path=None, title=None):
 
     gc = problem.contact_nodes
     moved = nodes[gc] + u[gc]
-    zoom.plot(nodes[gc, 0], nodes[gc, 1], "--", color="0.55", lw=1.0,
+    joins = piece_joins(problem)  # a Γc of separate pieces: drawn apart
+    zoom.plot(*with_breaks(nodes[gc], joins).T, "--", color="0.55", lw=1.0,
               label="Γc undeformed")
-    zoom.plot(moved[:, 0], moved[:, 1], "k.-", lw=1.0, ms=4,
+    zoom.plot(*with_breaks(moved, joins).T, "k.-", lw=1.0, ms=4,
               label="Γc deformed (× 1)")
     zoom.plot(nodes[contact, 0] + u[contact, 0],
               nodes[contact, 1] + u[contact, 1], "r*", ms=8,

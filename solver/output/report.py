@@ -47,10 +47,13 @@ def format_summary(info):
                   "obstacle          " + json.dumps(info["obstacle"],
                                                     sort_keys=True)]
     elif info["kind"] == "mesh":
-        obstacle = info["obstacle"]  # [x(t), y(t)], or a polyline's repr
+        obstacle = info["obstacle"]  # [x(t), y(t)], a polyline's repr,
+        # or {"curves": [...]} (several)
         if isinstance(obstacle, (list, tuple)):
             x, y = obstacle
             obstacle = f"x(t) = {x}, y(t) = {y}"
+        elif isinstance(obstacle, dict):
+            obstacle = json.dumps(obstacle, sort_keys=True)
         rng = info["obstacle_t_range"]
         lines += [f"mesh              {meta.get('mesh')}: "
                   f"{_cells(info)}, {info['nodes']} nodes",

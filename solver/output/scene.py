@@ -5,7 +5,25 @@ geometry on arrays; :mod:`.figures` draws it."""
 
 import numpy as np
 
-__all__ = ["obstacle_in_box", "closest_on_polyline", "moved_obstacle"]
+from ..geometry.mesh import chain_pieces
+
+__all__ = ["obstacle_in_box", "closest_on_polyline", "moved_obstacle",
+           "piece_joins", "with_breaks"]
+
+
+def piece_joins(problem):
+    """The indices j of the steps contact_nodes[j] → [j + 1] that join two
+    separate pieces of a 2D Γc (:func:`~solver.geometry.mesh.
+    chain_pieces`): no boundary edge, nothing to draw or project onto."""
+    pieces = chain_pieces(problem.contact_nodes, problem.cells)
+    return np.array([hi - 1 for _, hi in pieces[:-1]], dtype=np.int64)
+
+
+def with_breaks(points, joins):
+    """``points`` (n, 2) with a NaN row after each of ``joins`` (matplotlib
+    leaves the line open there)."""
+    return np.insert(np.asarray(points, float), np.asarray(joins) + 1,
+                     np.nan, axis=0)
 
 
 def obstacle_in_box(curve, low, high, samples=1201):
@@ -13,8 +31,14 @@ def obstacle_in_box(curve, low, high, samples=1201):
     where it leaves the box: the parameter window (``t_range``, or as
     :func:`solver.geometry.curves.window.start_window`) doubled until the
     curve leaves the box at both ends, then narrowed to the samples inside;
-    a polyline's vertices always among the samples."""
+    a polyline's vertices always among the samples; several curves
+    (``parts``) one after the other, a NaN row between them."""
     low, high = np.asarray(low, float), np.asarray(high, float)
+    parts = getattr(curve, "parts", None)
+    if parts is not None:
+        gap = np.full((1, 2), np.nan)
+        return np.concatenate([row for part in parts for row in (
+            obstacle_in_box(part, low, high, samples), gap)])
 
     def inside(points):
         return np.all((points >= low) & (points <= high), axis=-1)
@@ -47,11 +71,12 @@ def obstacle_in_box(curve, low, high, samples=1201):
     return points
 
 
-def closest_on_polyline(points, chain, chunk=512):
+def closest_on_polyline(points, chain, chunk=512, skip=None):
     """For each point, the closest point of the polyline through ``chain``
     ((n, 2), n ≥ 2): the segment index j and the fraction τ ∈ [0, 1] along
-    it (closest point chain[j] + τ (chain[j + 1] − chain[j])). NaN points
-    get j = 0, τ = 0. Vectorised over points × segments, in chunks."""
+    it (closest point chain[j] + τ (chain[j + 1] − chain[j])), never one of
+    the segments ``skip`` (indices: the joins between separate pieces). NaN
+    points get j = 0, τ = 0. Vectorised over points × segments, in chunks."""
     points = np.asarray(points, float)
     a, d = chain[:-1], np.diff(chain, axis=0)
     length2 = np.maximum(np.einsum("ij,ij->i", d, d), np.finfo(float).tiny)
@@ -63,7 +88,10 @@ def closest_on_polyline(points, chain, chunk=512):
         rel = points[rows, None, :] - a[None]                 # (m, s, 2)
         frac = np.clip(np.einsum("msk,sk->ms", rel, d) / length2, 0.0, 1.0)
         gap = rel - frac[..., None] * d[None]
-        best = np.argmin(np.einsum("msk,msk->ms", gap, gap), axis=1)
+        d2 = np.einsum("msk,msk->ms", gap, gap)
+        if skip is not None:
+            d2[:, skip] = np.inf
+        best = np.argmin(d2, axis=1)
         segment[rows] = best
         tau[rows] = frac[np.arange(len(rows)), best]
     return segment, tau
@@ -78,7 +106,8 @@ def moved_obstacle(problem, displacement, scale, points):
     u = np.asarray(displacement, float)
     gc = problem.contact_nodes
     chain = problem.nodes[gc] + u[gc]
-    segment, tau = closest_on_polyline(points, chain)
+    segment, tau = closest_on_polyline(points, chain,
+                                       skip=piece_joins(problem))
     along = ((1 - tau)[:, None] * u[gc][segment]
              + tau[:, None] * u[gc][segment + 1])
     return points + (scale - 1.0) * along

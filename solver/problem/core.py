@@ -10,6 +10,7 @@ from ..errors import ProblemError
 from ..geometry.cells import cell_name
 from ..geometry.curves.parametric import ParametricCurve, check_interval
 from ..geometry.curves.polyline import PolylineCurve
+from ..geometry.curves.several import SeveralCurves
 from ..ncp import stable_norm
 from .checks import check_positive_definite
 from .format import FORMAT_VERSION
@@ -113,6 +114,9 @@ class ContactProblem:
                 arrays["contact_faces"] = self.contact_faces
                 arrays["obstacle_surface"] = np.array(
                     surface_spec_text(self.obstacle))
+            elif isinstance(self.obstacle, SeveralCurves):
+                arrays["obstacle_curves"] = np.array(
+                    json.dumps(self.obstacle.spec()))
             elif isinstance(self.obstacle, PolylineCurve):
                 arrays["obstacle_points"] = self.obstacle.points
             elif self.obstacle is not None:
@@ -152,6 +156,10 @@ class ContactProblem:
         if self.dim == 3:
             raise ProblemError("search interval: a 3D obstacle surface has "
                                "no parameter interval t")
+        if isinstance(self.obstacle, SeveralCurves):
+            raise ProblemError("search interval: several obstacle curves "
+                               "have no one parameter t (give each curve "
+                               "its search_interval in obstacle_curves)")
         self.obstacle.search_interval = check_interval(
             "search interval", (t0, t1))
         return self
@@ -360,6 +368,8 @@ class ContactProblem:
                         obstacle=(
                             [self.obstacle.x_text, self.obstacle.y_text]
                             if isinstance(self.obstacle, ParametricCurve)
+                            else {"curves": self.obstacle.spec()}
+                            if isinstance(self.obstacle, SeveralCurves)
                             else repr(self.obstacle)),
                         obstacle_t_range=self.obstacle.t_range,
                         obstacle_search_interval=getattr(

@@ -86,8 +86,8 @@ KEYS = {
               "clockwise and convex), tetrahedra or hexahedra (3D, VTK/SfePy "
               "3_8 node order: 0-1-2-3 counter-clockwise seen from 4-5-6-7, "
               "node k + 4 above node k; all of one orientation); no cell "
-              "flat at a corner; a two-body file takes triangles or "
-              "tetrahedra only"),
+              "flat at a corner; a 3D two-body file takes tetrahedra "
+              "only"),
     "dof_map": ("mesh", "int", "(Ñ, 2)",
                 "(node, component) of each reduced DOF; component 0 = x, "
                 "1 = y, 2 = z"),
@@ -96,7 +96,10 @@ KEYS = {
                      "are 0)"),
     "contact_nodes": ("mesh", "int", "(Nc,)",
                       "nodes of Γc; in 2D ordered along Γc (consecutive "
-                      "nodes share a boundary edge), in 3D the vertices of "
+                      "nodes share a boundary edge; a Γc of separate parts "
+                      "lists them chain after chain, a new chain starting "
+                      "where two consecutive nodes share none, each of at "
+                      "least 2 nodes), in 3D the vertices of "
                       "contact_faces in any order; in a two-body file the "
                       "slave nodes, pair by pair, each pair's chain in the "
                       "direction of its mortar_slave segments"),
@@ -107,6 +110,15 @@ KEYS = {
     "obstacle_points": ("optional", "float", "(n, 2)",
                         "vertices of a polyline obstacle, parametrised by "
                         "arc length (instead of obstacle_x, obstacle_y)"),
+    "obstacle_curves": ("optional", "str", "()",
+                        "several obstacles (2D mesh kind only, instead of "
+                        "the other obstacle keys): a JSON list of 1 to 64 "
+                        'curves, each {"x": "x(t)", "y": "y(t)"} (optional '
+                        '"t_range", "search_interval") or {"points": '
+                        '[[x, y], ...]} (optional "search_interval"); each '
+                        "node takes the curve of smallest gap, and a node no "
+                        "curve reaches is excluded (docs/npz-format.md, "
+                        "\"Several obstacles\")"),
     "obstacle_t_range": ("optional", "float", "(2,)",
                          "admissible parameter interval [t0, t1] (2D mesh "
                          "kind only; absent = unbounded)"),
@@ -179,7 +191,7 @@ KINDS = ("mesh", "discrete")
 
 #: Keys a 3D file may not carry (the 2D obstacle curve).
 ONLY_2D = ("obstacle_x", "obstacle_y", "obstacle_points", "obstacle_t_range",
-           "obstacle_search_interval")
+           "obstacle_search_interval", "obstacle_curves")
 
 #: The two-body keys (version 4, mesh kind only; docs/npz-format.md).
 TWO_BODY = ("body", "mortar_slave", "mortar_master", "mortar_slave_pair",

@@ -11,11 +11,13 @@ import numpy as np
 from ..errors import GeometryError, ProblemError
 from ..geometry.checks import COORDINATE_LIMIT, RESOLUTION
 from ..geometry.cells import cell_name
-from ..geometry.mesh import is_boundary_chain
+from ..geometry.mesh import chain_pieces
 from ..geometry.curves.normals import boundary_normals
 from ..geometry.curves.parametric import ParametricCurve
 from ..geometry.curves.polyline import PolylineCurve
+from ..geometry.curves.several import SeveralCurves
 from .checks import check_array, check_range, fail
+from .meta import parse_json
 from .format import ONLY_2D, TWO_BODY
 from .geometry3d import (check_quadrilaterals, check_tetrahedra,
                          validate_solid)
@@ -82,9 +84,9 @@ def validate_mesh(arrays, n, contact_dofs):
         if "mortar_slave" in arrays:  # two bodies: the triangles are
             # checked by solver.problem.two_body
             if cells.shape[1] != 4:
-                fail("cells", "a two-body file (mortar_slave) needs "
+                fail("cells", "a 3D two-body file (mortar_slave) needs "
                               "tetrahedra; hexahedra are not supported "
-                              "there yet")
+                              "there (no dual basis of bilinear faces)")
             check_tetrahedra(nodes, cells)
             fields.update(contact_faces=None, obstacle=None)
         else:
@@ -93,9 +95,6 @@ def validate_mesh(arrays, n, contact_dofs):
         return fields
     if any(k in arrays for k in TWO_BODY[1:]):  # two bodies: no obstacle;
         # the segments and the slave chain: solver.problem.two_body
-        if cells.shape[1] != 3:
-            fail("cells", "a two-body file (mortar_slave) needs triangles; "
-                          "quadrilaterals are not supported there yet")
         for key in ONLY_2D:
             if key in arrays:
                 fail(key, "not allowed in a two-body file (mortar_slave): "
@@ -108,9 +107,13 @@ def validate_mesh(arrays, n, contact_dofs):
         fail("contact_nodes", f"the contact boundary Γc is the single node "
                               f"{contact_nodes[0]}: it needs at least 2 "
                               "nodes joined by a boundary edge")
-    if not is_boundary_chain(contact_nodes, cells):
-        fail("contact_nodes", "not ordered along the boundary (consecutive "
-                              "contact nodes must share a boundary edge)")
+    pieces = chain_pieces(contact_nodes, cells)
+    single = [lo for lo, hi in pieces if hi - lo < 2]
+    if single:
+        fail("contact_nodes", f"not ordered along the boundary (consecutive "
+                              f"contact nodes must share a boundary edge; "
+                              f"node {contact_nodes[single[0]]} shares one "
+                              "with neither neighbour)")
     _check_contact_dofs(flat, n_nodes, contact_nodes, contact_dofs)
     try:  # the normals of Γc: coincident nodes, zero-area triangles
         boundary_normals(nodes, cells, contact_nodes)
@@ -132,7 +135,23 @@ def _check_contact_dofs(flat, n_nodes, contact_nodes, contact_dofs):
 
 
 def _obstacle_curve(arrays):
-    """The 2D obstacle: expressions x(t), y(t) or a polyline."""
+    """The 2D obstacle: expressions x(t), y(t), a polyline or several
+    curves (``obstacle_curves``)."""
+    if "obstacle_curves" in arrays:
+        for key in ONLY_2D:
+            if key in arrays and key != "obstacle_curves":
+                fail(key, "not allowed with obstacle_curves (each curve "
+                          "carries its own fields)")
+        text = check_array(arrays, "obstacle_curves", "str", 0)
+        # the bounded JSON reader of meta takes an object: the list inside
+        specs = parse_json('{"curves": ' + str(text) + "\n}",
+                           "obstacle_curves").get("curves")
+        if not isinstance(specs, list):
+            fail("obstacle_curves", "must be a JSON list of curve specs")
+        try:
+            return SeveralCurves(specs)
+        except ProblemError as exc:
+            fail("obstacle_curves", " ".join(str(exc).split()))
     search = None
     if "obstacle_search_interval" in arrays:
         search = check_array(arrays, "obstacle_search_interval", "float", 1,

@@ -94,12 +94,9 @@ def _gaps(problem, gap):
         normal = surface_normals(problem.nodes, problem.contact_faces,
                                  problem.contact_nodes)[index]
         return surface.gap_along_rays(points, normal)
-    from ..geometry.curves import gap_along_normals, gap_from_obstacle
+    from ..geometry.curves import obstacle_gaps
     from ..geometry.curves.normals import boundary_normals
 
     body = boundary_normals(problem.nodes, problem.cells,
                             problem.contact_nodes)[index]
-    if gap == "obstacle":
-        return gap_from_obstacle(points, problem.obstacle, body,
-                                 node_ids=ids)
-    return gap_along_normals(points, body, problem.obstacle, node_ids=ids)
+    return obstacle_gaps(points, problem.obstacle, body, gap, node_ids=ids)

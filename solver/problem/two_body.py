@@ -6,6 +6,7 @@ failure a one-line :class:`~solver.errors.ProblemError` naming the key."""
 
 import numpy as np
 
+from ..geometry.cells import cell_name, simplices
 from .checks import check_array, check_range, fail
 from .format import TWO_BODY
 from .geometry3d import check_contact_faces
@@ -14,8 +15,9 @@ from .meta import check_bodies
 __all__ = ["validate_body", "validate_two_body", "check_block_diagonal"]
 
 
-def validate_body(arrays, cells, n_nodes):
-    """The ``body`` key, or None if absent (one body)."""
+def validate_body(arrays, cells, n_nodes, dim=None):
+    """The ``body`` key, or None if absent (one body); ``dim`` names the
+    cells in messages (default: triangles or tetrahedra by their width)."""
     if "body" not in arrays:
         return None
     body = check_array(arrays, "body", "int", 1, (n_nodes,))
@@ -28,7 +30,8 @@ def validate_body(arrays, cells, n_nodes):
     mixed = np.flatnonzero((ids != ids[:, :1]).any(axis=1))
     if len(mixed):
         i = int(mixed[0])
-        name = "triangle" if cells.shape[1] == 3 else "tetrahedron"
+        name = cell_name(dim, cells.shape[1]) if dim else \
+            {3: "triangle", 4: "tetrahedron"}.get(cells.shape[1], "cell")
         fail("cells", f"{name} {i} joins nodes of bodies "
                       f"{sorted(set(ids[i].tolist()))} (the bodies must "
                       "share no node)")
@@ -204,7 +207,7 @@ def validate_two_body(arrays, fields, K, meta):
     two-body file without them: zeros)."""
     out = dict.fromkeys(TWO_BODY)
     nodes, cells = fields["nodes"], fields["cells"]
-    body = validate_body(arrays, cells, len(nodes))
+    body = validate_body(arrays, cells, len(nodes), nodes.shape[1])
     out["body"] = body
     n_bodies = 1 if body is None else int(body.max()) + 1
     if body is not None:
@@ -222,9 +225,10 @@ def validate_two_body(arrays, fields, K, meta):
         fail("mortar_slave", "a two-body file needs the key body (the slave "
                              "and master segments lie in different bodies)")
     dim = nodes.shape[1]
-    if dim == 2:
-        slave = _segments(arrays, "mortar_slave", nodes, cells)
-        master = _segments(arrays, "mortar_master", nodes, cells)
+    if dim == 2:  # quadrilaterals by their cut, which keeps the boundary
+        triangles = simplices(cells, 2)
+        slave = _segments(arrays, "mortar_slave", nodes, triangles)
+        master = _segments(arrays, "mortar_master", nodes, triangles)
     else:
         slave, master = (_triangles(arrays, key, nodes, cells,
                                     fields["contact_nodes"])

@@ -4,17 +4,17 @@ r"""Gaps measured from the obstacle: the nearest obstacle point (thesis
 
 import numpy as np
 
-from ..checks import normal_line_misses, warn_penetration
+from ..checks import Misses, warn_penetration
 from .search import (DEFAULT_SAMPLES, MIN_COSINE, CHUNK,
                          first_per_owner, obstacle_normals, refine_roots,
                          search_setup)
 
-__all__ = ["gap_from_obstacle"]
+__all__ = ["gap_from_obstacle", "nearest_obstacle_points", "orient_normals"]
 
 
 def gap_from_obstacle(points, curve, body_normals, *, window=None,
                       samples=DEFAULT_SAMPLES, min_cosine=MIN_COSINE,
-                      node_ids=None, warn=True):
+                      node_ids=None, warn=True, out_of_reach=False):
     r"""Gaps measured from the obstacle: nearest obstacle point (§2.1.1).
 
     For every contact node *B* (``points`` (n, 2), undeformed) the nearest
@@ -28,43 +28,79 @@ def gap_from_obstacle(points, curve, body_normals, *, window=None,
     smallest accepted :math:`|\nu\cdot n|`; ``node_ids`` label the nodes in
     messages. Returns (gap, normal, t); GapError where the nearest point is an
     end of the obstacle or of a too small window not perpendicular to it,
-    where :math:`|\nu\cdot n| <` ``min_cosine``, or where there is no tangent.
+    where :math:`|\nu\cdot n| <` ``min_cosine``, or where there is no tangent
+    — or, ``out_of_reach``, gap +∞ and ν NaN at those nodes (one bounded
+    obstacle of several, :mod:`.several`).
     """
+    near = nearest_obstacle_points(points, curve, body_normals,
+                                   window=window, samples=samples,
+                                   min_cosine=min_cosine, node_ids=node_ids,
+                                   out_of_reach=out_of_reach)
+    foot_pt, normal, t, cosine, missed = near
+    points = np.asarray(points, dtype=float)  # checked by the search
+    if not len(t):  # no free contact node: nothing to measure
+        return np.zeros(0), np.zeros((0, 2)), np.zeros(0)
+    # ν from the body towards the obstacle: the obstacle is rigid and lies
+    # on one side of Γo, so one orientation of the curve's normal serves all
+    # nodes, the one most body normals agree with (a node past a corner of
+    # the body, whose own normal barely faces the obstacle, keeps its sign).
+    gap, normal = orient_normals(near, points, np.sign(np.sum(
+        cosine[~missed])))
+    if warn:  # an obstacle that penetrates the undeformed body
+        warn_penetration(gap[~missed], points[~missed],
+                         None if node_ids is None
+                         else np.asarray(node_ids)[~missed])
+    return gap, normal, t
+
+
+def orient_normals(near, points, side):
+    """(gap, ν) from :func:`nearest_obstacle_points`'s ``near`` with the
+    curve's normals times ``side`` (±1; 0: each node's own sign of ν·n),
+    +∞ and NaN where the node was missed."""
+    foot_pt, normal, _, cosine, missed = near
+    orient = np.sign(cosine) if side == 0 else np.full(len(cosine), side)
+    normal = normal * orient[:, None]
+    with np.errstate(all="ignore"):
+        gap = np.sum((foot_pt - points) * normal, axis=1)
+    gap[missed] = np.inf
+    normal[missed] = np.nan
+    return gap, normal
+
+
+def nearest_obstacle_points(points, curve, body_normals, *, window=None,
+                            samples=DEFAULT_SAMPLES, min_cosine=MIN_COSINE,
+                            node_ids=None, out_of_reach=False):
+    """The nearest obstacle points of :func:`gap_from_obstacle` before ν is
+    oriented: (Γo(t), the curve's own unit normals there, t, their cosines
+    with the body normals, the nodes missed (all False unless
+    ``out_of_reach``)); arguments as there."""
     points, body, (t0, t1), ts, curve_ends = search_setup(
         points, body_normals, curve, window, samples)
-    if not len(points):  # no free contact node: nothing to measure
-        return np.zeros(0), np.zeros((0, 2)), np.zeros(0)
     n = len(points)
+    if not n:
+        empty = np.zeros((0, 2))
+        return empty, empty, np.zeros(0), np.zeros(0), np.zeros(0, bool)
+    misses = Misses(n, out_of_reach)
     t, best_d2, end_d2 = _nearest_foot_points(points, curve, ts)
     t = _window_ends(points, curve, t, best_d2, end_d2, (t0, t1),
-                     curve_ends, node_ids)
+                     curve_ends, node_ids, misses)
     if np.isnan(t).any():
-        normal_line_misses(np.isnan(t), points, node_ids, lambda i: (
+        misses(np.isnan(t), points, node_ids, lambda i: (
             f"no finite obstacle point for t in [{t0:g}, {t1:g}]"))
 
     foot_pt, normal, length, cosine = _contact_normals(points, curve, t,
                                                        body)
     if not (np.isfinite(length) & (length > 0)).all():
         bad = ~(np.isfinite(length) & (length > 0))
-        normal_line_misses(bad, points, node_ids, lambda i: (
+        misses(bad, points, node_ids, lambda i: (
             f"the obstacle has no tangent at its nearest point t = {t[i]:g}"))
     grazing = ~(np.abs(cosine) >= min_cosine)
     if grazing.any():
-        normal_line_misses(grazing, points, node_ids, lambda i: (
+        misses(grazing, points, node_ids, lambda i: (
             f"the obstacle normal at its nearest point t = {t[i]:g} is "
             f"nearly perpendicular to the body normal "
             f"(cosine {cosine[i]:.2g})"))
-    # ν from the body towards the obstacle: the obstacle is rigid and lies
-    # on one side of Γo, so one orientation of the curve's normal serves all
-    # nodes, the one most body normals agree with (a node past a corner of
-    # the body, whose own normal barely faces the obstacle, keeps its sign).
-    side = np.sign(np.sum(cosine))
-    orient = np.sign(cosine) if side == 0 else np.full(n, side)
-    normal *= orient[:, None]
-    gap = np.sum((foot_pt - points) * normal, axis=1)
-    if warn:  # an obstacle that penetrates the undeformed body
-        warn_penetration(gap, points, node_ids)
-    return gap, normal, t
+    return foot_pt, normal, t, cosine, misses.mask
 
 
 def _nearest_foot_points(points, curve, ts):
@@ -117,7 +153,7 @@ def _nearest_foot_points(points, curve, ts):
 
 
 def _window_ends(points, curve, t, best_d2, end_d2, window, curve_ends,
-                 node_ids):
+                 node_ids, misses):
     """t with an end of the window where it is closer than every interior
     foot point; GapError unless that end is itself a foot point (distance
     perpendicular to the obstacle)."""
@@ -147,7 +183,7 @@ def _window_ends(points, curve, t, best_d2, end_d2, window, curve_ends,
                 return (f"no obstacle point nearer than the end t = {end:g} "
                         f"of the search window [{t0:g}, {t1:g}]; give a "
                         "larger search interval (--search-interval)")
-            normal_line_misses(bad, points, node_ids, reason)
+            misses(bad, points, node_ids, reason)
         t = np.where(at_end >= 0, t_end, t)
     return t
 

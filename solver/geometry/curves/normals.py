@@ -29,6 +29,7 @@ from scipy.interpolate import CubicSpline
 
 from ...errors import GeometryError
 from ..cells import simplices
+from ..mesh import chain_pieces
 
 __all__ = ["CORNER_ANGLE", "chord_parameters", "spline_tangents",
            "spline_normals", "outward_sign", "corners", "boundary_normals"]
@@ -184,7 +185,8 @@ def boundary_normals(nodes, cells, chain, corner_angle=CORNER_ANGLE):
     §2.1.3; ``chain`` ordered along Γc, either direction, on the triangles
     ``cells``): :func:`spline_normals` oriented by :func:`outward_sign`, one
     spline per smooth piece between :func:`corners`, a corner node the
-    bisector of its two one-sided normals. GeometryError naming the nodes for
+    bisector of its two one-sided normals; a chain of separate parts
+    (:func:`~solver.geometry.mesh.chain_pieces`) part by part. GeometryError naming the nodes for
     a chain of one node, coincident nodes, a zero-area triangle on Γc."""
     nodes = np.asarray(nodes, dtype=float)
     chain = np.asarray(chain, dtype=np.int64)
@@ -198,6 +200,15 @@ def boundary_normals(nodes, cells, chain, corner_angle=CORNER_ANGLE):
             raise GeometryError(
                 f"contact nodes {chain[i]} and {chain[i + 1]} coincide at "
                 f"({points[i, 0]:g}, {points[i, 1]:g})")
+    try:  # malformed cells or chain: one piece, refused by outward_sign
+        pieces = chain_pieces(chain, cells) if chain.ndim == 1 \
+            and len(chain) and 0 <= chain.min() else [(0, len(chain))]
+    except (ValueError, TypeError, IndexError):
+        pieces = [(0, len(chain))]
+    if len(pieces) > 1:  # Γc of separate parts: each its own normals
+        return np.concatenate([
+            boundary_normals(nodes, cells, chain[lo:hi], corner_angle)
+            for lo, hi in pieces])
     sign = outward_sign(nodes, cells, chain)
     points = nodes[chain]
     cuts = corners(points, corner_angle)

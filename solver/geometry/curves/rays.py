@@ -3,7 +3,7 @@ r"""Gaps measured from the body, along its outward normals (thesis §2.1.2,
 
 import numpy as np
 
-from ..checks import normal_line_misses, warn_penetration
+from ..checks import Misses, warn_penetration
 from .search import (DEFAULT_SAMPLES, MIN_COSINE, CHUNK,
                          first_per_owner, obstacle_normals, refine_roots,
                          search_setup)
@@ -13,7 +13,7 @@ __all__ = ["gap_along_normals"]
 
 def gap_along_normals(points, normals, curve, *, window=None,
                       samples=DEFAULT_SAMPLES, min_cosine=MIN_COSINE,
-                      node_ids=None, warn=True):
+                      node_ids=None, warn=True, out_of_reach=False):
     r"""Gaps measured from the body, along its outward normals (§2.1.2).
 
     For every node *B* with unit outward normal ν (7) the intersections of
@@ -30,12 +30,15 @@ def gap_along_normals(points, normals, curve, *, window=None,
     other arguments as in :func:`~.closest.gap_from_obstacle`, ``min_cosine``
     bounding :math:`|\nu_o\cdot\nu|`. Returns (gap, normal, t): s, ν (the
     contact direction) and the intersections' parameters. GapError if a
-    normal line misses the obstacle inside the window or meets it grazing."""
+    normal line misses the obstacle inside the window or meets it grazing
+    — or, ``out_of_reach``, gap +∞ at those nodes (one bounded obstacle of
+    several, :mod:`.several`)."""
     points, nu, (t0, t1), ts, curve_ends = search_setup(
         points, normals, curve, window, samples)
     if not len(points):  # no free contact node: nothing to measure
         return np.zeros(0), np.zeros((0, 2)), np.zeros(0)
     n = len(points)
+    misses = Misses(n, out_of_reach)
     with np.errstate(all="ignore"):
         c_pts = curve.point(ts)
 
@@ -78,20 +81,27 @@ def gap_along_normals(points, normals, curve, *, window=None,
                 "; give a larger search interval (--search-interval)"
             return (f"no intersection for t in the {where} "
                     f"[{t0:g}, {t1:g}]{hint}")
-        normal_line_misses(best < 0, points, node_ids, reason)
-    t, gap = root[best], k[best]
+        misses(best < 0, points, node_ids, reason)
+    if len(root):
+        t = np.where(best < 0, np.nan, root[np.maximum(best, 0)])
+        gap = np.where(best < 0, np.inf, k[np.maximum(best, 0)])
+    else:  # no intersection at all (only when out_of_reach)
+        t, gap = np.full(n, np.nan), np.full(n, np.inf)
     with np.errstate(all="ignore"):
         obstacle_normal, length = obstacle_normals(curve, t)
         cosine = np.sum(obstacle_normal * nu, axis=1)
     bad = ~(np.isfinite(length) & (length > 0))
     if bad.any():
-        normal_line_misses(bad, points, node_ids, lambda i: (
+        misses(bad, points, node_ids, lambda i: (
             f"the obstacle has no tangent at the intersection t = {t[i]:g}"))
     grazing = ~(np.abs(cosine) >= min_cosine)
     if grazing.any():
-        normal_line_misses(grazing, points, node_ids, lambda i: (
+        misses(grazing, points, node_ids, lambda i: (
             f"it meets the obstacle at a grazing angle at t = {t[i]:g} "
             f"(cosine {cosine[i]:.2g} between the normals)"))
+    gap[misses.mask] = np.inf
     if warn:  # an obstacle that penetrates the undeformed body
-        warn_penetration(gap, points, node_ids)
+        warn_penetration(gap[~misses.mask], points[~misses.mask],
+                         None if node_ids is None
+                         else np.asarray(node_ids)[~misses.mask])
     return gap, nu.copy(), t

@@ -16,6 +16,7 @@ excluded nodes (:func:`solver.contact.contact_geometry`)."""
 import numpy as np
 
 from ...errors import ProblemError
+from ..checks import check_obstacle_list
 from .base import (Surface, as_directions, as_points, spec_fields,
                    spec_vector)
 from .shapes import MIN_COSINE, PlaneSurface
@@ -89,12 +90,8 @@ class SeveralSurfaces(Surface):
     kind = "several"
 
     def __init__(self, surfaces):
-        if not isinstance(surfaces, (list, tuple)) or not surfaces:
-            raise ProblemError("surface surfaces: need a non-empty list of "
-                               "surface specs")
-        if len(surfaces) > MAX_SURFACES:
-            raise ProblemError(f"surface surfaces: at most {MAX_SURFACES} "
-                               f"obstacles, got {len(surfaces)}")
+        check_obstacle_list(surfaces, "surface surfaces", "surface",
+                            MAX_SURFACES)
         from . import surface_from_spec
 
         parts = [s if isinstance(s, Surface) else surface_from_spec(s)
