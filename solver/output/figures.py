@@ -75,10 +75,14 @@ def legend_outside(ax, where="below", **kwargs):
 
 def arc_length(problem):
     """Position of each contact node along Γc (mm), or its index for a
-    discrete problem; returns (positions, axis label)."""
+    discrete problem; returns (positions, axis label). A Γc of separate
+    pieces is measured along its edges only: each piece starts where the
+    previous one ended."""
     if problem.kind == "mesh":
         xy = problem.nodes[problem.contact_nodes]
-        arc = np.r_[0, np.cumsum(np.hypot(*np.diff(xy, axis=0).T))]
+        steps = np.hypot(*np.diff(xy, axis=0).T)
+        steps[piece_joins(problem)] = 0.0  # separate pieces: no edge between
+        arc = np.r_[0, np.cumsum(steps)]
         return arc, "arc length along Γc from its first node [mm]"
     return np.arange(problem.n_contact), "contact node"
 
