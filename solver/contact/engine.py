@@ -35,16 +35,7 @@ class SerialEngine:
         return condensation
 
     def normal_condensation(self, problem, geometry):
-        """K̂ = RKRᵀ for condensations onto candidate normal DOFs; of a
-        two-body problem in v from a factorisation of K itself
-        (:class:`~.strategies.mortar_condensation.MortarCondensation`: K's
-        fill, not K̃'s)."""
-        interface = getattr(problem, "mortar_interface", None)
-        if interface is not None:
-            from .strategies.mortar_condensation import MortarCondensation
-
-            return MortarCondensation(problem, geometry, self.backend,
-                                      *interface)
+        """K̂ = RKRᵀ for condensations onto candidate normal DOFs."""
         from .strategies.candidates import NormalCondensation
 
         return NormalCondensation(problem, geometry, self.backend)

@@ -166,9 +166,6 @@ def equivalent_problem(problem, coupling, friction=False):
         load_path_friction=problem.load_path_friction,
         source=problem.source)
     equivalent.node_graph = lambda: _node_graph(problem, extra)
-    # (the two-body problem, E): the candidates' condensation factorises
-    # K itself, not K̃ (strategies.mortar_condensation)
-    equivalent.mortar_interface = (problem, E)
     # how far the prescribed displacements move the bodies before they
     # deform: the candidates' screening margin (strategies.candidates)
     equivalent.approach_length = float(np.linalg.norm(
