@@ -6,7 +6,11 @@ Usage (from the repository root, after ``pip install .``)::
     python docs/make_figures.py --out DIR  # elsewhere (tests/test_make_figures.py)
 
 Exports the thesis block on the 454-element mesh with SfePy (``sfepy-run``),
-then solves it and the 2-DOF bar with the library and saves PNGs. Units as
+then solves it and the 2-DOF bar with the library and saves PNGs; then the
+3D two-body output (``meshes/two_spheres.py`` at a/h 6, the README's
+commands): two unequal spheres, the interface pressure against the radius
+with Hertz's profile, and two identical spheres pressed then sheared
+(Cattaneo–Mindlin), the stick/slip map of the slave surface. Units as
 everywhere in the figures (``solver.output.figures.UNITS``): lengths in mm,
 forces in N, pressures in MPa, plane strain per mm of thickness.
 """
@@ -36,6 +40,42 @@ def export_block(folder, elements=454):
                     f"mesh='{ROOT / 'meshes' / f'block_{elements}.mesh'}', "
                     f"output='{npz}'"], check=True, capture_output=True)
     return load_problem(npz)
+
+
+def export_spheres(folder, name, mesh_args, **define):
+    """meshes/two_spheres.py then sfepy_problems/two_spheres.py, as the
+    README's commands."""
+    mesh = Path(folder) / f"{name}.mesh"
+    npz = Path(folder) / f"{name}.npz"
+    subprocess.run([sys.executable, str(ROOT / "meshes" / "two_spheres.py"),
+                    *mesh_args, "-o", str(mesh)], check=True,
+                   capture_output=True)
+    script = Path(sys.executable).parent / "sfepy-run"
+    extra = "".join(f", {k}={v!r}" for k, v in define.items())
+    subprocess.run([str(script) if script.exists() else "sfepy-run",
+                    str(ROOT / "sfepy_problems" / "two_spheres.py"), "-d",
+                    f"mesh='{mesh}', output='{npz}'{extra}"], check=True,
+                   capture_output=True)
+    return load_problem(npz)
+
+
+def two_body_figures(out):
+    """two_spheres_pressure.png and two_spheres_stick_slip.png."""
+    from solver.output.two_body3d import (plot_interface3d,
+                                          plot_stick_slip_map)
+
+    plt = figures.pyplot()
+    with tempfile.TemporaryDirectory() as folder:
+        spheres = export_spheres(folder, "spheres", ["--a-over-h", "6"])
+        cm = export_spheres(folder, "cm", ["--a-over-h", "6", "--radii",
+                                           "1", "1", "--half"],
+                            R1=1.0, E1=2e5, nu1=0.3, delta=0.00485,
+                            load="cattaneo", shift=1.5e-3)
+    r = solve(spheres)
+    plt.close(plot_interface3d(spheres, r,
+                               out / "two_spheres_pressure.png"))
+    r = solve(cm, friction=0.5)
+    plt.close(plot_stick_slip_map(cm, r, out / "two_spheres_stick_slip.png"))
 
 
 def main(argv=None):
@@ -72,6 +112,7 @@ def main(argv=None):
         block, last, path=out / "friction_deformed_fc0.3.png",
         title=f"after {r.steps_completed} load steps, f_c = 0.3, "
               f"{r.formulation} formulation"))
+    two_body_figures(out)
     for path in sorted(out.glob("*.png")):
         print(path)
 

@@ -91,7 +91,11 @@ def hertz_checks(problem, result):
     ``fraction``, ``contact_center``, ``contact_axis``): P of the pair,
     Hertz's a and p0 for it, and the relative errors of a from the first
     moment of the nodal forces, of (a, p0) fitted together to the nodal
-    pressures λ_j, and of the largest λ_j; a/h from ``meta["h_contact"]``."""
+    pressures λ_j, and of the largest λ_j; a/h from ``meta["h_contact"]``.
+    Where the largest λ_j lies (``max_p_r``, r/a) and the nodes' scatter
+    about Hertz's profile inside 0.9 a (``nodal_rms`` and
+    ``nodal_max``, |λ_j − p_Hertz(r_j)| / p0) tell a peak at the axis from
+    one node's scatter (a node of an irregular patch)."""
     meta = problem.meta
     centre, axis = _axis(problem)
     D = np.asarray(result.mortar_D)
@@ -104,10 +108,15 @@ def hertz_checks(problem, result):
     r = np.linalg.norm(d - np.outer(d @ axis, axis), axis=1)
     a_moment = contact_radius_from_moment(r, D * lam)
     a_fit, p0_fit = fit_hertz_profile(r[covered], lam[covered], (a, p0))
+    inside = covered & (r < 0.9 * a)
+    scatter = (lam[inside] - hertz_pressure(r[inside], a, p0)) / p0
     return dict(P=P, a=a, p0=p0, a_over_h=a / meta["h_contact"],
                 in_contact=int(np.sum(_last(result, "in_contact"))),
                 a_moment=a_moment / a - 1, a_fit=a_fit / a - 1,
-                p0_fit=p0_fit / p0 - 1, max_p=lam.max() / p0 - 1)
+                p0_fit=p0_fit / p0 - 1, max_p=lam.max() / p0 - 1,
+                max_p_r=float(r[np.argmax(lam)] / a),
+                nodal_rms=float(np.sqrt(np.mean(scatter ** 2))),
+                nodal_max=float(np.abs(scatter).max(initial=0.0)))
 
 
 def stick_radius_checks(problem, result, friction):

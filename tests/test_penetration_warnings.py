@@ -6,6 +6,7 @@ reference is the geometry itself: a sphere lifted into the body by a
 known depth."""
 
 import sys
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -65,3 +66,27 @@ class warnings_as_errors:
 
     def __exit__(self, *exc):
         return self.context.__exit__(*exc)
+
+
+@pytest.mark.parametrize("depth, warns", [(1e-5, False), (2e-3, True)])
+def test_overlap_relative_to_the_element_size(depth, warns):
+    """The upper box lowered by ``depth`` into the lower one (a uniform
+    overlap, the weighted gaps −depth exactly on a flat interface): below
+    a thousandth of the slave edges (about 1/3 here) it is the
+    discretisation's (two curved bodies touching at a point give −4e-5 h
+    at the apex), silent; above, reported with its depth."""
+    from tet_two_body import stacked_boxes
+
+    problem, _, _ = stacked_boxes()
+    problem.nodes[problem.body == 0, 2] -= depth
+    mapping = solver.contact.TwoBodyMap(problem)
+    geometry = solver.contact_geometry(mapping.equivalent, "obstacle",
+                                       rollers=True)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        mapping.mark_uncovered(geometry)
+    found = [w for w in caught
+             if issubclass(w.category, InitialPenetrationWarning)]
+    assert bool(found) == warns
+    if warns:
+        assert f"deepest {depth:.3g}" in str(found[0].message)

@@ -135,3 +135,19 @@ def test_cli_friction_outputs(tmp_path):
     assert data["slip"][-1].all()
     assert data["tangential_displacement"].shape[-2:] == (16, 2)
     assert (out / "interface_map.png").stat().st_size > 0
+
+
+def test_progress_counts_the_result_round():
+    """A box dragged on a box: the friction run on the candidates is redone
+    with more of them (9 → 16: the first round's step 1 lets nodes outside
+    it penetrate); each progress line then comes from the round whose steps
+    make the result, so its count of nodes in contact is the summary's
+    (the first round's 9 were printed before)."""
+    problem, _, _ = stacked_boxes(materials=MATERIALS, shift=(0.05, 0.0))
+    seen = []
+    result = solve(problem, friction=0.3, progress=seen.append)
+    assert result.success, result.message
+    assert result.candidates["enlarged"] == 1
+    assert [r["step"] for r in seen] == [r["step"] for r in result.records]
+    assert [r["n_contact"] for r in seen] == \
+        [r["n_contact"] for r in result.records] == [16] * len(seen)

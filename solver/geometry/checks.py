@@ -107,13 +107,14 @@ def warn_penetration(gap, points, node_ids=None,
     """Warn (:class:`~solver.errors.InitialPenetrationWarning`) if the
     obstacle penetrates the undeformed body (``what`` happens): gaps s < 0
     beyond round-off (1e-12 of the coordinates' magnitude, or ``floor``, a
-    length, where the gaps carry more: the mortar's integrated ones),
+    length or one per node, where the gaps carry more: the mortar's
+    integrated ones),
     naming the first nodes, their count and the deepest penetration."""
     if not len(gap):
         return
     scale = float(np.abs(points).max(initial=0.0))
-    deep = gap < -max(1e-12 * max(scale, float(np.ptp(points, axis=0).max(
-        initial=0.0)), 1e-300), floor)
+    deep = gap < -np.maximum(1e-12 * max(scale, float(np.ptp(
+        points, axis=0).max(initial=0.0)), 1e-300), floor)
     if not deep.any():
         return
     where = np.flatnonzero(deep)

@@ -157,6 +157,11 @@ def friction_on_candidates(solve, problem, friction, geometry, engine,
         return enlarge_candidates(nodes, remaining, length)
 
     sent, reported, last = [0], [0], {}
+    # a step's progress record waits for its check (the checks come in
+    # batches of recovered steps, StepStream): a round that a penetration
+    # ends is then never reported, and the progress lines count the
+    # nodes in contact of the round whose steps make the result
+    records, checked = {}, set()
 
     def check(fields):
         """on_step of the run: the non-candidates' gaps, then delivery."""
@@ -168,20 +173,30 @@ def friction_on_candidates(solve, problem, friction, geometry, engine,
         if np.any(remaining[outside] < -length):
             raise _Penetration(last["count"], remaining, length)
         last["fields"] = fields
+        checked.add(last["count"])
+        release()
         if last["count"] > sent[0]:
             sent[0] = last["count"]
             if on_step is not None:
                 on_step(_fill(fields, geometry, outside))
 
     def report(record):
-        if record["step"] > reported[0]:
-            reported[0] = record["step"]
+        records[record["step"]] = record
+        release()
+
+    def release():
+        """Report, in order, the steps both recorded and checked."""
+        step = reported[0] + 1
+        while step in records and step in checked:
+            reported[0] = step
             if progress is not None:
-                progress(record)
+                progress(records.pop(step))
+            step += 1
 
     while True:
         clock = time.perf_counter()
         last.clear()
+        records.clear(), checked.clear()
         try:
             result = solve(problem, geometry.subset(nodes), engine, friction,
                            condense=True, candidates=False, on_step=check,

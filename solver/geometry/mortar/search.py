@@ -15,7 +15,11 @@ def box_pairs(lo_s, hi_s, lo_m, hi_m):
     counts), by sort and sweep along the axis over which the master boxes
     spread most: the master boxes sorted by their lower end, each slave
     box's range of them found by bisection, the candidates then checked on
-    every axis. Sorted by I, then by the masters' lower ends."""
+    every axis. The masters are swept in classes of width within a factor
+    2 (:func:`_width_classes`), each with its own widest box: a graded
+    mesh's few coarse facets at the rim then do not widen every slave's
+    range to nearly all masters. Sorted by I, then by the masters' lower
+    ends."""
     lo_s, hi_s = np.asarray(lo_s, float), np.asarray(hi_s, float)
     lo_m, hi_m = np.asarray(lo_m, float), np.asarray(hi_m, float)
     if not len(lo_s) or not len(lo_m):
@@ -23,16 +27,42 @@ def box_pairs(lo_s, hi_s, lo_m, hi_m):
     axis = int(np.argmax(np.ptp(np.r_[lo_m, hi_m], axis=0)))
     order = np.argsort(lo_m[:, axis], kind="stable")
     start = lo_m[order, axis]
-    widest = float((hi_m - lo_m)[:, axis].max())
+    width = (hi_m - lo_m)[order, axis]
+    found = [_sweep(lo_s, hi_s, lo_m, hi_m, axis, order[members],
+                    start[members], float(width[members].max()))
+             + (members,) for members in _width_classes(width)]
+    I = np.concatenate([f[0] for f in found])
+    J = np.concatenate([f[1] for f in found])
+    rank = np.concatenate([members[position] for _, _, position, members
+                           in found])          # in the sorted masters
+    keep = np.lexsort((rank, I))
+    return I[keep], J[keep]
+
+
+def _width_classes(width):
+    """Positions of the sorted master boxes grouped by width along the
+    sweep axis, within a factor 2 in each group (by the binary exponent;
+    zero widths with the smallest)."""
+    positive = width[width > 0]
+    floor = positive.min() if len(positive) else 1.0
+    exponent = np.frexp(np.maximum(width, floor))[1]
+    return [np.flatnonzero(exponent == e) for e in np.unique(exponent)]
+
+
+def _sweep(lo_s, hi_s, lo_m, hi_m, axis, order, start, widest):
+    """(I, J, positions in ``order``) of the overlapping pairs of the
+    slave boxes and the master boxes ``order`` (sorted by their lower end
+    ``start`` along ``axis``, none wider than ``widest`` there)."""
     first = np.searchsorted(start, lo_s[:, axis] - widest, side="left")
     last = np.searchsorted(start, hi_s[:, axis], side="right")
     count = np.maximum(last - first, 0)
     I = np.repeat(np.arange(len(lo_s)), count)
     offset = np.arange(count.sum()) - np.repeat(np.cumsum(count) - count,
                                                 count)
-    J = order[np.repeat(first, count) + offset]
+    position = np.repeat(first, count) + offset
+    J = order[position]
     overlap = ((lo_s[I] <= hi_m[J]) & (lo_m[J] <= hi_s[I])).all(axis=1)
-    return I[overlap], J[overlap]
+    return I[overlap], J[overlap], position[overlap]
 
 
 def candidate_pairs(nodes, slave, master, reach):
