@@ -10,53 +10,136 @@ node into the obstacle (N d ≤ 0) while the load does work along it
 has no solution. By Moreau's decomposition e = Rᵀf = d + Nᵀμ (μ ≥ 0 by
 non-negative least squares), d is the projection of e onto those motions,
 and d/|d| the one along which the load does the most work: the refusal
-names it and the load's component along it."""
+names it and the load's component along it.
+
+With Coulomb friction f_c the contact forces at node i lie in the cone
+|t_i| ≤ f_c λ_i, and Rᵀf must lie in the cone spanned by its generators
+N_i ± f_c T_i (2D; T the modes' tangential displacements) or
+N_i + f_c(cos θ T_i1 + sin θ T_i2) (3D, the disc by a circumscribed
+octagon: only a load outside that larger cone is refused, certainly
+unheld): :func:`check_rigid_friction`, the same decomposition on those
+generators. Under the lagged bound of a load step (the thesis's Coulomb
+as a sequence of Tresca problems) the tangential forces are bounded by
+numbers, |t_i| ≤ b_i (3D: each component, again a superset): a bounded
+least-squares problem, :func:`step_unheld`."""
 
 import numpy as np
 import scipy.optimize as opt
 
 from ..errors import ProblemError
 
-__all__ = ["LOAD_RTOL", "check_rigid_load", "mode_text", "rigid_motion"]
+__all__ = ["LOAD_RTOL", "check_rigid_load", "check_rigid_friction",
+           "step_unheld", "mode_text", "rigid_motion"]
 
 #: A load component along an unresisted motion above this × ‖f‖₂ (and the
 #: load's work relative to |Rᵀf|) is refused.
 LOAD_RTOL = 1e-9
 
 
-def check_rigid_load(problem, N):
+def check_rigid_load(problem, N, f=None,
+                     why="frictionless contact can only push"):
     """Raise :class:`ProblemError` if the load of a floating ``problem``
-    has a component along a rigid-body motion that no contact resists,
-    N (Nc, r) the modes' normal displacements at the contact nodes (the
-    module docstring), or if it presses the body onto nothing."""
+    (or ``f``) has a component along a rigid-body motion that no contact
+    resists, N (Nc, r) the modes' normal displacements at the contact
+    nodes (the module docstring), or if it presses the body onto
+    nothing; ``why`` says in the message why contact does not resist."""
+    _check_cone(problem, N, N, f, (
+        f"no contact resists ({why}): the body would move away without "
+        "bound; support it, or load it towards the obstacle"))
+
+
+def check_rigid_friction(problem, N, T, friction, f=None):
+    """Raise :class:`ProblemError` if no contact forces within the Coulomb
+    cones of coefficient ``friction`` balance the load of a floating
+    ``problem`` (or ``f``): N (Nc, r) and T (Nc, d − 1, r) the modes'
+    normal and tangential displacements at the contact nodes (module
+    docstring). f_c = 0 is :func:`check_rigid_load`."""
+    if friction <= 0.0:
+        return check_rigid_load(problem, N, f)
+    _check_cone(problem, N, _cone_generators(N, T, friction), f, (
+        f"contact with friction f_c = {friction:g} cannot resist (its "
+        "tangential share exceeds f_c times its normal share): the body "
+        "would slide away without bound; support it, or press it harder "
+        "onto the obstacle"))
+
+
+def _check_cone(problem, N, G, f, unheld):
+    """Raise :class:`ProblemError` if the load f (default the problem's)
+    presses the body onto nothing (no resultant along the modes, or no
+    contact normal N sees them), or if Rᵀf is not in the cone of the
+    rows of G: "... along the rigid-body motion d that ``unheld``"."""
     R, C = problem.rigid_modes()
     if R.shape[1] == 0:
         return
-    e = R.T @ problem.f
-    size = LOAD_RTOL * max(float(np.linalg.norm(problem.f)), 1e-300)
-    scale = np.abs(N).max(initial=0.0)
-    if np.linalg.norm(e) <= size or scale == 0.0:
+    f = problem.f if f is None else np.asarray(f, float)
+    e = R.T @ f
+    size = LOAD_RTOL * max(float(np.linalg.norm(f)), 1e-300)
+    if np.linalg.norm(e) <= size or np.abs(N).max(initial=0.0) == 0.0:
         raise ProblemError(
             f"f: the body is held by contact only ({_modes_text(problem)}) "
             "but the load has no resultant along them: nothing presses it "
             "onto the obstacle, its position is undetermined; support it "
             "or load it towards the obstacle")
-    # Moreau: e = d + Nᵀμ, d the projection of e onto {d: N d ≤ 0} (the
-    # motions no contact stops), Nᵀμ (μ ≥ 0, NNLS) what contact forces can
+    # Moreau: e = d + Gᵀμ, d the projection of e onto {d: G d ≤ 0} (the
+    # motions no contact stops), Gᵀμ (μ ≥ 0, NNLS) what contact forces can
     # balance; d ≠ 0 is the load's share no contact resists, and d/|d| the
     # motion along which the load does the most work.
-    mu, _ = opt.nnls(N.T / scale, e, maxiter=50 * max(len(N), 10))
-    d = e - N.T @ mu / scale
+    scale = np.abs(G).max()
+    mu, _ = opt.nnls(G.T / scale, e, maxiter=50 * max(len(G), 10))
+    d = e - G.T @ mu / scale
     if float(e @ d) > size * np.linalg.norm(e):
         motion = R @ d
         peak = _peak(problem, motion)
-        component = float(problem.f @ motion) / peak
+        component = float(f @ motion) / peak
         raise ProblemError(
             f"f: the load has a component {component:.6g} along the "
-            f"rigid-body motion {mode_text(problem, C @ d / peak)} that no "
-            "contact resists (frictionless contact can only push): the "
-            "body would move away without bound; support it, or load it "
-            "towards the obstacle")
+            f"rigid-body motion {mode_text(problem, C @ d / peak)} that "
+            f"{unheld}")
+
+
+def _cone_generators(N, T, friction):
+    """The rows N_i ± f_c T_i (2D) or N_i + f_c/cos(π/8)(cos θ T_i1 +
+    sin θ T_i2), θ = kπ/4 (3D): generators of (a cone containing) the
+    modes' share of the Coulomb cones."""
+    T = np.asarray(T, float).reshape(len(N), -1, N.shape[1])
+    if T.shape[1] == 1:
+        return np.concatenate([N + friction * T[:, 0],
+                               N - friction * T[:, 0]])
+    angles = np.arange(8) * np.pi / 4
+    wide = friction / np.cos(np.pi / 8)
+    return np.concatenate([N + wide * (np.cos(a) * T[:, 0]
+                                       + np.sin(a) * T[:, 1])
+                           for a in angles])
+
+
+def step_unheld(problem, N, T, f, bounds):
+    """None, or the rigid motion (its coefficients on the translations
+    and rotations, scaled to a peak displacement 1) and the load's
+    component along it, if no normal forces λ ≥ 0 with tangential forces
+    |t_i| ≤ ``bounds``_i (each component in 3D) balance the load ``f`` of
+    a floating ``problem`` (module docstring: the lagged bound)."""
+    R, C = problem.rigid_modes()
+    e = R.T @ np.asarray(f, float)
+    norm = float(np.linalg.norm(e))
+    if R.shape[1] == 0 or norm == 0.0:
+        return None
+    T = np.asarray(T, float).reshape(len(N), -1, N.shape[1])
+    k = T.shape[1]
+    scale = max(np.abs(N).max(initial=0.0), np.abs(T).max(initial=0.0),
+                1e-300)
+    A = np.concatenate([N, T.transpose(1, 0, 2).reshape(-1, N.shape[1])]).T
+    b = np.repeat(np.asarray(bounds, float)[None], k, axis=0).ravel()
+    lower = np.concatenate([np.zeros(len(N)), -b * scale])
+    upper = np.concatenate([np.full(len(N), np.inf), b * scale])
+    upper = np.maximum(upper, lower)  # b = 0: the interval [0, 0]
+    found = opt.lsq_linear(A / scale, e, bounds=(lower, upper + 1e-300),
+                           method="bvls", tol=1e-13)
+    d = e - A @ found.x / scale
+    if np.linalg.norm(d) <= 1e-7 * norm:
+        return None
+    motion = R @ d
+    peak = _peak(problem, motion)
+    return C @ d / peak, float(np.asarray(f, float) @ motion) / peak
 
 
 def _peak(problem, motion):
