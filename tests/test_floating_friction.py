@@ -123,6 +123,9 @@ def test_block_held_sideways_by_friction():
     lumped = np.asarray(problem.M.sum(axis=1)).ravel()
     assert abs(r.contact_force[-1].sum() - 2.0) <= 1e-10
     assert abs(abs((lumped * r.friction_traction[-1]).sum()) - 0.4) <= 1e-10
+    # the body's rigid motion at the last step (summary.json's): it slid
+    # towards +x, held by friction (elastic shear of the block)
+    assert r.rigid_body["modes"] == 3 and r.rigid_body["translation"][0] > 0
     with pytest.raises(ProblemError, match="coulomb='lagged' bounds the "
                        "first load step's friction"):
         solver.solve(problem, friction=FC, coulomb="lagged", steps=4)

@@ -70,8 +70,8 @@ def case_of(problem, friction, engine):
     name = engine if isinstance(engine, str) or engine is None \
         else engine.name
     # the petsc engine refuses a singular K by its own pivot check
-    floating = bodies == "rigid" and (name or "serial") == "serial" \
-        and problem.floating
+    floating = bodies in ("rigid", "two-body") \
+        and (name or "serial") == "serial" and problem.floating
     return Case(problem.dim, bodies,
                 "frictionless" if friction is None else "friction",
                 name or "serial", "floating" if floating else "supported")

@@ -142,10 +142,39 @@ def step_unheld(problem, N, T, f, bounds):
     return C @ d / peak, float(np.asarray(f, float) @ motion) / peak
 
 
+def _mesh(problem):
+    """(the meshed problem, the map to its DOFs or None): a two-body
+    problem's nodewise equivalent in v names its motions on the bodies'
+    mesh (``original``), u = T⁻¹v (``T_inv``)."""
+    original = getattr(problem, "original", None)
+    if original is None:
+        return problem, None
+    return original, problem.T_inv
+
+
+def _blocks(mesh):
+    """[(body, its DOFs' mask)]: one entry per body of the mesh."""
+    if mesh.n_bodies == 1:
+        return [(0, np.ones(mesh.n_dofs, bool))]
+    groups = mesh.body[mesh.dof_map[:, 0]]
+    return [(b, groups == b) for b in range(mesh.n_bodies)]
+
+
+def _frame(mesh, mine):
+    """(centre, length) of the rigid motions of the DOFs ``mine``
+    (:func:`solver.linalg.kernel.rigid_motions`)."""
+    points = mesh.dof_points()[mine]
+    centre = points.mean(axis=0)
+    return centre, float(np.abs(points - centre).max(initial=0.0)) or 1.0
+
+
 def _peak(problem, motion):
     """The largest nodal displacement of a reduced vector ``motion``."""
-    full = np.zeros((len(problem.nodes), problem.dim))
-    full[problem.dof_map[:, 0], problem.dof_map[:, 1]] = motion
+    mesh, T_inv = _mesh(problem)
+    if T_inv is not None:
+        motion = T_inv @ motion
+    full = np.zeros((len(mesh.nodes), mesh.dim))
+    full[mesh.dof_map[:, 0], mesh.dof_map[:, 1]] = motion
     return float(np.linalg.norm(full, axis=1).max(initial=0.0)) or 1.0
 
 
@@ -154,28 +183,44 @@ def rigid_motion(problem, u):
     squares over the DOFs, independent of the DOFs held for K⁺): a dict
     of ``alpha`` = Rᵀu, ``translation`` (of the centroid of the DOFs'
     points) and ``rotation`` (the angle in 2D, the vector in 3D), in the
-    problem's units, and ``modes`` (r)."""
+    problem's units, ``modes`` (r) and ``body`` (of several bodies, the
+    first one held by contact only)."""
     R, C = problem.rigid_modes()
     alpha = R.T @ np.asarray(u, float)
-    points = problem.dof_points()
-    length = float(np.abs(points - points.mean(axis=0)).max(initial=0.0)) \
-        or 1.0
+    mesh, _ = _mesh(problem)
+    d = mesh.dim
+    k = 3 if d == 2 else 6
     c = C @ alpha
-    d = problem.dim
+    body = next((b for b, _ in _blocks(mesh)
+                 if np.abs(C[b * k:(b + 1) * k]).max(initial=0.0) > 0), 0)
+    _, length = _frame(mesh, _blocks(mesh)[body][1])
+    c = c[body * k:(body + 1) * k]
     return dict(alpha=alpha, translation=c[:d], rotation=c[d:] / length,
-                modes=int(R.shape[1]))
+                modes=int(R.shape[1]), body=int(body))
 
 
 def mode_text(problem, c):
     """A rigid motion of coefficients ``c`` on the translations and
-    rotations (:func:`solver.linalg.kernel.rigid_motions`), in words."""
-    points = problem.dof_points()
-    centre = points.mean(axis=0)
-    length = float(np.abs(points - centre).max(initial=0.0)) or 1.0
-    d = problem.dim
-    names = "xyz"[:d]
+    rotations (:func:`solver.linalg.kernel.rigid_motions`; body by body
+    for several bodies), in words."""
+    mesh, _ = _mesh(problem)
+    d = mesh.dim
+    k = 3 if d == 2 else 6
     c = np.asarray(c, float)
     c = np.where(np.abs(c) <= 1e-9 * np.abs(c).max(initial=0.0), 0.0, c)
+    blocks = _blocks(mesh)
+    texts = []
+    for b, mine in blocks:
+        block = c[b * k:(b + 1) * k]
+        if not np.any(block):
+            continue
+        text = _motion_text(block, *_frame(mesh, mine), d)
+        texts.append(text if len(blocks) == 1 else f"of body {b}: {text}")
+    return "; ".join(texts) or f"0 along {'xyz'[:d]}"
+
+
+def _motion_text(c, centre, length, d):
+    """One body's motion of coefficients ``c`` (nonzero), in words."""
     parts = []
     t = c[:d]
     if np.abs(t).max() > 1e-9 * np.abs(c).max():
@@ -189,7 +234,7 @@ def mode_text(problem, c):
         else:
             parts.append("rotation (" + ", ".join(f"{v:.3g}" for v in w)
                          + f") rad about ({at})")
-    return " + ".join(parts) or f"0 along {names}"
+    return " + ".join(parts)
 
 
 def _modes_text(problem):

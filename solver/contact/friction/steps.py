@@ -274,6 +274,13 @@ def make_result(problem, geometry, shared, run, stream, steps, friction,
         if run.stoppings else dict(test=STOPPING_TEST, tol=float(tol),
                                    scale=np.nan, absolute=np.nan,
                                    relative=np.nan, step=None)
+    rigid = None
+    if hasattr(shared.space, "alpha") and run.last is not None:
+        from ...problem.rigid import rigid_motion  # held by contact only
+
+        rigid = rigid_motion(problem, shared.space.displacement(
+            run.last[1], run.last[2]))
+        rigid["start_nodes"] = None
     nc, idx = problem.n_contact, geometry.index
     normal = np.full((nc, geometry.normal.shape[1]), np.nan)
     normal[idx] = geometry.normal
@@ -287,4 +294,5 @@ def make_result(problem, geometry, shared, run, stream, steps, friction,
         condensed=shared.condensed, gap=gap_all, normal=normal,
         linear_solver=shared.linear_solver, verification=verification,
         stopping=stopping, time=time.perf_counter() - start, **run.totals,
+        rigid_body=rigid,
         **stream.arrays())
