@@ -44,6 +44,44 @@ def test_hertz_two_cylinders_upper_floating():
     assert result.verification["passed"]
 
 
+def test_lower_body_on_a_roller_floats_too():
+    """The lower body's flat edge held in y only: its x translation is
+    free as well (four modes); the bodies' common x translation, which no
+    interface normal sees and no load drives, is set to none, and the
+    contact is Hertz's as before (measured a −0.84 %, p₀ +1.5 %)."""
+    problem, _, _ = two_cylinders(R, MATERIALS, force=P, roller=True)
+    assert problem.rigid_modes()[0].shape[1] == 4
+    result = solver.solve(problem, tol=1e-10)
+    assert result.success, result.message
+    a_hertz, p0_hertz = hertz_cylinders(P, R, MATERIALS)
+    x = problem.nodes[problem.contact_nodes, 0]
+    a = second_moment_half_width(x, result.contact_pressure, result.mortar_D)
+    assert abs(a / a_hertz - 1) <= 0.01, a / a_hertz - 1
+    p0 = result.contact_pressure.max()
+    assert abs(p0 / p0_hertz - 1) <= 0.03, p0 / p0_hertz - 1
+    assert abs(result.total_contact_force[1] - P) <= 1e-10 * P
+
+
+@pytest.mark.parametrize("slave", ["upper", "lower"])
+def test_3d_patch_test_upper_box_floating(slave):
+    """3D mortar patch test (non-matching jittered interface), the upper
+    box held by the contact only (six modes) under the pressure p on its
+    top: the exact solution σ_zz = −p, so the interface pressure is p at
+    every node to 1e-10 and the total force p × area 1; the floating box
+    as slave (T R = R) or as master (T R ≠ R, orthonormalised)."""
+    from tet_two_body import stacked_boxes
+
+    p = 0.01
+    problem, _, _ = stacked_boxes(pressure=p, slave=slave, squeeze=0.0)
+    assert problem.rigid_modes()[0].shape[1] == 6
+    result = solver.solve(problem)
+    assert result.success, result.message
+    pressure = result.contact_pressure[result.covered]
+    np.testing.assert_allclose(pressure, p, rtol=1e-10)
+    assert abs(abs(result.total_contact_force[2]) - p) <= 1e-10 * p
+    assert result.rigid_body["modes"] == 6
+
+
 def test_upper_body_pulled_away_is_refused():
     """The load reversed: one line naming the upper body's upward
     motion (Farkas: no contact pulls)."""

@@ -180,7 +180,7 @@ def _cross2(a, b):
 
 def two_cylinders(R=(1.0, 1.5), materials=((1.0, 0.3), (2.0, 0.25)),
                   h0=0.002, core=0.08, squeeze=0.01, window=(0.12, 0.2),
-                  shift=None, ratio=0.15, force=None):
+                  shift=None, ratio=0.15, force=None, roller=False):
     """Hertz's two cylinders as two half-disks touching at the origin:
     body 0 (slave) the lower half of the disk of radius R₀ centred at
     (0, R₀), body 1 (master) the upper half of the disk of radius R₁
@@ -188,8 +188,9 @@ def two_cylinders(R=(1.0, 1.5), materials=((1.0, 0.3), (2.0, 0.25)),
     −squeeze, u_x = 0 (or, with ``shift``, a load path: squeeze, then
     u_x = shift). ``force`` P: body 0's flat edge free (the body held by
     the contact only, three rigid modes) and pressed down by the uniform
-    traction P/(2R₀). Interface: arc segments with |x| ≤ window (slave,
-    master). Returns (problem, full K, prescribed)."""
+    traction P/(2R₀); ``roller``: body 1's flat edge held in y only (its
+    x translation free too). Interface: arc segments with |x| ≤ window
+    (slave, master). Returns (problem, full K, prescribed)."""
     parts, offset = [], 0
     for b, (radius, upper) in enumerate(zip(R, (False, True))):
         nodes, tri, arc, flat = graded_half_disk(radius, h0, core, ratio,
@@ -206,7 +207,7 @@ def two_cylinders(R=(1.0, 1.5), materials=((1.0, 0.3), (2.0, 0.25)),
     if force is None:
         prescribed[parts[0][3]] = [0.0 if shift is None else shift,
                                    -squeeze]
-    prescribed[parts[1][3]] = 0.0
+    prescribed[parts[1][3]] = [np.nan if roller else 0.0, 0.0]
     segments = []
     for b, half in ((0, window[0]), (1, window[1])):
         ids = parts[b][2]
