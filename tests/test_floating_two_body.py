@@ -22,6 +22,18 @@ from tri_elasticity import hertz_cylinders, two_cylinders
 R, MATERIALS, P = (1.0, 1.5), ((1.0, 0.3), (2.0, 0.25)), 0.0065
 
 
+def _assert_hertz(problem, result):
+    """a within 1 %, p₀ within 3 % of Hertz's for P, R*, E*; the contact
+    force's y component P to 1e-10."""
+    a_hertz, p0_hertz = hertz_cylinders(P, R, MATERIALS)
+    x = problem.nodes[problem.contact_nodes, 0]
+    a = second_moment_half_width(x, result.contact_pressure, result.mortar_D)
+    assert abs(a / a_hertz - 1) <= 0.01, a / a_hertz - 1
+    p0 = result.contact_pressure.max()
+    assert abs(p0 / p0_hertz - 1) <= 0.03, p0 / p0_hertz - 1
+    assert abs(result.total_contact_force[1] - P) <= 1e-10 * P
+
+
 def test_hertz_two_cylinders_upper_floating():
     """R = 1, 1.5; E = 1, 2; ν = 0.3, 0.25; the upper body pressed by
     P = 0.0065 on its flat edge, no Dirichlet condition on it (three
@@ -31,15 +43,9 @@ def test_hertz_two_cylinders_upper_floating():
     assert problem.rigid_modes()[0].shape[1] == 3
     result = solver.solve(problem, tol=1e-10)
     assert result.success, result.message
-    a_hertz, p0_hertz = hertz_cylinders(P, R, MATERIALS)
-    x = problem.nodes[problem.contact_nodes, 0]
-    a = second_moment_half_width(x, result.contact_pressure, result.mortar_D)
+    _assert_hertz(problem, result)
     assert result.n_contact >= 40
-    assert abs(a / a_hertz - 1) <= 0.01, a / a_hertz - 1
-    p0 = result.contact_pressure.max()
-    assert abs(p0 / p0_hertz - 1) <= 0.03, p0 / p0_hertz - 1
-    total = result.total_contact_force
-    assert abs(total[1] - P) <= 1e-10 * P and abs(total[0]) <= 1e-10 * P
+    assert abs(result.total_contact_force[0]) <= 1e-10 * P
     assert result.rigid_body["modes"] == 3 and result.rigid_body["body"] == 0
     assert result.verification["passed"]
 
@@ -53,13 +59,7 @@ def test_lower_body_on_a_roller_floats_too():
     assert problem.rigid_modes()[0].shape[1] == 4
     result = solver.solve(problem, tol=1e-10)
     assert result.success, result.message
-    a_hertz, p0_hertz = hertz_cylinders(P, R, MATERIALS)
-    x = problem.nodes[problem.contact_nodes, 0]
-    a = second_moment_half_width(x, result.contact_pressure, result.mortar_D)
-    assert abs(a / a_hertz - 1) <= 0.01, a / a_hertz - 1
-    p0 = result.contact_pressure.max()
-    assert abs(p0 / p0_hertz - 1) <= 0.03, p0 / p0_hertz - 1
-    assert abs(result.total_contact_force[1] - P) <= 1e-10 * P
+    _assert_hertz(problem, result)
 
 
 @pytest.mark.parametrize("slave", ["upper", "lower"])
