@@ -198,7 +198,8 @@ def test_singular_K_that_is_not_rigid_motion_is_still_refused():
 
 @pytest.mark.parametrize("options, phrase", [
     (dict(system="full"), "system='full' is not supported"),
-    (dict(friction=0.3), "friction=0.3 is not supported"),
+    (dict(friction=0.3, formulation="thesis"),
+     "formulation='thesis' is not supported"),
     (dict(candidates=True), "candidates=True is not supported"),
 ])
 def test_options_refused_for_a_floating_body(options, phrase):

@@ -43,7 +43,7 @@ def jitter_plane(nodes, axis, value, h, amount, seed):
 
 def stacked_boxes(n_upper=(3, 3, 2), n_lower=(4, 4, 2), heights=(0.5, 0.5),
                   materials=((1.0, 0.3), (3.0, 0.2)), squeeze=1e-3,
-                  slave="upper", jitter=0.2, shift=None):
+                  slave="upper", jitter=0.2, shift=None, pressure=None):
     """Box 0 = upper on [0, 1]²×[h₁, h₁ + h₀], box 1 = lower on
     [0, 1]²×[0, h₁], ``n_*`` cells (nx, ny, nz) each, interface nodes
     jittered (non-matching, irregular). Press: the lower bottom u_z = 0,
@@ -52,7 +52,10 @@ def stacked_boxes(n_upper=(3, 3, 2), n_lower=(4, 4, 2), heights=(0.5, 0.5),
     solution is uniaxial stress σ_zz = −p, p = squeeze / Σ h_b/E_b, both
     blocks free to expand sideways. ``shift`` (sx, sy): the lower bottom
     and the upper top clamped, a load path squeeze then u = (sx, sy,
-    −squeeze) at the top. Returns (problem, full K, prescribed)."""
+    −squeeze) at the top. ``pressure`` p: the upper top free (the upper
+    box held by the contact only, six rigid modes) and pressed by p (nodal
+    forces: a third of each top triangle's area); the exact solution is
+    σ_zz = −p. Returns (problem, full K, prescribed)."""
     h0, h1 = heights
     up, up_cells = box(n_upper, (1.0, 1.0, h0))
     up = jitter_plane(up, 2, 0.0, 1 / max(n_upper[:2]), jitter, 1)
@@ -70,7 +73,7 @@ def stacked_boxes(n_upper=(3, 3, 2), n_lower=(4, 4, 2), heights=(0.5, 0.5),
     top, bottom = np.isclose(z, h0 + h1), np.isclose(z, 0)
     if shift is None:
         prescribed[top, 2], prescribed[bottom, 2] = -squeeze, 0.0
-        for face in (top, bottom):
+        for face in (top, bottom) if pressure is None else (bottom,):
             prescribed[face & np.isclose(x, 0), 0] = 0.0
             prescribed[face & np.isclose(y, 0), 1] = 0.0
     else:
@@ -89,6 +92,19 @@ def stacked_boxes(n_upper=(3, 3, 2), n_lower=(4, 4, 2), heights=(0.5, 0.5),
                "nu": materials[1][1]}]
     attach_interface(problem, body, slave_faces, master_faces, bodies,
                      0 if slave == "upper" else 1)
+    if pressure is not None:
+        prescribed[top] = np.nan
+        problem = mesh_problem(nodes, cells, K, prescribed, contact_nodes,
+                               slave_faces)
+        attach_interface(problem, body, slave_faces, master_faces, bodies,
+                         0 if slave == "upper" else 1)
+        faces = plane_faces(nodes, cells[:len(up_cells)], 2, h0 + h1)
+        a = nodes[faces]
+        area = 0.5 * np.linalg.norm(np.cross(a[:, 1] - a[:, 0],
+                                             a[:, 2] - a[:, 0]), axis=1)
+        F = np.zeros(nodes.shape)
+        np.add.at(F[:, 2], faces.ravel(), np.repeat(-pressure * area / 3, 3))
+        problem.f = F[problem.dof_map[:, 0], problem.dof_map[:, 1]]
     if shift is not None:
         first = prescribed.copy()
         first[top, :2] = 0.0

@@ -180,14 +180,17 @@ def _cross2(a, b):
 
 def two_cylinders(R=(1.0, 1.5), materials=((1.0, 0.3), (2.0, 0.25)),
                   h0=0.002, core=0.08, squeeze=0.01, window=(0.12, 0.2),
-                  shift=None, ratio=0.15):
+                  shift=None, ratio=0.15, force=None, roller=False):
     """Hertz's two cylinders as two half-disks touching at the origin:
     body 0 (slave) the lower half of the disk of radius R₀ centred at
     (0, R₀), body 1 (master) the upper half of the disk of radius R₁
     centred at (0, −R₁). Flat edges: body 1's clamped, body 0's u_y =
     −squeeze, u_x = 0 (or, with ``shift``, a load path: squeeze, then
-    u_x = shift). Interface: arc segments with |x| ≤ window (slave,
-    master). Returns (problem, full K, prescribed)."""
+    u_x = shift). ``force`` P: body 0's flat edge free (the body held by
+    the contact only, three rigid modes) and pressed down by the uniform
+    traction P/(2R₀); ``roller``: body 1's flat edge held in y only (its
+    x translation free too). Interface: arc segments with |x| ≤ window
+    (slave, master). Returns (problem, full K, prescribed)."""
     parts, offset = [], 0
     for b, (radius, upper) in enumerate(zip(R, (False, True))):
         nodes, tri, arc, flat = graded_half_disk(radius, h0, core, ratio,
@@ -201,8 +204,10 @@ def two_cylinders(R=(1.0, 1.5), materials=((1.0, 0.3), (2.0, 0.25)),
     K = sp.block_diag([stiffness(p[0], p[1], *materials[b])
                        for b, p in enumerate(parts)]).tocsr()
     prescribed = np.full(nodes.shape, np.nan)
-    prescribed[parts[0][3]] = [0.0 if shift is None else shift, -squeeze]
-    prescribed[parts[1][3]] = 0.0
+    if force is None:
+        prescribed[parts[0][3]] = [0.0 if shift is None else shift,
+                                   -squeeze]
+    prescribed[parts[1][3]] = [np.nan if roller else 0.0, 0.0]
     segments = []
     for b, half in ((0, window[0]), (1, window[1])):
         ids = parts[b][2]
@@ -219,6 +224,15 @@ def two_cylinders(R=(1.0, 1.5), materials=((1.0, 0.3), (2.0, 0.25)),
                        "nu": materials[1][1]}], 0)
     if shift is not None:
         _squeeze_then_shift(problem, K, prescribed)
+    if force is not None:  # lumped: half of each flat segment per end
+        top = parts[0][3][np.argsort(nodes[parts[0][3], 0])]
+        share = np.zeros(len(top))
+        share[:-1] += 0.5 * np.diff(nodes[top, 0])
+        share[1:] += 0.5 * np.diff(nodes[top, 0])
+        F = np.zeros(nodes.shape)
+        F[top, 1] = -force * share / share.sum()
+        problem.f = problem.f + F[problem.dof_map[:, 0],
+                                  problem.dof_map[:, 1]]
     return problem, K, prescribed
 
 

@@ -16,10 +16,13 @@ from .frictionless.system import FrictionlessSystem
 from .geometry import GAP_MODES, ContactGeometry, contact_geometry
 from .result import ContactResult
 from .strategies.floating import check_load as check_floating_load
+from .strategies.floating import \
+    check_friction_load as check_floating_friction
 from .two_body import TwoBodyMap
 
 __all__ = ["SerialEngine", "IterativeEngine", "GAP_MODES", "ContactGeometry",
            "contact_geometry", "FrictionlessSystem", "FrictionSystem",
            "run_frictionless", "run_friction", "default_method", "FORMULATIONS",
            "COULOMB",
-           "ContactResult", "TwoBodyMap", "check_floating_load"]
+           "ContactResult", "TwoBodyMap", "check_floating_load",
+           "check_floating_friction"]

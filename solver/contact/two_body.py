@@ -166,11 +166,26 @@ def equivalent_problem(problem, coupling, friction=False):
         load_path_friction=problem.load_path_friction,
         source=problem.source)
     equivalent.node_graph = lambda: _node_graph(problem, extra)
+    if problem.floating:  # a body held by contact only: its modes in v
+        _floating_modes(equivalent, problem, T_inv, E)
     # how far the prescribed displacements move the bodies before they
     # deform: the candidates' screening margin (strategies.candidates)
     equivalent.approach_length = float(np.linalg.norm(
         prescribed, axis=1).max(initial=0.0))
     return equivalent, T_inv, covered
+
+
+def _floating_modes(equivalent, problem, T_inv, E):
+    """Give the problem in v the rigid-body modes of the bodies held by
+    contact only: v = Tu, T = I − E, so K̃ T R = T⁻ᵀ K R = 0 and ker K̃ is
+    spanned by T R, orthonormalised (T R = Q S, coefficients C S⁻¹ on
+    the bodies' translations and rotations); ``original`` and ``T_inv``
+    name the motions on the bodies' mesh
+    (:mod:`solver.problem.rigid`)."""
+    R, C = problem.rigid_modes()
+    Q, S = np.linalg.qr(R - E @ R)
+    equivalent._modes = (equivalent.K, (Q, C @ np.linalg.inv(S)))
+    equivalent.original, equivalent.T_inv = problem, T_inv
 
 
 def interface_stiffness(K, E):

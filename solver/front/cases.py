@@ -70,8 +70,8 @@ def case_of(problem, friction, engine):
     name = engine if isinstance(engine, str) or engine is None \
         else engine.name
     # the petsc engine refuses a singular K by its own pivot check
-    floating = bodies == "rigid" and (name or "serial") == "serial" \
-        and problem.floating
+    floating = bodies in ("rigid", "two-body") \
+        and (name or "serial") == "serial" and problem.floating
     return Case(problem.dim, bodies,
                 "frictionless" if friction is None else "friction",
                 name or "serial", "floating" if floating else "supported")
@@ -237,16 +237,18 @@ RULES = tuple(
              "(engine='petsc', system='full')",
              lambda c, s, g: "ksp" in g and (c.engine != "petsc"
                                              or s["condense"])),
+        Rule("formulation", "a body held by contact only",
+             "friction on a floating body runs on the projection "
+             "formulation (the modes' amplitudes are unknowns of the "
+             "condensed system); use formulation='projection'",
+             lambda c, s, g: c.support == "floating"
+             and c.contact == "friction" and s["formulation"] == "thesis",
+             "formulation='thesis'"),
         Rule("system", "a body held by contact only",
              "its K is singular (rigid-body modes): it is solved on the "
              "condensed system, with K⁺ and the modes' amplitudes",
              lambda c, s, g: c.support == "floating" and not s["condense"],
              "system='full'"),
-        Rule("friction", "a body held by contact only",
-             "not yet: friction needs every load step's contact to hold "
-             "the body; support it (a prescribed displacement)",
-             lambda c, s, g: c.support == "floating"
-             and c.contact == "friction", "friction"),
         Rule("candidates", "a body held by contact only",
              "its modes' amplitudes are condensed with every DOF of Γc",
              lambda c, s, g: c.support == "floating" and s["candidates"],

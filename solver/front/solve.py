@@ -13,7 +13,7 @@ variables, and hands them to a driver
 import time
 
 from ..contact import (IterativeEngine, SerialEngine, TwoBodyMap,
-                       contact_geometry)
+                       check_floating_friction, contact_geometry)
 from ..contact.friction.driver import check_friction
 from ..errors import SolverError
 from .cases import (DEFAULTS, auto_eligible, case_of, check_geometry_rules,
@@ -213,6 +213,9 @@ def prepare(problem, **options):
         if mapping is not None:
             mapping.mark_uncovered(geometry)
     check_geometry_rules(case, settings, geometry)
+    if case.support == "floating" and friction is not None:
+        check_floating_friction(target, geometry, friction,  # none holds?
+                                settings["coulomb"], given["steps"])
     if not settings["condense"] and case.engine == "serial" \
             and settings["backend"] != "amg":  # CG reports a K not SPD
         target.check_stiffness()  # before anything is written

@@ -63,10 +63,15 @@ def rigid_motions(points, components, centre=None, length=None):
     return G
 
 
-def rigid_modes(K, points, components, rtol=KERNEL_RTOL):
+def rigid_modes(K, points, components, rtol=KERNEL_RTOL, groups=None):
     """(R, C): an orthonormal basis R (n, r) of the rigid motions in ker K
     (r = 0 for a supported body) and their coefficients C (3 or 6, r) on
-    :func:`rigid_motions` (R = G C)."""
+    :func:`rigid_motions` (R = G C). ``groups`` (n,): the body of each DOF
+    (several bodies, K block diagonal): each body's modes from its own
+    block, with its own scale (a body 10⁶ times stiffer does not hide a
+    soft body's supports), C then (B·3 or B·6, r), body by body."""
+    if groups is not None:
+        return _modes_by_body(K, points, components, rtol, groups)
     G = rigid_motions(points, components)
     norms = np.linalg.norm(G, axis=0)
     used = norms > 0
@@ -85,6 +90,26 @@ def rigid_modes(K, points, components, rtol=KERNEL_RTOL):
     rows = np.flatnonzero(used)[keep]
     C[rows] = sla.solve_triangular(T, V) / norms[rows, None]
     return R, C
+
+
+def _modes_by_body(K, points, components, rtol, groups):
+    """:func:`rigid_modes` of each body (``groups``), block by block."""
+    K = sp.csr_matrix(K)
+    groups = np.asarray(groups, np.int64)
+    k = 3 if points.shape[1] == 2 else 6
+    bodies = int(groups.max(initial=-1)) + 1
+    Rs, Cs = [], []
+    for b in range(bodies):
+        mine = np.flatnonzero(groups == b)
+        R_b, C_b = rigid_modes(K[mine][:, mine], points[mine],
+                               components[mine], rtol)
+        R = np.zeros((len(groups), R_b.shape[1]))
+        R[mine] = R_b
+        C = np.zeros((bodies * k, R_b.shape[1]))
+        C[b * k:(b + 1) * k] = C_b
+        Rs.append(R)
+        Cs.append(C)
+    return np.concatenate(Rs, axis=1), np.concatenate(Cs, axis=1)
 
 
 def fixing_dofs(R, allowed):

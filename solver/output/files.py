@@ -239,6 +239,9 @@ def friction_summary_of(result, problem, tol=None, **extra):
         "gradient_steps": int(sum(r["gradient_steps"]
                                   for r in result.records)),
         "n_dof": int(problem.n_dofs),
+        # a body held by contact only: its rigid-body motion at the last
+        # completed step (else None)
+        "rigid_body_motion": _rigid_body_of(result.get("rigid_body")),
         "wall_time": float(result.time),
         "per_step": result.records,
     }

@@ -97,6 +97,8 @@ def format_friction_result(summary, outdir):
             f"contact: {summary['final_n_stick']} stick, "
             f"{summary['final_n_slip']} slip; max pressure "
             f"{_g(summary['final_max_contact_pressure'])}"]
+    lines += _force_lines({"rigid_body_motion":
+                           summary.get("rigid_body_motion")})
     lines += [f"reduced DOFs      {summary['n_dof']}",
               f"wall time         {_g(summary['wall_time'], '.3f')} s",
               f"outputs           {outdir}/"]

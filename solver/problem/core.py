@@ -220,18 +220,22 @@ class ContactProblem:
         """(R, C): the rigid-body motions that the Dirichlet conditions
         leave free, an orthonormal basis R (Ñ, r) of them in ker K, and
         their coefficients C on the translations and rotations about the
-        centroid (:func:`solver.linalg.kernel.rigid_modes`); r = 0 for a
-        supported body, a discrete problem and several bodies (whose K
-        must be positive definite). Remembered for this K object."""
+        centroid (:func:`solver.linalg.kernel.rigid_modes`; several bodies:
+        each body's about its own centroid, C body by body); r = 0 for
+        supported bodies and a discrete problem (a two-body problem's
+        nodewise equivalent is given its modes by
+        :mod:`solver.contact.two_body`). Remembered for this K object."""
         if self._modes is None or self._modes[0] is not self.K:
-            if self.kind != "mesh" or self.n_bodies > 1:
+            if self.kind != "mesh":
                 modes = (np.zeros((self.n_dofs, 0)),
                          np.zeros((3 if self.dim == 2 else 6, 0)))
             else:
                 from ..linalg.kernel import rigid_modes
 
+                groups = None if self.n_bodies == 1 \
+                    else self.body[self.dof_map[:, 0]]
                 modes = rigid_modes(self.K, self.dof_points(),
-                                    self.dof_map[:, 1])
+                                    self.dof_map[:, 1], groups=groups)
             self._modes = (self.K, modes)
         return self._modes[1]
 

@@ -10,59 +10,171 @@ node into the obstacle (N d ≤ 0) while the load does work along it
 has no solution. By Moreau's decomposition e = Rᵀf = d + Nᵀμ (μ ≥ 0 by
 non-negative least squares), d is the projection of e onto those motions,
 and d/|d| the one along which the load does the most work: the refusal
-names it and the load's component along it."""
+names it and the load's component along it.
+
+With Coulomb friction f_c the contact forces at node i lie in the cone
+|t_i| ≤ f_c λ_i, and Rᵀf must lie in the cone spanned by its generators
+N_i ± f_c T_i (2D; T the modes' tangential displacements) or
+N_i + f_c(cos θ T_i1 + sin θ T_i2) (3D, the disc by a circumscribed
+octagon: only a load outside that larger cone is refused, certainly
+unheld): :func:`check_rigid_friction`, the same decomposition on those
+generators. Under the lagged bound of a load step (the thesis's Coulomb
+as a sequence of Tresca problems) the tangential forces are bounded by
+numbers, |t_i| ≤ b_i (3D: each component, again a superset): a bounded
+least-squares problem, :func:`step_unheld`."""
 
 import numpy as np
 import scipy.optimize as opt
 
 from ..errors import ProblemError
 
-__all__ = ["LOAD_RTOL", "check_rigid_load", "mode_text", "rigid_motion"]
+__all__ = ["LOAD_RTOL", "check_rigid_load", "check_rigid_friction",
+           "step_unheld", "mode_text", "rigid_motion"]
 
 #: A load component along an unresisted motion above this × ‖f‖₂ (and the
 #: load's work relative to |Rᵀf|) is refused.
 LOAD_RTOL = 1e-9
 
 
-def check_rigid_load(problem, N):
+def check_rigid_load(problem, N, f=None,
+                     why="frictionless contact can only push"):
     """Raise :class:`ProblemError` if the load of a floating ``problem``
-    has a component along a rigid-body motion that no contact resists,
-    N (Nc, r) the modes' normal displacements at the contact nodes (the
-    module docstring), or if it presses the body onto nothing."""
+    (or ``f``) has a component along a rigid-body motion that no contact
+    resists, N (Nc, r) the modes' normal displacements at the contact
+    nodes (the module docstring), or if it presses the body onto
+    nothing; ``why`` says in the message why contact does not resist."""
+    _check_cone(problem, N, N, f, (
+        f"no contact resists ({why}): the body would move away without "
+        "bound; support it, or load it towards the obstacle"))
+
+
+def check_rigid_friction(problem, N, T, friction, f=None):
+    """Raise :class:`ProblemError` if no contact forces within the Coulomb
+    cones of coefficient ``friction`` balance the load of a floating
+    ``problem`` (or ``f``): N (Nc, r) and T (Nc, d − 1, r) the modes'
+    normal and tangential displacements at the contact nodes (module
+    docstring). f_c = 0 is :func:`check_rigid_load`."""
+    if friction <= 0.0:
+        return check_rigid_load(problem, N, f)
+    _check_cone(problem, N, _cone_generators(N, T, friction), f, (
+        f"contact with friction f_c = {friction:g} cannot resist (its "
+        "tangential share exceeds f_c times its normal share): the body "
+        "would slide away without bound; support it, or press it harder "
+        "onto the obstacle"))
+
+
+def _check_cone(problem, N, G, f, unheld):
+    """Raise :class:`ProblemError` if the load f (default the problem's)
+    presses the body onto nothing (no resultant along the modes, or no
+    contact normal N sees them), or if Rᵀf is not in the cone of the
+    rows of G: "... along the rigid-body motion d that ``unheld``"."""
     R, C = problem.rigid_modes()
     if R.shape[1] == 0:
         return
-    e = R.T @ problem.f
-    size = LOAD_RTOL * max(float(np.linalg.norm(problem.f)), 1e-300)
-    scale = np.abs(N).max(initial=0.0)
-    if np.linalg.norm(e) <= size or scale == 0.0:
+    f = problem.f if f is None else np.asarray(f, float)
+    e = R.T @ f
+    size = LOAD_RTOL * max(float(np.linalg.norm(f)), 1e-300)
+    if np.linalg.norm(e) <= size or np.abs(N).max(initial=0.0) == 0.0:
         raise ProblemError(
             f"f: the body is held by contact only ({_modes_text(problem)}) "
             "but the load has no resultant along them: nothing presses it "
             "onto the obstacle, its position is undetermined; support it "
             "or load it towards the obstacle")
-    # Moreau: e = d + Nᵀμ, d the projection of e onto {d: N d ≤ 0} (the
-    # motions no contact stops), Nᵀμ (μ ≥ 0, NNLS) what contact forces can
+    # Moreau: e = d + Gᵀμ, d the projection of e onto {d: G d ≤ 0} (the
+    # motions no contact stops), Gᵀμ (μ ≥ 0, NNLS) what contact forces can
     # balance; d ≠ 0 is the load's share no contact resists, and d/|d| the
     # motion along which the load does the most work.
-    mu, _ = opt.nnls(N.T / scale, e, maxiter=50 * max(len(N), 10))
-    d = e - N.T @ mu / scale
+    scale = np.abs(G).max()
+    mu, _ = opt.nnls(G.T / scale, e, maxiter=50 * max(len(G), 10))
+    d = e - G.T @ mu / scale
     if float(e @ d) > size * np.linalg.norm(e):
         motion = R @ d
         peak = _peak(problem, motion)
-        component = float(problem.f @ motion) / peak
+        component = float(f @ motion) / peak
         raise ProblemError(
             f"f: the load has a component {component:.6g} along the "
-            f"rigid-body motion {mode_text(problem, C @ d / peak)} that no "
-            "contact resists (frictionless contact can only push): the "
-            "body would move away without bound; support it, or load it "
-            "towards the obstacle")
+            f"rigid-body motion {mode_text(problem, C @ d / peak)} that "
+            f"{unheld}")
+
+
+def _cone_generators(N, T, friction):
+    """The rows N_i ± f_c T_i (2D) or N_i + f_c/cos(π/8)(cos θ T_i1 +
+    sin θ T_i2), θ = kπ/4 (3D): generators of (a cone containing) the
+    modes' share of the Coulomb cones."""
+    T = np.asarray(T, float).reshape(len(N), -1, N.shape[1])
+    if T.shape[1] == 1:
+        return np.concatenate([N + friction * T[:, 0],
+                               N - friction * T[:, 0]])
+    angles = np.arange(8) * np.pi / 4
+    wide = friction / np.cos(np.pi / 8)
+    return np.concatenate([N + wide * (np.cos(a) * T[:, 0]
+                                       + np.sin(a) * T[:, 1])
+                           for a in angles])
+
+
+def step_unheld(problem, N, T, f, bounds):
+    """None, or the rigid motion (its coefficients on the translations
+    and rotations, scaled to a peak displacement 1) and the load's
+    component along it, if no normal forces λ ≥ 0 with tangential forces
+    |t_i| ≤ ``bounds``_i (each component in 3D) balance the load ``f`` of
+    a floating ``problem`` (module docstring: the lagged bound)."""
+    R, C = problem.rigid_modes()
+    e = R.T @ np.asarray(f, float)
+    norm = float(np.linalg.norm(e))
+    if R.shape[1] == 0 or norm == 0.0:
+        return None
+    T = np.asarray(T, float).reshape(len(N), -1, N.shape[1])
+    k = T.shape[1]
+    scale = max(np.abs(N).max(initial=0.0), np.abs(T).max(initial=0.0),
+                1e-300)
+    A = np.concatenate([N, T.transpose(1, 0, 2).reshape(-1, N.shape[1])]).T
+    b = np.repeat(np.asarray(bounds, float)[None], k, axis=0).ravel()
+    lower = np.concatenate([np.zeros(len(N)), -b * scale])
+    upper = np.concatenate([np.full(len(N), np.inf), b * scale])
+    upper = np.maximum(upper, lower)  # b = 0: the interval [0, 0]
+    found = opt.lsq_linear(A / scale, e, bounds=(lower, upper + 1e-300),
+                           method="bvls", tol=1e-13)
+    d = e - A @ found.x / scale
+    if np.linalg.norm(d) <= 1e-7 * norm:
+        return None
+    motion = R @ d
+    peak = _peak(problem, motion)
+    return C @ d / peak, float(np.asarray(f, float) @ motion) / peak
+
+
+def _mesh(problem):
+    """(the meshed problem, the map to its DOFs or None): a two-body
+    problem's nodewise equivalent in v names its motions on the bodies'
+    mesh (``original``), u = T⁻¹v (``T_inv``)."""
+    original = getattr(problem, "original", None)
+    if original is None:
+        return problem, None
+    return original, problem.T_inv
+
+
+def _blocks(mesh):
+    """[(body, its DOFs' mask)]: one entry per body of the mesh."""
+    if mesh.n_bodies == 1:
+        return [(0, np.ones(mesh.n_dofs, bool))]
+    groups = mesh.body[mesh.dof_map[:, 0]]
+    return [(b, groups == b) for b in range(mesh.n_bodies)]
+
+
+def _frame(mesh, mine):
+    """(centre, length) of the rigid motions of the DOFs ``mine``
+    (:func:`solver.linalg.kernel.rigid_motions`)."""
+    points = mesh.dof_points()[mine]
+    centre = points.mean(axis=0)
+    return centre, float(np.abs(points - centre).max(initial=0.0)) or 1.0
 
 
 def _peak(problem, motion):
     """The largest nodal displacement of a reduced vector ``motion``."""
-    full = np.zeros((len(problem.nodes), problem.dim))
-    full[problem.dof_map[:, 0], problem.dof_map[:, 1]] = motion
+    mesh, T_inv = _mesh(problem)
+    if T_inv is not None:
+        motion = T_inv @ motion
+    full = np.zeros((len(mesh.nodes), mesh.dim))
+    full[mesh.dof_map[:, 0], mesh.dof_map[:, 1]] = motion
     return float(np.linalg.norm(full, axis=1).max(initial=0.0)) or 1.0
 
 
@@ -71,28 +183,44 @@ def rigid_motion(problem, u):
     squares over the DOFs, independent of the DOFs held for K⁺): a dict
     of ``alpha`` = Rᵀu, ``translation`` (of the centroid of the DOFs'
     points) and ``rotation`` (the angle in 2D, the vector in 3D), in the
-    problem's units, and ``modes`` (r)."""
+    problem's units, ``modes`` (r) and ``body`` (of several bodies, the
+    first one held by contact only)."""
     R, C = problem.rigid_modes()
     alpha = R.T @ np.asarray(u, float)
-    points = problem.dof_points()
-    length = float(np.abs(points - points.mean(axis=0)).max(initial=0.0)) \
-        or 1.0
+    mesh, _ = _mesh(problem)
+    d = mesh.dim
+    k = 3 if d == 2 else 6
     c = C @ alpha
-    d = problem.dim
+    body = next((b for b, _ in _blocks(mesh)
+                 if np.abs(C[b * k:(b + 1) * k]).max(initial=0.0) > 0), 0)
+    _, length = _frame(mesh, _blocks(mesh)[body][1])
+    c = c[body * k:(body + 1) * k]
     return dict(alpha=alpha, translation=c[:d], rotation=c[d:] / length,
-                modes=int(R.shape[1]))
+                modes=int(R.shape[1]), body=int(body))
 
 
 def mode_text(problem, c):
     """A rigid motion of coefficients ``c`` on the translations and
-    rotations (:func:`solver.linalg.kernel.rigid_motions`), in words."""
-    points = problem.dof_points()
-    centre = points.mean(axis=0)
-    length = float(np.abs(points - centre).max(initial=0.0)) or 1.0
-    d = problem.dim
-    names = "xyz"[:d]
+    rotations (:func:`solver.linalg.kernel.rigid_motions`; body by body
+    for several bodies), in words."""
+    mesh, _ = _mesh(problem)
+    d = mesh.dim
+    k = 3 if d == 2 else 6
     c = np.asarray(c, float)
     c = np.where(np.abs(c) <= 1e-9 * np.abs(c).max(initial=0.0), 0.0, c)
+    blocks = _blocks(mesh)
+    texts = []
+    for b, mine in blocks:
+        block = c[b * k:(b + 1) * k]
+        if not np.any(block):
+            continue
+        text = _motion_text(block, *_frame(mesh, mine), d)
+        texts.append(text if len(blocks) == 1 else f"of body {b}: {text}")
+    return "; ".join(texts) or f"0 along {'xyz'[:d]}"
+
+
+def _motion_text(c, centre, length, d):
+    """One body's motion of coefficients ``c`` (nonzero), in words."""
     parts = []
     t = c[:d]
     if np.abs(t).max() > 1e-9 * np.abs(c).max():
@@ -106,7 +234,7 @@ def mode_text(problem, c):
         else:
             parts.append("rotation (" + ", ".join(f"{v:.3g}" for v in w)
                          + f") rad about ({at})")
-    return " + ".join(parts) or f"0 along {names}"
+    return " + ".join(parts)
 
 
 def _modes_text(problem):

@@ -3,7 +3,10 @@
 component along it, exit code 2, nothing written (no output that looks
 like a solution). Reference: Farkas' lemma, statics of the rigid block
 (components: the 2 × 1 block's area 2 times the load per unit area, or
-the unit corner force)."""
+the unit corner force; with friction f_c = 0.5 the Coulomb cone: the
+tangential load 1.2 beyond f_c times the normal load 2, whose share
+along the sliding-and-lifting motion (0.894, 0.447) no cone holds,
+1.2·0.894 − 2·0.447 = 0.1789)."""
 
 import numpy as np
 import pytest
@@ -20,10 +23,17 @@ CASES = [
      "component 1 along the rigid-body motion translation (1, 0)"),
     ("no load towards the floor", dict(load=(0.0, 0.0)), [],
      "the load has no resultant along them"),
-    ("tangential load with friction", dict(load=(0.1, -1.0),
-                                           where="corner"),
-     ["--friction", "0.5"], "is not supported for 2D, rigid, "
-                            "held by contact only"),
+    ("tangential load beyond f_c times the normal load",
+     dict(load=(0.6, -1.0)), ["--friction", "0.5"],
+     "component 0.178885 along the rigid-body motion translation "
+     "(0.894, 0.447) that contact with friction f_c = 0.5 cannot resist"),
+    ("tangential load in the lagged bound's frictionless first step",
+     dict(load=(0.1, -1.0), where="corner"), ["--friction", "0.5"],
+     "translation (1, 0) that no contact resists (--coulomb lagged bounds "
+     "the first load step's friction"),
+    ("thesis formulation", dict(), ["--friction", "0.5", "--formulation",
+                                    "thesis"],
+     "--formulation thesis is not supported"),
     ("full system", dict(), ["--system", "full"],
      "--system full is not supported"),
 ]

@@ -134,10 +134,18 @@ def load_step(shared, state, run, stream, kappa, steps, load,
     f_step = load
     step_norm = max(shared.reference_norm, stable_norm(load))
     du = None
+    begin = getattr(space, "begin_step", None)  # a floating body
+    if begin is not None:
+        refused = begin(system, load, step_friction, state, shared.lumped,
+                        shared.coulomb)
+        if refused is not None:
+            return _unheld(run, kappa, steps, refused)
     load, w = space.load(load)
     system.set_step(state.u, load, state.p, step_friction, step_norm)
     if w is not None:  # the predictor: Γc moves as the unconstrained body
-        du = contact_corrected(system, space.restrict(w - state.w))
+        du = space.restrict(w - state.w)
+        du = contact_corrected(system, du) if begin is None \
+            else space.step_start(system, du, state.u, f_step)
     x0 = system.initial_guess(state.g, du)
     result = solve_ncp(system.residual, shared.jacobian, x0, method=method,
                        tol=tol, max_iter=max_iter, options=shared.options,
@@ -190,6 +198,19 @@ def load_step(shared, state, run, stream, kappa, steps, load,
     stream.add(_on_contact_nodes(shared, fields, kappa / steps, stage),
                state.u, w, prescribed)
     return True
+
+
+def _unheld(run, kappa, steps, reason):
+    """End the run before step κ, whose load no contact forces can hold
+    (a floating body, ``reason``): a failed step, nothing solved."""
+    run.failed = kappa
+    run.records.append(dict(step=kappa, converged=False, verified=False,
+                            status=6, njev=0, nfev=0, nit=0,
+                            error=float("nan"), relative=float("nan"),
+                            message=reason, gradient_steps=0,
+                            n_contact=None, n_stick=None, n_slip=None))
+    run.message = f"load step {kappa} of {steps} has no answer: {reason}"
+    return False
 
 
 def _step_fields(shared, lam, g, step_friction, p_previous, step_norm):
@@ -253,6 +274,13 @@ def make_result(problem, geometry, shared, run, stream, steps, friction,
         if run.stoppings else dict(test=STOPPING_TEST, tol=float(tol),
                                    scale=np.nan, absolute=np.nan,
                                    relative=np.nan, step=None)
+    rigid = None
+    if hasattr(shared.space, "alpha") and run.last is not None:
+        from ...problem.rigid import rigid_motion  # held by contact only
+
+        rigid = rigid_motion(problem, shared.space.displacement(
+            run.last[1], run.last[2]))
+        rigid["start_nodes"] = None
     nc, idx = problem.n_contact, geometry.index
     normal = np.full((nc, geometry.normal.shape[1]), np.nan)
     normal[idx] = geometry.normal
@@ -266,4 +294,5 @@ def make_result(problem, geometry, shared, run, stream, steps, friction,
         condensed=shared.condensed, gap=gap_all, normal=normal,
         linear_solver=shared.linear_solver, verification=verification,
         stopping=stopping, time=time.perf_counter() - start, **run.totals,
+        rigid_body=rigid,
         **stream.arrays())

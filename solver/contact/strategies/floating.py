@@ -48,7 +48,26 @@ the obstacle at a vertex of r independent touching nodes; one primal-dual
 active set step with those nodes active gives the first iterate, with
 contact forces at the touching nodes that balance the load. In 2D it
 starts the coarsest level of the nested start (:meth:`FloatingSystem.
-nested`: every level keeps α), in 3D the Newton iteration on Γc."""
+nested`: every level keeps α), in 3D the Newton iteration on Γc.
+
+Coulomb friction (the projection formulation's load steps on this
+system, :mod:`solver.contact.friction`): the contact rows now carry the
+tangential forces t too, so the last r rows read Rᵀ(f + Pᵀ(λ, t)) = 0
+and the modes that no normal sees (a flat sliding along the floor) are
+held by friction, not removed. Before the run
+(:func:`check_friction_load`) every stage's load must lie in the cone of
+the Coulomb cones of the contact nodes (the load-path stages are linear,
+the cone convex: their ends suffice); under the lagged bound the first
+step has no friction (no pressure before it) and each step's load must be
+held with |t_i| ≤ f_c λ_{i,κ−1} (:meth:`FloatingSystem.begin_step`, a
+failed step naming the motion otherwise). The first step starts from the
+rigid body put onto the obstacle, each later one from the previous
+answer (the K⁺ predictor holds the r DOFs F, not the contact). A step
+or an iterate without a friction bound at any node (the lagged first
+step, a frictionless stage) is singular along the sliding modes V:
+:meth:`FloatingSystem._friction_jacobian` adds k̄ V Vᵀ to the Jacobian's
+α rows only, which picks, among the exact Newton directions, the one
+without sliding; the residual is unchanged, so the answer is exact."""
 
 import dataclasses
 
@@ -56,10 +75,12 @@ import numpy as np
 import scipy.optimize as opt
 
 from ...errors import ProblemError
-from ...problem.rigid import check_rigid_load
+from ...problem.rigid import (check_rigid_friction, check_rigid_load,
+                              mode_text, step_unheld)
 from ..geometry import rotation
 
-__all__ = ["FloatingSystem", "check_load", "rigid_start", "unresisted"]
+__all__ = ["FloatingSystem", "check_load", "check_friction_load",
+           "rigid_start", "unresisted"]
 
 #: Gaps below this × the body's size count as touching in the start.
 TOUCH_RTOL = 1e-9
@@ -72,6 +93,18 @@ def _normal_rows(problem, geometry):
     n = problem.n_dofs
     Q, _, _, normal_rows = rotation(n, geometry)
     return np.asarray(Q[normal_rows] @ R)
+
+
+def _tangential_rows(problem, geometry):
+    """T (Nca, d − 1, r): the tangential displacements of each free
+    contact node of ``geometry`` under each rigid mode (0 along a roller's
+    constrained tangent)."""
+    R, _ = problem.rigid_modes()
+    Q, _, tangential, _ = rotation(problem.n_dofs, geometry)
+    free = tangential >= 0
+    T = np.zeros((len(tangential), R.shape[1]))
+    T[free] = np.asarray(Q[tangential[free]] @ R)
+    return T.reshape(len(geometry.gap), -1, R.shape[1])
 
 
 def unresisted(N, rtol=1e-10):
@@ -94,6 +127,37 @@ def check_load(problem, geometry):
     check_rigid_load(problem, _normal_rows(problem, geometry))
 
 
+def check_friction_load(problem, geometry, friction, coulomb="lagged",
+                        steps=None):
+    """Raise :class:`ProblemError` if a load step of a floating
+    ``problem`` with Coulomb friction ``friction`` has a load that no
+    contact forces within the Coulomb cones balance (module docstring of
+    :mod:`solver.problem.rigid`). The loads of a stage are linear between
+    its ends and the balanced loads a convex cone: both ends of every
+    stage are checked with the stage's coefficient. The lagged bound
+    gives the first step no friction (no pressure before it): its load is
+    checked as frictionless."""
+    N = _normal_rows(problem, geometry)
+    T = _tangential_rows(problem, geometry)
+    if problem.load_path is None:
+        stages = [(problem.f, 1.0)]
+        first = problem.f / problem.n_load_steps(steps)
+    else:
+        stages = list(zip(problem.load_path, problem.load_path_friction))
+        first = problem.load_path[0] / problem.load_path_steps[0]
+    start = np.zeros_like(problem.f)
+    for end, factor in stages:
+        for load in (start, end):
+            if np.any(load):
+                check_rigid_friction(problem, N, T, friction * factor, load)
+        start = end
+    if coulomb == "lagged":
+        check_rigid_load(problem, N, first, why=(
+            "coulomb='lagged' bounds the first load step's friction by "
+            "the pressure before it, none; apply the tangential load after "
+            "the normal one, a load path, or use coulomb='implicit'"))
+
+
 class FloatingSystem:
     """The reduction of a body with rigid-body modes (module docstring):
     K condensed onto the free DOFs of ``geometry``'s nodes with the modes'
@@ -103,7 +167,7 @@ class FloatingSystem:
     name = "contact + rigid-body modes"
     condensed = True
 
-    def __init__(self, problem, geometry, engine):
+    def __init__(self, problem, geometry, engine, friction=None):
         R, _ = problem.rigid_modes()
         self.problem, self.modes = problem, R
         c = geometry.free_dofs()
@@ -111,7 +175,8 @@ class FloatingSystem:
         # the factorisation of K_F refuses a K with more than rigid modes
         self.condensation = engine.condensation(
             dataclasses.replace(problem, K=K_F), c)
-        check_load(problem, geometry)  # a load no contact holds: refused
+        if friction is None:  # a load no contact holds: refused
+            check_load(problem, geometry)  # (friction: by the front)
         self.dofs = self.condensation.dofs
         self.m, self.r = len(self.dofs), R.shape[1]
         S = self.condensation.S
@@ -123,11 +188,17 @@ class FloatingSystem:
         K[self.m:, :self.m] = -SR.T
         K[self.m:, self.m:] = Rc.T @ SR
         N = _normal_rows(problem, geometry)
-        self.N, self.free_modes = N, unresisted(N)
+        self.N, self.friction = N, friction
+        self.T = _tangential_rows(problem, geometry)
+        #: modes no normal sees: with friction, held by it alone
+        self.sliding = unresisted(N)
+        self.free_modes = self.sliding if not friction else unresisted(
+            np.concatenate([N, self.T.reshape(-1, R.shape[1])]))
         if self.free_modes.size:  # α ⊥ modes no normal sees (exact)
             k = float(np.mean(np.diag(S))) if self.m else 1.0
             K[self.m:, self.m:] += k * self.free_modes @ self.free_modes.T
         self.K = 0.5 * (K + K.T)
+        self._k = float(np.mean(np.diag(S))) if self.m else 1.0
         self.geometry = geometry.compact()
         self.linear_solver = engine.linear_solver
         self._Rc = Rc
@@ -163,8 +234,71 @@ class FloatingSystem:
         return np.asarray(x, float)[self.m:]
 
     def jacobian(self, system):
-        """The system's own Jacobian (dense, LAPACK)."""
-        return system.jacobian
+        """The system's own Jacobian (dense, LAPACK); with friction, at an
+        iterate where no node has a friction bound (the lagged bound of
+        the first step, a frictionless stage, no contact yet) the modes
+        only friction resists are singular: :meth:`_friction_jacobian`."""
+        if not self.friction or not self.sliding.size:
+            return system.jacobian
+        return lambda x: self._friction_jacobian(system, x)
+
+    def _friction_jacobian(self, system, x):
+        r"""The Jacobian of a friction ``system`` at x; where every
+        node's bound is 0 the rows of α along the sliding modes V (no
+        normal sees them) gain k̄ V Vᵀ. Exact: there J is singular along
+        the sliding of the rigid body (z = (R_cV, V, 0) ∈ ker J), the
+        step's load has no share along V (checked before the step) and
+        the residual is not changed, so the direction is a Newton
+        direction of the step, the one with no sliding (Δα_V = 0): the
+        body does not slide when nothing pushes it along the floor."""
+        JE, JA, JB = system.jacobian(x)
+        b, _ = system.bound(system._force(x[:system.n]), derivative=False)
+        if np.any(b > 0.0):
+            return JE, JA, JB
+        import scipy.sparse as sp
+
+        V, m, r = self.sliding, self.m, self.r
+        rows = np.repeat(np.arange(r), r)  # α's rows: the first ("other")
+        cols = np.tile(np.arange(m, m + r), r)
+        add = sp.csr_matrix((self._k * (V @ V.T).ravel(), (rows, cols)),
+                            shape=JE.shape)
+        return (JE + add).tocsr(), JA, JB
+
+    def begin_step(self, system, load, step_friction, state, lumped,
+                   coulomb):
+        """Before a friction load step: None, or the one-line reason why
+        no answer exists (the body slides away: :func:`~solver.problem.
+        rigid.step_unheld` with the lagged bound f_c λ_{κ−1}; the implicit
+        bound's cones were checked before the run)."""
+        if coulomb != "lagged":
+            return None
+        bounds = step_friction * lumped * np.asarray(state.p, float)
+        found = step_unheld(self.problem, self.N, self.T, load, bounds)
+        if found is None:
+            return None
+        motion, component = found
+        return (f"the load has a component {component:.6g} along the "
+                f"rigid-body motion {mode_text(self.problem, motion)} "
+                "that the previous step's contact pressure cannot hold "
+                "by friction (coulomb='lagged' bounds the friction by "
+                "it): the body would slide away; apply the tangential "
+                "load after the normal one (a load path), in more steps, "
+                "or use coulomb='implicit'")
+
+    def step_start(self, system, du, u_previous, load):
+        """The first iterate of a friction load step: the predictor
+        ``du``, or, before any contact (u_{κ−1} = 0), the rigid body put
+        onto the obstacle by the linear programme of :func:`rigid_start`
+        for the step's load, not deformed and sliding along no mode no
+        normal sees."""
+        if np.any(u_previous):
+            return np.zeros_like(du)
+        alpha = _placement(self.N, self.geometry.gap,
+                           self.modes.T @ np.asarray(load, float),
+                           self.sliding)
+        if alpha is None:
+            return du
+        return np.concatenate([self._Rc @ alpha, alpha])
 
     def free_start(self, system, w):
         """The first iterate (module docstring): the rigid body put onto
@@ -270,6 +404,20 @@ class _Level:
                       self.Rc[kept[:len(self.Rc)]][:m], self.N[keep])
 
 
+def _placement(N, gap, e, free):
+    """α of the rigid body put onto the obstacle by the load e = Rᵀf: the
+    linear programme min −e·α subject to N α ≤ s, α ⊥ ``free`` (modes no
+    normal sees); None if it has no solution."""
+    scale = np.abs(N).max(initial=1.0)
+    extra = {}
+    if free.size:
+        extra = dict(A_eq=free.T, b_eq=np.zeros(free.shape[1]))
+    found = opt.linprog(-e / max(np.abs(e).max(), 1e-300), A_ub=N / scale,
+                        b_ub=gap / scale, bounds=[(None, None)] * len(e),
+                        method="highs", **extra)
+    return found.x if found.status == 0 else None
+
+
 def rigid_start(system, N, gap, Rc, problem):
     """(y, touching nodes): the rigid body put onto the obstacle by the
     linear programme min −(Rᵀf)·α subject to N α ≤ s, then one primal-dual
@@ -277,18 +425,9 @@ def rigid_start(system, N, gap, Rc, problem):
     docstring); None if the programme has no solution (these nodes do not
     hold the body)."""
     R, _ = problem.rigid_modes()
-    e = R.T @ problem.f
-    scale = np.abs(N).max(initial=1.0)
-    free = unresisted(N)
-    extra = {}
-    if free.size:
-        extra = dict(A_eq=free.T, b_eq=np.zeros(free.shape[1]))
-    found = opt.linprog(-e / max(np.abs(e).max(), 1e-300), A_ub=N / scale,
-                        b_ub=gap / scale, bounds=[(None, None)] * len(e),
-                        method="highs", **extra)
-    if found.status != 0:
+    alpha = _placement(N, gap, R.T @ problem.f, unresisted(N))
+    if alpha is None:
         return None, 0
-    alpha = found.x
     remaining = gap - N @ alpha
     size = np.abs(gap).max(initial=0.0) + np.abs(N @ alpha).max(initial=0.0)
     touching = remaining <= TOUCH_RTOL * max(size, 1e-300)

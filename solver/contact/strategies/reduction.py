@@ -79,14 +79,14 @@ class CondensedSystem:
         return self.restrict(w)
 
 
-def reduction(problem, geometry, engine, condensed):
+def reduction(problem, geometry, engine, condensed, friction=None):
     """:class:`CondensedSystem` if ``condensed``, else :class:`FullSystem`;
-    :class:`~.floating.FloatingSystem` for a body with rigid-body modes."""
-    if condensed and engine.name == "serial" and problem.kind == "mesh" \
-            and problem.floating:
+    :class:`~.floating.FloatingSystem` for a body with rigid-body modes
+    (``friction``: the run's coefficient f_c, None if frictionless)."""
+    if condensed and engine.name == "serial" and problem.floating:
         from .floating import FloatingSystem
 
-        return FloatingSystem(problem, geometry, engine)
+        return FloatingSystem(problem, geometry, engine, friction)
     return (CondensedSystem if condensed else FullSystem)(problem, geometry,
                                                           engine)
 
