@@ -19,12 +19,19 @@ with :math:`\sum_b \int_{\Omega_b} D^b_{ijkl} e_{ij}(\ul{v}) e_{kl}(\ul{u})
 = 0` for all :math:`\ul{v}`, plane strain (or stress), the lower flat side
 clamped and the upper flat side moved down by δ.
 
-**No floating body.** The upper cylinder is loaded through the prescribed
-displacement of its flat side (u_y = −δ; with ``load='hertz'`` u_x = 0
-only at its centre (0, R1), so the side may expand), not by a force: held
-only by the contact its K would be singular. The force per unit length P
-is the top reaction, known after the contact solve (``meta['P_estimate']``
-is an estimate, below).
+**A displacement (default) or a force.** With ``load='hertz'`` the upper
+cylinder is loaded through the prescribed displacement of its flat side
+(u_y = −δ; u_x = 0 only at its centre (0, R1), so the side may expand);
+the force per unit length P is the top reaction, known after the contact
+solve (``meta['P_estimate']`` is an estimate, below). With
+``load='force'`` the flat side carries P (default ``P_estimate``) as a
+uniform traction and the upper cylinder is held vertically by the contact
+only (K singular, solved exactly: README "Loads"). u_x = 0 at its centre
+(0, R1) and at its apex (0, 0) hold the horizontal translation and the
+rotation: both points lie on the axis of symmetry, where u_x = 0 holds in
+the symmetric problem, and the rotation about the circle's centre is one
+that frictionless contact with a round surface does not resist (only the
+polygon's facets would, weakly).
 
 **Hertz** (two cylinders, plane strain): 1/R* = 1/R1 + 1/R2, 1/E* =
 (1 − ν1²)/E1 + (1 − ν2²)/E2, half-width a = 2√(P R*/(π E*)), peak pressure
@@ -63,7 +70,8 @@ Parameters (``-d``): ``mesh``, ``output``, ``R1``, ``R2``, ``E1``, ``nu1``,
 ``E2``, ``nu2``, ``identical`` (False: R2, E2, ν2 = R1, E1, ν1; needs the
 identical mesh), ``plane`` ('strain'), ``delta`` (None: from
 ``a_target``), ``a_target`` (0.1 R1), ``load`` ('hertz' or 'cattaneo'),
-``shift`` (None: 0.44 δ), ``steps_normal`` (10), ``steps_shear`` (20),
+``P`` (``load='force'``: the force per unit length; None:
+``P_estimate``), ``shift`` (None: 0.44 δ), ``steps_normal`` (10), ``steps_shear`` (20),
 ``gamma_c_y`` (0.2: the slave arc is below y = gamma_c_y R1, the master
 arc above y = −gamma_c_y R2), ``verbose``.
 """
@@ -130,7 +138,9 @@ def export_contact_problem(pb, variables):
                        steps=conf.steps_shear, friction=1.0)]
     _load_export().export_contact_problem(
         pb, variables, conf.export,
-        stiffness='dw_lin_elastic.i.Omega(solid.D, v, u)', load=None,
+        stiffness='dw_lin_elastic.i.Omega(solid.D, v, u)',
+        load=('dw_surface_ltr.i.Top(load.val, v)' if conf.load == 'force'
+              else None),
         obstacle=None, load_path=stages,
         mortar=dict(slave='Gamma_s', master='Gamma_m',
                     bodies=['Lower', 'Upper']),
@@ -141,22 +151,33 @@ def define(mesh='meshes/two_body_cylinders.mesh',
            output='output/two_cylinders.npz', R1=1.0, R2=1.5, E1=2e5,
            nu1=0.3, E2=1.2e5, nu2=0.25, identical=False, plane='strain',
            delta=None, a_target=None, load='hertz', shift=None,
-           steps_normal=10, steps_shear=20, gamma_c_y=0.2, verbose=None):
-    _load_export().set_verbosity(verbose)  # before SfePy's 'left over:'
-    if load not in ('hertz', 'cattaneo'):
-        raise ValueError(f"load must be 'hertz' or 'cattaneo', got {load!r}")
+           steps_normal=10, steps_shear=20, gamma_c_y=0.2, P=None,
+           verbose=None):
+    export = _load_export()
+    export.set_verbosity(verbose)  # before SfePy's 'left over:'
+    if load not in ('hertz', 'cattaneo', 'force'):
+        raise ValueError(f"load must be 'hertz', 'cattaneo' or 'force', got "
+                         f"{load!r}")
     if identical:
         R2, E2, nu2 = R1, E1, nu1
     filename_mesh = op.abspath(mesh)
     output_dir = op.dirname(op.abspath(output))
     R_star, E_star = hertz(R1, R2, E1, nu1, E2, nu2, plane)
     a = 0.1 * R1 if a_target is None else float(a_target)
-    P = math.pi * E_star * a ** 2 / (4 * R_star)  # a = 2 sqrt(P R*/(pi E*))
+    P_estimate = math.pi * E_star * a ** 2 / (4 * R_star)  # Hertz's a
     if delta is None:
-        delta = approach(P, a, [(R1, E1, nu1), (R2, E2, nu2)], plane)
+        delta = approach(P_estimate, a, [(R1, E1, nu1), (R2, E2, nu2)],
+                         plane)
     if shift is None:
         shift = 0.44 * delta
     delta, shift = float(delta), float(shift)
+    force = None
+    if load == 'force':
+        force = P if P is not None else P_estimate
+        if not (isinstance(force, (int, float)) and math.isfinite(force)
+                and force > 0):
+            raise ValueError(f'P must be a positive number, got {P!r}')
+        force = float(force)
 
     meta = {
         'E': E1, 'nu': nu1, 'plane': plane,
@@ -165,10 +186,14 @@ def define(mesh='meshes/two_body_cylinders.mesh',
         'slave_body': 1, 'master_body': 0,
         'R1': R1, 'R2': R2, 'E1': E1, 'nu1': nu1, 'E2': E2, 'nu2': nu2,
         'R_star': R_star, 'E_star': E_star, 'delta': delta,
-        'a_target': a, 'P_estimate': P, 'identical': bool(identical),
+        'a_target': a, 'P_estimate': P_estimate, 'identical': bool(identical),
         'load': ({'prescribed_displacement_y': -delta,
                   'on': 'upper flat side y = R1',
                   'u_x_pinned_at': [0.0, R1]} if load == 'hertz' else
+                 {'force_y': -force, 'on': 'upper flat side y = R1, '
+                  'uniform traction', 'u_x_pinned_at': [[0.0, R1],
+                                                        [0.0, 0.0]]}
+                 if load == 'force' else
                  {'stages': ['normal: upper flat side to (0, -delta), '
                              'frictionless',
                              'shear: to (shift, -delta), friction'],
@@ -181,8 +206,15 @@ def define(mesh='meshes/two_body_cylinders.mesh',
         'contact_boundary': f'slave: upper arc y < {gamma_c_y:g} R1; master: '
                             f'lower arc y > -{gamma_c_y:g} R2',
         'hertz': 'a = 2 sqrt(P R_star / (pi E_star)), p0 = 2 P / (pi a), '
-                 'P = the reaction on the upper flat side',
+                 'P = the reaction on the upper flat side' if load != 'force'
+                 else 'a = 2 sqrt(P R_star / (pi E_star)), p0 = 2 P / (pi a), '
+                 'P given',
     }
+    if load == 'force':
+        meta['P'] = force
+        meta['supports'] = ('lower flat side y = -R2 clamped; upper '
+                            'cylinder: u_x = 0 at (0, R1) and (0, 0), held '
+                            'in y by the contact only')
     options = {
         'output_dir': output_dir,
         'output_format': 'vtk',
@@ -211,12 +243,18 @@ def define(mesh='meshes/two_body_cylinders.mesh',
         'TopCentre': (f'vertices in (y > {R1 - tol1}) & (x > {-tol1}) & '
                       f'(x < {tol1})', 'vertex'),
         'Bottom': (f'vertices in (y < {-R2 + tol2})', 'facet'),
+        'Origin': (f'vertices in (x > {-tol1}) & (x < {tol1}) & '
+                   f'(y > {-tol1}) & (y < {tol1})', 'vertex'),
+        'Apex': ('r.Origin *v r.Upper', 'vertex'),
     }
 
     materials = {
         'solid': ({'D': {
             'Lower': stiffness_from_youngpoisson(2, E2, nu2, plane=plane),
             'Upper': stiffness_from_youngpoisson(2, E1, nu1, plane=plane)}},),
+        # load='force': P per unit length, uniform on the flat side (2 R1)
+        'load': ({'val': nm.array([[0.0],
+                                   [-(force or 0.0) / (2.0 * R1)]])},),
     }
 
     fields = {
@@ -235,19 +273,27 @@ def define(mesh='meshes/two_body_cylinders.mesh',
     if load == 'hertz':
         ebcs.update(pressed=('Top', {'u.1': -delta}),
                     pinned=('TopCentre', {'u.0': 0.0}))
+    elif load == 'force':  # held in y by the contact only
+        ebcs.update(pinned=('TopCentre', {'u.0': 0.0}),
+                    apex=('Apex', {'u.0': 0.0}))
     else:
         ebcs.update(moved=('Top', {'u.0': shift, 'u.1': -delta}))
 
     integrals = {'i': 2}
 
     equations = {
-        'balance_of_forces': """dw_lin_elastic.i.Omega(solid.D, v, u) = 0""",
+        'balance_of_forces':
+        """dw_lin_elastic.i.Omega(solid.D, v, u) = 0""" if load != 'force'
+        else """dw_lin_elastic.i.Omega(solid.D, v, u)
+              = dw_surface_ltr.i.Top(load.val, v)""",
     }
 
     solvers = {
         'ls': ('ls.scipy_direct', {}),
+        # K is singular under a force (no support in y): SfePy solves nothing
         'newton': ('nls.newton', {'i_max': 1, 'eps_a': 1e-6,
-                                  'eps_r': 1e-12}),
+                                  'eps_r': 1e-12} if load != 'force'
+                   else dict(export.NO_SOLVE)),
     }
 
     return locals()
