@@ -79,7 +79,7 @@ from solver.problem import ContactProblem, save_problem
 __all__ = ['export_contact_problem', 'obstacle_curve', 'reduced_system',
            'full_stiffness', 'stage_loads', 'contact_triangles',
            'mesh_cells',
-           'two_body_keys',
+           'two_body_keys', 'save_displacement',
            'export_only', 'NO_SOLVE',
            'set_verbosity', 'main', 'VERBOSE_ENV']
 
@@ -536,6 +536,33 @@ def contact_triangles(pb, region, cells, coors):
     inward = nm.einsum('ij,ij->i', normal, centre - p.mean(axis=1)) > 0
     faces[inward] = faces[inward][:, [0] + list(range(width - 1, 0, -1))]
     return faces
+
+
+def save_displacement(pb, variables, filename):
+    """Write SfePy's own solution (a problem file's penalty mode) as
+    ``.npz``: ``u`` the nodal displacement (n, d), ``coors`` the nodes, and
+    the Newton status of the solve (``n_iter``, ``condition``: 0 converged,
+    1 not; ``err0``, ``err`` the residual norms; ``time`` SfePy's Newton
+    time in seconds) where SfePy keeps it, NaN otherwise.
+
+    Returns the dict written."""
+    u = variables['u']
+    solver = pb.get_solver()
+    status = getattr(getattr(solver, 'nls', solver), 'status', None)
+
+    def get(key):
+        return getattr(status, key, nm.nan)
+
+    times = get('time_stats')
+    data = dict(u=u().reshape(-1, u.n_components), coors=pb.domain.mesh.coors,
+                n_iter=get('n_iter'), condition=get('condition'),
+                err0=get('err0'), err=get('err'),
+                time=sum(times.values()) if isinstance(times, dict)
+                else nm.nan)
+    nm.savez(filename, **data)
+    print(f"SfePy's solve: {data['n_iter']} Newton iterations, condition "
+          f"{data['condition']} -> {filename}")
+    return data
 
 
 def export_only(problem_file, **define_args):
