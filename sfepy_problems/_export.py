@@ -80,7 +80,7 @@ __all__ = ['export_contact_problem', 'obstacle_curve', 'reduced_system',
            'full_stiffness', 'stage_loads', 'contact_triangles',
            'mesh_cells',
            'two_body_keys', 'save_displacement',
-           'export_only', 'NO_SOLVE',
+           'export_only', 'solve_only', 'NO_SOLVE',
            'set_verbosity', 'main', 'VERBOSE_ENV']
 
 #: ``nls.newton`` settings that stop before the first linear solve: the
@@ -565,6 +565,38 @@ def save_displacement(pb, variables, filename):
     return data
 
 
+def _problem(problem_file, define_args, init_solvers):
+    """SfePy's problem of ``problem_file`` built with
+    ``define(**define_args)``, and its configuration."""
+    from sfepy.base.conf import ProblemConf, get_standard_keywords
+    from sfepy.discrete import Problem
+
+    required, other = get_standard_keywords()
+    conf = ProblemConf.from_file(os.fspath(problem_file), required, other,
+                                 define_args=define_args)
+    return Problem.from_conf(conf, init_solvers=init_solvers), conf
+
+
+def solve_only(problem_file, **define_args):
+    """SfePy's own solve of a problem file (in-process, as ``sfepy-run``
+    does, e.g. the penalty mode of ``sfepy_contact_*.py``), without its
+    output files.
+
+    Returns
+    -------
+    (variables, status, sfepy.discrete.Problem)
+        The solution variables, SfePy's Newton status (``n_iter``,
+        ``condition``: 0 converged, ``err0``, ``err``, ``time_stats``) and
+        SfePy's problem.
+    """
+    from sfepy.base.base import IndexedStruct
+
+    pb, _ = _problem(problem_file, define_args, init_solvers=True)
+    status = IndexedStruct()
+    variables = pb.solve(status=status, save_results=False)
+    return variables, status.nls_status, pb
+
+
 def export_only(problem_file, **define_args):
     """Export a problem file without solving anything (in-process).
 
@@ -580,13 +612,7 @@ def export_only(problem_file, **define_args):
         What the hook returns (the 3D problem files return the problem
         written; the 2D ones nothing) and SfePy's problem.
     """
-    from sfepy.base.conf import ProblemConf, get_standard_keywords
-    from sfepy.discrete import Problem
-
-    required, other = get_standard_keywords()
-    conf = ProblemConf.from_file(os.fspath(problem_file), required, other,
-                                 define_args=define_args)
-    pb = Problem.from_conf(conf, init_solvers=False)
+    pb, conf = _problem(problem_file, define_args, init_solvers=False)
     pb.time_update()
     variables = pb.get_initial_state()
     variables.apply_ebc()

@@ -37,7 +37,8 @@ By default SfePy solves nothing here (``_export.NO_SOLVE``); ``penalty=k``
 solves SfePy's own penalty problem on the same mesh (``f0``; the example's
 Newton settings, ``i_max`` iterations at most) and writes its displacement
 as ``.npz`` (``u``, ``coors``, SfePy's Newton status) to ``output``;
-``penalty=1e5`` is SfePy's example itself.
+``penalty=1e5`` is SfePy's example itself; ``quadrature='nodes'``
+moves its quadrature points to the faces' vertices (``QUADRATURES``).
 
 Usage (from the repository root)::
 
@@ -49,7 +50,7 @@ Usage (from the repository root)::
 
 The first prints ``exported 3630 DOFs, 121 contact nodes -> PATH``.
 Parameters (``-d``): ``mesh`` (default SfePy's ``cube_medium_hexa.mesh``),
-``output``, ``penalty``, ``f0``, ``i_max``, ``verbose``.
+``output``, ``penalty``, ``f0``, ``i_max``, ``quadrature``, ``verbose``.
 """
 import importlib.util
 import os.path as op
@@ -71,6 +72,13 @@ PLANES = [([DN, 0.0, 1.0], [[0.0, 0.0, AZ], [-DS, -DS, AZ], [-DS, DS, AZ]]),
           ([-DN, 0.0, 1.0], [[0.0, 0.0, AZ], [DS, -DS, AZ], [DS, DS, AZ]]),
           ([0.0, DN, 1.0], [[0.0, 0.0, AZ], [-DS, -DS, AZ], [DS, -DS, AZ]]),
           ([0.0, -DN, 1.0], [[0.0, 0.0, AZ], [-DS, DS, AZ], [DS, DS, AZ]])]
+#: The penalty term's quadrature on the faces of the top: SfePy's example
+#: (Gauss, order 6 per direction), or at the faces' vertices (the
+#: trapezoidal rule on the reference square [0, 1]²: the penalty at the
+#: nodes, lumped, as the contact solver's constraints).
+QUADRATURES = {'gauss': 6,
+               'nodes': (1, [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]],
+                         [0.25, 0.25, 0.25, 0.25])}
 #: The example's penalty parameters and Newton settings.
 K_PENALTY, F0 = 1e5, 1e2
 NEWTON = {'i_max': 50, 'eps_a': 1e-14, 'eps_r': 1e-8, 'eps_mode': 'or',
@@ -127,7 +135,8 @@ def export_contact_problem(pb, variables):
 
 
 def define(mesh=MESH, output='output/sfepy_contact_planes.npz',
-           penalty=None, f0=F0, i_max=NEWTON['i_max'], verbose=None):
+           penalty=None, f0=F0, i_max=NEWTON['i_max'], quadrature='gauss',
+           verbose=None):
     export = _load_export()
     export.set_verbosity(verbose)  # before SfePy's 'left over:'
 
@@ -168,7 +177,10 @@ def define(mesh=MESH, output='output/sfepy_contact_planes.npz',
     ebcs = {
         'fixed': ('Bottom', {'u.all': 0.0}),
     }
-    integrals = {'i': 2}
+    if quadrature not in QUADRATURES:
+        raise ValueError(f'quadrature must be one of {sorted(QUADRATURES)}, '
+                         f'got {quadrature!r}')
+    integrals = {'i': 2, 'ic': QUADRATURES[quadrature]}
     if penalty is None:
         equations = {
             'balance_of_forces': 'dw_lin_elastic.i.Omega(solid.D, v, u) = 0',
@@ -177,7 +189,7 @@ def define(mesh=MESH, output='output/sfepy_contact_planes.npz',
     else:  # SfePy's example: the penalty terms at order 6 on the top
         equations = {
             'elasticity': 'dw_lin_elastic.2.Omega(solid.D, v, u)' + ''.join(
-                f' + dw_contact_plane.6.Top(cp{i}.f, cp{i}.n, cp{i}.a, '
+                f' + dw_contact_plane.ic.Top(cp{i}.f, cp{i}.n, cp{i}.a, '
                 f'cp{i}.bs, v, u)' for i in range(len(PLANES))) + ' = 0',
         }
         newton = dict(NEWTON, i_max=i_max)

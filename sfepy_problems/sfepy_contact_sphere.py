@@ -33,7 +33,8 @@ By default SfePy solves nothing here (the export runs on the initial state,
 problem of the example on the same mesh (with ``f0``, SfePy's Newton
 settings of the example, ``i_max`` its iterations at most) and writes its
 displacement as ``.npz`` (keys ``u``, the nodal displacement (n, 3), and
-``coors``) to ``output``; ``penalty=1e5`` is SfePy's example itself.
+``coors``) to ``output``; ``penalty=1e5`` is SfePy's example itself; ``quadrature='nodes'``
+moves its quadrature points to the faces' vertices (``QUADRATURES``).
 
 Usage (from the repository root)::
 
@@ -45,7 +46,7 @@ Usage (from the repository root)::
 
 The first prints ``exported 3630 DOFs, 121 contact nodes -> PATH``.
 Parameters (``-d``): ``mesh`` (default SfePy's ``cube_medium_hexa.mesh``),
-``output``, ``penalty``, ``f0``, ``i_max``, ``verbose``.
+``output``, ``penalty``, ``f0``, ``i_max``, ``quadrature``, ``verbose``.
 """
 import importlib.util
 import os.path as op
@@ -61,6 +62,13 @@ MESH = op.join(data_dir, 'meshes', '3d', 'cube_medium_hexa.mesh')
 #: The example's Lamé parameters (E = 10, ν = 0.3) and sphere.
 LAM, MU = 5.769, 3.846
 CENTRE, RADIUS = [0.0, 0.0, 1.0], 0.8
+#: The penalty term's quadrature on the faces of the top: SfePy's example
+#: (Gauss, order 6 per direction), or at the faces' vertices (the
+#: trapezoidal rule on the reference square [0, 1]²: the penalty at the
+#: nodes, lumped, as the contact solver's constraints).
+QUADRATURES = {'gauss': 6,
+               'nodes': (1, [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]],
+                         [0.25, 0.25, 0.25, 0.25])}
 #: The example's penalty parameters and Newton settings.
 K_PENALTY, F0 = 1e5, 1e-2
 NEWTON = {'i_max': 50, 'eps_a': 1e-14, 'eps_r': 1e-8, 'eps_mode': 'or',
@@ -107,7 +115,8 @@ def export_contact_problem(pb, variables):
 
 
 def define(mesh=MESH, output='output/sfepy_contact_sphere.npz',
-           penalty=None, f0=F0, i_max=NEWTON['i_max'], verbose=None):
+           penalty=None, f0=F0, i_max=NEWTON['i_max'], quadrature='gauss',
+           verbose=None):
     export = _load_export()
     export.set_verbosity(verbose)  # before SfePy's 'left over:'
 
@@ -147,7 +156,10 @@ def define(mesh=MESH, output='output/sfepy_contact_sphere.npz',
     ebcs = {
         'fixed': ('Bottom', {'u.all': 0.0}),
     }
-    integrals = {'i': 2}
+    if quadrature not in QUADRATURES:
+        raise ValueError(f'quadrature must be one of {sorted(QUADRATURES)}, '
+                         f'got {quadrature!r}')
+    integrals = {'i': 2, 'ic': QUADRATURES[quadrature]}
     if penalty is None:
         equations = {
             'balance_of_forces': 'dw_lin_elastic.i.Omega(solid.D, v, u) = 0',
@@ -156,7 +168,7 @@ def define(mesh=MESH, output='output/sfepy_contact_sphere.npz',
     else:  # SfePy's example: the penalty term at order 6 on the top
         equations = {
             'elasticity': """dw_lin_elastic.2.Omega(solid.D, v, u)
-             + dw_contact_sphere.6.Top(cs.f, cs.c, cs.r, v, u) = 0""",
+             + dw_contact_sphere.ic.Top(cs.f, cs.c, cs.r, v, u) = 0""",
         }
         newton = dict(NEWTON, i_max=i_max)
     solvers = {
