@@ -577,10 +577,12 @@ def _problem(problem_file, define_args, init_solvers):
     return Problem.from_conf(conf, init_solvers=init_solvers), conf
 
 
-def solve_only(problem_file, **define_args):
+def solve_only(problem_file, state0=None, **define_args):
     """SfePy's own solve of a problem file (in-process, as ``sfepy-run``
     does, e.g. the penalty mode of ``sfepy_contact_*.py``), without its
-    output files.
+    output files. ``state0``: the start of SfePy's Newton, the nodal
+    displacement (n, d) (default zero): a continuation, e.g. from the
+    solution at a smaller penalty, where SfePy's Newton from zero fails.
 
     Returns
     -------
@@ -593,7 +595,9 @@ def solve_only(problem_file, **define_args):
 
     pb, _ = _problem(problem_file, define_args, init_solvers=True)
     status = IndexedStruct()
-    variables = pb.solve(status=status, save_results=False)
+    variables = pb.solve(state0=None if state0 is None else
+                         nm.asarray(state0, dtype=float).ravel(),
+                         status=status, save_results=False)
     return variables, status.nls_status, pb
 
 
