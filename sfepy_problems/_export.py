@@ -595,9 +595,9 @@ def solve_only(problem_file, state0=None, **define_args):
 
     pb, _ = _problem(problem_file, define_args, init_solvers=True)
     status = IndexedStruct()
-    variables = pb.solve(state0=None if state0 is None else
-                         nm.asarray(state0, dtype=float).ravel(),
-                         status=status, save_results=False)
+    if state0 is not None:  # a copy: SfePy's Newton writes into it
+        state0 = nm.array(state0, dtype=float).ravel()
+    variables = pb.solve(state0=state0, status=status, save_results=False)
     return variables, status.nls_status, pb
 
 
