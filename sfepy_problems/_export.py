@@ -80,8 +80,8 @@ from solver.problem import ContactProblem, save_problem
 __all__ = ['export_contact_problem', 'obstacle_curve', 'reduced_system',
            'full_stiffness', 'stage_loads', 'contact_triangles',
            'mesh_cells',
-           'two_body_keys',
-           'export_only', 'NO_SOLVE',
+           'two_body_keys', 'save_displacement',
+           'export_only', 'solve_only', 'NO_SOLVE',
            'set_verbosity', 'main', 'VERBOSE_ENV']
 
 #: ``nls.newton`` settings that stop before the first linear solve: the
@@ -547,6 +547,69 @@ def contact_triangles(pb, region, cells, coors):
     return faces
 
 
+def save_displacement(pb, variables, filename):
+    """Write SfePy's own solution (a problem file's penalty mode) as
+    ``.npz``: ``u`` the nodal displacement (n, d), ``coors`` the nodes, and
+    the Newton status of the solve (``n_iter``, ``condition``: 0 converged,
+    1 not; ``err0``, ``err`` the residual norms; ``time`` SfePy's Newton
+    time in seconds) where SfePy keeps it, NaN otherwise.
+
+    Returns the dict written."""
+    u = variables['u']
+    solver = pb.get_solver()
+    status = getattr(getattr(solver, 'nls', solver), 'status', None)
+
+    def get(key):
+        return getattr(status, key, nm.nan)
+
+    times = get('time_stats')
+    data = dict(u=u().reshape(-1, u.n_components), coors=pb.domain.mesh.coors,
+                n_iter=get('n_iter'), condition=get('condition'),
+                err0=get('err0'), err=get('err'),
+                time=sum(times.values()) if isinstance(times, dict)
+                else nm.nan)
+    nm.savez(filename, **data)
+    print(f"SfePy's solve: {data['n_iter']} Newton iterations, condition "
+          f"{data['condition']} -> {filename}")
+    return data
+
+
+def _problem(problem_file, define_args, init_solvers):
+    """SfePy's problem of ``problem_file`` built with
+    ``define(**define_args)``, and its configuration."""
+    from sfepy.base.conf import ProblemConf, get_standard_keywords
+    from sfepy.discrete import Problem
+
+    required, other = get_standard_keywords()
+    conf = ProblemConf.from_file(os.fspath(problem_file), required, other,
+                                 define_args=define_args)
+    return Problem.from_conf(conf, init_solvers=init_solvers), conf
+
+
+def solve_only(problem_file, state0=None, **define_args):
+    """SfePy's own solve of a problem file (in-process, as ``sfepy-run``
+    does, e.g. the penalty mode of ``sfepy_contact_*.py``), without its
+    output files. ``state0``: the start of SfePy's Newton, the nodal
+    displacement (n, d) (default zero): a continuation, e.g. from the
+    solution at a smaller penalty, where SfePy's Newton from zero fails.
+
+    Returns
+    -------
+    (variables, status, sfepy.discrete.Problem)
+        The solution variables, SfePy's Newton status (``n_iter``,
+        ``condition``: 0 converged, ``err0``, ``err``, ``time_stats``) and
+        SfePy's problem.
+    """
+    from sfepy.base.base import IndexedStruct
+
+    pb, _ = _problem(problem_file, define_args, init_solvers=True)
+    status = IndexedStruct()
+    if state0 is not None:  # a copy: SfePy's Newton writes into it
+        state0 = nm.array(state0, dtype=float).ravel()
+    variables = pb.solve(state0=state0, status=status, save_results=False)
+    return variables, status.nls_status, pb
+
+
 def export_only(problem_file, **define_args):
     """Export a problem file without solving anything (in-process).
 
@@ -562,13 +625,7 @@ def export_only(problem_file, **define_args):
         What the hook returns (the 3D problem files return the problem
         written; the 2D ones nothing) and SfePy's problem.
     """
-    from sfepy.base.conf import ProblemConf, get_standard_keywords
-    from sfepy.discrete import Problem
-
-    required, other = get_standard_keywords()
-    conf = ProblemConf.from_file(os.fspath(problem_file), required, other,
-                                 define_args=define_args)
-    pb = Problem.from_conf(conf, init_solvers=False)
+    pb, conf = _problem(problem_file, define_args, init_solvers=False)
     pb.time_update()
     variables = pb.get_initial_state()
     variables.apply_ebc()

@@ -20,7 +20,7 @@ README = ROOT / "notebooks" / "README.md"
 
 #: Figures each notebook must show (inline images).
 FIGURES = {"table1_frictionless": 10, "table2_friction": 14, "verification": 3,
-           "three_d": 2, "two_bodies": 4}
+           "three_d": 2, "two_bodies": 4, "sfepy_examples": 2}
 
 #: A row of the figure table: | thesis figure | what | `nb.ipynb` [n] | `figures/x.png` |
 ROW = re.compile(r"^\| (?P<thesis>[^|]+?) \| [^|]+ \| `(?P<notebook>\w+)\.ipynb` "

@@ -306,7 +306,7 @@ BAD_3D = [
     ("obstacle_surface unknown kind",
      lambda a: dict(a, obstacle_surface=np.array('{"kind": "torus"}')),
      "obstacle_surface: 'kind' must be one of plane, sphere, graph, "
-     "parametric, rectangle, several, got 'torus'"),
+     "parametric, rectangle, polygon, several, got 'torus'"),
     ("obstacle_surface no kind",
      lambda a: dict(a, obstacle_surface=np.array('{"point": [0, 0, 0]}')),
      "obstacle_surface: 'kind' must be one of"),

@@ -140,13 +140,56 @@ def test_a_node_no_obstacle_reaches_is_excluded():
     assert len(geometry.index) == 2 * 9
 
 
+#: SfePy's bounded plane of elastic_contact_planes.py (its plane cp0:
+#: anchor (0, 0, 0.3), normal (0.3, 0, 1) into the obstacle, bounds a
+#: triangle at z = 0.3), the normal reversed.
+TRIANGLE = {"kind": "polygon", "point": [0, 0, 0.3], "normal": [-0.3, 0, -1],
+            "vertices": [[0, 0, 0.3], [-0.25, -0.25, 0.3],
+                         [-0.25, 0.25, 0.3]]}
+
+
+def test_polygon_reaches_the_nodes_sfepy_masks():
+    """The polygon's mask is SfePy's ``ContactPlane.mask_points`` (the
+    point and the bounds projected orthogonally onto the plane, a point in
+    the triangle): checked against SfePy itself at random points above
+    the plane (off the edges, where SfePy's test is either way), and the
+    gap is the plane's where the polygon reaches."""
+    from sfepy.mechanics.contact_bodies import ContactPlane
+
+    surface = surface_from_spec(TRIANGLE)
+    plane = ContactPlane(TRIANGLE["point"], [0.3, 0, 1], TRIANGLE["vertices"])
+    points = np.random.default_rng(35).uniform([-0.33, -0.33, 0.35],
+                                               [0.33, 0.33, 0.5], (1000, 3))
+    gap, nu, _ = surface.gap_along_obstacle_normal(points)
+    inside = np.isfinite(gap)
+    np.testing.assert_array_equal(inside, plane.mask_points(points))
+    assert 50 < inside.sum() < len(points) / 4
+    np.testing.assert_allclose(gap[inside],
+                               -plane.get_distance(points[inside]))
+    np.testing.assert_allclose(nu[inside], np.tile(plane.normal,
+                                                   (inside.sum(), 1)))
+    # the nodes of SfePy's cube top at x = -0.2 fall just outside (the
+    # triangle's projection ends at x = -0.229 on the plane, theirs at
+    # -0.2385); at x = -0.1 inside; a point on the edge counts as inside
+    top = [[-0.2, 0, 0.5], [-0.1, 0, 0.5], [-0.1, -0.1, 0.5]]
+    assert np.isfinite(surface.gap_along_obstacle_normal(top)[0]).tolist() \
+        == [False, True, True]
+    assert surface_from_spec(json.loads(json.dumps(surface.spec()))).spec() \
+        == surface.spec()
+
+
 @pytest.mark.parametrize("spec, phrase", [
     ({"kind": "several", "surfaces": []}, "non-empty list"),
     ({"kind": "several", "surfaces": [{"kind": "several",
                                        "surfaces": PLANES}]}, "not nested"),
     ({"kind": "several", "surfaces": [PLANES[0]] * 65}, "at most 64"),
     (dict(RECTANGLES[0], axis=[1, 0, 0]), "parallel to the normal"),
-    (dict(RECTANGLES[0], half_sizes=[1, 0]), "must be > 0")])
+    (dict(RECTANGLES[0], half_sizes=[1, 0]), "must be > 0"),
+    (dict(TRIANGLE, vertices=[[0, 0, 0], [1, 0, 0]]), "3 to 64 points"),
+    (dict(TRIANGLE, vertices=[[0, 0, 0], [1, 0, 5], [2, 0, 0]]),
+     "no area"),
+    (dict(TRIANGLE, vertices=[[0, 0, 0], [1, 0, 0], [0, 1, 1e300]]),
+     "supported range")])
 def test_bad_specs_are_refused_in_one_line(spec, phrase):
     with pytest.raises(ProblemError, match=phrase):
         surface_from_spec(json.loads(json.dumps(spec)))

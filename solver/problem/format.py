@@ -137,7 +137,8 @@ KEYS = {
     "obstacle_surface": ("mesh3d", "str", "()",
                          "3D mesh kind only (required there): the rigid "
                          "obstacle as a JSON surface spec, kind plane, "
-                         "sphere, graph, parametric, rectangle or several "
+                         "sphere, graph, parametric, rectangle, polygon or "
+                         "several "
                          "(docs/npz-format.md, solver.geometry.surfaces)"),
     "body": ("two-body", "int", "(n_nodes,)",
              "body id (0 … B−1, each used) of every node; the bodies share "

@@ -14,7 +14,7 @@ __all__ = ["SURFACE_KINDS", "obstacle_surface", "surface_spec_text"]
 
 #: The kinds of obstacle surface a spec may name.
 SURFACE_KINDS = ("plane", "sphere", "graph", "parametric", "rectangle",
-                 "several")
+                 "polygon", "several")
 
 KEY = "obstacle_surface"
 

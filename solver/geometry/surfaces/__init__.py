@@ -4,7 +4,8 @@ the obstacle curve :math:`\Gamma_o(t)` of thesis §4, described by the JSON
 plane, a sphere (closed form, :mod:`.shapes`), a graph
 :math:`z \le h(x, y)` or a parametric surface c(s, t) (Newton's method
 vectorised over the nodes, :mod:`.parametric`, :mod:`.search`), a
-rectangle, or several of them (:mod:`.several`). Each
+rectangle or a polygon (bounded planes), or several of them
+(:mod:`.several`). Each
 answers the two gap questions of thesis §2.1:
 :meth:`~.base.Surface.gap_along_obstacle_normal` (§2.1.1) and
 :meth:`~.base.Surface.gap_along_rays` (§2.1.2).
@@ -23,16 +24,17 @@ from ...errors import ProblemError
 from .base import GapError, Surface
 from .parametric import GraphSurface, ParametricSurface
 from .shapes import PlaneSurface, SphereSurface
-from .several import RectangleSurface, SeveralSurfaces
+from .several import PolygonSurface, RectangleSurface, SeveralSurfaces
 
 __all__ = ["surface_from_spec", "Surface", "PlaneSurface", "SphereSurface",
            "GraphSurface", "ParametricSurface", "RectangleSurface",
-           "SeveralSurfaces", "GapError", "KINDS"]
+           "PolygonSurface", "SeveralSurfaces", "GapError", "KINDS"]
 
 #: The surface kinds by their spec name.
 KINDS = {cls.kind: cls for cls in (PlaneSurface, SphereSurface,
                                    GraphSurface, ParametricSurface,
-                                   RectangleSurface, SeveralSurfaces)}
+                                   RectangleSurface, PolygonSurface,
+                                   SeveralSurfaces)}
 
 
 def surface_from_spec(spec):

@@ -21,10 +21,17 @@ from .base import (Surface, as_directions, as_points, spec_fields,
                    spec_vector)
 from .shapes import MIN_COSINE, PlaneSurface
 
-__all__ = ["RectangleSurface", "SeveralSurfaces", "MAX_SURFACES"]
+__all__ = ["RectangleSurface", "PolygonSurface", "SeveralSurfaces",
+           "MAX_SURFACES", "MAX_VERTICES"]
 
 #: Most obstacles one problem may list.
 MAX_SURFACES = 64
+#: Most vertices of a polygon's boundary.
+MAX_VERTICES = 64
+#: A foot point within this distance of a polygon's boundary, relative to
+#: the polygon's size, counts as inside (a node on the common edge of two
+#: polygons reaches both).
+EDGE_TOLERANCE = 1e-9
 
 
 class RectangleSurface(Surface):
@@ -81,6 +88,83 @@ class RectangleSurface(Surface):
         tau, hit = _rays(self.plane, points,
                          as_directions(directions, len(points)))
         return tau + self._outside(hit), hit
+
+
+class PolygonSurface(RectangleSurface):
+    r"""The plane through ``point`` with outward ``normal`` n (as
+    :class:`~.shapes.PlaneSurface`), bounded by the polygon of
+    ``vertices`` (≥ 3 points, in order) projected orthogonally onto it: a
+    foot point (or ray hit) outside the polygon, by more than
+    :data:`EDGE_TOLERANCE` of its size, has no obstacle in reach. SfePy's
+    bounded contact plane (``dw_contact_plane``: anchor, normal, boundary
+    points ``bs``, whose projections onto the plane bound it) with the
+    normal reversed: SfePy's points into the obstacle. Any simple polygon
+    (even–odd rule)."""
+
+    kind = "polygon"
+
+    def __init__(self, point, normal, vertices):
+        self.plane = PlaneSurface(point, normal)
+        n = self.plane.normal
+        try:
+            corners = np.array(vertices, dtype=float)
+        except (TypeError, ValueError, OverflowError):
+            corners = None
+        if corners is None or corners.ndim != 2 or corners.shape[1] != 3 \
+                or not 3 <= len(corners) <= MAX_VERTICES \
+                or not np.isfinite(corners).all():
+            raise ProblemError(f"surface vertices: need 3 to {MAX_VERTICES} "
+                               f"points of 3 finite numbers, got "
+                               f"{vertices!r}"[:200])
+        for corner in corners:
+            spec_vector({"vertices": corner}, "vertices")
+        self._vertices = corners
+        helper = np.eye(3)[np.argmin(np.abs(n))]
+        self.e1 = np.cross(n, helper)
+        self.e1 /= np.linalg.norm(self.e1)
+        self.e2 = np.cross(n, self.e1)
+        rel = corners - self.plane.point
+        self.polygon = np.stack([rel @ self.e1, rel @ self.e2], axis=1)
+        size = np.ptp(self.polygon, axis=0).max()
+        area = 0.5 * abs(np.sum(self.polygon[:, 0] * np.roll(
+            self.polygon[:, 1], -1) - np.roll(self.polygon[:, 0], -1)
+            * self.polygon[:, 1]))
+        if not area > 1e-12 * size ** 2:
+            raise ProblemError("surface vertices: the polygon projected onto "
+                               "the plane has no area")
+        self.tolerance = EDGE_TOLERANCE * size
+
+    @classmethod
+    def from_spec(cls, spec):
+        spec_fields(spec, cls.kind, ("point", "normal", "vertices"))
+        return cls(spec["point"], spec["normal"], spec["vertices"])
+
+    def spec(self):
+        return {"kind": self.kind, "point": self.plane.point.tolist(),
+                "normal": self.plane.spec()["normal"],
+                "vertices": self._vertices.tolist()}
+
+    def _outside(self, foot):
+        """+∞ where the foot points lie outside the polygon, else 0: the
+        even–odd crossing test, one vectorised pass per edge, and a
+        point within the tolerance of an edge is inside."""
+        rel = foot - self.plane.point
+        x, y = rel @ self.e1, rel @ self.e2
+        inside = np.zeros(len(x), dtype=bool)
+        near = np.zeros(len(x), dtype=bool)
+        a = self.polygon
+        b = np.roll(a, -1, axis=0)
+        for (xa, ya), (xb, yb) in zip(a, b):
+            crosses = (ya > y) != (yb > y)
+            with np.errstate(divide="ignore", invalid="ignore"):
+                at = xa + (y - ya) * (xb - xa) / (yb - ya)
+            inside ^= crosses & (x < at)
+            edge = np.array([xb - xa, yb - ya])
+            t = np.clip(((x - xa) * edge[0] + (y - ya) * edge[1])
+                        / (edge @ edge), 0.0, 1.0)
+            near |= np.hypot(x - xa - t * edge[0], y - ya - t * edge[1]) \
+                <= self.tolerance
+        return np.where(inside | near, 0.0, np.inf)
 
 
 class SeveralSurfaces(Surface):
