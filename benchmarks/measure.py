@@ -27,6 +27,11 @@ problem, which every stage holds). Stages:
 * ``friction``: ``solve(problem, friction=0.3, ...)``, STEPS load steps,
   projection formulation, φ_min and the lagged bound unless COULOMB
   ("lagged", "implicit") and METHOD ("min", "fb") say otherwise;
+* ``friction3d``: the ``friction`` stage (φ_min, lagged) with NEWTON
+  ("reduced", the default path, or "whole": the LU of the whole Newton
+  system, ``solver.contact.friction.disc.REDUCED`` off) in place of
+  COULOMB; u saved next to the problem (``PROBLEM.friction.NEWTON.npy``)
+  and, if the other's is there, ``agreement`` = max|u − u_other|/max|u|;
 * ``amg``: ``solve(problem, backend="amg")`` (the iterative path, issue
   33): Newton systems, CG iterations in all and per system, the AMG
   hierarchy; ``agreement`` is ‖u − u_direct‖₂/‖u_direct‖₂ against the
@@ -115,6 +120,29 @@ def friction(problem, backend, steps, coulomb="lagged", method="min"):
             "enlarged": screening.get("enlarged"), "message": r.message}
 
 
+def friction3d(problem, backend, steps, newton, path):
+    from solver.contact.friction import disc
+
+    disc.REDUCED = newton == "reduced"
+    get_backend(backend)
+    with Clock() as clock:
+        r = solve(problem, friction=0.3, steps=steps, backend=backend)
+    np.save(f"{path}.friction.{newton}.npy", r.u)
+    other = Path(f"{path}.friction."
+                 f"{'whole' if newton == 'reduced' else 'reduced'}.npy")
+    out = {**clock.times, "J": r.njev, "F": r.nfev,
+           "converged": bool(r.success),
+           "verified": bool(r.verification["passed"]),
+           "contact": r.records[-1]["n_contact"] if r.records else None,
+           "J_max": max((x["njev"] for x in r.records), default=0),
+           "candidates": (r.get("candidates") or {}).get("n_candidates"),
+           "backend": r.linear_solver}
+    if other.exists():
+        u = np.load(other)
+        out["agreement"] = float(np.abs(r.u - u).max() / np.abs(u).max())
+    return out
+
+
 def iterative(problem, path, reference):
     with Clock() as clock:
         r = solve(problem, backend="amg")
@@ -179,6 +207,8 @@ def main(argv):
         out.update(frictionless(problem, stage, backend, path))
     elif stage == "friction":
         out.update(friction(problem, backend, int(argv[3]), *argv[4:6]))
+    elif stage == "friction3d":
+        out.update(friction3d(problem, backend, int(argv[3]), argv[4], path))
     elif stage == "amg":
         out.update(iterative(problem, path, f"{path}.min.{backend}.npy"))
     elif stage == "amg_floor":

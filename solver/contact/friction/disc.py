@@ -96,6 +96,13 @@ class DiscSystem(ProjectionSystem):
             self._rotated = None  # T = R S Rᵀ, made when first needed
 
     @property
+    def shares_flexibility(self):
+        """Whether the step's start (:mod:`.start`) takes C[:, n] from
+        :meth:`flexibility`, which the dual systems use anyway, instead of
+        factorising S once more."""
+        return self.dense and REDUCED
+
+    @property
     def T(self):
         """T = R S Rᵀ, the condensed stiffness in the rotated components
         (dense n×n, made once)."""
@@ -375,14 +382,19 @@ class _DiscCombined:
         def gather(v, rows):  # (Gᵀ v)[rows]
             return g1[rows] * v[r1[rows]] + g2[rows] * v[r2[rows]]
 
-        # Gᵀ matrix G on U × U, from four gathers (G has ≤ 2 entries per
-        # column: no product with the whole matrix)
+        # Gᵀ matrix G on U × U, by gathers (G has ≤ 2 entries per column:
+        # no product with the whole matrix); the second entries only on
+        # the turned components t
         i1, i2, w1, w2 = r1[U], r2[U], g1[U], g2[U]
-        A = w1[:, None] * (matrix[np.ix_(i1, i1)] * w1
-                           + matrix[np.ix_(i1, i2)] * w2)
-        if (w2 != 0.0).any():
-            A += w2[:, None] * (matrix[np.ix_(i2, i1)] * w1
-                                + matrix[np.ix_(i2, i2)] * w2)
+        A = matrix[np.ix_(i1, i1)]
+        A *= w1[:, None]
+        A *= w1
+        t = np.flatnonzero(w2)
+        if t.size:
+            A[:, t] += matrix[np.ix_(i1, i2[t])] * (w1[:, None] * w2[t])
+            A[t, :] += matrix[np.ix_(i2[t], i1)] * (w2[t, None] * w1)
+            A[np.ix_(t, t)] += matrix[np.ix_(i2[t], i2[t])] * (
+                w2[t, None] * w2[t])
         shift = b[U] / a[U]
         A[np.arange(len(U)), np.arange(len(U))] += shift
         rhs = h[U] / a[U] - gather(matrix @ spread(z), U)
