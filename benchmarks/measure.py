@@ -60,7 +60,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 sys.path.insert(1, str(Path(__file__).resolve().parent.parent))
 
 from solver import contact_geometry, load_problem, solve  # noqa: E402
-from solver.linalg import dof_ordering, get_backend  # noqa: E402
+from solver.linalg import dof_ordering, get_backend, resolve  # noqa: E402
 
 
 class Clock:
@@ -124,7 +124,7 @@ def friction3d(problem, backend, steps, newton, path):
     from solver.contact.friction import disc
 
     disc.REDUCED = newton == "reduced"
-    get_backend(backend)
+    get_backend(resolve(backend))
     with Clock() as clock:
         r = solve(problem, friction=0.3, steps=steps, backend=backend)
     np.save(f"{path}.friction.{newton}.npy", r.u)
