@@ -116,3 +116,32 @@ def test_implicit_bound_keeps_the_whole_system(problems, monkeypatch):
     result = solve_friction(problems["quarter"], FC, method="min",
                             **dict(RUN, coulomb="implicit"))
     assert result.success and result.njev > 0 and not calls
+
+
+def test_no_flexibility_takes_the_primal(problems, monkeypatch):
+    """Where C = T⁻¹ cannot be made (T not positive definite, LAPACK's
+    potrf says so) the dual form is not taken: the primal one solves, and
+    the run is the whole system's."""
+    monkeypatch.setattr(disc, "FORM", "dual")
+    tried = []
+
+    def refused(self):
+        tried.append(1)
+        raise np.linalg.LinAlgError("T is not positive definite")
+
+    kinds = []
+    solve = ProjectionSystem._reduced_solve
+
+    def counted(self, A, h, symmetric, kind):
+        kinds.append(kind)
+        return solve(self, A, h, symmetric, kind)
+
+    monkeypatch.setattr(disc.DiscSystem, "flexibility", refused)
+    monkeypatch.setattr(disc.DiscSystem, "shares_flexibility", False)
+    monkeypatch.setattr(disc.DiscSystem, "_reduced_solve", counted,
+                        raising=False)
+    ours = solve_friction(problems["quarter"], FC, method="min", **RUN)
+    monkeypatch.setattr(disc, "REDUCED", False)
+    whole = solve_friction(problems["quarter"], FC, method="min", **RUN)
+    assert tried and kinds and set(kinds) == {"primal"}
+    assert_same_run(ours, whole)

@@ -113,6 +113,8 @@ class DiscSystem(ProjectionSystem):
     def flexibility(self):
         """C = T⁻¹ = R S⁻¹ Rᵀ (dense n×n, made once): LAPACK's potrf and
         potri, n³ flops (a solve with the n columns of I takes 2n³)."""
+        if self._flexibility is False:  # tried: T is not SPD
+            raise np.linalg.LinAlgError("T is not positive definite")
         if self._flexibility is None:
             T = self.T
             with blas_threads_for(len(T)):
@@ -120,6 +122,7 @@ class DiscSystem(ProjectionSystem):
                 if info == 0:
                     inverse, info = lapack.dpotri(factor, lower=False)
             if info != 0:
+                self._flexibility = False
                 raise np.linalg.LinAlgError("T is not positive definite")
             upper = np.triu(inverse)
             self._flexibility = upper + np.triu(upper, 1).T
@@ -365,9 +368,14 @@ class _DiscCombined:
             return None  # a zero row: J singular
         use_dual = FORM == "dual" or FORM == "smaller" and \
             np.count_nonzero(dual) < np.count_nonzero(primal)
+        if use_dual:
+            try:
+                matrix = s.flexibility()
+            except np.linalg.LinAlgError:  # S only semidefinite: no C
+                use_dual = False
         if use_dual:  # forces q = T'y; q_j = h_j/α_j where β_j = 0
             U, a, b = np.flatnonzero(dual), beta, alpha
-            kind, matrix = "dual", s.flexibility()
+            kind = "dual"
         else:  # y_j = h_j/β_j where α_j = 0
             U, a, b = np.flatnonzero(primal), alpha, beta
             kind, matrix = "primal", s.T
