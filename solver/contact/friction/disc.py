@@ -28,9 +28,9 @@ row in force units, as the stopping measure does (benchmarks/README.md,
 "3D friction: the projection rows in force units"). A roller's e_c row is
 c_t dĝ_c = −F_2,c and ∂P/∂w loses its column: the matrix stays square.
 
-With the lagged bound that n×n system is not factorised as it stands
-(:data:`REDUCED`). In the rotated displacement v = RΔu (T = R S Rᵀ) and,
-per node, the eigenbasis Q_i of the symmetric P_w block (slip: ŵ, ŵ⊥
+That n×n system is not factorised as it stands (:data:`REDUCED`). In
+the rotated displacement v = RΔu (T = R S Rᵀ) and, per node, the
+eigenbasis Q_i of the symmetric P_w block (slip: ŵ, ŵ⊥
 with eigenvalues 0 and |b|/|w|; stick: I with 1, 1), every row of the
 system is one scalar equation
 
@@ -50,7 +50,12 @@ tangents, the ŵ⊥ rows of slip nodes and inactive normals), C' = T'⁻¹ the
 flexibility (made once per run when first needed); whichever is smaller.
 Both are symmetric and, with α/β ≥ 0 (φ_min, φ_FB (30)), positive
 definite: a Cholesky of order ≈ n/2 instead of an LU of order n, the
-same direction to round-off (tests/test_friction_disc_reduced.py)."""
+same direction to round-off (tests/test_friction_disc_reduced.py). The
+implicit bound adds κ_j (T'y)_{n_i} to the ŵ row of a sliding node in
+contact (κ = f_c/D_i along ŵ, from −ŵ ∂b/∂Δu), a force row still: the
+primal system takes the T' row of n_i into that row (then unsymmetric,
+LU); the dual one is not used then (through C the coupling would carry
+C's round-off times f_c, :data:`~.newton.DUAL_MAX_FRICTION`)."""
 
 import warnings
 
@@ -64,10 +69,9 @@ from .projection import ProjectionSystem, block_diagonal, disc_derivative
 
 __all__ = ["DiscSystem", "DiscJacobian", "REDUCED", "FORM"]
 
-#: Solve the lagged bound's Newton systems reduced to the primal or dual
-#: unknowns (module docstring); False: the LU of the whole n×n system
-#: (the reference of the tests). The implicit bound always takes the LU
-#: (its slip rows couple ŵ to the normal force: not one scalar per row).
+#: Solve the Newton systems reduced to the primal or dual unknowns
+#: (module docstring); False: the LU of the whole n×n system (the
+#: reference of the tests).
 REDUCED = True
 
 #: Which reduced system: "smaller" (the primal or the dual, whichever is),
@@ -179,6 +183,10 @@ class DiscJacobian:
         du, g = x[:s.n], s.traction(x)
         r = s._force(du)
         b, self.db = s.bound(r)
+        #: f_c a_i/D_i of the implicit bound (∂b/∂Δu = −slope·(RS)_n), or
+        #: None (lagged)
+        self.slope = None if self.db is None else \
+            s.friction * (-r[s.n_rows] > 0.0) / s.lumped
         self.ct = np.broadcast_to(s.c_t, (s.mt,))
         self.P, self.stick, self.ratio, self.slip_hat = disc_derivative(
             s._slide(g, du).reshape(m, k), b,
@@ -302,7 +310,7 @@ class _DiscCombined:
         F2 = F2 / D  # rows D(g − P(w)) (DiscSystem.residual): J's rows /D
         h = -F2 - self._free(F1 / D)
         free = s.t_free  # a roller's e_c row gives dĝ_c = −F_2,c/c_t
-        if REDUCED and jac.db is None:
+        if REDUCED:
             du = self._reduced(h, -F3)
         else:
             du = self._whole(h, -F3)
@@ -366,8 +374,20 @@ class _DiscCombined:
         dual = beta != 0.0
         if not (primal | dual).all():
             return None  # a zero row: J singular
-        use_dual = FORM == "dual" or FORM == "smaller" and \
-            np.count_nonzero(dual) < np.count_nonzero(primal)
+        coupled = np.zeros(0, int)
+        if jac.slope is not None:  # implicit bound: + κ_j (T'y)_{n_i}
+            kappa, partner = np.zeros(n), np.zeros(n, int)
+            lift = np.einsum("ilk,il->ik", Q, jac.slip_hat) \
+                * jac.slope[:, None]
+            kappa[at[valid]] = lift[valid]
+            partner[at[valid]] = np.repeat(s.n_rows[:, None], k,
+                                           axis=1)[valid]
+            coupled = np.flatnonzero(kappa)
+            if not primal[coupled].all():  # not one force row: the LU
+                return self._whole(h_t, h_n)
+        use_dual = not coupled.size and (
+            FORM == "dual" or FORM == "smaller"
+            and np.count_nonzero(dual) < np.count_nonzero(primal))
         if use_dual:
             try:
                 matrix = s.flexibility()
@@ -405,10 +425,19 @@ class _DiscCombined:
                 w2[t, None] * w2[t])
         shift = b[U] / a[U]
         A[np.arange(len(U)), np.arange(len(U))] += shift
-        rhs = h[U] / a[U] - gather(matrix @ spread(z), U)
+        known = matrix @ spread(z)
+        rhs = h[U] / a[U] - gather(known, U)
+        symmetric = bool((shift >= 0).all())
+        if coupled.size:  # the slip rows' κ/α (T'y)_n: rows of T, unsymmetric
+            where = np.searchsorted(U, coupled)
+            weight = kappa[coupled] / alpha[coupled]
+            normal = partner[coupled]
+            A[where] += weight[:, None] * (matrix[np.ix_(normal, i1)] * w1
+                                           + matrix[np.ix_(normal, i2)] * w2)
+            rhs[where] -= weight * known[normal]
+            symmetric = False
         with blas_threads_for(len(A)):
-            solved = s._reduced_solve(A, rhs, bool((shift >= 0).all()),
-                                      kind)
+            solved = s._reduced_solve(A, rhs, symmetric, kind)
         if solved is None:
             return None
         z[U] = solved
