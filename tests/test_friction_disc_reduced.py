@@ -26,17 +26,12 @@ import scipy.sparse as sp
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 from test_friction_candidates import assert_same_run  # noqa: E402
-from test_rollers import FC, dragged_3d  # noqa: E402
+# the half and quarter dragged blocks (a module fixture) and their options
+from test_friction_candidates_rollers import RUN, problems  # noqa: E402,F401
+from test_rollers import FC  # noqa: E402
 from solver import solve_friction  # noqa: E402
 from solver.contact.friction import disc  # noqa: E402
 from solver.contact.friction.projection import ProjectionSystem  # noqa: E402
-
-RUN = dict(formulation="projection", tol=1e-13)
-
-
-@pytest.fixture(scope="module")
-def problems():
-    return {part: dragged_3d(part, 0.02) for part in ("half", "quarter")}
 
 
 def _sparse_jacobian(combined):
