@@ -52,10 +52,11 @@ Both are symmetric and, with α/β ≥ 0 (φ_min, φ_FB (30)), positive
 definite: a Cholesky of order ≈ n/2 instead of an LU of order n, the
 same direction to round-off (tests/test_friction_disc_reduced.py). The
 implicit bound adds κ_j (T'y)_{n_i} to the ŵ row of a sliding node in
-contact (κ = f_c/D_i along ŵ, from −ŵ ∂b/∂Δu), a force row still: the
-primal system takes the T' row of n_i into that row (then unsymmetric,
-LU); the dual one is not used then (through C the coupling would carry
-C's round-off times f_c, :data:`~.newton.DUAL_MAX_FRICTION`)."""
+contact (κ = f_c a_i/D_i along ŵ, a_i = [λ_i > 0], from −ŵ ∂b/∂Δu), a
+force row still: the primal system takes the T' row of n_i into that row
+(then unsymmetric, LU); the dual one is not used then (through C the
+coupling would carry C's round-off times f_c,
+:data:`~.newton.DUAL_MAX_FRICTION`)."""
 
 import warnings
 
