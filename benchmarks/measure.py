@@ -29,6 +29,11 @@ problem, which every stage holds). Stages:
   ("lagged", "implicit") and METHOD ("min", "fb") say otherwise;
   ``friction_read``: the same, then reading ``result.displacement`` (every
   step's field in all unknowns, recovered on first read) inside the clock;
+* ``friction3d``: the ``friction`` stage (φ_min, lagged) with NEWTON
+  ("reduced", the default path, or "whole": the LU of the whole Newton
+  system, ``solver.contact.friction.disc.REDUCED`` off) in place of
+  COULOMB; u saved next to the problem (``PROBLEM.friction.NEWTON.npy``)
+  and, if the other's is there, ``agreement`` = max|u − u_other|/max|u|;
 * ``amg``: ``solve(problem, backend="amg")`` (the iterative path, issue
   33): Newton systems, CG iterations in all and per system, the AMG
   hierarchy; ``agreement`` is ‖u − u_direct‖₂/‖u_direct‖₂ against the
@@ -57,7 +62,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 sys.path.insert(1, str(Path(__file__).resolve().parent.parent))
 
 from solver import contact_geometry, load_problem, solve  # noqa: E402
-from solver.linalg import dof_ordering, get_backend  # noqa: E402
+from solver.linalg import dof_ordering, get_backend, resolve  # noqa: E402
 
 
 class Clock:
@@ -118,6 +123,29 @@ def friction(problem, backend, steps, coulomb="lagged", method="min",
             "contact": r.records[-1]["n_contact"] if r.records else None,
             "candidates": screening.get("n_candidates"),
             "enlarged": screening.get("enlarged"), "message": r.message}
+
+
+def friction3d(problem, backend, steps, newton, path):
+    from solver.contact.friction import disc
+
+    disc.REDUCED = newton == "reduced"
+    get_backend(resolve(backend))
+    with Clock() as clock:
+        r = solve(problem, friction=0.3, steps=steps, backend=backend)
+    np.save(f"{path}.friction.{newton}.npy", r.u)
+    other = Path(f"{path}.friction."
+                 f"{'whole' if newton == 'reduced' else 'reduced'}.npy")
+    out = {**clock.times, "J": r.njev, "F": r.nfev,
+           "converged": bool(r.success),
+           "verified": bool(r.verification["passed"]),
+           "contact": r.records[-1]["n_contact"] if r.records else None,
+           "J_max": max((x["njev"] for x in r.records), default=0),
+           "candidates": (r.get("candidates") or {}).get("n_candidates"),
+           "backend": r.linear_solver}
+    if other.exists():
+        u = np.load(other)
+        out["agreement"] = float(np.abs(r.u - u).max() / np.abs(u).max())
+    return out
 
 
 def iterative(problem, path, reference):
@@ -185,6 +213,8 @@ def main(argv):
     elif stage in ("friction", "friction_read"):
         out.update(friction(problem, backend, int(argv[3]), *argv[4:6],
                             read=stage == "friction_read"))
+    elif stage == "friction3d":
+        out.update(friction3d(problem, backend, int(argv[3]), argv[4], path))
     elif stage == "amg":
         out.update(iterative(problem, path, f"{path}.min.{backend}.npy"))
     elif stage == "amg_floor":

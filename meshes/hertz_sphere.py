@@ -11,7 +11,9 @@ by a Distance → Threshold background field around the contact point (the
 origin): h = a/N within ``DIST_FINE`` · a of it, growing linearly to
 ``H_FAR`` · R at ``DIST_COARSE`` · R, where a is the Hertz contact radius
 of the default load of ``hertz_sphere.py`` (``A_TARGET`` = 0.05 R) and N the
-``--a-over-h`` option. Surfaces by the Frontal-Delaunay algorithm (2D
+``--a-over-h`` option (``--dist-fine``, ``--dist-coarse`` change the
+two distances: ``--dist-fine 1.1 --dist-coarse 0.2`` grades the mesh
+steeply toward the contact, benchmarks/friction3d.py). Surfaces by the Frontal-Delaunay algorithm (2D
 algorithm 6), the volume by Delaunay (3D algorithm 1; HXT, 10, gave
 different meshes from run to run), then Netgen's optimiser, single thread,
 fixed random seed: reruns with the same gmsh version give identical files.
@@ -162,14 +164,18 @@ def write_mesh(path, points, tets) -> None:
 
 
 def hertz_sphere_mesh(a_over_h: float, radius: float = RADIUS,
-                      a: float | None = None, half: bool = False):
+                      a: float | None = None, half: bool = False,
+                      dist_fine: float = DIST_FINE,
+                      dist_coarse: float = DIST_COARSE):
     """Mesh the quarter sphere (``half``: the half y ≥ 0); returns
     (points (N, 3), tets (M, 4)). ``a``: the contact radius refined for
     (default ``A_TARGET * radius``); every size is relative to it or to
-    the radius, so any radius > 0 gives the R = 1 mesh scaled."""
+    the radius, so any radius > 0 gives the R = 1 mesh scaled;
+    ``dist_fine``, ``dist_coarse``: the grading (module docstring)."""
     a = A_TARGET * radius if a is None else a
     for name, value in (("a_over_h", a_over_h), ("radius", radius),
-                        ("a", a)):
+                        ("a", a), ("dist_fine", dist_fine),
+                        ("dist_coarse", dist_coarse)):
         if not (np.isfinite(value) and value > 0):
             raise ValueError(f"{name} must be a positive number, got "
                              f"{value}")
@@ -201,8 +207,8 @@ def hertz_sphere_mesh(a_over_h: float, radius: float = RADIUS,
         field.setNumber(threshold, "InField", distance)
         field.setNumber(threshold, "SizeMin", a / a_over_h)
         field.setNumber(threshold, "SizeMax", H_FAR * radius)
-        field.setNumber(threshold, "DistMin", DIST_FINE * a)
-        field.setNumber(threshold, "DistMax", DIST_COARSE * radius)
+        field.setNumber(threshold, "DistMin", dist_fine * a)
+        field.setNumber(threshold, "DistMax", dist_coarse * radius)
         field.setAsBackgroundMesh(threshold)
         gmsh.model.mesh.generate(3)
         points, tets = tetrahedra(gmsh)
@@ -231,12 +237,21 @@ def main(argv=None) -> int:
                              f"{A_TARGET} R)")
     parser.add_argument("--half", action="store_true",
                         help="the half y >= 0 (default: the quarter)")
+    parser.add_argument("--dist-fine", type=generate.positive_float,
+                        default=DIST_FINE,
+                        help=f"size a/N within this times a of the contact "
+                             f"point (default {DIST_FINE:g})")
+    parser.add_argument("--dist-coarse", type=generate.positive_float,
+                        default=DIST_COARSE,
+                        help=f"growing to {H_FAR:g} R at this times R "
+                             f"(default {DIST_COARSE:g})")
     parser.add_argument("-o", "--output", required=True)
     args = parser.parse_args(argv)
 
     def work():
         points, tets = hertz_sphere_mesh(args.a_over_h, args.radius, args.a,
-                                         args.half)
+                                         args.half, args.dist_fine,
+                                         args.dist_coarse)
         write_mesh(args.output, points, tets)
         return points, tets
 

@@ -26,18 +26,58 @@ is. :class:`DiscSystem` returns the projection rows as nodal forces
 D(g − P(w)): the same direction, but the line searches then weigh every
 row in force units, as the stopping measure does (benchmarks/README.md,
 "3D friction: the projection rows in force units"). A roller's e_c row is
-c_t dĝ_c = −F_2,c and ∂P/∂w loses its column: the matrix stays square."""
+c_t dĝ_c = −F_2,c and ∂P/∂w loses its column: the matrix stays square.
+
+That n×n system is not factorised as it stands (:data:`REDUCED`). In
+the rotated displacement v = RΔu (T = R S Rᵀ) and, per node, the
+eigenbasis Q_i of the symmetric P_w block (slip: ŵ, ŵ⊥
+with eigenvalues 0 and |b|/|w|; stick: I with 1, 1), every row of the
+system is one scalar equation
+
+.. math:: α_j\,(T'y)_j + β_j\,y_j = h'_j, \qquad y = Gᵀv, \quad
+          T' = GᵀTG,
+
+G = blockdiag(Q_i) (identity on the normal components): α = (1 − π)/D,
+β = c_t π on the tangential rows (π the eigenvalue), α = −w_a, β = −c w_b
+on the normal pairs. Where α_j = 0 the row fixes y_j, where β_j = 0 it
+fixes the force q_j = (T'y)_j, and what is left is the exact block
+elimination of the primal–dual active set method (Hüeber, Stadler &
+Wohlmuth 2008), the 3D form of :mod:`.newton`'s: the primal system
+(T'_FF + diag(β/α)) y_F = h_F/α_F − T'_FK y_K on F = {α ≠ 0} (slip
+tangents and active normals), or the dual one in the forces q = T'y,
+(C'_UU + diag(α/β)) q_U = h_U/β_U − C'_UQ q_Q on U = {β ≠ 0} (stick
+tangents, the ŵ⊥ rows of slip nodes and inactive normals), C' = T'⁻¹ the
+flexibility (made once per run when first needed); whichever is smaller.
+Both are symmetric and, with α/β ≥ 0 (φ_min, φ_FB (30)), positive
+definite: a Cholesky of order ≈ n/2 instead of an LU of order n, the
+same direction to round-off (tests/test_friction_disc_reduced.py). The
+implicit bound adds κ_j (T'y)_{n_i} to the ŵ row of a sliding node in
+contact (κ = f_c a_i/D_i along ŵ, a_i = [λ_i > 0], from −ŵ ∂b/∂Δu), a
+force row still: the primal system takes the T' row of n_i into that row
+(then unsymmetric, LU); the dual one is not used then (through C the
+coupling would carry C's round-off times f_c,
+:data:`~.newton.DUAL_MAX_FRICTION`)."""
 
 import warnings
 
 import numpy as np
 import scipy.linalg as sla
+from scipy.linalg import lapack
 import scipy.sparse as sp
 
 from ...linalg.threads import blas_threads_for
 from .projection import ProjectionSystem, block_diagonal, disc_derivative
 
-__all__ = ["DiscSystem", "DiscJacobian"]
+__all__ = ["DiscSystem", "DiscJacobian", "REDUCED", "FORM"]
+
+#: Solve the Newton systems reduced to the primal or dual unknowns
+#: (module docstring); False: the LU of the whole n×n system (the
+#: reference of the tests).
+REDUCED = True
+
+#: Which reduced system: "smaller" (the primal or the dual, whichever is),
+#: or always "primal" or "dual" (tests).
+FORM = "smaller"
 
 
 class DiscSystem(ProjectionSystem):
@@ -56,6 +96,42 @@ class DiscSystem(ProjectionSystem):
             self.R_t = sp.diags(self.t_free.astype(float)) @ self.R[t]
             self.RS_t[~self.t_free] = 0.0
             self.R_n = self.R[self.n_rows].toarray()
+            self._factor = None  # (kind, matrix, solve) of the last one
+            self._flexibility = None  # T⁻¹, made when first needed
+            self._rotated = None  # T = R S Rᵀ, made when first needed
+
+    @property
+    def shares_flexibility(self):
+        """Whether the step's start (:mod:`.start`) takes C[:, n] from
+        :meth:`flexibility`, which the dual systems use anyway, instead of
+        factorising S once more."""
+        return self.dense and REDUCED
+
+    @property
+    def T(self):
+        """T = R S Rᵀ, the condensed stiffness in the rotated components
+        (dense n×n, made once)."""
+        if self._rotated is None:
+            self._rotated = np.ascontiguousarray((self.R @ self.RS.T).T)
+        return self._rotated
+
+    def flexibility(self):
+        """C = T⁻¹ = R S⁻¹ Rᵀ (dense n×n, made once): LAPACK's potrf and
+        potri, n³ flops (a solve with the n columns of I takes 2n³)."""
+        if self._flexibility is False:  # tried: T is not SPD
+            raise np.linalg.LinAlgError("T is not positive definite")
+        if self._flexibility is None:
+            T = self.T
+            with blas_threads_for(len(T)):
+                factor, info = lapack.dpotrf(T, lower=False, clean=False)
+                if info == 0:
+                    inverse, info = lapack.dpotri(factor, lower=False)
+            if info != 0:
+                self._flexibility = False
+                raise np.linalg.LinAlgError("T is not positive definite")
+            upper = np.triu(inverse)
+            self._flexibility = upper + np.triu(upper, 1).T
+        return self._flexibility
 
     def _force(self, du):
         """r = R(Ku − f_κ), by BLAS on the dense R S."""
@@ -103,24 +179,26 @@ class DiscJacobian:
 
     def __init__(self, system, x):
         s = self.system = system
+        self.x = x
         m, k = s.m, s.dim - 1
         du, g = x[:s.n], s.traction(x)
         r = s._force(du)
-        b, db = s.bound(r)
-        ct = self.ct = np.broadcast_to(s.c_t, (s.mt,))
-        self.P, stick, ratio, slip_hat = disc_derivative(
+        b, self.db = s.bound(r)
+        #: f_c a_i/D_i of the implicit bound (∂b/∂Δu = −slope·(RS)_n), or
+        #: None (lagged)
+        self.slope = None if self.db is None else \
+            s.friction * (-r[s.n_rows] > 0.0) / s.lumped
+        self.ct = np.broadcast_to(s.c_t, (s.mt,))
+        self.P, self.stick, self.ratio, self.slip_hat = disc_derivative(
             s._slide(g, du).reshape(m, k), b,
             s.t_free if s.rollers else None)
-        Pu = (block_diagonal(self.P) @ s.R_t).toarray()  # R_t sparse
-        Pu *= ct[:, None]
-        if db is not None:  # −ŵ ∂b/∂Δu at slip nodes
-            Pu -= slip_hat.reshape(-1, 1) * np.repeat(np.asarray(
-                db.todense() if sp.issparse(db) else db), k, axis=0)
-        self.Pu = Pu
+        self.blocks = block_diagonal(self.P)
+        self._Pu = None
         # Slip nodes with |b|/|w| ≤ 1/2 take dĝ from their projection row,
         # (I − P_w)⁻¹ = (I − ŵŵᵀ)/(1 − ratio) + ŵŵᵀ: exact where b = 0
         # (ĝ stays 0 at f_c = 0 or out of contact, not round-off of S).
-        self.own = ~stick & (ratio <= 0.5)
+        slip_hat, ratio = self.slip_hat, self.ratio
+        self.own = ~self.stick & (ratio <= 0.5)
         outer = slip_hat[self.own, :, None] * slip_hat[self.own, None, :]
         self.inverse = (np.eye(k) - outer) / (1 - ratio[self.own, None,
                                                         None]) + outer
@@ -129,6 +207,57 @@ class DiscJacobian:
             self.inverse[rolling] = np.linalg.inv(
                 np.eye(k) - self.P[self.own][rolling])
         self.JA, self.JB = s._JA, s._JB
+
+    @property
+    def Pu(self):
+        """P_u = c_t P_w R_t − ŵ ∂b/∂Δu, dense (n_t × n): only the LU of
+        the whole system forms it."""
+        if self._Pu is None:
+            s, k = self.system, self.system.dim - 1
+            Pu = (self.blocks @ s.R_t).toarray()  # R_t sparse
+            Pu *= self.ct[:, None]
+            if self.db is not None:  # −ŵ ∂b/∂Δu at slip nodes
+                Pu -= self.slip_hat.reshape(-1, 1) * np.repeat(np.asarray(
+                    self.db.todense() if sp.issparse(self.db)
+                    else self.db), k, axis=0)
+            self._Pu = Pu
+        return self._Pu
+
+    def pu_times(self, du):
+        """P_u dΔu, from the sparse blocks (no dense P_u)."""
+        s = self.system
+        out = self.ct * (self.blocks @ (s.R_t @ du))
+        if self.db is not None:
+            out -= self.slip_hat.ravel() * np.repeat(self.db @ du,
+                                                     s.dim - 1)
+        return out
+
+    def pu_rtimes(self, F):
+        """Fᵀ P_u, from the sparse blocks."""
+        s = self.system
+        out = s.R_t.T @ (self.blocks.T @ (self.ct * F))
+        if self.db is not None:
+            k = s.dim - 1
+            out -= (F * self.slip_hat.ravel()).reshape(-1, k).sum(1) \
+                @ self.db
+        return out
+
+    def frames(self):
+        """(Q, π): per node the eigenbasis Q_i (m, k, k) of its block P_w
+        (columns ŵ, ŵ⊥ at a slip node with ŵ ≠ 0; I else, where P_w is
+        diagonal: stick, w = 0, a roller) and the eigenvalues π (m, k)."""
+        P, hat = self.P, self.slip_hat
+        m, k = hat.shape
+        Q = np.broadcast_to(np.eye(k), (m, k, k)).copy()
+        pi = np.diagonal(P, axis1=1, axis2=2).copy()
+        turn = (hat != 0.0).any(axis=1)
+        if self.system.rollers:
+            turn &= self.system.t_free.reshape(m, k).all(axis=1)
+        if turn.any():  # k = 2: Q = [ŵ, ŵ⊥], π = (0, |b|/|w|)
+            h = hat[turn]
+            Q[turn] = np.stack([h, np.stack([-h[:, 1], h[:, 0]], 1)], 2)
+            pi[turn] = np.stack([np.zeros(len(h)), self.ratio[turn]], 1)
+        return Q, pi
 
     def _blocks(self, X, transpose=False):
         """blockdiag(P_w) X (or P_wᵀ X) for X with 2m rows."""
@@ -148,9 +277,15 @@ class _DiscCombined:
 
     def __init__(self, jac, wa, wb):
         self.jac, s = jac, jac.system
-        self.N = -(wa[:, None] * s.RS_n) - s.gap_scale * (wb[:, None]
-                                                          * s.R_n)
+        self.wa, self.wb = wa, wb
         self.Dc = s.lumped_t * jac.ct
+
+    @property
+    def N(self):
+        """The normal pairs' rows −w_a (RS)_n − c w_b R_n (dense m × n)."""
+        s = self.jac.system
+        return -(self.wa[:, None] * s.RS_n) - s.gap_scale * (
+            self.wb[:, None] * s.R_n)
 
     def _free(self, X):
         """(I − P_w) X."""
@@ -174,37 +309,151 @@ class _DiscCombined:
         F1, F2, F3 = self._rows(F)
         D = s.lumped_t
         F2 = F2 / D  # rows D(g − P(w)) (DiscSystem.residual): J's rows /D
-        top = jac.Pu + self._free(s.RS_t / D[:, None])
         h = -F2 - self._free(F1 / D)
         free = s.t_free  # a roller's e_c row gives dĝ_c = −F_2,c/c_t
-        if s.rollers:
-            top, h = top[free], h[free]
-        M = np.vstack([top, self.N])
-        h = np.concatenate([h, -F3])
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore", sla.LinAlgWarning)
-            with blas_threads_for(len(M)):  # a/h 32: order ≈ 3·10³
-                lu, piv = sla.lu_factor(M, check_finite=False)
-            if not np.all(np.diagonal(lu)):
-                return None
-            du = sla.lu_solve((lu, piv), h, check_finite=False)
+        if REDUCED:
+            du = self._reduced(h, -F3)
+        else:
+            du = self._whole(h, -F3)
+        if du is None:
+            return None
         dg = (s.RS_t @ du + F1) / self.Dc
         if s.rollers:
             dg[~free] = -F2[~free] / jac.ct[~free]
         own = jac.own  # slip nodes far from the disc's edge: their own rows
         if own.any():
             m, k = jac.P.shape[:2]
-            rhs = -((F2 + jac.Pu @ du) / jac.ct).reshape(m, k)[own]
+            rhs = -((F2 + jac.pu_times(du)) / jac.ct).reshape(m, k)[own]
             dg.reshape(m, k)[own] = np.einsum("ikl,il->ik", jac.inverse,
                                               rhs)
         d = np.concatenate([du, dg])
         return d if np.all(np.isfinite(d)) else None
+
+    def _whole(self, h_t, h_n):
+        """dΔu from the LU of the whole n×n system (module docstring)."""
+        jac, s = self.jac, self.jac.system
+        D = s.lumped_t
+        top = jac.Pu + self._free(s.RS_t / D[:, None])
+        if s.rollers:
+            top, h_t = top[s.t_free], h_t[s.t_free]
+        M = np.vstack([top, self.N])
+        h = np.concatenate([h_t, h_n])
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", sla.LinAlgWarning)
+            with blas_threads_for(len(M)):  # a/h 32: order ≈ 3·10³
+                lu, piv = sla.lu_factor(M, check_finite=False)
+            if not np.all(np.diagonal(lu)):
+                return None
+            return sla.lu_solve((lu, piv), h, check_finite=False)
+
+    def _reduced(self, h_t, h_n):
+        """dΔu from the primal or the dual system (module docstring),
+        whichever is smaller; None if singular."""
+        jac, s = self.jac, self.jac.system
+        n, m, k = s.n, s.m, s.dim - 1
+        Q, pi = jac.frames()
+        # every row α_j (T'y)_j + β_j y_j = h'_j, at its position in v
+        at = s.t_rows.reshape(m, k)
+        valid = s.t_free.reshape(m, k)
+        alpha, beta, h = np.zeros(n), np.zeros(n), np.zeros(n)
+        alpha[at[valid]] = ((1.0 - pi) / s.lumped[:, None])[valid]
+        beta[at[valid]] = (jac.ct.reshape(m, k) * pi)[valid]
+        h[at[valid]] = np.einsum("ilk,il->ik", Q, h_t.reshape(m, k))[valid]
+        alpha[s.n_rows] = -self.wa
+        beta[s.n_rows] = -s.gap_scale * self.wb
+        h[s.n_rows] = h_n
+        # v = G y: each y_j enters v at one or two positions, v[r] += g y_j
+        r1, r2 = np.arange(n), np.arange(n)
+        g1, g2 = np.ones(n), np.zeros(n)
+        turned = (Q != np.eye(k)).any(axis=(1, 2))
+        pairs = at[turned]  # such nodes have both tangents (no roller)
+        for c in range(k):
+            r1[pairs[:, c]], r2[pairs[:, c]] = pairs[:, 0], pairs[:, 1]
+            g1[pairs[:, c]], g2[pairs[:, c]] = Q[turned, 0, c], \
+                Q[turned, 1, c]
+        primal = alpha != 0.0
+        dual = beta != 0.0
+        if not (primal | dual).all():
+            return None  # a zero row: J singular
+        coupled = np.zeros(0, int)
+        if jac.slope is not None:  # implicit bound: + κ_j (T'y)_{n_i}
+            kappa, partner = np.zeros(n), np.zeros(n, int)
+            lift = np.einsum("ilk,il->ik", Q, jac.slip_hat) \
+                * jac.slope[:, None]
+            kappa[at[valid]] = lift[valid]
+            partner[at[valid]] = np.repeat(s.n_rows[:, None], k,
+                                           axis=1)[valid]
+            coupled = np.flatnonzero(kappa)
+            if not primal[coupled].all():  # not one force row: the LU
+                return self._whole(h_t, h_n)
+        use_dual = not coupled.size and (
+            FORM == "dual" or FORM == "smaller"
+            and np.count_nonzero(dual) < np.count_nonzero(primal))
+        if use_dual:
+            try:
+                matrix = s.flexibility()
+            except np.linalg.LinAlgError:  # S only semidefinite: no C
+                use_dual = False
+        if use_dual:  # forces q = T'y; q_j = h_j/α_j where β_j = 0
+            U, a, b = np.flatnonzero(dual), beta, alpha
+            kind = "dual"
+        else:  # y_j = h_j/β_j where α_j = 0
+            U, a, b = np.flatnonzero(primal), alpha, beta
+            kind, matrix = "primal", s.T
+        fixed = np.ones(n, bool)
+        fixed[U] = False
+        z = np.zeros(n)
+        z[fixed] = h[fixed] / b[fixed]
+
+        def spread(y):  # G y
+            return np.bincount(r1, g1 * y, n) + np.bincount(r2, g2 * y, n)
+
+        def gather(v, rows):  # (Gᵀ v)[rows]
+            return g1[rows] * v[r1[rows]] + g2[rows] * v[r2[rows]]
+
+        # Gᵀ matrix G on U × U, by gathers (G has ≤ 2 entries per column:
+        # no product with the whole matrix); the second entries only on
+        # the turned components t
+        i1, i2, w1, w2 = r1[U], r2[U], g1[U], g2[U]
+        A = matrix[np.ix_(i1, i1)]
+        A *= w1[:, None]
+        A *= w1
+        t = np.flatnonzero(w2)
+        if t.size:
+            A[:, t] += matrix[np.ix_(i1, i2[t])] * (w1[:, None] * w2[t])
+            A[t, :] += matrix[np.ix_(i2[t], i1)] * (w2[t, None] * w1)
+            A[np.ix_(t, t)] += matrix[np.ix_(i2[t], i2[t])] * (
+                w2[t, None] * w2[t])
+        shift = b[U] / a[U]
+        A[np.arange(len(U)), np.arange(len(U))] += shift
+        known = matrix @ spread(z)
+        rhs = h[U] / a[U] - gather(known, U)
+        symmetric = bool((shift >= 0).all())
+        if coupled.size:  # the slip rows' κ/α (T'y)_n: rows of T, unsymmetric
+            where = np.searchsorted(U, coupled)
+            weight = kappa[coupled] / alpha[coupled]
+            normal = partner[coupled]
+            A[where] += weight[:, None] * (matrix[np.ix_(normal, i1)] * w1
+                                           + matrix[np.ix_(normal, i2)] * w2)
+            rhs[where] -= weight * known[normal]
+            symmetric = False
+        with blas_threads_for(len(A)):
+            solved = s._reduced_solve(A, rhs, symmetric, kind)
+        if solved is None:
+            return None
+        z[U] = solved
+        v = spread(z)
+        if use_dual:  # z = q in the frames: v = C G q
+            v = matrix @ v
+        return s.RT @ v
 
     def rmatvec(self, F):
         """JᵀF in the unknowns x = [Δu; ĝ] (∇ψ of φ_FB, (28))."""
         jac, s = self.jac, self.jac.system
         F1, F2, F3 = self._rows(F)
         F2 = F2 * s.lumped_t  # (diag(D) J_2)ᵀ F_2
-        gu = F1 @ s.RS_t + F2 @ jac.Pu + F3 @ self.N
+        gu = F1 @ s.RS_t + jac.pu_rtimes(F2) \
+            - (self.wa * F3) @ s.RS_n \
+            - s.gap_scale * ((self.wb * F3) @ s.R_n)
         gg = -self.Dc * F1 + jac.ct * (F2 - jac._blocks(F2, transpose=True))
         return np.concatenate([gu, gg])

@@ -76,7 +76,7 @@ def _normal_flexibility(system):
     cached = getattr(system, "normal_flexibility", None)
     if cached is None:
         nr = system.n_rows
-        if system.reduced:
+        if system.reduced or getattr(system, "shares_flexibility", False):
             C_n = system.flexibility()[:, nr]
         else:
             factor = sla.cho_factor(system.K.toarray(), overwrite_a=True,
