@@ -29,11 +29,17 @@ BELOW_THE_FRONT = {
     "solver.output.thesis_figures": "the thesis's figures",
     "solver.output.figures3d": "the 3D pressure plot",
     "solver.output.figures": "the README's figures (make_figures.py)",
+    "solver.output.two_body3d": "the 3D two-body figures of docs/figures "
+                                "(make_figures.py)",
     "solver.output.friction_figures": "the README's figures (make_figures.py)",
     "solver.linalg": "benchmarks: the floor, one factorisation of K by a "
                      "backend, and the list of backends; the AMG path's "
                      "floor, one AMG-PCG solve of K u = f (measure.py "
                      "amg_floor)",
+    "solver.contact.friction.disc": "benchmarks: the whole-LU Newton "
+                                    "systems of 3D friction (REDUCED off) "
+                                    "against the reduced ones (measure.py "
+                                    "friction3d)",
     "solver.contact.strategies.reduction": "benchmarks: the condensation "
                                            "onto Γc alone (measure.py schur)",
     "solver.mpi.engine": "the PETSc engine: spmd, service and PetscEngine "
