@@ -15,12 +15,15 @@ def boundary_edges(cells):
     """Edges that belong to exactly one triangle (quadrilateral) of
     ``cells`` (n, 3) or (n, 4): an int64 array of rows ``(a, b)``,
     ``a < b``, in lexicographic order."""
-    cells = simplices(cells, 2)
+    cells = np.asarray(simplices(cells, 2), dtype=np.int64)
     edges = np.concatenate([cells[:, [0, 1]], cells[:, [1, 2]],
                             cells[:, [2, 0]]])
-    edges.sort(axis=1)
-    unique, counts = np.unique(edges, axis=0, return_counts=True)
-    return unique[counts == 1]
+    n = int(cells.max(initial=0)) + 1
+    # one int64 key per edge (a·n + b sorts as (a, b)): a 1D sort, several
+    # times faster than np.unique over rows
+    keys, counts = np.unique(_edge_keys(edges, n), return_counts=True)
+    once = keys[counts == 1]
+    return np.stack([once // n, once % n], axis=1)
 
 
 def _edge_keys(edges, n):
