@@ -84,3 +84,33 @@ def test_a_large_initial_overlap_warns():
     assert warned(problem, InitialPenetrationWarning)[1]
     # a tenth of the size is the limit: 0.05 of it warns only of penetration
     assert not warned(block(0.0, 0.0, lift=0.05 * size))[1]
+
+
+@pytest.mark.parametrize("friction", [None, 0.3])
+def test_two_bodies_sliding_more_than_a_slave_element_warns(friction):
+    """Two stacked blocks, the upper one's top moved sideways by 0.5
+    (2.5 slave elements of h = 0.2; the relative slip is the shift less
+    the blocks' shear, exactly 0.5 without friction): the mortar coupling
+    of the reference configuration no longer pairs the right segments, so
+    KinematicsWarning; 0.005 (0.025 elements) stays silent."""
+    from tri_elasticity import stacked_blocks
+
+    options = {} if friction is None else dict(friction=friction,
+                                               formulation="projection")
+    found = {}
+    for shift in (5e-3, 0.5):
+        problem, _, _ = stacked_blocks(n_upper=(5, 2), n_lower=(7, 2),
+                                       materials=((1.0, 0.3), (3.0, 0.2)),
+                                       shift=shift)
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            result = solver.solve(problem, **options)
+        assert result.success
+        found[shift] = [str(w.message) for w in caught
+                        if issubclass(w.category, KinematicsWarning)]
+        assert found[shift] == result.verification["kinematics"]
+    assert found[5e-3] == []
+    (message,) = found[0.5]
+    assert "relative to the master" in message and "(h = 0.2)" in message
+    slid = float(message.split(" slides ")[1].split()[0])
+    assert 0.45 < slid <= 0.5 + 1e-12

@@ -15,6 +15,14 @@ features. This module measures two breaches and says them in words:
   more than a tenth of the body's size (the diagonal of its bounding
   box): the contact forces must then undo a deformation that is not small.
 
+Two bodies (:mod:`.two_body`): the dual mortar coupling (D, M, the
+normals and weighted gaps) is integrated once in the reference
+configuration too, so a slave node whose displacement relative to the
+master (v_j = u_j − Σ_k P_jk u_k, its tangential part) exceeds one element
+of the slave surface faces another part of the master than the coupling
+assumes (:func:`relative_sliding`); flat interfaces included, since the
+coupling's pairing of the meshes moves with the sliding.
+
 Both are warnings (:class:`~solver.errors.KinematicsWarning`), not errors:
 the answer solves the linearised problem it was given."""
 
@@ -24,7 +32,8 @@ from ..geometry.mesh import chain_pieces
 from .geometry import node_displacement
 
 __all__ = ["SLIDING_ELEMENTS", "OVERLAP_FRACTION", "FLAT_COSINE",
-           "element_size", "sliding", "kinematic_breaches"]
+           "element_size", "sliding", "kinematic_breaches",
+           "relative_sliding"]
 
 #: Sliding beyond this many elements of Γc breaks "small sliding".
 SLIDING_ELEMENTS = 1.0
@@ -106,3 +115,21 @@ def kinematic_breaches(problem, geometry, u):
             "assumes small deformations (small strain, reference "
             "configuration)")
     return found
+
+
+def relative_sliding(slip, h, node_ids):
+    """Messages (a list of at most one str) for two bodies: ``slip`` the
+    tangential displacement of each slave node relative to the master, ``h``
+    the local slave element size there, ``node_ids`` their mesh nodes."""
+    slip, h = np.asarray(slip, float), np.asarray(h, float)
+    ratio = np.where(h > 0, slip / np.where(h > 0, h, 1.0), 0.0)
+    if not len(ratio) or not np.isfinite(ratio).all():
+        return []
+    worst = int(np.argmax(ratio))
+    if ratio[worst] <= SLIDING_ELEMENTS:
+        return []
+    return [f"slave node {int(node_ids[worst])} slides {slip[worst]:.3g} "
+            f"relative to the master, {ratio[worst]:.3g} elements of the "
+            f"slave surface (h = {h[worst]:.3g}): the mortar coupling is "
+            "computed in the reference configuration (small sliding), so "
+            "the answer may be inaccurate there"]

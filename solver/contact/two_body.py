@@ -310,7 +310,29 @@ class TwoBodyMap:
                                       result.friction_traction)
         result.update(v=result.u, u=u, displacement=displacement,
                       traction=traction, **extra)
+        verification = result.get("verification")
+        if verification is not None and result.get("success", False):
+            verification["kinematics"] = list(verification.get(
+                "kinematics") or []) + self.sliding_breaches(
+                    np.atleast_2d(result.v)[-1])
         return result
+
+    def sliding_breaches(self, v):
+        """:func:`~.kinematics.relative_sliding` of the answer v (in the
+        solved variables, one state) at the covered slave nodes."""
+        from .kinematics import relative_sliding
+
+        dofs = np.asarray(self.equivalent.contact_dofs)
+        moved = np.where(dofs >= 0, np.asarray(v, float)[np.maximum(dofs, 0)],
+                         0.0)
+        normal = np.asarray(self.coupling.normal, float)
+        tangential = moved - np.einsum("ij,ij->i", moved,
+                                       normal)[:, None] * normal
+        ids = np.asarray(self.problem.contact_nodes)
+        h = _local_size(self.problem.nodes, self.problem.mortar_slave)[ids]
+        keep = np.asarray(self.covered, bool)
+        return relative_sliding(np.linalg.norm(tangential, axis=1)[keep],
+                                h[keep], ids[keep])
 
 
 def _local_size(nodes, facets):

@@ -163,9 +163,9 @@ class Plan:
                 coulomb=s["coulomb"], progress=s["progress"],
                 on_step=on_step, keep_steps=s["keep_steps"], **common)
         _warn_excluded(self.problem, result)
-        _warn_kinematics(result)
         if self.mapping is not None:
             result = self.mapping.result(result, self.friction, s["steps"])
+        _warn_kinematics(result)
         summary = self.engine.summary()
         if summary is not None:
             result["engine"] = summary
