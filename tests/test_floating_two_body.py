@@ -34,6 +34,18 @@ def _assert_hertz(problem, result):
     assert abs(result.total_contact_force[1] - P) <= 1e-10 * P
 
 
+#: The hand-built floating cylinders leave the upper one's spin about its
+#: centre free, which frictionless round contact does not resist (only the
+#: polygon's facets do, weakly): the answer carries an arbitrary spin, and
+#: the contact nodes slide along the master by ~10 elements, which the
+#: solver reports (KinematicsWarning). The pressures do not depend on it;
+#: sfepy_problems/two_cylinders.py load='force' holds the spin instead.
+SPIN = pytest.mark.filterwarnings(
+    "ignore:slave node .* relative to the master:"
+    "solver.errors.KinematicsWarning")
+
+
+@SPIN
 def test_hertz_two_cylinders_upper_floating():
     """R = 1, 1.5; E = 1, 2; ν = 0.3, 0.25; the upper body pressed by
     P = 0.0065 on its flat edge, no Dirichlet condition on it (three
@@ -50,6 +62,7 @@ def test_hertz_two_cylinders_upper_floating():
     assert result.verification["passed"]
 
 
+@SPIN
 def test_lower_body_on_a_roller_floats_too():
     """The lower body's flat edge held in y only: its x translation is
     free as well (four modes); the bodies' common x translation, which no
@@ -95,6 +108,7 @@ def test_upper_body_pulled_away_is_refused():
         "translation (0, 0.982)" in message
 
 
+@SPIN
 def test_cattaneo_mindlin_upper_cylinder_floating():
     """Two identical cylinders (Dundurs β = 0), the upper floating: P,
     then Q = ½ f_c P with the couple ±Q/2 at its flat edge's ends (no

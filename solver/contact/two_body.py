@@ -314,12 +314,16 @@ class TwoBodyMap:
         if verification is not None and result.get("success", False):
             verification["kinematics"] = list(verification.get(
                 "kinematics") or []) + self.sliding_breaches(
-                    np.atleast_2d(result.v)[-1])
+                    np.atleast_2d(result.v)[-1],
+                    np.atleast_2d(result.in_contact)[-1])
         return result
 
-    def sliding_breaches(self, v):
+    def sliding_breaches(self, v, in_contact):
         """:func:`~.kinematics.relative_sliding` of the answer v (in the
-        solved variables, one state) at the covered slave nodes."""
+        solved variables, one state) at the slave nodes in contact: where
+        the coupling's pairing of the meshes carries the answer (an open
+        node may move with its body far from the master, as the upper
+        cylinder's spin does, without touching it)."""
         from .kinematics import relative_sliding
 
         dofs = np.asarray(self.equivalent.contact_dofs)
@@ -330,7 +334,7 @@ class TwoBodyMap:
                                        normal)[:, None] * normal
         ids = np.asarray(self.problem.contact_nodes)
         h = _local_size(self.problem.nodes, self.problem.mortar_slave)[ids]
-        keep = np.asarray(self.covered, bool)
+        keep = np.asarray(self.covered, bool) & np.asarray(in_contact, bool)
         return relative_sliding(np.linalg.norm(tangential, axis=1)[keep],
                                 h[keep], ids[keep])
 
