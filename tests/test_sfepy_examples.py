@@ -145,3 +145,23 @@ def test_close_to_sfepys_penalty_answer(example):
     centre = np.argmin(np.linalg.norm(problem.nodes - [0, 0, 0.5], axis=1))
     assert result.displacement[centre, 2] == pytest.approx(
         centre_z, rel=CENTRE_ROOM[name])
+
+
+@pytest.mark.filterwarnings(  # the examples start inside the obstacle
+    "ignore::solver.errors.InitialPenetrationWarning",
+    "ignore::solver.errors.KinematicsWarning")
+def test_obstacle_penetrating_at_the_start_screens_in_one_round(example):
+    """No load, the obstacle inside the undeformed body (both examples):
+    every node it penetrates is a candidate of the first round (the
+    unconstrained answer u = 0 leaves them inside), so K is factorised
+    once; the answer equals the condensation onto every node of Γc
+    (``candidates=False``), an independent exact solve."""
+    _, problem, _, _ = example
+    screened = solve(problem)
+    everyone = solve(problem, candidates=False)
+    assert screened.success and everyone.success
+    assert len(screened.candidates["rounds"]) == 1
+    assert np.count_nonzero(screened.gap < 0) <= \
+        screened.candidates["n_candidates"]
+    np.testing.assert_allclose(screened.u, everyone.u, rtol=0,
+                               atol=1e-10 * np.abs(everyone.u).max())

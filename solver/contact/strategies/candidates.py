@@ -10,9 +10,10 @@ the candidates, S u_n = g̃ + λ, λ ≥ 0 ⊥ s − u_n ≥ 0 (:func:`normal_li
 then u = Rᵀ(w + K̂⁻¹Pᵀ S(u_n − w_c)), one back-substitution.
 
 The screening rule. Round 0 takes the nodes whose initial gap is at most
-δ₀ = ``margin``, by default s_min + :data:`GAP_FRACTION`·(s_max − s_min)
-+ a, a the largest prescribed nodal displacement (how far a body driven
-by prescribed displacements moves before it deforms); in 2D every free
+δ₀ = ``margin``, by default max(s_min, 0) + :data:`GAP_FRACTION`·(s_max −
+s_min) + a, a the largest prescribed nodal displacement (how far a body
+driven by prescribed displacements moves before it deforms; every node
+the obstacle penetrates at the start is one); in 2D every free
 contact node (a curve's normals are few). If after a round's solve a
 non-candidate penetrates (s − u_n < −tol_v·F/k̄), the set grows by every
 node whose remaining gap is at most the deepest penetration and K̂ is
@@ -49,9 +50,9 @@ def initial_candidates(gap, margin=None, approach=0.0):
     gap = np.asarray(gap, float)
     if not len(gap):
         return np.zeros(0, np.int64), 0.0
-    if margin is None:
+    if margin is None:  # from 0 if the obstacle penetrates the body
         low, high = float(gap.min()), float(gap.max())
-        margin = low + GAP_FRACTION * (high - low) + approach
+        margin = max(low, 0.0) + GAP_FRACTION * (high - low) + approach
     return np.flatnonzero(gap <= margin), float(margin)
 
 
