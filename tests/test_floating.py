@@ -20,7 +20,7 @@ import solver
 from solver.errors import ProblemError, SolverError
 from solver.verification import fit_semi_ellipse, hertz_line_contact
 from test_export3d import export_module
-from tri_elasticity import floor_block as block
+from tri_elasticity import floor_block as block, two_floor_blocks
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 E, NU, P = 2e5, 0.3, 1739.6
@@ -181,16 +181,7 @@ def test_no_load_is_refused():
 def test_singular_K_that_is_not_rigid_motion_is_still_refused():
     """Two separate blocks in one body: six zero pivots, three rigid
     motions of the whole; K with three DOFs held is still singular."""
-    one = block()
-    two = dataclasses.replace(one)
-    K = sp.block_diag([one.K, one.K]).tocsr()
-    n = len(one.nodes)
-    nodes = np.concatenate([one.nodes, one.nodes + [3.0, 0.0]])
-    dof_map = np.concatenate([one.dof_map, one.dof_map + [n, 0]])
-    two = dataclasses.replace(
-        one, K=K, f=np.concatenate([one.f, one.f]), nodes=nodes,
-        cells=np.concatenate([one.cells, one.cells + n]), dof_map=dof_map,
-        u_prescribed=np.zeros((2 * n, 2)))
+    two = two_floor_blocks()
     assert two.rigid_modes()[0].shape[1] == 3
     with pytest.raises(ProblemError, match="K is not positive definite"):
         solver.solve(two)

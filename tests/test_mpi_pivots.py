@@ -25,7 +25,12 @@ inverts the null mode and ‖K‖‖x‖/‖b‖ exceeds 10¹⁰). The command l
 longer runs the serial engine's check on rank 0 before the full system
 (19 s and 4.2 GB at 9.2·10⁵ DOFs).
 
-The supported block (one node's u_x fixed) solves on both engines.
+The supported block (one node's u_x fixed) solves on both engines. The
+two floating blocks (their kernel the x translation, a rigid motion) are
+solved by both engines on the condensed system with K⁺ (issue 31,
+tests/test_mpi_floating.py); a kernel beyond the rigid motions (two
+blocks in one body, tri_elasticity.two_floor_blocks) is still refused by
+MUMPS's null pivots, and the full system of a floating body by its rule.
 """
 
 import json
@@ -38,6 +43,7 @@ from solver import ParametricCurve, save_problem, solve_frictionless
 from solver.errors import SolverError
 from tet_elasticity import mesh_problem, rectangle, stiffness
 from test_mpi import REASON, mpirun
+from tri_elasticity import two_floor_blocks
 
 pytestmark = pytest.mark.skipif(REASON is not None, reason=str(REASON))
 
@@ -101,13 +107,18 @@ def paths(tmp_path_factory):
     for name, (obstacle, shift) in CASES.items():
         out[name] = str(save_problem(folder / f"{name}.npz", block(
             obstacle, shift, supported=name == "supported")))
+    out["two-blocks"] = str(save_problem(folder / "two-blocks.npz",
+                                         two_floor_blocks()))
     return out
 
 
-#: Floating blocks (K's kernel the x translation): the serial engine
-#: solves them condensed (issue 31) and refuses their full system; the
-#: petsc engine refuses them by its pivot check.
+#: Floating blocks (K's kernel the x translation): both engines solve
+#: them condensed (issue 31; the flat obstacle's with the serial engine's
+#: refusal: no load along the free x translation, the position is not
+#: determined) and refuse their full system by a rule.
 HELD = ("flat", "curved")
+#: Held by contact only: the full system is refused by a rule, not a pivot.
+FLOATING = HELD + ("two-blocks",)
 
 
 def serial_refusal(path, condense=True):
@@ -134,14 +145,18 @@ def test_engine_refuses_what_serial_refuses(paths, tmp_path, n):
             assert value == ["solved", True], key
             continue
         serial = serial_refusal(paths[name], system == "condensed")
-        text, input_error = value
-        assert input_error, value  # the CLI's exit 2
-        assert text.startswith("K_data: K is not positive definite"), text
-        if name in HELD:  # issue 31: the serial engine solves these
-            assert serial is None or "held by contact only" in serial
-            assert "singular stiffness" in text or ksp == "gamg", text
+        if name in HELD and system == "condensed":  # issue 31: as serial
+            assert value == (["solved", True] if serial is None else
+                             [serial, True]), (key, serial)
             continue
         assert serial is not None, key
+        text, input_error = value
+        if name in FLOATING and system == "full":  # a rule, both engines
+            assert not input_error and "held by contact only" in text
+            assert "held by contact only" in serial
+            continue
+        assert input_error, value  # the CLI's exit 2
+        assert text.startswith("K_data: K is not positive definite"), text
         if ksp == "gamg":  # CG tells singular from indefinite only at times
             continue
         singular = "singular stiffness" in serial
@@ -150,14 +165,16 @@ def test_engine_refuses_what_serial_refuses(paths, tmp_path, n):
             assert "1 negative eigenvalue" in text and "1 negative" in serial
 
 
-@pytest.mark.parametrize("options", [[], ["--system", "full"],
-                                     ["--system", "full", "--ksp", "gamg"]])
-def test_command_line_exit_2_one_line(paths, tmp_path, options):
-    """``mpiexec -n 2 python -m solver X --engine petsc`` on the floating
-    block: exit 2, one line, no traceback, no output folder."""
-    code, _, err = mpirun(2, ["-m", "solver", paths["curved"], "--engine",
-                              "petsc", "-o", tmp_path / "out", *options])
+@pytest.mark.parametrize("options, phrase", [
+    ([], "is the body supported?"),
+    (["--system", "full", "--ksp", "gamg"], "--system full is not supported")])
+def test_command_line_exit_2_one_line(paths, tmp_path, options, phrase):
+    """``mpiexec -n 2 python -m solver X --engine petsc`` on the two blocks
+    in one body: exit 2, one line, no traceback, no output folder."""
+    code, _, err = mpirun(2, ["-m", "solver", paths["two-blocks"],
+                              "--engine", "petsc", "-o", tmp_path / "out",
+                              *options])
     lines = [ln for ln in err.splitlines() if ln.startswith("error")]
     assert code == 2 and len(lines) == 1, err
-    assert "is the body supported?" in lines[0] and "Traceback" not in err
+    assert phrase in lines[0] and "Traceback" not in err
     assert not (tmp_path / "out").exists()

@@ -348,3 +348,21 @@ def floor_block(load=(0.0, -1.0), n=(8, 4), floor=0.0, E_=100.0, where="all"):
                     "mesh": "2 x 1 block, P1 triangles",
                     "load": f"{tuple(load)} {where}"}
     return problem
+
+
+def two_floor_blocks():
+    """Two separate :func:`floor_block` s in one body, side by side on the
+    floor (the second 1 to the right of the first): K has six zero
+    pivots, the whole body three rigid motions, so K with three DOFs held
+    is still singular (a kernel beyond the rigid-body modes)."""
+    import dataclasses
+
+    one = floor_block()
+    n = len(one.nodes)
+    return dataclasses.replace(
+        one, K=sp.block_diag([one.K, one.K]).tocsr(),
+        f=np.concatenate([one.f, one.f]),
+        nodes=np.concatenate([one.nodes, one.nodes + [3.0, 0.0]]),
+        cells=np.concatenate([one.cells, one.cells + n]),
+        dof_map=np.concatenate([one.dof_map, one.dof_map + [n, 0]]),
+        u_prescribed=np.zeros((2 * n, 2)))

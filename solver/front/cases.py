@@ -69,9 +69,7 @@ def case_of(problem, friction, engine):
               "rigid" if problem.kind == "mesh" else "discrete")
     name = engine if isinstance(engine, str) or engine is None \
         else engine.name
-    # the petsc engine refuses a singular K by its own pivot check
-    floating = bodies in ("rigid", "two-body") \
-        and (name or "serial") == "serial" and problem.floating
+    floating = bodies in ("rigid", "two-body") and problem.floating
     return Case(problem.dim, bodies,
                 "frictionless" if friction is None else "friction",
                 name or "serial", "floating" if floating else "supported")
@@ -244,6 +242,13 @@ RULES = tuple(
              lambda c, s, g: c.support == "floating"
              and c.contact == "friction" and s["formulation"] == "thesis",
              "formulation='thesis'"),
+        Rule("system", "a body held by contact only, petsc engine",
+             "the petsc engine's full system solves its Newton systems "
+             "with K itself (MUMPS or CG + GAMG), singular here; its "
+             "condensed system (the default) solves the body with K⁺ and "
+             "the modes' amplitudes",
+             lambda c, s, g: c.support == "floating" and c.engine == "petsc"
+             and not s["condense"], "system='full'"),
         Rule("system", "a body held by contact only",
              "its K is singular (rigid-body modes): it is solved on the "
              "condensed system, with K⁺ and the modes' amplitudes",

@@ -15,14 +15,18 @@ __all__ = ["PetscCondensation", "PetscNormalCondensation"]
 
 
 class PetscCondensation(Condensation):
-    """:class:`~solver.linalg.Condensation` of ``problem.K`` onto
-    ``dofs`` whose factorisation is a :class:`PetscFactor` (all ranks);
-    ``load`` and ``displacement`` are Condensation's own."""
+    """:class:`~solver.linalg.Condensation` of ``problem.K`` (or of
+    ``stiffness``: a matrix of its size, or a function returning one, held
+    only while padded) onto ``dofs`` whose factorisation is a
+    :class:`PetscFactor` (all ranks); ``load`` and ``displacement`` are
+    Condensation's own."""
 
-    def __init__(self, svc, layout, problem, dofs):  # noqa: D107
+    def __init__(self, svc, layout, problem, dofs,
+                 stiffness=None):  # noqa: D107
         dofs = np.asarray(dofs, np.int64).ravel()
+        A = problem.K if stiffness is None else stiffness
         super().__init__(problem, dofs, "petsc-mumps",
-                         PetscFactor(svc, layout, problem.K, dofs))
+                         PetscFactor(svc, layout, A, dofs))
 
 
 class PetscNormalCondensation:

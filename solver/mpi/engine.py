@@ -146,6 +146,23 @@ class PetscEngine:
         self.made.append(("dofs", made))
         return made
 
+    def held_condensation(self, problem, dofs):
+        """(F, K_F condensed onto ``dofs``) of a body held by contact only
+        (:class:`solver.contact.strategies.floating.FloatingSystem`): K
+        with the r DOFs F held (:func:`solver.linalg.kernel.
+        held_stiffness`) is built on rank 0 only while it is padded and
+        scattered, then factorised by MUMPS with its Schur set, whose
+        pivot check refuses a K with a kernel beyond the rigid modes."""
+        from ..linalg.kernel import held_stiffness
+        from .condensation import PetscCondensation
+
+        fixed = problem.fixed_dofs()
+        made = PetscCondensation(
+            self.svc, self._layout(problem), problem, dofs,
+            stiffness=lambda: held_stiffness(problem.K, fixed))
+        self.made.append(("dofs", made))
+        return fixed, made
+
     def normal_condensation(self, problem, geometry):
         """K̂ condensed onto candidate normal DOFs (:class:`~solver.mpi.
         condensation.PetscNormalCondensation`)."""

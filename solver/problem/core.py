@@ -244,15 +244,23 @@ class ContactProblem:
         rigid-body modes (:func:`solver.linalg.kernel.fixing_dofs`) and K
         with them held (:func:`solver.linalg.kernel.held_stiffness`),
         positive definite iff ker K is the modes. Remembered for this K."""
-        from ..linalg.kernel import fixing_dofs, held_stiffness
+        from ..linalg.kernel import held_stiffness
 
         if self._held is None or self._held[0] is not self.K:
-            R, _ = self.rigid_modes()
-            allowed = np.ones(self.n_dofs, bool)
-            allowed[self.contact_dofs[self.contact_dofs >= 0]] = False
-            fixed, _ = fixing_dofs(R, np.flatnonzero(allowed))
+            fixed = self.fixed_dofs()
             self._held = (self.K, (fixed, held_stiffness(self.K, fixed)))
         return self._held[1]
+
+    def fixed_dofs(self):
+        """F of :meth:`held_stiffness` alone (an engine that builds K_F
+        itself, :meth:`solver.mpi.engine.PetscEngine.held_condensation`,
+        needs no copy of K here)."""
+        from ..linalg.kernel import fixing_dofs
+
+        R, _ = self.rigid_modes()
+        allowed = np.ones(self.n_dofs, bool)
+        allowed[self.contact_dofs[self.contact_dofs >= 0]] = False
+        return fixing_dofs(R, np.flatnonzero(allowed))[0]
 
     def dof_points(self):
         """The coordinates of each reduced DOF's node (Ñ, d)."""

@@ -74,3 +74,35 @@ def test_a_held_block_solves_from_the_command_line(tmp_path, capsys):
     np.testing.assert_allclose(summary["total_contact_force"], [0.0, 2.0],
                                rtol=0, atol=1e-12)
     assert summary["rigid_body_motion"]["modes"] == 3
+
+
+#: The refusals that the petsc engine meets at other places than the
+#: serial one: the frictionless check after MUMPS has factorised K_F
+#: (solver/contact/strategies/floating.py), the friction cones in the
+#: front, and its own rule for the full system.
+PETSC_CASES = [CASES[0], CASES[3],
+               ("full system on the petsc engine", dict(),
+                ["--system", "full"], "--system full is not supported "
+                "for 2D, rigid, held by contact only, frictionless, petsc "
+                "engine")]
+
+
+@pytest.mark.parametrize("name, block, argv, phrase", PETSC_CASES,
+                         ids=[c[0] for c in PETSC_CASES])
+def test_unheld_load_is_refused_on_the_petsc_engine(tmp_path, name, block,
+                                                    argv, phrase):
+    """``mpiexec -n 2 python -m solver X --engine petsc``: the serial
+    engine's line and exit code 2, from rank 0 only, nothing written."""
+    from test_mpi import REASON, mpirun
+
+    if REASON is not None:
+        pytest.skip(str(REASON))
+    path = save_problem(tmp_path / "p.npz", floor_block(**block))
+    before = sorted(p.name for p in tmp_path.iterdir())
+    code, out, err = mpirun(2, ["-m", "solver", path, "--engine", "petsc",
+                                *argv, "-o", tmp_path / "out"])
+    lines = [ln for ln in err.splitlines() if ln.startswith("error")]
+    assert code == 2 and len(lines) == 1, err
+    assert phrase in lines[0] and "Traceback" not in err, (phrase, err)
+    assert out == ""
+    assert sorted(p.name for p in tmp_path.iterdir()) == before

@@ -80,7 +80,7 @@ from ...problem.rigid import (check_rigid_friction, check_rigid_load,
 from ..geometry import rotation
 
 __all__ = ["FloatingSystem", "check_load", "check_friction_load",
-           "rigid_start", "unresisted"]
+           "held_condensation", "rigid_start", "unresisted"]
 
 #: Gaps below this × the body's size count as touching in the start.
 TOUCH_RTOL = 1e-9
@@ -158,6 +158,20 @@ def check_friction_load(problem, geometry, friction, coulomb="lagged",
             "the normal one, a load path, or use coulomb='implicit'"))
 
 
+def held_condensation(engine, problem, dofs):
+    """(F, K_F condensed onto ``dofs``): K with the r DOFs F held
+    (:meth:`~solver.problem.ContactProblem.held_stiffness`) condensed by
+    ``engine``, or by the engine's own ``held_condensation(problem, dofs)``
+    if it has one (the petsc engine builds K_F only while it distributes
+    it, :meth:`solver.mpi.engine.PetscEngine.held_condensation`)."""
+    own = getattr(engine, "held_condensation", None)
+    if own is not None:
+        return own(problem, dofs)
+    fixed, K_F = problem.held_stiffness()
+    return fixed, engine.condensation(dataclasses.replace(problem, K=K_F),
+                                      dofs)
+
+
 class FloatingSystem:
     """The reduction of a body with rigid-body modes (module docstring):
     K condensed onto the free DOFs of ``geometry``'s nodes with the modes'
@@ -170,11 +184,9 @@ class FloatingSystem:
     def __init__(self, problem, geometry, engine, friction=None):
         R, _ = problem.rigid_modes()
         self.problem, self.modes = problem, R
-        c = geometry.free_dofs()
-        self.fixed, K_F = problem.held_stiffness()
         # the factorisation of K_F refuses a K with more than rigid modes
-        self.condensation = engine.condensation(
-            dataclasses.replace(problem, K=K_F), c)
+        self.fixed, self.condensation = held_condensation(
+            engine, problem, geometry.free_dofs())
         if friction is None:  # a load no contact holds: refused
             check_load(problem, geometry)  # (friction: by the front)
         self.dofs = self.condensation.dofs

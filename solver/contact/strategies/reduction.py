@@ -83,7 +83,7 @@ def reduction(problem, geometry, engine, condensed, friction=None):
     """:class:`CondensedSystem` if ``condensed``, else :class:`FullSystem`;
     :class:`~.floating.FloatingSystem` for a body with rigid-body modes
     (``friction``: the run's coefficient f_c, None if frictionless)."""
-    if condensed and engine.name == "serial" and problem.floating:
+    if condensed and problem.floating:  # any engine's condensation
         from .floating import FloatingSystem
 
         return FloatingSystem(problem, geometry, engine, friction)
