@@ -29,11 +29,13 @@ pytestmark = pytest.mark.skipif(REASON is not None, reason=str(REASON))
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 P = 1739.6  # the Hertz cylinder's load (tests/test_floating.py)
+P_SPHERE = 36.63  # the whole sphere's, its quarter model carries P/4
 RTOL = 1e-8
 
 #: name -> (problem, options of solver.solve)
 CASES = {
     "hertz": ("hertz", {}),
+    "sphere": ("sphere", {}),
     "block": ("block", {}),
     "block-friction": ("block", dict(friction=0.3, steps=3)),
     "held-by-friction": ("pushed", dict(friction=0.5, coulomb="implicit",
@@ -77,15 +79,21 @@ spmd(main, json.loads(sys.argv[1]), json.loads(sys.argv[2]), sys.argv[3])
 
 @pytest.fixture(scope="module")
 def paths(tmp_path_factory):
-    """The force-loaded Hertz half-cylinder (load='force'), the thesis
+    """The force-loaded Hertz half-cylinder and quarter sphere (a/h = 4;
+    load='force'), the thesis
     block on the floor under its weight (block_on_floor.py), the 2 × 1
     block pushed sideways and down, two blocks in one body."""
     folder = tmp_path_factory.mktemp("floating_mpi")
-    out = dict(hertz=folder / "hertz.npz", block=folder / "block.npz")
+    out = dict(hertz=folder / "hertz.npz", sphere=folder / "sphere.npz",
+               block=folder / "block.npz")
     export_module().export_only(
         ROOT / "sfepy_problems" / "hertz_cylinder.py",
         mesh=str(ROOT / "meshes" / "hertz.mesh"), output=str(out["hertz"]),
         load="force", P=P)
+    export_module().export_only(
+        ROOT / "sfepy_problems" / "hertz_sphere.py",
+        mesh=str(ROOT / "meshes" / "hertz_sphere_4.mesh"),
+        output=str(out["sphere"]), load="force", P=P_SPHERE)
     export_module().export_only(
         ROOT / "sfepy_problems" / "block_on_floor.py",
         mesh=str(ROOT / "meshes" / "block_454.mesh"),
@@ -122,7 +130,8 @@ def serial(paths):
 def test_same_answer_as_the_serial_engine(runs, serial, name):
     """The same u to 1e-8 and the same Newton count, on every rank count;
     the same rigid-body modes (2 for the half-cylinder pinned in u_x at
-    its top centre, 3 for the blocks)."""
+    its top centre, 1 for the quarter sphere free along its axis, 3 for
+    the blocks)."""
     n, said, arrays = runs
     success, message, njev, ranks, modes = said[name]
     assert success, message
@@ -130,20 +139,23 @@ def test_same_answer_as_the_serial_engine(runs, serial, name):
     u = arrays[name + "/u"]
     assert np.abs(u - ref.u).max() <= RTOL * np.abs(ref.u).max()
     assert njev == ref.njev and ranks == n
-    assert modes == ref.rigid_body["modes"] == (2 if name == "hertz" else 3)
+    assert modes == ref.rigid_body["modes"] == dict(hertz=2, sphere=1).get(
+        name, 3)
 
 
-@pytest.mark.parametrize("name", ["hertz", "block"])
+@pytest.mark.parametrize("name", ["hertz", "sphere", "block"])
 def test_contact_force_balances_the_load(runs, paths, name):
-    """Total contact force = the load to 1e-10: P on the half-cylinder, the
-    weight (−Σ f_y) of the block; nothing sideways."""
+    """Total contact force = the load to 1e-10: P on the half-cylinder,
+    P/4 on the quarter sphere, the weight (−Σ f_y) of the block; nothing
+    in the other directions."""
     _, _, arrays = runs
     problem = solver.load_problem(paths[name])
-    load = P if name == "hertz" else \
+    load = dict(hertz=P, sphere=P_SPHERE / 4).get(name) or \
         -problem.f[problem.dof_map[:, 1] == 1].sum()
     total = arrays[name + "/total"]
-    assert abs(total[1] - load) <= 1e-10 * load
-    assert abs(total[0]) <= 1e-10 * load
+    axis = problem.dim - 1
+    assert abs(total[axis] - load) <= 1e-10 * load
+    assert np.abs(np.delete(total, axis)).max() <= 1e-10 * load
 
 
 def test_friction_normal_forces_balance_the_weight(runs, paths):
