@@ -14,8 +14,8 @@ ratios, and the largest difference of u relative to max|u|.
 """
 
 import argparse
-import importlib.util
 import pathlib
+import runpy
 import sys
 import tempfile
 import time
@@ -27,15 +27,6 @@ sys.path.insert(0, str(ROOT))
 
 import solver  # noqa: E402
 from solver.mpi.engine import service, spmd  # noqa: E402
-
-
-def _module(name, path):
-    if name not in sys.modules:
-        spec = importlib.util.spec_from_file_location(name, path)
-        module = importlib.util.module_from_spec(spec)
-        sys.modules[name] = module
-        spec.loader.exec_module(module)
-    return sys.modules[name]
 
 
 def cpu_all_ranks():
@@ -58,9 +49,9 @@ def timed(path, engine, repeat):
 
 
 def run(args):
-    hertz = _module("_contact_ssn_meshes_hertz", ROOT / "meshes" / "hertz.py")
-    export = _module("_contact_ssn_sfepy_export",
-                     ROOT / "sfepy_problems" / "_export.py")
+    hertz = runpy.run_path(str(ROOT / "meshes" / "hertz.py"))
+    export_only = runpy.run_path(str(ROOT / "sfepy_problems" /
+                                     "_export.py"))["export_only"]
     problem_file = ROOT / "sfepy_problems" / "hertz_cylinder.py"
     print(f"ranks: {service().size}")
     print("| DOFs | load | J serial | J petsc | serial [s] | petsc [s] "
@@ -71,14 +62,14 @@ def run(args):
         folder = pathlib.Path(folder)
         for h in args.h_contact:
             mesh = folder / f"hertz_{h}.mesh"
-            hertz.write_mesh(mesh, *hertz.hertz_mesh(h, args.h_far))
+            hertz["write_mesh"](mesh, *hertz["hertz_mesh"](h, args.h_far))
             paths = dict(displacement=folder / f"d_{h}.npz",
                          force=folder / f"f_{h}.npz")
             P = None
             for load, path in paths.items():
                 extra = {} if P is None else dict(load="force", P=P)
-                export.export_only(problem_file, mesh=str(mesh),
-                                   output=str(path), **extra)
+                export_only(problem_file, mesh=str(mesh), output=str(path),
+                            **extra)
                 ws, cs, rs = timed(path, "serial", args.repeat)
                 wp, cp, rp = timed(path, "petsc", args.repeat)
                 if P is None:
