@@ -166,6 +166,15 @@ class FloatingSystem:
 
     name = "contact + rigid-body modes"
     condensed = True
+    #: φ_FB's watchdog (option of :func:`solver.ncp.solve_ncp`) in the
+    #: friction steps: each starts from the previous answer with every
+    #: node sticking (no predictor: K⁺ holds the DOFs F, not Γc), and the
+    #: Newton step from there, the bonded answer, asks the contact edge
+    #: for tractions far above f_c p; ψ rises within 10⁻⁴ of that step
+    #: (the first node past its bound), so the monotone search crawls and,
+    #: with the implicit bound, stalls. Full steps as φ_min's, checked
+    #: against ψ after at most this many.
+    watchdog = 4
 
     def __init__(self, problem, geometry, engine, friction=None):
         R, _ = problem.rigid_modes()
