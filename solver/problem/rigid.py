@@ -28,12 +28,26 @@ import scipy.optimize as opt
 
 from ..errors import ProblemError
 
-__all__ = ["LOAD_RTOL", "check_rigid_load", "check_rigid_friction",
-           "step_unheld", "mode_text", "rigid_motion"]
+__all__ = ["LOAD_RTOL", "WEAK_RTOL", "check_rigid_load",
+           "check_rigid_friction", "step_unheld", "mode_text",
+           "rigid_motion", "weakly_held"]
 
 #: A load component along an unresisted motion above this × ‖f‖₂ (and the
 #: load's work relative to |Rᵀf|) is refused.
 LOAD_RTOL = 1e-9
+
+#: A rigid motion whose contact nodes move along their normals by at most
+#: this fraction of their motion (:func:`weakly_held`) is held weakly.
+#: Between the two: a rotation held by the lever arm of the contact zone
+#: has a ratio of order (zone's width)/(distance to the centre), ≥ 0.18 on
+#: the shipped problems; one that only the facets of a round surface see,
+#: of order h/R (4.6e-4 on the two floating cylinders).
+WEAK_RTOL = 1e-2
+
+#: Ratios at or below this are round-off: the motion is not seen at all
+#: and is handled as unresisted (:func:`solver.contact.strategies.
+#: floating.unresisted`), not reported as weak.
+UNSEEN_RTOL = 1e-10
 
 
 def check_rigid_load(problem, N, f=None,
@@ -140,6 +154,75 @@ def step_unheld(problem, N, T, f, bounds):
     motion = R @ d
     peak = _peak(problem, motion)
     return C @ d / peak, float(np.asarray(f, float) @ motion) / peak
+
+
+def weakly_held(problem, N, G):
+    r"""The rigid motions of a floating ``problem`` that the contact
+    normals see only weakly: [(text, ratio)], ``text`` the motion in words
+    (:func:`mode_text`; in 2D also as a rotation about its centre),
+    ``ratio`` ∈ (UNSEEN_RTOL, WEAK_RTOL] the share of the contact nodes'
+    motion along their normals. N (Nc, r): the modes' normal
+    displacements at the contact nodes; G (n_c, r): the modes at those
+    nodes' DOFs (every component).
+
+    The ratios are the singular values of N in the metric of G,
+
+    .. math:: ρ_k = \min_{\dim V = k}\max_{α ∈ V}
+              \frac{‖Nα‖}{‖Gα‖} ∈ [0, 1]
+
+    (|n·u| ≤ |u| node by node): 0 for a motion along the contact surface
+    (a flat sliding on a flat, handled exactly as unresisted), 1 for a
+    motion along the normals, and of order h/R for a motion along a round
+    surface that only its polygon's facets see (the upper of two cylinders
+    spinning about the lower one's centre). Such a motion is resisted by
+    round-off-sized lever arms: the answer's share along it is arbitrary
+    (set by the mesh), and the Newton matrices are ill-conditioned along
+    it. Independent of the body's size and of how R is scaled."""
+    N, G = np.asarray(N, float), np.asarray(G, float)
+    if N.shape[1] == 0 or not len(N):
+        return []
+    _, s, Wt = np.linalg.svd(G, full_matrices=False)
+    keep = s > UNSEEN_RTOL * max(s.max(initial=0.0), 1e-300)
+    W = Wt[keep].T / s[keep]  # α per unit motion of the contact nodes
+    _, rho, Vt = np.linalg.svd(N @ W, full_matrices=True)
+    rho = np.concatenate([rho, np.zeros(W.shape[1] - len(rho))])
+    R, C = problem.rigid_modes()
+    found = []
+    for ratio, v in zip(rho, Vt):
+        if not UNSEEN_RTOL < ratio <= WEAK_RTOL:
+            continue
+        alpha = W @ v
+        motion = R @ alpha
+        peak = _peak(problem, motion)
+        c = C @ alpha / peak
+        found.append((_centre_text(problem, c) or mode_text(problem, c),
+                      float(ratio)))
+    return found
+
+
+def _centre_text(problem, c):
+    """In 2D, a motion of one body with a rotation, as the rotation about
+    the point it leaves in place ("rotation ω rad about (x, y)", "of body
+    b: ..." for several bodies); "" otherwise."""
+    mesh, _ = _mesh(problem)
+    if mesh.dim != 2:
+        return ""
+    blocks = _blocks(mesh)
+    moving = [(b, mine) for b, mine in blocks
+              if np.any(np.abs(c[3 * b:3 * b + 3])
+                        > 1e-9 * np.abs(c).max(initial=0.0))]
+    if len(moving) != 1:
+        return ""
+    b, mine = moving[0]
+    t, w = c[3 * b:3 * b + 2], c[3 * b + 2]
+    if abs(w) <= 1e-9 * np.abs(c[3 * b:3 * b + 3]).max():
+        return ""
+    centre, length = _frame(mesh, mine)
+    omega = w / length
+    point = centre + np.array([-t[1], t[0]]) / omega
+    point = np.where(np.abs(point) <= 1e-9 * length, 0.0, point)
+    text = f"rotation {omega:.3g} rad about ({point[0]:.4g}, {point[1]:.4g})"
+    return text if len(blocks) == 1 else f"of body {b}: {text}"
 
 
 def _mesh(problem):

@@ -284,6 +284,7 @@ def make_result(problem, geometry, shared, run, stream, steps, friction,
         rigid = rigid_motion(problem, shared.space.displacement(
             run.last[1], run.last[2]))
         rigid["start_nodes"] = None
+        rigid["weakly_held"] = getattr(shared.space, "weakly_held", [])
     nc, idx = problem.n_contact, geometry.index
     normal = np.full((nc, geometry.normal.shape[1]), np.nan)
     normal[idx] = geometry.normal
