@@ -23,7 +23,8 @@ from solver.geometry.curves.parametric import ParametricCurve
 from solver.verification import (cattaneo_mindlin_stick_half_width,
                                  hertz_line_contact, zone_of)
 from tet_elasticity import box, mesh_problem, stiffness
-from tri_elasticity import floor_block, graded_half_disk
+from tri_elasticity import (floor_block, floor_block_beyond_lagged,
+                            graded_half_disk)
 
 E, NU, P, FC = 2e5, 0.3, 435.0, 0.5
 
@@ -143,12 +144,7 @@ def test_lagged_step_that_cannot_hold_the_body_ends_the_run():
     two steps with f_c = 0.5. Step 3 needs 0.8 of friction, the lagged
     bound from step 2's pressure allows 0.75: no answer exists; the run
     ends there (two steps kept), not with a wrong answer."""
-    problem = floor_block(load=(0.4, -1.0))
-    first = floor_block(load=(0.0, -0.5)).f
-    problem = dataclasses.replace(
-        problem, load_path=np.stack([first, problem.f]),
-        load_path_steps=np.array([1, 2]),
-        load_path_friction=np.array([0.0, 1.0]))
+    problem = floor_block_beyond_lagged()
     r = solver.solve(problem, friction=FC, coulomb="lagged")
     assert not r.success and r.failed_step == 3
     assert r.steps_completed == 2

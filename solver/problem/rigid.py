@@ -29,8 +29,8 @@ import scipy.optimize as opt
 from ..errors import ProblemError
 
 __all__ = ["LOAD_RTOL", "WEAK_RTOL", "check_rigid_load",
-           "check_rigid_friction", "step_unheld", "mode_text",
-           "rigid_motion", "weakly_held"]
+           "check_rigid_friction", "least_friction", "step_unheld",
+           "mode_text", "rigid_motion", "weakly_held"]
 
 #: A load component along an unresisted motion above this × ‖f‖₂ (and the
 #: load's work relative to |Rᵀf|) is refused.
@@ -82,7 +82,7 @@ def _check_cone(problem, N, G, f, unheld):
     presses the body onto nothing (no resultant along the modes, or no
     contact normal N sees them), or if Rᵀf is not in the cone of the
     rows of G: "... along the rigid-body motion d that ``unheld``"."""
-    R, C = problem.rigid_modes()
+    R, _ = problem.rigid_modes()
     if R.shape[1] == 0:
         return
     f = problem.f if f is None else np.asarray(f, float)
@@ -94,6 +94,21 @@ def _check_cone(problem, N, G, f, unheld):
             "but the load has no resultant along them: nothing presses it "
             "onto the obstacle, its position is undetermined; support it "
             "or load it towards the obstacle")
+    found = _unheld_share(problem, G, f)
+    if found is not None:
+        component, text = found
+        raise ProblemError(
+            f"f: the load has a component {component:.6g} along the "
+            f"rigid-body motion {text} that {unheld}")
+
+
+def _unheld_share(problem, G, f):
+    """None if the load f is in the cone of the rows of G (the modes'
+    share of what contact forces can do), else (the load's component
+    along the motion it drives, that motion in words)."""
+    R, C = problem.rigid_modes()
+    e = R.T @ f
+    size = LOAD_RTOL * max(float(np.linalg.norm(f)), 1e-300)
     # Moreau: e = d + Gᵀμ, d the projection of e onto {d: G d ≤ 0} (the
     # motions no contact stops), Gᵀμ (μ ≥ 0, NNLS) what contact forces can
     # balance; d ≠ 0 is the load's share no contact resists, and d/|d| the
@@ -101,14 +116,40 @@ def _check_cone(problem, N, G, f, unheld):
     scale = np.abs(G).max()
     mu, _ = opt.nnls(G.T / scale, e, maxiter=50 * max(len(G), 10))
     d = e - G.T @ mu / scale
-    if float(e @ d) > size * np.linalg.norm(e):
-        motion = R @ d
-        peak = _peak(problem, motion)
-        component = float(f @ motion) / peak
-        raise ProblemError(
-            f"f: the load has a component {component:.6g} along the "
-            f"rigid-body motion {mode_text(problem, C @ d / peak)} that "
-            f"{unheld}")
+    if float(e @ d) <= size * np.linalg.norm(e):
+        return None
+    motion = R @ d
+    peak = _peak(problem, motion)
+    return float(f @ motion) / peak, mode_text(problem, C @ d / peak)
+
+
+def least_friction(problem, N, T, f=None, largest=1e3):
+    """The least Coulomb coefficient f_c whose cones at the contact nodes
+    hold the load f (default the problem's) of a floating ``problem`` —
+    0 if frictionless contact does, None if no f_c ≤ ``largest`` does (the
+    load pulls the body away). N, T as :func:`check_rigid_friction`. The
+    loads held form a cone that grows with f_c, so bisection (to 1e-4
+    relative) on :func:`check_rigid_friction`'s test; in 3D its cone is
+    the circumscribed octagon's, so the f_c found may be up to
+    1 − cos(π/8) ≈ 8 % below the true one."""
+    f = problem.f if f is None else np.asarray(f, float)
+    if _unheld_share(problem, N, f) is None:
+        return 0.0
+
+    def held(friction):
+        return _unheld_share(problem, _cone_generators(N, T, friction),
+                             f) is None
+
+    if not held(largest):
+        return None
+    low, high = 0.0, largest
+    while high - low > 1e-4 * high:
+        middle = 0.5 * (low + high) if low else high / 16
+        if held(middle):
+            high = middle
+        else:
+            low = middle
+    return high
 
 
 def _cone_generators(N, T, friction):
