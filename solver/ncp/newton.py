@@ -32,8 +32,9 @@ E with m_e rows, A and B with m_c, m_e + m_c = n. With an NCP function φ
   123-156). The anchors' ψ decrease monotonically, so DFK's convergence
   argument holds; a problem whose Newton step from a far start leaves
   the region where ψ is smooth (Coulomb friction's all-stick start, where
-  the first kink of the projection lies 10⁻⁴ of the step away) converges
-  in the iterations of φ_min's full steps instead of crawling.
+  the first kink of the projection lies a small fraction of the step
+  away) converges in the iterations of φ_min's full steps instead of
+  crawling.
 
 ``jac`` returns sparse blocks (J d = −Φ by SuperLU), dense blocks (a
 condensed system: LAPACK) or a structured Jacobian that solves its own

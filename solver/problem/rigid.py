@@ -38,10 +38,10 @@ LOAD_RTOL = 1e-9
 
 #: A rigid motion whose contact nodes move along their normals by at most
 #: this fraction of their motion (:func:`weakly_held`) is held weakly.
-#: Between the two: a rotation held by the lever arm of the contact zone
-#: has a ratio of order (zone's width)/(distance to the centre), ≥ 0.18 on
-#: the shipped problems; one that only the facets of a round surface see,
-#: of order h/R (4.6e-4 on the two floating cylinders).
+#: Between the two kinds: a rotation held by the lever arm of the contact
+#: zone has a ratio of order (zone's width)/(distance to its centre), one
+#: that only the facets of a round surface see, of order h/R
+#: (docs/own-problem.md has the measured values).
 WEAK_RTOL = 1e-2
 
 #: Ratios at or below this are round-off: the motion is not seen at all

@@ -200,10 +200,10 @@ class FloatingSystem:
     #: friction steps: each starts from the previous answer with every
     #: node sticking (no predictor: K⁺ holds the DOFs F, not Γc), and the
     #: Newton step from there, the bonded answer, asks the contact edge
-    #: for tractions far above f_c p; ψ rises within 10⁻⁴ of that step
-    #: (the first node past its bound), so the monotone search crawls and,
-    #: with the implicit bound, stalls. Full steps as φ_min's, checked
-    #: against ψ after at most this many.
+    #: for tractions far above f_c p; ψ rises a small fraction along that
+    #: step (where the first node passes its bound), so the monotone search
+    #: crawls and, with the implicit bound, stalls (CHANGELOG.md). Full
+    #: steps as φ_min's, checked against ψ after at most this many.
     watchdog = 4
 
     def __init__(self, problem, geometry, engine, friction=None):
