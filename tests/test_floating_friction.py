@@ -118,6 +118,11 @@ def test_shear_above_the_friction_limit_is_refused():
     assert "\n" not in message
     assert "along the rigid-body motion translation (" in message
     assert "contact with friction f_c = 0.5 cannot resist" in message
+    # what --info says (problem.refusals): statics, Q/P = 1.2·0.5 = 0.6;
+    # a load path, so no word on the lagged bound's first step
+    refusal, = problem.refusals()
+    assert "it needs friction: friction=F with F ≥ 0.6 (" in refusal
+    assert "coulomb=" not in refusal
 
 
 def test_block_held_sideways_by_friction():

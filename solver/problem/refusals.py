@@ -63,14 +63,15 @@ def _check_floating_load(problem, normal):
         message = _one_line(exc)
         if "that no contact resists" not in message:
             raise  # nothing presses the body onto the obstacle
-        loads = [problem.f] if problem.load_path is None else [
-            end for end, factor in zip(problem.load_path,
-                                       problem.load_path_friction)
-            if factor > 0]
+        loads = [(problem.f, 1.0)] if problem.load_path is None else [
+            (end, factor) for end, factor in zip(
+                problem.load_path, problem.load_path_friction) if factor > 0]
         T = _tangential_rows(problem, normal)
-        least = [least_friction(problem, N, T, f) for f in loads]
+        least = [least_friction(problem, N, T, f) for f, _ in loads]
         if not loads or any(value is None for value in least):
             raise
+        # a stage's coefficient is f_c times its factor
+        least = [value / factor for value, (_, factor) in zip(least, loads)]
         head = message.split(" that no contact resists")[0]
         bound = ("" if problem.load_path is not None else
                  " and coulomb='implicit' (the lagged bound gives the "
