@@ -45,6 +45,15 @@ class PenetrationWarning(SolverWarning):
     solver cannot move it; the message names the nodes and the depth."""
 
 
+class WeaklyHeldWarning(SolverWarning):
+    """A rigid-body motion of a body held by contact only moves its contact
+    nodes almost only along the contact surface (a round body spinning on
+    a round body without friction): the contact normals see it through
+    the mesh's facets alone, so the answer's share along it is set by the
+    discretisation. Raised before solving; the message names the motion
+    and says how to hold it (:func:`solver.problem.rigid.weakly_held`)."""
+
+
 class KinematicsWarning(SolverWarning):
     """The answer breaks an assumption of the geometrically linear model
     (:mod:`solver.contact.kinematics`): sliding of more than one element

@@ -23,7 +23,8 @@ from solver.geometry.curves.parametric import ParametricCurve
 from solver.verification import (cattaneo_mindlin_stick_half_width,
                                  hertz_line_contact, zone_of)
 from tet_elasticity import box, mesh_problem, stiffness
-from tri_elasticity import floor_block, graded_half_disk
+from tri_elasticity import (floor_block, floor_block_beyond_lagged,
+                            graded_half_disk)
 
 E, NU, P, FC = 2e5, 0.3, 435.0, 0.5
 
@@ -71,12 +72,16 @@ def cylinder():
 
 @pytest.mark.parametrize("coulomb, method", [("lagged", "min"),
                                              ("implicit", "min"),
-                                             ("lagged", "fb")])
+                                             ("lagged", "fb"),
+                                             ("implicit", "fb")])
 def test_cattaneo_mindlin_on_a_floating_cylinder(cylinder, coulomb, method):
     """The stick half-length within 3 % of Cattaneo–Mindlin's c
     (measured −0.7 % for each); the contact forces balance P and Q to
     1e-10 (the body's x translation held by friction alone); ≥ 40 nodes
-    in contact; every step verified."""
+    in contact; every step verified. φ_FB with the implicit bound stalled
+    at the first friction step (its monotone line search crawled from the
+    all-stick start) until the floating steps got φ_FB's watchdog: now 3
+    Newton steps per friction step, as φ_min's."""
     problem, x = cylinder
     assert problem.rigid_modes()[0].shape[1] == 3
     r = solver.solve(problem, friction=FC, coulomb=coulomb, method=method)
@@ -98,6 +103,9 @@ def test_cattaneo_mindlin_on_a_floating_cylinder(cylinder, coulomb, method):
     assert np.abs(r.friction_traction[r.stage == 0]).max() \
         <= 1e-12 * r.contact_pressure.max()
     assert r.verification["passed"]
+    if method == "fb":  # the watchdog's full steps: no crawling
+        friction_steps = [s for s in r.records if s["stage"] == 1]
+        assert max(s["nit"] for s in friction_steps) <= 6
 
 
 def test_shear_above_the_friction_limit_is_refused():
@@ -110,6 +118,11 @@ def test_shear_above_the_friction_limit_is_refused():
     assert "\n" not in message
     assert "along the rigid-body motion translation (" in message
     assert "contact with friction f_c = 0.5 cannot resist" in message
+    # what --info says (problem.refusals): statics, Q/P = 1.2·0.5 = 0.6;
+    # a load path, so no word on the lagged bound's first step
+    refusal, = problem.refusals()
+    assert "it needs friction: friction=F with F ≥ 0.6 (" in refusal
+    assert "coulomb=" not in refusal
 
 
 def test_block_held_sideways_by_friction():
@@ -136,12 +149,7 @@ def test_lagged_step_that_cannot_hold_the_body_ends_the_run():
     two steps with f_c = 0.5. Step 3 needs 0.8 of friction, the lagged
     bound from step 2's pressure allows 0.75: no answer exists; the run
     ends there (two steps kept), not with a wrong answer."""
-    problem = floor_block(load=(0.4, -1.0))
-    first = floor_block(load=(0.0, -0.5)).f
-    problem = dataclasses.replace(
-        problem, load_path=np.stack([first, problem.f]),
-        load_path_steps=np.array([1, 2]),
-        load_path_friction=np.array([0.0, 1.0]))
+    problem = floor_block_beyond_lagged()
     r = solver.solve(problem, friction=FC, coulomb="lagged")
     assert not r.success and r.failed_step == 3
     assert r.steps_completed == 2

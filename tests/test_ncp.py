@@ -177,3 +177,30 @@ def test_fb_is_evaluated_without_cancellation():
     a, b = rng.normal(size=(2, 1000))
     np.testing.assert_allclose(phi(a, b, "fb"), np.hypot(a, b) - (a + b),
                                rtol=1e-12, atol=1e-15)
+
+
+def test_fb_watchdog_returns_to_its_anchor():
+    """φ_FB's watchdog (option ``watchdog``): full Newton steps, and back
+    to the anchor with (27)'s step when ψ has not decreased after k of
+    them. E(x) = arctan(x) from x = 3: Newton's full steps diverge
+    (|x| > 1.39, the classical example), so the run must come back to 3
+    after 4 full steps, take the Armijo step there and still reach the
+    root x = 0, as the monotone method does; the first four steps are
+    full (α = 1) and the fifth the Armijo step from the anchor."""
+    def fun(x):
+        return np.arctan(x), np.zeros(0), np.zeros(0)
+
+    def jac(x):
+        return (np.array([[1.0 / (1.0 + x[0] ** 2)]]), np.zeros((0, 1)),
+                np.zeros((0, 1)))
+
+    plain = solve_ncp(fun, jac, np.array([3.0]), method="fb", tol=1e-12)
+    watched = solve_ncp(fun, jac, np.array([3.0]), method="fb", tol=1e-12,
+                        options={"watchdog": 4})
+    for result in (plain, watched):
+        assert result.success, result.message
+        assert abs(result.x[0]) <= 1e-12
+    alphas = watched.history["alpha"]
+    assert alphas[:4] == [1.0] * 4 and alphas[4] < 1.0
+    # the Armijo step from the anchor is the monotone method's first
+    assert alphas[4] == plain.history["alpha"][0]

@@ -366,3 +366,19 @@ def two_floor_blocks():
         cells=np.concatenate([one.cells, one.cells + n]),
         dof_map=np.concatenate([one.dof_map, one.dof_map + [n, 0]]),
         u_prescribed=np.zeros((2 * n, 2)))
+
+
+def floor_block_beyond_lagged():
+    """The floor block under a load path: (0, −0.5) frictionless in one
+    step, then (0.4, −1) in two steps with friction. With f_c = 0.5, step 3
+    needs 0.8 of friction while the lagged bound from step 2's pressure
+    allows 0.75: no answer under the lagged bound, one under the implicit
+    one."""
+    import dataclasses
+
+    problem = floor_block(load=(0.4, -1.0))
+    first = floor_block(load=(0.0, -0.5)).f
+    return dataclasses.replace(
+        problem, load_path=np.stack([first, problem.f]),
+        load_path_steps=np.array([1, 2]),
+        load_path_friction=np.array([0.0, 1.0]))

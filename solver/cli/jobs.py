@@ -12,7 +12,8 @@ import time
 from ..errors import SolverError
 from .codes import EXIT_NOT_CONVERGED, EXIT_OK
 
-__all__ = ["solve_job", "options_of", "default_outdir", "Progress"]
+__all__ = ["solve_job", "options_of", "default_outdir", "Progress",
+           "command_line_message"]
 
 #: Options of solve() by their command-line names, where they differ.
 FLAGS = {"backend": "--linear-solver", "search_interval": "--search-interval",
@@ -35,7 +36,7 @@ def options_of(args):
     return options
 
 
-def _command_line_message(message):
+def command_line_message(message):
     """A refusal of the front in the command line's words: every
     ``option=value`` of solve()'s becomes ``--option value``."""
     from ..front.cases import DEFAULTS
@@ -131,7 +132,7 @@ def solve_job(args, problem, open_folder, emit, write_summary):
     try:
         plan = prepare(problem, **options_of(args))
     except SolverError as exc:
-        raise type(exc)(_command_line_message(str(exc))) from None
+        raise type(exc)(command_line_message(str(exc))) from None
     folder = open_folder(args.outdir or default_outdir(args, plan))
     result = None
     if plan.friction is None:
@@ -153,18 +154,19 @@ def solve_job(args, problem, open_folder, emit, write_summary):
     write_summary(summary)
     emit((format_result if plan.friction is None else
           format_friction_result)(summary, folder.path))
-    if not result.success:
+    if not result.success:  # in the command line's words
+        message = command_line_message(result.message)
         if plan.friction is None:
-            line = _failure_line(result.message, result.nit,
+            line = _failure_line(message, result.nit,
                                  summary["residual_history"])
         elif result.records and "residual_history" in result.records[-1]:
             failed = result.records[-1]
-            line = _failure_line(result.message, failed["nit"],
+            line = _failure_line(message, failed["nit"],
                                  failed["residual_history"],
                                  f"; {result.steps_completed} completed "
                                  f"steps kept in {folder.path}/")
         else:
-            line = f"error: {result.message}"
+            line = f"error: {message}"
         print(line, file=sys.stderr)
         return EXIT_NOT_CONVERGED
     return EXIT_OK

@@ -211,9 +211,13 @@ def _run(args, state):
     _check_input_file(args.problem)
     problem = load_problem(args.problem)
     if args.info:  # with what a solve would refuse: exit 2 then
+        from .jobs import command_line_message
+
         if args.search_interval is not None:
             problem.set_search_interval(*args.search_interval)
         info = problem.summary(check=True, gap=args.gap)
+        info["refusals"] = [command_line_message(line)  # flags, not API
+                            for line in info["refusals"]]
         if args.json:
             emit(json.dumps(info, indent=2, allow_nan=False))
         else:

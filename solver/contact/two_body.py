@@ -294,7 +294,8 @@ class TwoBodyMap:
                      gap_mode=("mortar" if self.variant == "mortar"
                                else self.variant),
                      weighted_gap=self.coupling.gap)
-        if friction is not None and "u" not in result:  # steps not kept
+        if friction is not None and ("u" not in result  # steps not kept
+                                     or not np.size(result.u)):  # or none
             result.update(extra)
             return result
         if friction is None:

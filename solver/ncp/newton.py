@@ -21,6 +21,20 @@ E with m_e rows, A and B with m_c, m_e + m_c = n. With an NCP function φ
   d = −∇ψ = −JᵀΦ; Armijo backtracking ψ(x + 2⁻ⁱd) ≤ ψ(x) + β2⁻ⁱ∇ψᵀd (27);
   ρ = 1e-8, p = 2.1, β = 1e-4 (32); on the degenerate set
   γ = {A_i = B_i = 0} the Jacobian rows of (31) with direction z.
+  Option ``watchdog`` = k > 0 (off by default) relaxes the monotone
+  search: a Newton step that (27) refuses at t = 1 is taken whole, and
+  up to k − 1 more full Newton steps follow; as soon as an iterate
+  decreases ψ by (27) relative to the point it left (the anchor), the
+  iteration goes on from there, otherwise it returns to the anchor and
+  takes (27)'s step from it (the watchdog technique: Chamberlain, Powell,
+  Lemaréchal, Pedersen, Math. Programming Stud. 16 (1982) 1-17; for
+  complementarity, Dirkse & Ferris's PATH, Optim. Methods Softw. 5 (1995)
+  123-156). The anchors' ψ decrease monotonically, so DFK's convergence
+  argument holds; a problem whose Newton step from a far start leaves
+  the region where ψ is smooth (Coulomb friction's all-stick start, where
+  the first kink of the projection lies a small fraction of the step
+  away) converges in the iterations of φ_min's full steps instead of
+  crawling.
 
 ``jac`` returns sparse blocks (J d = −Φ by SuperLU), dense blocks (a
 condensed system: LAPACK) or a structured Jacobian that solves its own
@@ -79,7 +93,7 @@ ROUNDOFF_LEVEL = 1e-12
 DEFAULT_OPTIONS = {
     "min": {"alpha_min": 2.0 ** -10},
     "fb": {"rho": 1e-8, "p": 2.1, "beta": 1e-4, "max_halvings": 60,
-           "z": None, "typical": None},
+           "z": None, "typical": None, "watchdog": 0},
 }
 
 
@@ -191,6 +205,7 @@ def _iterate(fun, jac, x0, method, tol, max_iter, opts, callback, error,
     F, parts = counted.residual(x)
     status, detail = 1, ""
     best, quiet = [np.inf, np.inf], 0
+    watch = None  # φ_FB's watchdog: the anchor of a run of full steps
     while True:
         norm, err, size = measure(F, parts)
         if not (np.isfinite(norm) and np.isfinite(err) and np.isfinite(size)
@@ -224,7 +239,8 @@ def _iterate(fun, jac, x0, method, tol, max_iter, opts, callback, error,
                 step = _min_step(counted, x, F, parts, J, opts)
             x, F, parts, record = step
         else:
-            x, F, parts, record = _fb_step(counted, x, F, parts, J, opts)
+            x, F, parts, record, watch = _fb_step(counted, x, F, parts, J,
+                                                  opts, watch)
         with np.errstate(over="ignore"):
             merit = 0.5 * np.float64(norm) ** 2
         record.update(residual=norm, error=err, merit=float(merit),
@@ -301,8 +317,46 @@ def _min_step(counted, x, F, parts, J, opts):
                                              line_search_failed=True)
 
 
-def _fb_step(counted, x, F, parts, J, opts):
-    """One iteration of the DFK method (thesis §2.2.2, steps 2-4)."""
+def _fb_step(counted, x, F, parts, J, opts, watch=None):
+    """One iteration of the DFK method (thesis §2.2.2, steps 2-4), with
+    the watchdog (module docstring) when ``opts["watchdog"]`` > 0:
+    ``watch`` is None or the anchor (x, F, parts, d, ψ, slope, step, full
+    steps left) of a run of full Newton steps. Returns (x, F, parts,
+    record, watch)."""
+    if watch is not None:
+        x0, F0, parts0, d0, psi0, slope0, step0, left = watch
+        psi = 0.5 * F @ F
+        if np.isfinite(psi) and psi <= psi0 + opts["beta"] * slope0:
+            watch = None  # (27) holds against the anchor: go on from x
+        elif left <= 0:  # no decrease: back to the anchor, (27)'s step
+            return _armijo(counted, x0, F0, parts0, d0, psi0, slope0,
+                           step0, opts) + (None,)
+    found = _fb_direction(J, F, opts)
+    if isinstance(found, dict):
+        return x, F, parts, found, None
+    d, step, psi, slope = found
+    if watch is not None:  # the run of full steps goes on
+        trial = _full_step(counted, x, d, step)
+        if trial is None:  # not finite: back to the anchor
+            return _armijo(counted, x0, F0, parts0, d0, psi0, slope0,
+                           step0, opts) + (None,)
+        return trial + (watch[:7] + (left - 1,),)
+    if opts.get("watchdog", 0) > 0 and step == "newton":
+        trial = _full_step(counted, x, d, step)
+        if trial is not None:
+            if trial[3]["psi"] <= psi + opts["beta"] * slope:
+                return trial + (None,)  # (27) at t = 1: an ordinary step
+            anchor = (x, F, parts, d, psi, slope, step,
+                      opts["watchdog"] - 1)
+            return trial + (anchor,)
+    return _armijo(counted, x, F, parts, d, psi, slope, step, opts) \
+        + (None,)
+
+
+def _fb_direction(J, F, opts):
+    """(d, step kind, ψ, ∇ψᵀd) of the DFK method: the Newton direction
+    unless it is singular or fails (26), then −∇ψ; or the record of a
+    failure (an overflow)."""
     grad = J.rmatvec(F) if hasattr(J, "rmatvec") else J.T @ F  # ∇ψ (28)
     d = newton_direction(J, F)
     step = "newton"
@@ -315,11 +369,28 @@ def _fb_step(counted, x, F, parts, J, opts):
     with np.errstate(over="ignore", invalid="ignore"):
         psi, slope = 0.5 * F @ F, grad @ d
     if not (np.isfinite(psi) and np.isfinite(slope)):
-        return x, F, parts, dict(
+        return dict(
             alpha=0.0, step=step, line_search_failed=False, status=4,
             detail="the merit function ψ = ½‖Φ‖² or its slope overflows "
                    "(are the problem's values within the floating-point "
                    "range?)")
+    return d, step, psi, slope
+
+
+def _full_step(counted, x, d, step):
+    """x + d with its residual, or None if that is not finite."""
+    trial = x + d
+    F_trial, trial_parts = counted.residual(trial)
+    with np.errstate(over="ignore", invalid="ignore"):
+        psi_trial = 0.5 * F_trial @ F_trial
+    if not np.isfinite(psi_trial):
+        return None
+    return trial, F_trial, trial_parts, dict(
+        alpha=1.0, step=step, line_search_failed=False, psi=psi_trial)
+
+
+def _armijo(counted, x, F, parts, d, psi, slope, step, opts):
+    """The backtracking (27) from x along d: (x, F, parts, record)."""
     t = 1.0
     for _ in range(opts["max_halvings"] + 1):
         trial = x + t * d

@@ -149,7 +149,11 @@ def _rigid_body_of(rigid):
             "translation": [_number(v) for v in rigid["translation"]],
             "rotation": [_number(v) for v in rigid["rotation"]],
             "alpha": [_number(v) for v in rigid["alpha"]],
-            "start_touching_nodes": int(rigid["start_nodes"] or 0)}
+            "start_touching_nodes": int(rigid["start_nodes"] or 0),
+            # motions the contact normals see only weakly (WeaklyHeldWarning)
+            "weakly_held": [{"motion": str(w["motion"]),
+                             "ratio": _number(w["ratio"])}
+                            for w in rigid.get("weakly_held") or []]}
 
 
 def _candidates_of(candidates):

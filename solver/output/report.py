@@ -119,6 +119,9 @@ def _force_lines(summary):
                 _g(v) for v in rigid["translation"]) + "), rotation ("
             + ", ".join(_g(v) for v in rigid["rotation"]) + ") rad "
             f"({rigid['modes']} modes held by contact only)")
+        for weak in rigid.get("weakly_held") or []:
+            lines.append(f"weakly held       {weak['motion']} (normals see "
+                         f"{_g(weak['ratio'], '.2g')} of it: set by the mesh)")
     return lines
 
 

@@ -8,8 +8,8 @@ mortar's: for both only K is checked."""
 
 import numpy as np
 
-from ..errors import SolverError
-from .rigid import check_rigid_load
+from ..errors import ProblemError, SolverError
+from .rigid import check_rigid_load, least_friction
 
 __all__ = ["GAP_MODES", "refusals", "checks_made"]
 
@@ -43,10 +43,67 @@ def refusals(problem, gap="obstacle"):
         try:
             gaps = _gaps(problem, gap)
             if not found and problem.floating:  # can contact hold it?
-                check_rigid_load(problem, _normal_rows(problem, gaps[1]))
+                _check_floating_load(problem, gaps[1])
         except SolverError as exc:
             found.append(_one_line(exc))
     return found
+
+
+def _check_floating_load(problem, normal):
+    """:func:`~.rigid.check_rigid_load` at the candidates; a load that
+    frictionless contact cannot hold but Coulomb friction can is refused
+    with the least f_c that holds it (:func:`~.rigid.least_friction`)
+    and, without a load path, the implicit bound (the lagged one gives the
+    first load step no friction). The message names solve()'s options
+    (``friction=F``); the command line says them as its flags."""
+    N = _normal_rows(problem, normal)
+    try:
+        check_rigid_load(problem, N)
+    except ProblemError as exc:
+        message = _one_line(exc)
+        if "that no contact resists" not in message:
+            raise  # nothing presses the body onto the obstacle
+        loads = [(problem.f, 1.0)] if problem.load_path is None else [
+            (end, factor) for end, factor in zip(
+                problem.load_path, problem.load_path_friction) if factor > 0]
+        T = _tangential_rows(problem, normal)
+        least = [least_friction(problem, N, T, f) for f, _ in loads]
+        if not loads or any(value is None for value in least):
+            raise
+        # a stage's coefficient is f_c times its factor
+        least = [value / factor for value, (_, factor) in zip(least, loads)]
+        head = message.split(" that no contact resists")[0]
+        bound = ("" if problem.load_path is not None else
+                 " and coulomb='implicit' (the lagged bound gives the "
+                 "first load step no friction)")
+        raise ProblemError(
+            f"{head} that frictionless contact cannot resist; it needs "
+            f"friction: friction=F with F ≥ {_up(max(least))} (the least "
+            f"coefficient whose Coulomb cones at the contact nodes hold "
+            f"the load){bound}") from None
+
+
+def _up(value):
+    """``value`` rounded up to 3 significant digits, as text."""
+    if value <= 0:
+        return "0"
+    digits = 2 - int(np.floor(np.log10(value)))
+    return f"{np.ceil(value * 10 ** digits - 1e-9) / 10 ** digits:.3g}"
+
+
+def _tangential_rows(problem, normal):
+    """T (Nc, d − 1, r): the rigid modes' displacement along the
+    tangents of each candidate's ``normal`` at its free DOFs."""
+    from ..geometry.frames import tangent_basis
+
+    R, _ = problem.rigid_modes()
+    dofs = problem.contact_dofs[_candidates(problem)]
+    tangents = tangent_basis(normal)
+    T = np.zeros((len(dofs), tangents.shape[1], R.shape[1]))
+    for k in range(dofs.shape[1]):
+        free = dofs[:, k] >= 0
+        T[free] += tangents[free, :, k, None] * R[dofs[free, k]][:, None]
+    return T
 
 
 def _normal_rows(problem, normal):

@@ -28,12 +28,26 @@ import scipy.optimize as opt
 
 from ..errors import ProblemError
 
-__all__ = ["LOAD_RTOL", "check_rigid_load", "check_rigid_friction",
-           "step_unheld", "mode_text", "rigid_motion"]
+__all__ = ["LOAD_RTOL", "WEAK_RTOL", "check_rigid_load",
+           "check_rigid_friction", "least_friction", "step_unheld",
+           "mode_text", "rigid_motion", "weakly_held"]
 
 #: A load component along an unresisted motion above this × ‖f‖₂ (and the
 #: load's work relative to |Rᵀf|) is refused.
 LOAD_RTOL = 1e-9
+
+#: A rigid motion whose contact nodes move along their normals by at most
+#: this fraction of their motion (:func:`weakly_held`) is held weakly.
+#: Between the two kinds: a rotation held by the lever arm of the contact
+#: zone has a ratio of order (zone's width)/(distance to its centre), one
+#: that only the facets of a round surface see, of order h/R
+#: (docs/own-problem.md has the measured values).
+WEAK_RTOL = 1e-2
+
+#: Ratios at or below this are round-off: the motion is not seen at all
+#: and is handled as unresisted (:func:`solver.contact.strategies.
+#: floating.unresisted`), not reported as weak.
+UNSEEN_RTOL = 1e-10
 
 
 def check_rigid_load(problem, N, f=None,
@@ -68,7 +82,7 @@ def _check_cone(problem, N, G, f, unheld):
     presses the body onto nothing (no resultant along the modes, or no
     contact normal N sees them), or if Rᵀf is not in the cone of the
     rows of G: "... along the rigid-body motion d that ``unheld``"."""
-    R, C = problem.rigid_modes()
+    R, _ = problem.rigid_modes()
     if R.shape[1] == 0:
         return
     f = problem.f if f is None else np.asarray(f, float)
@@ -80,6 +94,21 @@ def _check_cone(problem, N, G, f, unheld):
             "but the load has no resultant along them: nothing presses it "
             "onto the obstacle, its position is undetermined; support it "
             "or load it towards the obstacle")
+    found = _unheld_share(problem, G, f)
+    if found is not None:
+        component, text = found
+        raise ProblemError(
+            f"f: the load has a component {component:.6g} along the "
+            f"rigid-body motion {text} that {unheld}")
+
+
+def _unheld_share(problem, G, f):
+    """None if the load f is in the cone of the rows of G (the modes'
+    share of what contact forces can do), else (the load's component
+    along the motion it drives, that motion in words)."""
+    R, C = problem.rigid_modes()
+    e = R.T @ f
+    size = LOAD_RTOL * max(float(np.linalg.norm(f)), 1e-300)
     # Moreau: e = d + Gᵀμ, d the projection of e onto {d: G d ≤ 0} (the
     # motions no contact stops), Gᵀμ (μ ≥ 0, NNLS) what contact forces can
     # balance; d ≠ 0 is the load's share no contact resists, and d/|d| the
@@ -87,14 +116,40 @@ def _check_cone(problem, N, G, f, unheld):
     scale = np.abs(G).max()
     mu, _ = opt.nnls(G.T / scale, e, maxiter=50 * max(len(G), 10))
     d = e - G.T @ mu / scale
-    if float(e @ d) > size * np.linalg.norm(e):
-        motion = R @ d
-        peak = _peak(problem, motion)
-        component = float(f @ motion) / peak
-        raise ProblemError(
-            f"f: the load has a component {component:.6g} along the "
-            f"rigid-body motion {mode_text(problem, C @ d / peak)} that "
-            f"{unheld}")
+    if float(e @ d) <= size * np.linalg.norm(e):
+        return None
+    motion = R @ d
+    peak = _peak(problem, motion)
+    return float(f @ motion) / peak, mode_text(problem, C @ d / peak)
+
+
+def least_friction(problem, N, T, f=None, largest=1e3):
+    """The least Coulomb coefficient f_c whose cones at the contact nodes
+    hold the load f (default the problem's) of a floating ``problem`` —
+    0 if frictionless contact does, None if no f_c ≤ ``largest`` does (the
+    load pulls the body away). N, T as :func:`check_rigid_friction`. The
+    loads held form a cone that grows with f_c, so bisection (to 1e-4
+    relative) on :func:`check_rigid_friction`'s test; in 3D its cone is
+    the circumscribed octagon's, so the f_c found may be up to
+    1 − cos(π/8) ≈ 8 % below the true one."""
+    f = problem.f if f is None else np.asarray(f, float)
+    if _unheld_share(problem, N, f) is None:
+        return 0.0
+
+    def held(friction):
+        return _unheld_share(problem, _cone_generators(N, T, friction),
+                             f) is None
+
+    if not held(largest):
+        return None
+    low, high = 0.0, largest
+    while high - low > 1e-4 * high:
+        middle = 0.5 * (low + high) if low else high / 16
+        if held(middle):
+            high = middle
+        else:
+            low = middle
+    return high
 
 
 def _cone_generators(N, T, friction):
@@ -140,6 +195,75 @@ def step_unheld(problem, N, T, f, bounds):
     motion = R @ d
     peak = _peak(problem, motion)
     return C @ d / peak, float(np.asarray(f, float) @ motion) / peak
+
+
+def weakly_held(problem, N, G):
+    r"""The rigid motions of a floating ``problem`` that the contact
+    normals see only weakly: [(text, ratio)], ``text`` the motion in words
+    (:func:`mode_text`; in 2D also as a rotation about its centre),
+    ``ratio`` ∈ (UNSEEN_RTOL, WEAK_RTOL] the share of the contact nodes'
+    motion along their normals. N (Nc, r): the modes' normal
+    displacements at the contact nodes; G (n_c, r): the modes at those
+    nodes' DOFs (every component).
+
+    The ratios are the singular values of N in the metric of G,
+
+    .. math:: ρ_k = \min_{\dim V = k}\max_{α ∈ V}
+              \frac{‖Nα‖}{‖Gα‖} ∈ [0, 1]
+
+    (|n·u| ≤ |u| node by node): 0 for a motion along the contact surface
+    (a flat sliding on a flat, handled exactly as unresisted), 1 for a
+    motion along the normals, and of order h/R for a motion along a round
+    surface that only its polygon's facets see (the upper of two cylinders
+    spinning about the lower one's centre). Such a motion is resisted by
+    round-off-sized lever arms: the answer's share along it is arbitrary
+    (set by the mesh), and the Newton matrices are ill-conditioned along
+    it. Independent of the body's size and of how R is scaled."""
+    N, G = np.asarray(N, float), np.asarray(G, float)
+    if N.shape[1] == 0 or not len(N):
+        return []
+    _, s, Wt = np.linalg.svd(G, full_matrices=False)
+    keep = s > UNSEEN_RTOL * max(s.max(initial=0.0), 1e-300)
+    W = Wt[keep].T / s[keep]  # α per unit motion of the contact nodes
+    _, rho, Vt = np.linalg.svd(N @ W, full_matrices=True)
+    rho = np.concatenate([rho, np.zeros(W.shape[1] - len(rho))])
+    R, C = problem.rigid_modes()
+    found = []
+    for ratio, v in zip(rho, Vt):
+        if not UNSEEN_RTOL < ratio <= WEAK_RTOL:
+            continue
+        alpha = W @ v
+        motion = R @ alpha
+        peak = _peak(problem, motion)
+        c = C @ alpha / peak
+        found.append((_centre_text(problem, c) or mode_text(problem, c),
+                      float(ratio)))
+    return found
+
+
+def _centre_text(problem, c):
+    """In 2D, a motion of one body with a rotation, as the rotation about
+    the point it leaves in place ("rotation ω rad about (x, y)", "of body
+    b: ..." for several bodies); "" otherwise."""
+    mesh, _ = _mesh(problem)
+    if mesh.dim != 2:
+        return ""
+    blocks = _blocks(mesh)
+    moving = [(b, mine) for b, mine in blocks
+              if np.any(np.abs(c[3 * b:3 * b + 3])
+                        > 1e-9 * np.abs(c).max(initial=0.0))]
+    if len(moving) != 1:
+        return ""
+    b, mine = moving[0]
+    t, w = c[3 * b:3 * b + 2], c[3 * b + 2]
+    if abs(w) <= 1e-9 * np.abs(c[3 * b:3 * b + 3]).max():
+        return ""
+    centre, length = _frame(mesh, mine)
+    omega = w / length
+    point = centre + np.array([-t[1], t[0]]) / omega
+    point = np.where(np.abs(point) <= 1e-9 * length, 0.0, point)
+    text = f"rotation {omega:.3g} rad about ({point[0]:.4g}, {point[1]:.4g})"
+    return text if len(blocks) == 1 else f"of body {b}: {text}"
 
 
 def _mesh(problem):

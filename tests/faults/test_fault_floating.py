@@ -106,3 +106,38 @@ def test_unheld_load_is_refused_on_the_petsc_engine(tmp_path, name, block,
     assert phrase in lines[0] and "Traceback" not in err, (phrase, err)
     assert out == ""
     assert sorted(p.name for p in tmp_path.iterdir()) == before
+
+
+def test_info_says_friction_would_hold_it(tmp_path, capsys):
+    """A tangential load that frictionless contact cannot hold but
+    friction can: ``--info`` says so and names the least f_c, in the
+    command line's words: the 2 × 1 block under (0.2, −1) per unit area
+    needs f_c ≥ 0.2 (statics: 0.4 sideways on 2 downwards), and, loaded
+    in proportion, the implicit bound."""
+    path = save_problem(tmp_path / "p.npz", floor_block(load=(0.2, -1.0)))
+    code, out, err = run_cli([path, "--info"], capsys)
+    assert code == 2 and err.count("\n") == 1
+    assert ("component 0.4 along the rigid-body motion translation (1, 0) "
+            "that frictionless contact cannot resist; it needs friction: "
+            "--friction F with F ≥ 0.2 (") in err
+    assert "and --coulomb implicit (" in err
+    assert "friction=" not in err and "coulomb='" not in err
+
+
+def test_lagged_step_message_names_the_flags(tmp_path, capsys):
+    """A load step that the lagged bound cannot hold (step 3: 0.8 of
+    friction needed, 0.75 allowed by step 2's pressure) ends the run
+    (exit 3) with a line naming --coulomb, not solve()'s coulomb=."""
+    from solver.cli.codes import EXIT_NOT_CONVERGED
+    from tri_elasticity import floor_block_beyond_lagged
+
+    path = save_problem(tmp_path / "p.npz", floor_block_beyond_lagged())
+    code, out, err = run_cli([path, "--friction", "0.5", "-o",
+                              tmp_path / "out"], capsys)
+    assert code == EXIT_NOT_CONVERGED
+    line = [x for x in err.splitlines() if x.startswith("error:")]
+    assert len(line) == 1, err
+    assert "load step 3 of 3 has no answer" in line[0]
+    assert "(--coulomb lagged bounds the friction by it)" in line[0]
+    assert "or use --coulomb implicit" in line[0]
+    assert "coulomb='" not in line[0]

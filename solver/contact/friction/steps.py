@@ -107,6 +107,9 @@ def setup(problem, geometry, space, friction, formulation, coulomb, method,
     if space.condensed:  # φ_FB's (26) unit-free, as frictionless
         options = unit_free_options(method, options, reference_norm,
                                     stiffness, geometry.gap)
+    watchdog = getattr(space, "watchdog", 0)  # a floating body's steps
+    if method == "fb" and watchdog and "watchdog" not in (options or {}):
+        options = dict(options or {}, watchdog=watchdog)
     if formulation == "thesis":
         kind = SplitSystem
     elif space.condensed and geometry.dim == 3:
@@ -281,6 +284,7 @@ def make_result(problem, geometry, shared, run, stream, steps, friction,
         rigid = rigid_motion(problem, shared.space.displacement(
             run.last[1], run.last[2]))
         rigid["start_nodes"] = None
+        rigid["weakly_held"] = getattr(shared.space, "weakly_held", [])
     nc, idx = problem.n_contact, geometry.index
     normal = np.full((nc, geometry.normal.shape[1]), np.nan)
     normal[idx] = geometry.normal

@@ -127,6 +127,7 @@ def run_frictionless(problem, geometry, engine, method="min", tol=1e-10,
 
             result.rigid_body = rigid_motion(problem, u)
             result.rigid_body["start_nodes"] = space.start_nodes
+            result.rigid_body["weakly_held"] = space.weakly_held
     result.stopping["test"] = STOPPING_TEST
     result.x = u
     tol_v = verification_tolerance(tol)

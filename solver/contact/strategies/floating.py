@@ -76,11 +76,12 @@ import scipy.optimize as opt
 
 from ...errors import ProblemError
 from ...problem.rigid import (check_rigid_friction, check_rigid_load,
-                              mode_text, step_unheld)
+                              mode_text, step_unheld, weakly_held)
 from ..geometry import rotation
 
 __all__ = ["FloatingSystem", "check_load", "check_friction_load",
-           "held_condensation", "rigid_start", "unresisted"]
+           "held_condensation", "rigid_start", "unresisted",
+           "warn_weakly_held"]
 
 #: Gaps below this × the body's size count as touching in the start.
 TOUCH_RTOL = 1e-9
@@ -170,6 +171,34 @@ def held_condensation(engine, problem, dofs):
     fixed, K_F = problem.held_stiffness()
     return fixed, engine.condensation(dataclasses.replace(problem, K=K_F),
                                       dofs)
+def warn_weakly_held(problem, N, G, friction=None):
+    """Warn (:class:`~solver.errors.WeaklyHeldWarning`, one line each)
+    of the rigid motions that the contact normals see only weakly
+    (:func:`solver.problem.rigid.weakly_held`; N, G the modes' normal
+    displacements and DOFs at the contact nodes), when some load of the
+    run is carried without friction (``friction`` None, or a frictionless
+    stage of the load path): friction holds them otherwise. Returns
+    [{"motion", "ratio"}] of those warned about ([] if none)."""
+    import warnings
+
+    from ...errors import WeaklyHeldWarning
+
+    stages = problem.load_path_friction
+    if friction and (stages is None or np.all(np.asarray(stages) > 0)):
+        return []
+    found = []
+    for text, ratio in weakly_held(problem, N, G):
+        warnings.warn(
+            f"the rigid-body motion {text} is held by the contact only "
+            f"weakly: it moves the contact nodes along their normals by "
+            f"{ratio:.2g} of their motion (frictionless contact between "
+            "round surfaces does not resist it, only the mesh's facets "
+            "do), so the answer's share along it is set by the "
+            "discretisation; hold it by a support (e.g. u_x = 0 at two "
+            "nodes on an axis of symmetry) or give the contact friction",
+            WeaklyHeldWarning, stacklevel=2)
+        found.append({"motion": text, "ratio": ratio})
+    return found
 
 
 class FloatingSystem:
@@ -180,6 +209,15 @@ class FloatingSystem:
 
     name = "contact + rigid-body modes"
     condensed = True
+    #: φ_FB's watchdog (option of :func:`solver.ncp.solve_ncp`) in the
+    #: friction steps: each starts from the previous answer with every
+    #: node sticking (no predictor: K⁺ holds the DOFs F, not Γc), and the
+    #: Newton step from there, the bonded answer, asks the contact edge
+    #: for tractions far above f_c p; ψ rises a small fraction along that
+    #: step (where the first node passes its bound), so the monotone search
+    #: crawls and, with the implicit bound, stalls (CHANGELOG.md). Full
+    #: steps as φ_min's, checked against ψ after at most this many.
+    watchdog = 4
 
     def __init__(self, problem, geometry, engine, friction=None):
         R, _ = problem.rigid_modes()
@@ -201,6 +239,8 @@ class FloatingSystem:
         K[self.m:, self.m:] = Rc.T @ SR
         N = _normal_rows(problem, geometry)
         self.N, self.friction = N, friction
+        #: the motions the normals see only weakly (warned about)
+        self.weakly_held = warn_weakly_held(problem, N, Rc, friction)
         self.T = _tangential_rows(problem, geometry)
         #: modes no normal sees: with friction, held by it alone
         self.sliding = unresisted(N)
