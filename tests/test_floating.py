@@ -197,7 +197,6 @@ def test_singular_K_that_is_not_rigid_motion_is_still_refused():
 
 
 @pytest.mark.parametrize("options, phrase", [
-    (dict(system="full"), "system='full' is not supported"),
     (dict(friction=0.3, formulation="thesis"),
      "formulation='thesis' is not supported"),
     (dict(candidates=True), "candidates=True is not supported"),

@@ -73,14 +73,16 @@ import dataclasses
 
 import numpy as np
 import scipy.optimize as opt
+import scipy.sparse as sp
 
 from ...errors import ProblemError
+from ...ncp.direction import newton_direction
 from ...problem.rigid import (check_rigid_friction, check_rigid_load,
                               mode_text, step_unheld)
 from ..geometry import rotation
 
 __all__ = ["FloatingSystem", "check_load", "check_friction_load",
-           "rigid_start", "unresisted"]
+           "placement", "rigid_start", "unresisted"]
 
 #: Gaps below this × the body's size count as touching in the start.
 TOUCH_RTOL = 1e-9
@@ -187,13 +189,7 @@ class FloatingSystem:
         K[:self.m, self.m:] = -SR
         K[self.m:, :self.m] = -SR.T
         K[self.m:, self.m:] = Rc.T @ SR
-        N = _normal_rows(problem, geometry)
-        self.N, self.friction = N, friction
-        self.T = _tangential_rows(problem, geometry)
-        #: modes no normal sees: with friction, held by it alone
-        self.sliding = unresisted(N)
-        self.free_modes = self.sliding if not friction else unresisted(
-            np.concatenate([N, self.T.reshape(-1, R.shape[1])]))
+        self._contact_modes(problem, geometry, friction)
         if self.free_modes.size:  # α ⊥ modes no normal sees (exact)
             k = float(np.mean(np.diag(S))) if self.m else 1.0
             K[self.m:, self.m:] += k * self.free_modes @ self.free_modes.T
@@ -203,6 +199,19 @@ class FloatingSystem:
         self.linear_solver = engine.linear_solver
         self._Rc = Rc
         self.start_nodes = None
+
+    def _contact_modes(self, problem, geometry, friction):
+        """N and T (the modes' normal and tangential displacements at
+        the contact nodes), ``sliding`` (the modes no normal sees) and
+        ``free_modes`` (those no contact resists: with friction, those no
+        normal or tangent sees)."""
+        self.N = _normal_rows(problem, geometry)
+        self.T = _tangential_rows(problem, geometry)
+        self.friction = friction
+        #: modes no normal sees: with friction, held by it alone
+        self.sliding = unresisted(self.N)
+        self.free_modes = self.sliding if not friction else unresisted(
+            np.concatenate([self.N, self.T.reshape(-1, self.N.shape[1])]))
 
     def load(self, f):
         """(f̃, w): the augmented load (g̃, Rᵀf − R_cᵀg̃) and w = K⁺f."""
@@ -255,14 +264,20 @@ class FloatingSystem:
         b, _ = system.bound(system._force(x[:system.n]), derivative=False)
         if np.any(b > 0.0):
             return JE, JA, JB
-        import scipy.sparse as sp
+        return self._hold_sliding(system, JE), JA, JB
 
+    def _hold_sliding(self, system, JE):
+        """JE (the "other" rows, which open the Jacobian) with k̄ V Vᵀ
+        added to the rows and columns of α along the sliding modes V
+        (:meth:`_friction_jacobian`)."""
         V, m, r = self.sliding, self.m, self.r
-        rows = np.repeat(np.arange(r), r)  # α's rows: the first ("other")
+        # α's rows: the last r of the "other" rows X, which open JE
+        alpha_rows = np.searchsorted(system.x_rows, m + np.arange(r))
+        rows = np.repeat(alpha_rows, r)
         cols = np.tile(np.arange(m, m + r), r)
         add = sp.csr_matrix((self._k * (V @ V.T).ravel(), (rows, cols)),
                             shape=JE.shape)
-        return (JE + add).tocsr(), JA, JB
+        return (JE + add).tocsr()
 
     def begin_step(self, system, load, step_friction, state, lumped,
                    coulomb):
@@ -293,7 +308,7 @@ class FloatingSystem:
         normal sees."""
         if np.any(u_previous):
             return np.zeros_like(du)
-        alpha = _placement(self.N, self.geometry.gap,
+        alpha = placement(self.N, self.geometry.gap,
                            self.modes.T @ np.asarray(load, float),
                            self.sliding)
         if alpha is None:
@@ -404,7 +419,7 @@ class _Level:
                       self.Rc[kept[:len(self.Rc)]][:m], self.N[keep])
 
 
-def _placement(N, gap, e, free):
+def placement(N, gap, e, free):
     """α of the rigid body put onto the obstacle by the load e = Rᵀf: the
     linear programme min −e·α subject to N α ≤ s, α ⊥ ``free`` (modes no
     normal sees); None if it has no solution."""
@@ -418,14 +433,17 @@ def _placement(N, gap, e, free):
     return found.x if found.status == 0 else None
 
 
-def rigid_start(system, N, gap, Rc, problem):
+def rigid_start(system, N, gap, Rc, problem, load=None):
     """(y, touching nodes): the rigid body put onto the obstacle by the
-    linear programme min −(Rᵀf)·α subject to N α ≤ s, then one primal-dual
-    active set step of ``system`` with the touching nodes active (module
-    docstring); None if the programme has no solution (these nodes do not
-    hold the body)."""
+    linear programme min −(Rᵀf)·α subject to N α ≤ s (f: ``load``, default
+    the problem's), then one primal-dual active set step of ``system``
+    with the touching nodes active (module docstring); None if the
+    programme has no solution (these nodes do not hold the body). The
+    step is solved on the system's structured Jacobian (condensed) or on
+    its sparse rows [JE; w_a JA + w_b JB] (the full system)."""
     R, _ = problem.rigid_modes()
-    alpha = _placement(N, gap, R.T @ problem.f, unresisted(N))
+    load = problem.f if load is None else load
+    alpha = placement(N, gap, R.T @ load, unresisted(N))
     if alpha is None:
         return None, 0
     remaining = gap - N @ alpha
@@ -435,7 +453,11 @@ def rigid_start(system, N, gap, Rc, problem):
     E, A, B = system.residual(x0)
     wa, wb = (~touching).astype(float), touching.astype(float)
     J = system.jacobian(x0)
-    step = J.combine(wa, wb).direction(
-        np.concatenate([E, wa * A + wb * B])) if hasattr(J, "combine") \
-        else None
+    rhs = np.concatenate([E, wa * A + wb * B])
+    if hasattr(J, "combine"):
+        step = J.combine(wa, wb).direction(rhs)
+    else:
+        JE, JA, JB = (sp.csr_matrix(block) for block in J)
+        step = newton_direction(sp.vstack(
+            [JE, sp.diags(wa) @ JA + sp.diags(wb) @ JB], format="csc"), rhs)
     return (x0 if step is None else x0 + step), int(touching.sum())
