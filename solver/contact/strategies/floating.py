@@ -48,7 +48,9 @@ the obstacle at a vertex of r independent touching nodes; one primal-dual
 active set step with those nodes active gives the first iterate, with
 contact forces at the touching nodes that balance the load. In 2D it
 starts the coarsest level of the nested start (:meth:`FloatingSystem.
-nested`: every level keeps α), in 3D the Newton iteration on Γc.
+nested`: every level keeps α), in 3D the Newton iteration on Γc, and
+on the full system (:mod:`.floating_full`, the same unknowns α with
+all DOFs kept) the Newton iteration in all unknowns.
 
 Coulomb friction (the projection formulation's load steps on this
 system, :mod:`solver.contact.friction`): the contact rows now carry the
