@@ -84,7 +84,7 @@ from ...problem.rigid import (check_rigid_friction, check_rigid_load,
 from ..geometry import rotation
 
 __all__ = ["FloatingSystem", "check_load", "check_friction_load",
-           "placement", "rigid_start", "unresisted"]
+           "placed", "placement", "rigid_start", "unresisted"]
 
 #: Gaps below this × the body's size count as touching in the start.
 TOUCH_RTOL = 1e-9
@@ -311,8 +311,8 @@ class FloatingSystem:
         if np.any(u_previous):
             return np.zeros_like(du)
         alpha = placement(self.N, self.geometry.gap,
-                           self.modes.T @ np.asarray(load, float),
-                           self.sliding)
+                          self.modes.T @ np.asarray(load, float),
+                          self.sliding)
         if alpha is None:
             return du
         return np.concatenate([self._Rc @ alpha, alpha])
@@ -435,29 +435,41 @@ def placement(N, gap, e, free):
     return found.x if found.status == 0 else None
 
 
-def rigid_start(system, N, gap, Rc, problem, load=None):
-    """(y, touching nodes): the rigid body put onto the obstacle by the
-    linear programme min −(Rᵀf)·α subject to N α ≤ s (f: ``load``, default
-    the problem's), then one primal-dual active set step of ``system``
-    with the touching nodes active (module docstring); None if the
-    programme has no solution (these nodes do not hold the body). The
-    step is solved on the system's structured Jacobian (condensed) or on
-    its sparse rows [JE; w_a JA + w_b JB] (the full system)."""
-    R, _ = problem.rigid_modes()
-    load = problem.f if load is None else load
-    alpha = placement(N, gap, R.T @ load, unresisted(N))
+def placed(N, gap, e, Rc):
+    """(y0, touching): the unknowns (u_c = R_c α, α) of the rigid body put
+    onto the obstacle by the load e = Rᵀf (:func:`placement`, not sliding
+    along the modes no normal sees) and the nodes it touches there;
+    (None, None) if the programme has no solution."""
+    alpha = placement(N, gap, e, unresisted(N))
     if alpha is None:
-        return None, 0
+        return None, None
     remaining = gap - N @ alpha
     size = np.abs(gap).max(initial=0.0) + np.abs(N @ alpha).max(initial=0.0)
     touching = remaining <= TOUCH_RTOL * max(size, 1e-300)
-    x0 = np.concatenate([Rc @ alpha, alpha])
+    return np.concatenate([Rc @ alpha, alpha]), touching
+
+
+def rigid_start(system, N, gap, Rc, problem):
+    """(y, touching nodes): the rigid body put onto the obstacle by the
+    linear programme min −(Rᵀf)·α subject to N α ≤ s (:func:`placed`),
+    then one primal-dual active set step of ``system`` with the touching
+    nodes active (module docstring); None if the programme has no
+    solution (these nodes do not hold the body). The step is solved on
+    the system's structured Jacobian (condensed) or on its sparse rows
+    [JE; w_a JA + w_b JB] (the full system); a condensed system without
+    the structured one starts from the placement."""
+    R, _ = problem.rigid_modes()
+    x0, touching = placed(N, gap, R.T @ problem.f, Rc)
+    if x0 is None:
+        return None, 0
     E, A, B = system.residual(x0)
     wa, wb = (~touching).astype(float), touching.astype(float)
     J = system.jacobian(x0)
     rhs = np.concatenate([E, wa * A + wb * B])
     if hasattr(J, "combine"):
         step = J.combine(wa, wb).direction(rhs)
+    elif not sp.issparse(J[0]):  # dense blocks, not reduced: no step
+        step = None
     else:
         JE, JA, JB = (sp.csr_matrix(block) for block in J)
         step = newton_direction(sp.vstack(

@@ -29,7 +29,7 @@ matrices are regular exactly when the active contact constraints
 restrain every mode (a direction d with K̂d = Y-rows only and the
 active gaps unchanged has dᵀK̂d = 0, so d is a rigid motion no active
 normal sees). Hence the start: the rigid body put onto the obstacle
-(:func:`~.floating.placement`, a linear programme) and one active set
+(:func:`~.floating.placed`, a linear programme) and one active set
 step with its touching nodes active (:func:`~.floating.rigid_start`),
 which hold every mode the contact can hold. The modes no normal sees
 (a frictionless flat on a flat: the load has no share along them,
@@ -46,7 +46,7 @@ import scipy.sparse as sp
 from ...ncp.direction import newton_direction
 from ..frictionless.system import FrictionlessSystem
 from ..geometry import rotation
-from .floating import (TOUCH_RTOL, FloatingSystem, check_load, placement)
+from .floating import FloatingSystem, check_load, placed
 
 __all__ = ["FloatingFullSystem"]
 
@@ -127,7 +127,7 @@ class FloatingFullSystem(FloatingSystem):
     def step_start(self, system, du, u_previous, load):
         """The first iterate of a friction load step: before any contact
         (u_{κ−1} = 0) the rigid body put onto the obstacle by the step's
-        load (:func:`~.floating.placement`), then one Newton step with its
+        load (:func:`~.floating.placed`), then one Newton step with its
         touching nodes in contact and stuck (s − u_n = 0 and Δu_t = 0
         there): they hold every mode the contact can hold, normal and
         tangential, so the step is regular and its contact forces balance
@@ -138,17 +138,12 @@ class FloatingFullSystem(FloatingSystem):
         None (the previous answer, Δu = 0)."""
         if np.any(u_previous):
             return None
-        alpha = placement(self.N, self.geometry.gap,
-                          self.modes.T @ np.asarray(load, float),
-                          self.sliding)
-        if alpha is None:
+        y0, touching = placed(self.N, self.geometry.gap,
+                              self.modes.T @ np.asarray(load, float),
+                              self._Rc)
+        if y0 is None:
             return None
-        y0 = np.concatenate([self._Rc @ alpha, alpha])
         gap = self.geometry.gap
-        remaining = gap - self.N @ alpha
-        size = np.abs(gap).max(initial=0.0) + np.abs(
-            self.N @ alpha).max(initial=0.0)
-        touching = remaining <= TOUCH_RTOL * max(size, 1e-300)
         start = FrictionlessSystem(self.K, self.load(load)[0],
                                    self.geometry, system.gap_scale,
                                    system.stiffness)
