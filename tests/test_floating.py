@@ -60,7 +60,12 @@ def test_modes_found_from_the_geometry(hertz_force):
 def test_hertz_cylinder_under_a_force(hertz_force, hertz_result):
     """a within 0.5 %, the fitted p0 within 1 % of Hertz for the given P,
     ≥ 40 nodes in contact, and the contact forces balance P to 1e-10."""
-    r = hertz_result
+    assert_hertz_force(hertz_force, hertz_result)
+
+
+def assert_hertz_force(hertz_force, r):
+    """The checks of :func:`test_hertz_cylinder_under_a_force` on the
+    result ``r`` (also of tests/test_floating_full.py)."""
     total = r.total_contact_force
     assert abs(total[1] - P) <= 1e-10 * P and abs(total[0]) <= 1e-10 * P
     assert r.n_contact >= 40
@@ -188,7 +193,6 @@ def test_singular_K_that_is_not_rigid_motion_is_still_refused():
 
 
 @pytest.mark.parametrize("options, phrase", [
-    (dict(system="full"), "system='full' is not supported"),
     (dict(friction=0.3, formulation="thesis"),
      "formulation='thesis' is not supported"),
     (dict(candidates=True), "candidates=True is not supported"),

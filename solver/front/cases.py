@@ -145,8 +145,9 @@ AMG_REFUSALS = (
      "rigid-body modes of one meshed body against a rigid obstacle",
      lambda c, s, g: c.bodies != "rigid"),
     ("a body held by contact only", "its K is singular (rigid-body "
-     "modes) and the active set method iterates on the full system; such a "
-     "body is solved on the condensed system with K⁺",
+     "modes), which AMG-preconditioned CG does not take; such a body is "
+     "solved by a factorisation (condensed with K⁺, or system='full' with "
+     "the modes' amplitudes as unknowns)",
      lambda c, s, g: c.support == "floating"),
     ("system='condensed'", "it iterates on the full primal system; "
      "condensing onto Γc factorises K",
@@ -191,8 +192,10 @@ RULES = tuple(
              lambda c, s, g: s["start"] == "nested" and not s["condense"],
              "start='nested'"),
         Rule("start", "the full system",
-             "the full system starts from the thesis's u = 0; the free "
-             "start (no contact force, u = K⁻¹f) is the condensed system's",
+             "the full system starts from the thesis's u = 0 (a body held "
+             "by contact only: from its rigid placement on the obstacle); "
+             "the free start (no contact force, u = K⁻¹f) is the condensed "
+             "system's",
              lambda c, s, g: s["start"] == "free" and not s["condense"],
              "start='free'"),
         Rule("start", "3D",
@@ -236,9 +239,10 @@ RULES = tuple(
              lambda c, s, g: "ksp" in g and (c.engine != "petsc"
                                              or s["condense"])),
         Rule("formulation", "a body held by contact only",
-             "friction on a floating body runs on the projection "
-             "formulation (the modes' amplitudes are unknowns of the "
-             "condensed system); use formulation='projection'",
+             "the split is singular where p = 0, and a floating body's "
+             "frictionless first step leaves its slide free too (φ_FB "
+             "stalls there); use formulation='projection' (condensed or "
+             "system='full')",
              lambda c, s, g: c.support == "floating"
              and c.contact == "friction" and s["formulation"] == "thesis",
              "formulation='thesis'"),
@@ -249,11 +253,6 @@ RULES = tuple(
              "the modes' amplitudes",
              lambda c, s, g: c.support == "floating" and c.engine == "petsc"
              and not s["condense"], "system='full'"),
-        Rule("system", "a body held by contact only",
-             "its K is singular (rigid-body modes): it is solved on the "
-             "condensed system, with K⁺ and the modes' amplitudes",
-             lambda c, s, g: c.support == "floating" and not s["condense"],
-             "system='full'"),
         Rule("candidates", "a body held by contact only",
              "its modes' amplitudes are condensed with every DOF of Γc",
              lambda c, s, g: c.support == "floating" and s["candidates"],
@@ -276,7 +275,8 @@ def resolve(case, options):
     """The settings of a call: every option checked against its values and
     :data:`RULES` (SolverError, one line), the defaults of the case filled
     in, plus ``condense`` and ``candidates`` (bool), ``start`` ("nested",
-    "free", "x0", "zero"; None with friction), ``rollers``, ``gap``."""
+    "free", "x0", "zero"; "rigid" on the full system of a body held by
+    contact only; None with friction), ``rollers``, ``gap``."""
     given = given_options(options)
     s = dict(options)
     friction = case.contact == "friction"
@@ -319,7 +319,7 @@ def resolve(case, options):
         if s["x0"] is not None and s["start"] is None:
             s["start"] = "x0"
         elif not s["condense"] and s["start"] is None:
-            s["start"] = "zero"
+            s["start"] = "rigid" if floating else "zero"
         elif s["start"] is None:
             s["start"] = "nested" if case.dim == 2 \
                 and not s["candidates"] else "free"

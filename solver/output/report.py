@@ -131,6 +131,9 @@ def _system_text(summary):
         return ("full primal system, active set method, AMG-preconditioned "
                 f"CG ({summary.get('krylov_iterations')} CG iterations, "
                 f"at most {max(krylov, default=0)} per Newton system)")
+    if summary["system"] == "full" and summary.get("rigid_body_motion"):
+        return ("full (in all unknowns; the DOFs that hold the rigid-body "
+                "modes replaced by the modes' amplitudes)")
     if summary["system"] == "full":
         return ("full (the thesis's, in all unknowns)"
                 if _table1_applies(summary) else "full (in all unknowns)")

@@ -210,7 +210,7 @@ class ContactProblem:
         if self._checked is not self.K:
             from ..linalg import dof_ordering
             K = self.K
-            if self.kind == "mesh" and self.floating:  # K_F: K⁺'s factor
+            if self.floating:  # K_F: K⁺'s factor (two bodies: v = Tu)
                 K = self.held_stiffness()[1]
             check_positive_definite(K, "K", dof_ordering(self))
             self._checked = self.K

@@ -34,8 +34,19 @@ CASES = [
     ("thesis formulation", dict(), ["--friction", "0.5", "--formulation",
                                     "thesis"],
      "--formulation thesis is not supported"),
-    ("full system", dict(), ["--system", "full"],
-     "--system full is not supported"),
+    ("pulled away, on the full system", dict(load=(0.0, 1.0)),
+     ["--system", "full"],
+     "component 2 along the rigid-body motion translation (0, 1)"),
+    ("pushed sideways, on the full system",
+     dict(load=(1.0, -1.0), where="corner"), ["--system", "full"],
+     "component 1 along the rigid-body motion translation (1, 0)"),
+    ("tangential load beyond f_c times the normal load, full system",
+     dict(load=(0.6, -1.0)), ["--friction", "0.5", "--system", "full"],
+     "component 0.178885 along the rigid-body motion translation "
+     "(0.894, 0.447) that contact with friction f_c = 0.5 cannot resist"),
+    ("thesis formulation on the full system", dict(),
+     ["--friction", "0.5", "--formulation", "thesis", "--system", "full"],
+     "--formulation thesis is not supported"),
 ]
 
 
@@ -141,3 +152,15 @@ def test_lagged_step_message_names_the_flags(tmp_path, capsys):
     assert "(--coulomb lagged bounds the friction by it)" in line[0]
     assert "or use --coulomb implicit" in line[0]
     assert "coulomb='" not in line[0]
+
+
+def test_a_held_block_solves_on_the_full_system(tmp_path, capsys):
+    """``--system full`` on the same block: exit 0, the weight as the
+    total contact force, the system named as such."""
+    path = save_problem(tmp_path / "p.npz", floor_block())
+    code, out, err = run_cli([path, "--system", "full", "-o",
+                              tmp_path / "out"], capsys)
+    assert code == 0, err
+    assert "contact force     (0, 2) in total, on the body" in out
+    assert "full (in all unknowns; the DOFs that hold the rigid-body " \
+        "modes replaced by the modes' amplitudes)" in out

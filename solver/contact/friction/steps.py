@@ -74,8 +74,10 @@ def _final_check(problem, geometry, stiffness, tol_v, space, last,
                  checks):
     """The worst of the steps' checks, merged with the last completed
     step's check against the original K and f when condensed (u recovered by
-    one solve with K)."""
-    if space.condensed and last is not None:
+    one solve with K) or when the system's unknowns are not u (a floating
+    body's full system, u = W y)."""
+    if last is not None and (space.condensed or space.K is not problem.K):
+        # condensed, or a floating body's unknowns (u_J, α): u recovered
         _, u_c, w, f_step, lam, t, bound, _ = last
         u = space.displacement(u_c, w)
         checks = checks + [verify_contact(
@@ -149,6 +151,8 @@ def load_step(shared, state, run, stream, kappa, steps, load,
         du = space.restrict(w - state.w)
         du = contact_corrected(system, du) if begin is None \
             else space.step_start(system, du, state.u, f_step)
+    elif begin is not None:  # floating, full system: put onto the obstacle
+        du = space.step_start(system, None, state.u, f_step)
     x0 = system.initial_guess(state.g, du)
     result = solve_ncp(system.residual, shared.jacobian, x0, method=method,
                        tol=tol, max_iter=max_iter, options=shared.options,

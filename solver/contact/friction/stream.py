@@ -77,8 +77,9 @@ class StepStream:
         pending, self.pending = self.pending, []
         if not pending:
             return
-        if not self.space.condensed:
-            columns = [entry[1] for entry in pending]
+        if not self.space.condensed:  # u = y (or W y: a floating body)
+            columns = [self.space.displacement(entry[1])
+                       for entry in pending]
         else:
             U = self.space.displacement(
                 np.column_stack([entry[1] for entry in pending]),

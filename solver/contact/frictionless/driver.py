@@ -51,8 +51,10 @@ def run_frictionless(problem, geometry, engine, method="min", tol=1e-10,
     (:mod:`solver.contact.verify`), so neither the verdict nor the condensed
     and nested iterates (c = k̄) depend on the units; the full system's c = 1
     (the thesis) makes its path depend on them. ``start``: "nested", "free"
-    (λ = 0), "x0" or "zero" (the thesis's u = 0). ``max_iter`` counts all
-    levels and rounds together.
+    (λ = 0), "x0", "zero" (the thesis's u = 0) or "rigid" (a body held by
+    contact only on the full system: put onto the obstacle as a rigid
+    body, :mod:`~solver.contact.strategies.floating_full`). ``max_iter``
+    counts all levels and rounds together.
 
     Returns a ContactResult: the NCP result's counts, ``history`` and
     ``status`` (6: the stopping test met but the verification failed), the
@@ -109,7 +111,7 @@ def run_frictionless(problem, geometry, engine, method="min", tol=1e-10,
             # Γc; condensed, λ = 0 is the unconstrained solution w = K⁻¹f.
             if start == "x0":
                 start_x = space.restrict(x0)
-            elif start == "free":
+            elif start in ("free", "rigid"):  # rigid: floating, full
                 start_x = space.free_start(system, w)
             else:
                 start_x = np.zeros(problem.n_dofs)

@@ -48,7 +48,9 @@ the obstacle at a vertex of r independent touching nodes; one primal-dual
 active set step with those nodes active gives the first iterate, with
 contact forces at the touching nodes that balance the load. In 2D it
 starts the coarsest level of the nested start (:meth:`FloatingSystem.
-nested`: every level keeps α), in 3D the Newton iteration on Γc.
+nested`: every level keeps α), in 3D the Newton iteration on Γc, and
+on the full system (:mod:`.floating_full`, the same unknowns α with
+all DOFs kept) the Newton iteration in all unknowns.
 
 Coulomb friction (the projection formulation's load steps on this
 system, :mod:`solver.contact.friction`): the contact rows now carry the
@@ -73,15 +75,17 @@ import dataclasses
 
 import numpy as np
 import scipy.optimize as opt
+import scipy.sparse as sp
 
 from ...errors import ProblemError
+from ...ncp.direction import newton_direction
 from ...problem.rigid import (check_rigid_friction, check_rigid_load,
                               mode_text, step_unheld, weakly_held)
 from ..geometry import rotation
 
 __all__ = ["FloatingSystem", "check_load", "check_friction_load",
-           "held_condensation", "rigid_start", "unresisted",
-           "warn_weakly_held"]
+           "held_condensation", "placed", "placement", "rigid_start",
+           "unresisted", "warn_weakly_held"]
 
 #: Gaps below this × the body's size count as touching in the start.
 TOUCH_RTOL = 1e-9
@@ -237,15 +241,7 @@ class FloatingSystem:
         K[:self.m, self.m:] = -SR
         K[self.m:, :self.m] = -SR.T
         K[self.m:, self.m:] = Rc.T @ SR
-        N = _normal_rows(problem, geometry)
-        self.N, self.friction = N, friction
-        #: the motions the normals see only weakly (warned about)
-        self.weakly_held = warn_weakly_held(problem, N, Rc, friction)
-        self.T = _tangential_rows(problem, geometry)
-        #: modes no normal sees: with friction, held by it alone
-        self.sliding = unresisted(N)
-        self.free_modes = self.sliding if not friction else unresisted(
-            np.concatenate([N, self.T.reshape(-1, R.shape[1])]))
+        self._contact_modes(problem, geometry, friction)
         if self.free_modes.size:  # α ⊥ modes no normal sees (exact)
             k = float(np.mean(np.diag(S))) if self.m else 1.0
             K[self.m:, self.m:] += k * self.free_modes @ self.free_modes.T
@@ -255,6 +251,23 @@ class FloatingSystem:
         self.linear_solver = engine.linear_solver
         self._Rc = Rc
         self.start_nodes = None
+
+    def _contact_modes(self, problem, geometry, friction):
+        """N and T (the modes' normal and tangential displacements at
+        the contact nodes), ``sliding`` (the modes no normal sees) and
+        ``free_modes`` (those no contact resists: with friction, those no
+        normal or tangent sees); warns of the motions the normals see only
+        weakly (``weakly_held``)."""
+        self.N = _normal_rows(problem, geometry)
+        self.T = _tangential_rows(problem, geometry)
+        self.friction = friction
+        #: the motions the normals see only weakly (warned about)
+        self.weakly_held = warn_weakly_held(
+            problem, self.N, self.modes[geometry.free_dofs()], friction)
+        #: modes no normal sees: with friction, held by it alone
+        self.sliding = unresisted(self.N)
+        self.free_modes = self.sliding if not friction else unresisted(
+            np.concatenate([self.N, self.T.reshape(-1, self.N.shape[1])]))
 
     def load(self, f):
         """(f̃, w): the augmented load (g̃, Rᵀf − R_cᵀg̃) and w = K⁺f."""
@@ -307,14 +320,20 @@ class FloatingSystem:
         b, _ = system.bound(system._force(x[:system.n]), derivative=False)
         if np.any(b > 0.0):
             return JE, JA, JB
-        import scipy.sparse as sp
+        return self._hold_sliding(system, JE), JA, JB
 
+    def _hold_sliding(self, system, JE):
+        """JE (the "other" rows, which open the Jacobian) with k̄ V Vᵀ
+        added to the rows and columns of α along the sliding modes V
+        (:meth:`_friction_jacobian`)."""
         V, m, r = self.sliding, self.m, self.r
-        rows = np.repeat(np.arange(r), r)  # α's rows: the first ("other")
+        # α's rows: the last r of the "other" rows X, which open JE
+        alpha_rows = np.searchsorted(system.x_rows, m + np.arange(r))
+        rows = np.repeat(alpha_rows, r)
         cols = np.tile(np.arange(m, m + r), r)
         add = sp.csr_matrix((self._k * (V @ V.T).ravel(), (rows, cols)),
                             shape=JE.shape)
-        return (JE + add).tocsr(), JA, JB
+        return (JE + add).tocsr()
 
     def begin_step(self, system, load, step_friction, state, lumped,
                    coulomb):
@@ -345,9 +364,9 @@ class FloatingSystem:
         normal sees."""
         if np.any(u_previous):
             return np.zeros_like(du)
-        alpha = _placement(self.N, self.geometry.gap,
-                           self.modes.T @ np.asarray(load, float),
-                           self.sliding)
+        alpha = placement(self.N, self.geometry.gap,
+                          self.modes.T @ np.asarray(load, float),
+                          self.sliding)
         if alpha is None:
             return du
         return np.concatenate([self._Rc @ alpha, alpha])
@@ -456,7 +475,7 @@ class _Level:
                       self.Rc[kept[:len(self.Rc)]][:m], self.N[keep])
 
 
-def _placement(N, gap, e, free):
+def placement(N, gap, e, free):
     """α of the rigid body put onto the obstacle by the load e = Rᵀf: the
     linear programme min −e·α subject to N α ≤ s, α ⊥ ``free`` (modes no
     normal sees); None if it has no solution."""
@@ -470,24 +489,43 @@ def _placement(N, gap, e, free):
     return found.x if found.status == 0 else None
 
 
-def rigid_start(system, N, gap, Rc, problem):
-    """(y, touching nodes): the rigid body put onto the obstacle by the
-    linear programme min −(Rᵀf)·α subject to N α ≤ s, then one primal-dual
-    active set step of ``system`` with the touching nodes active (module
-    docstring); None if the programme has no solution (these nodes do not
-    hold the body)."""
-    R, _ = problem.rigid_modes()
-    alpha = _placement(N, gap, R.T @ problem.f, unresisted(N))
+def placed(N, gap, e, Rc):
+    """(y0, touching): the unknowns (u_c = R_c α, α) of the rigid body put
+    onto the obstacle by the load e = Rᵀf (:func:`placement`, not sliding
+    along the modes no normal sees) and the nodes it touches there;
+    (None, None) if the programme has no solution."""
+    alpha = placement(N, gap, e, unresisted(N))
     if alpha is None:
-        return None, 0
+        return None, None
     remaining = gap - N @ alpha
     size = np.abs(gap).max(initial=0.0) + np.abs(N @ alpha).max(initial=0.0)
     touching = remaining <= TOUCH_RTOL * max(size, 1e-300)
-    x0 = np.concatenate([Rc @ alpha, alpha])
+    return np.concatenate([Rc @ alpha, alpha]), touching
+
+
+def rigid_start(system, N, gap, Rc, problem):
+    """(y, touching nodes): the rigid body put onto the obstacle by the
+    linear programme min −(Rᵀf)·α subject to N α ≤ s (:func:`placed`),
+    then one primal-dual active set step of ``system`` with the touching
+    nodes active (module docstring); None if the programme has no
+    solution (these nodes do not hold the body). The step is solved on
+    the system's structured Jacobian (condensed) or on its sparse rows
+    [JE; w_a JA + w_b JB] (the full system); a condensed system without
+    the structured one starts from the placement."""
+    R, _ = problem.rigid_modes()
+    x0, touching = placed(N, gap, R.T @ problem.f, Rc)
+    if x0 is None:
+        return None, 0
     E, A, B = system.residual(x0)
     wa, wb = (~touching).astype(float), touching.astype(float)
     J = system.jacobian(x0)
-    step = J.combine(wa, wb).direction(
-        np.concatenate([E, wa * A + wb * B])) if hasattr(J, "combine") \
-        else None
+    rhs = np.concatenate([E, wa * A + wb * B])
+    if hasattr(J, "combine"):
+        step = J.combine(wa, wb).direction(rhs)
+    elif not sp.issparse(J[0]):  # dense blocks, not reduced: no step
+        step = None
+    else:
+        JE, JA, JB = (sp.csr_matrix(block) for block in J)
+        step = newton_direction(sp.vstack(
+            [JE, sp.diags(wa) @ JA + sp.diags(wb) @ JB], format="csc"), rhs)
     return (x0 if step is None else x0 + step), int(touching.sum())

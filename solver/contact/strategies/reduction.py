@@ -81,12 +81,17 @@ class CondensedSystem:
 
 def reduction(problem, geometry, engine, condensed, friction=None):
     """:class:`CondensedSystem` if ``condensed``, else :class:`FullSystem`;
-    :class:`~.floating.FloatingSystem` for a body with rigid-body modes
+    for a body with rigid-body modes :class:`~.floating.FloatingSystem`,
+    or :class:`~.floating_full.FloatingFullSystem` on the full system
     (``friction``: the run's coefficient f_c, None if frictionless)."""
-    if condensed and problem.floating:  # any engine's condensation
-        from .floating import FloatingSystem
+    if problem.floating:
+        if condensed:
+            from .floating import FloatingSystem
 
-        return FloatingSystem(problem, geometry, engine, friction)
+            return FloatingSystem(problem, geometry, engine, friction)
+        from .floating_full import FloatingFullSystem
+
+        return FloatingFullSystem(problem, geometry, engine, friction)
     return (CondensedSystem if condensed else FullSystem)(problem, geometry,
                                                           engine)
 
