@@ -25,7 +25,8 @@ this process:
 * Hertz's checks (:func:`solver.studies3d.hertz_checks`): a/h on the
   slave, a from the first moment, (a, p0) fitted, the largest λ_j, where
   it lies (r/a) and the nodes' scatter about Hertz's profile inside 0.9 a
-  (RMS and largest, over p0).
+  (RMS and largest, over p0); then the same of the patch-recovered
+  pressure p̄_j (``result.contact_pressure_patch``, "p̄" columns).
 
 ``--a-over-h 16,22,32`` runs one mesh after the other (a refinement).
 It prints one Markdown table, a row per mesh (wall times; CPU times in
@@ -130,6 +131,12 @@ def measure(mesh, folder, backends):
         "max p (at r/a)": f"{check['max_p']:+.2%} ({check['max_p_r']:.2f})",
         "scatter RMS / max": f"{check['nodal_rms']:.2%} / "
                              f"{check['nodal_max']:.2%}",
+        "p̄: a fit": f"{check['a_fit_patch']:+.2%}",
+        "p̄: p0 fit": f"{check['p0_fit_patch']:+.2%}",
+        "p̄: max (at r/a)": f"{check['max_p_patch']:+.2%} "
+                            f"({check['max_p_r_patch']:.2f})",
+        "p̄: scatter RMS / max": f"{check['nodal_rms_patch']:.2%} / "
+                                f"{check['nodal_max_patch']:.2%}",
     }
     return cells, bool(result.success)
 

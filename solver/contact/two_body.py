@@ -30,7 +30,8 @@ import scipy.sparse as sp
 from ..errors import SolverError
 from ..geometry.frames import tangent_basis
 from ..geometry.mortar import (mortar_coupling, node_to_segment,
-                               node_to_triangle, triangle_coupling)
+                               node_to_triangle, patch_pressure,
+                               triangle_coupling)
 from ..problem import ContactProblem
 
 __all__ = ["VARIANTS", "interface_coupling", "symmetry_normals",
@@ -287,13 +288,19 @@ class TwoBodyMap:
     def result(self, result, friction=None, steps=None):
         """The drivers' ``result`` on the equivalent problem mapped back to
         u, with the two-body fields (docs/results.md, "Two bodies, added";
-        ``contact_pressure`` is the dual multiplier λ_j = z_j / D_jj)."""
+        ``contact_pressure`` is the dual multiplier λ_j = z_j / D_jj,
+        ``contact_pressure_patch`` its patch recovery,
+        :func:`~solver.geometry.mortar.patch_pressure`)."""
         problem = self.problem
         extra = dict(covered=self.covered, mortar_D=self.coupling.D,
                      body=_body(problem), variant=self.coupling.variant,
                      gap_mode=("mortar" if self.variant == "mortar"
                                else self.variant),
                      weighted_gap=self.coupling.gap)
+        if result.get("contact_pressure") is not None:
+            extra["contact_pressure_patch"] = patch_pressure(
+                problem.mortar_slave, self.coupling.slave_nodes,
+                self.coupling.D, result.contact_pressure, self.covered)
         if friction is not None and "u" not in result:  # steps not kept
             result.update(extra)
             return result
