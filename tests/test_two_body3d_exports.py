@@ -24,6 +24,7 @@ import pytest
 
 from conftest import ROOT
 from solver import load_problem, solve
+from solver.linalg import available_backends
 from solver.studies3d import (full_slip_checks, hertz_checks,
                               interface_force, stick_radius_checks)
 from test_export import export_module
@@ -98,6 +99,13 @@ def test_two_unequal_spheres_hertz(tmp_path):
     assert check["nodal_rms_patch"] < 0.8 * check["nodal_rms"], check
     assert abs(check["p0_fit_patch"]) < 0.03, check
     assert abs(check["max_p_patch"]) < 0.04, check
+    # PARDISO condenses from K's bordered factor, CHOLMOD from the glued
+    # K̂ (strategies.bordered): the same answer, symmetry rollers included
+    if {"pardiso", "cholmod"} <= set(available_backends()):
+        one, other = (solve(problem, backend=b) for b in ("pardiso",
+                                                          "cholmod"))
+        assert np.abs(one.u - other.u).max() <= 1e-10 * np.abs(
+            other.u).max()
 
 
 def test_identical_spheres_cattaneo_mindlin(tmp_path):

@@ -121,7 +121,11 @@ def _pairs(pairs, segments):
 
 
 def equivalent_problem(problem, coupling, friction=False):
-    """(discrete problem in v, T⁻¹ sparse): module docstring."""
+    """(discrete problem in v, T⁻¹ sparse, covered): module docstring.
+    Without a floating body the problem in v also carries
+    ``change_of_variables`` = (K, f, E) of the bodies, from which its
+    candidates can be condensed with K's own factor
+    (:mod:`solver.contact.strategies.bordered`)."""
     n, nc = problem.n_dofs, problem.n_contact
     if not np.array_equal(coupling.slave_nodes, problem.contact_nodes):
         raise SolverError("the mortar slave nodes are not the problem's "
@@ -169,6 +173,8 @@ def equivalent_problem(problem, coupling, friction=False):
     equivalent.node_graph = lambda: _node_graph(problem, extra)
     if problem.floating:  # a body held by contact only: its modes in v
         _floating_modes(equivalent, problem, T_inv, E)
+    else:  # K SPD: the candidates may be condensed from K's own factor
+        equivalent.change_of_variables = (problem.K, problem.f, E)
     # how far the prescribed displacements move the bodies before they
     # deform: the candidates' screening margin (strategies.candidates)
     equivalent.approach_length = float(np.linalg.norm(
