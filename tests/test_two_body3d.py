@@ -97,8 +97,8 @@ def test_node_to_segment_fails_the_patch_test(slave):
 def test_cli_outputs(tmp_path):
     """``python -m solver`` on a saved 3D two-body file: exit 0, both
     bodies in result.vtu (cell data body, point data traction), the
-    interface pressure in result.npz, the interface in summary.json and the
-    figures with --plots."""
+    interface pressure (λ_j and its patch recovery) in result.npz, the
+    interface in summary.json and the figures with --plots."""
     import meshio
 
     from solver.cli import main
@@ -116,8 +116,11 @@ def test_cli_outputs(tmp_path):
     data = np.load(out / "result.npz")
     exact = uniaxial_pressure((0.5, 0.5), MATERIALS, 1e-3)
     assert np.allclose(data["contact_pressure"], exact, rtol=1e-10)
+    assert np.allclose(data["contact_pressure_patch"], exact, rtol=1e-10)
     summary = json.loads((out / "summary.json").read_text())
     assert np.isclose(summary["interface_normal_force"], exact, rtol=1e-10)
+    assert np.isclose(summary["max_interface_pressure_patch"], exact,
+                      rtol=1e-10)
     for name in ("interface_pressure.png", "interface_map.png"):
         assert (out / name).stat().st_size > 0
 
