@@ -217,10 +217,7 @@ class BorderedFactor:
         lib = self._lib = _library()
         n, m = K.shape[0], B.shape[0]
         self.n, self.m = n, m
-        A = sp.bmat([[sp.csr_matrix(K), sp.csr_matrix(B).T],
-                     [sp.csr_matrix(B), sp.csr_matrix((m, m))]],
-                    format="csr")
-        data, indptr, indices = _upper(A + sp.diags(np.zeros(n + m)))
+        data, indptr, indices = _bordered_upper(K, B)
         iparm = np.zeros(64, np.int32)
         iparm[[0, 1, 9, 34]] = 1, 2, 8, 1  # ours, METIS, eps 1e-8, 0-based
         iparm[17] = -1
@@ -266,6 +263,33 @@ class BorderedFactor:
         if error:
             raise SolverError(f"PARDISO phase 333 failed with error {error}")
         return y[:n]
+
+
+def _bordered_upper(K, B):
+    """The upper triangle of [[K, Bᵀ], [B, 0]] in CSR (sorted, 32-bit, the
+    border's zero diagonal stored): row i < n is K's upper row i followed
+    by row i of Bᵀ (columns n + j, all beyond K's), row n + j its diagonal
+    alone; in one scatter, without assembling the whole matrix."""
+    n, m = K.shape[0], B.shape[0]
+    k_data, k_ptr, k_ind = _upper(K)
+    Bt = sp.csr_matrix(sp.csr_matrix(B, dtype=np.float64).T)
+    Bt.sum_duplicates()  # also sorts
+    k_count, b_count = np.diff(k_ptr), np.diff(Bt.indptr)
+    indptr = np.zeros(n + m + 1, np.int64)
+    np.cumsum(np.concatenate([k_count + b_count, np.ones(m, np.int64)]),
+              out=indptr[1:])
+    if indptr[-1] >= 2 ** 31:
+        raise SolverError("pardiso backend: more than 2³¹ nonzeros")
+    data = np.zeros(indptr[-1])
+    indices = np.empty(indptr[-1], np.int32)
+    start = indptr[:n]
+    at = np.repeat(start - k_ptr[:-1], k_count) + np.arange(len(k_data))
+    data[at], indices[at] = k_data, k_ind
+    at = np.repeat(start + k_count - Bt.indptr[:-1], b_count) \
+        + np.arange(Bt.nnz)
+    data[at], indices[at] = Bt.data, n + Bt.indices
+    indices[indptr[n:-1]] = np.arange(n, n + m)
+    return data, indptr.astype(np.int32), indices
 
 
 def factorize_bordered(K, B, name="K"):
