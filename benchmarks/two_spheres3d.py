@@ -18,14 +18,19 @@ this process:
   does before it iterates: the mortar integration (pair search, clipping,
   D and M on the triangles), the change of variables K̃ = T⁻ᵀKT⁻¹ and the
   contact geometry (an upper bound on the integration alone);
-* **solve**: ``solve(problem, backend=fastest)``, every other argument at
-  its default (mortar coupling, change of variables, the condensed Newton
-  on the candidates, verification, mapping back), "time (time / fastest
-  floor)", and the mortar integration's share of it;
+* **solve**: ``solve(problem)``, every argument at its default (the
+  backend "auto": PARDISO when installed, whose bordered factorisation of
+  K condenses the candidates; mortar coupling, change of variables, the
+  condensed Newton on the candidates, verification, mapping back), "time
+  (time / fastest floor)", and the mortar integration's share of it. Not
+  the backend of the fastest floor: K's floors of PARDISO and CHOLMOD are
+  within noise of each other, but CHOLMOD condenses from the glued K̃
+  (several times slower);
 * Hertz's checks (:func:`solver.studies3d.hertz_checks`): a/h on the
   slave, a from the first moment, (a, p0) fitted, the largest λ_j, where
   it lies (r/a) and the nodes' scatter about Hertz's profile inside 0.9 a
-  (RMS and largest, over p0).
+  (RMS and largest, over p0); then the same of the patch-recovered
+  pressure p̄_j (``result.contact_pressure_patch``, "p̄" columns).
 
 ``--a-over-h 16,22,32`` runs one mesh after the other (a refinement).
 It prints one Markdown table, a row per mesh (wall times; CPU times in
@@ -106,7 +111,7 @@ def measure(mesh, folder, backends):
     floors = {b: floor(problem, b) for b in backends}
     fastest = min(floors, key=lambda b: floors[b]["time"])
     with Clock() as run:
-        result = solve(problem, backend=fastest)
+        result = solve(problem)
     check = hertz_checks(problem, result)
     base = floors[fastest]
     cells = {
@@ -118,7 +123,7 @@ def measure(mesh, folder, backends):
         "mortar [s]": f"{result.geometry_time:.2f} "
                       f"({result.geometry_time / run.times['time']:.1%} of "
                       "the solve)",
-        f"solve {fastest} [s] (/floor)":
+        f"solve {result.linear_solver} [s] (/{fastest} floor)":
             f"{run.times['time']:.2f} ({run.times['time'] / base['time']:.2f}"
             f"; CPU {run.times['cpu'] / base['cpu']:.2f})"
             + ("" if result.success else " NOT CONVERGED"),
@@ -130,6 +135,12 @@ def measure(mesh, folder, backends):
         "max p (at r/a)": f"{check['max_p']:+.2%} ({check['max_p_r']:.2f})",
         "scatter RMS / max": f"{check['nodal_rms']:.2%} / "
                              f"{check['nodal_max']:.2%}",
+        "p̄: a fit": f"{check['a_fit_patch']:+.2%}",
+        "p̄: p0 fit": f"{check['p0_fit_patch']:+.2%}",
+        "p̄: max (at r/a)": f"{check['max_p_patch']:+.2%} "
+                            f"({check['max_p_r_patch']:.2f})",
+        "p̄: scatter RMS / max": f"{check['nodal_rms_patch']:.2%} / "
+                                f"{check['nodal_max_patch']:.2%}",
     }
     return cells, bool(result.success)
 

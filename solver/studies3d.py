@@ -95,7 +95,10 @@ def hertz_checks(problem, result):
     Where the largest λ_j lies (``max_p_r``, r/a) and the nodes' scatter
     about Hertz's profile inside 0.9 a (``nodal_rms`` and
     ``nodal_max``, |λ_j − p_Hertz(r_j)| / p0) tell a peak at the axis from
-    one node's scatter (a node of an irregular patch)."""
+    one node's scatter (a node of an irregular patch). The same fit,
+    largest value, its place and scatter of the patch-recovered pressure
+    p̄_j (``result.contact_pressure_patch``,
+    :func:`solver.geometry.mortar.patch_pressure`) end in ``_patch``."""
     meta = problem.meta
     centre, axis = _axis(problem)
     D = np.asarray(result.mortar_D)
@@ -107,16 +110,24 @@ def hertz_checks(problem, result):
     d = problem.nodes[problem.contact_nodes] - centre
     r = np.linalg.norm(d - np.outer(d @ axis, axis), axis=1)
     a_moment = contact_radius_from_moment(r, D * lam)
-    a_fit, p0_fit = fit_hertz_profile(r[covered], lam[covered], (a, p0))
     inside = covered & (r < 0.9 * a)
-    scatter = (lam[inside] - hertz_pressure(r[inside], a, p0)) / p0
-    return dict(P=P, a=a, p0=p0, a_over_h=a / meta["h_contact"],
-                in_contact=int(np.sum(_last(result, "in_contact"))),
-                a_moment=a_moment / a - 1, a_fit=a_fit / a - 1,
-                p0_fit=p0_fit / p0 - 1, max_p=lam.max() / p0 - 1,
-                max_p_r=float(r[np.argmax(lam)] / a),
-                nodal_rms=float(np.sqrt(np.mean(scatter ** 2))),
-                nodal_max=float(np.abs(scatter).max(initial=0.0)))
+    checks = dict(P=P, a=a, p0=p0, a_over_h=a / meta["h_contact"],
+                  in_contact=int(np.sum(_last(result, "in_contact"))),
+                  a_moment=a_moment / a - 1)
+    pressures = {"": lam}
+    if result.get("contact_pressure_patch") is not None:
+        pressures["_patch"] = np.asarray(_last(result,
+                                               "contact_pressure_patch"))
+    for end, p in pressures.items():
+        a_fit, p0_fit = fit_hertz_profile(r[covered], p[covered], (a, p0))
+        scatter = (p[inside] - hertz_pressure(r[inside], a, p0)) / p0
+        checks.update({
+            "a_fit" + end: a_fit / a - 1, "p0_fit" + end: p0_fit / p0 - 1,
+            "max_p" + end: p.max() / p0 - 1,
+            "max_p_r" + end: float(r[np.argmax(p)] / a),
+            "nodal_rms" + end: float(np.sqrt(np.mean(scatter ** 2))),
+            "nodal_max" + end: float(np.abs(scatter).max(initial=0.0))})
+    return checks
 
 
 def stick_radius_checks(problem, result, friction):

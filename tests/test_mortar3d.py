@@ -4,15 +4,17 @@ third of the slave triangles' areas at j), the partition of unity
 Σ_k M_jk = D_jj on a fully covered slave, exactness for linear fields on
 flat non-matching meshes (M x = D x: the discrete form of the contact
 patch test), the weighted gap of a lifted master, the overlap polygons of
-two triangles (areas by hand) and the bounding-box pair search against
-brute force on 10⁴ × 10⁴ triangles."""
+two triangles (areas by hand), the bounding-box pair search against
+brute force on 10⁴ × 10⁴ triangles, and the patch-recovered pressure on a
+square of two triangles (by hand) and on a jittered mesh (a uniform λ
+recovered exactly)."""
 
 import numpy as np
 import pytest
 from scipy.spatial import Delaunay
 
 from solver.geometry.mortar import (box_pairs, overlap_polygons,
-                                    triangle_coupling)
+                                    patch_pressure, triangle_coupling)
 
 
 def square_mesh(n, rng, z=0.0, up=True, jitter=0.3, size=1.0):
@@ -141,3 +143,41 @@ def test_pair_search_against_brute_force():
         brute.update(zip((i + k).tolist(), j.tolist()))
     assert 0 < len(brute) < n * n / 100
     assert found == brute
+
+
+def test_patch_pressure_by_hand():
+    """The unit square as triangles (0, 1, 2), (0, 2, 3): D = ∫N_j = (1/3,
+    1/6, 1/3, 1/6); with λ = (1, 2, 3, 4) the forces D λ are (1/3, 1/3, 1,
+    2/3), and p̄_j is the star's force over its area: node 1 (star 0, 1,
+    2) (5/3)/(5/6) = 2, node 3 (star 0, 2, 3) 2/(5/6) = 2.4, nodes 0 and 2
+    (every node) 7/3. Without node 3 (it takes no part): nodes 0 and 2 get
+    (5/3)/(5/6) = 2, node 3 gets 0. Per step (a friction run) row by
+    row."""
+    facets = np.array([[10, 11, 12], [10, 12, 13]])
+    ids = np.array([10, 11, 12, 13])
+    D = np.array([1 / 3, 1 / 6, 1 / 3, 1 / 6])
+    lam = np.array([1.0, 2.0, 3.0, 4.0])
+    assert np.allclose(patch_pressure(facets, ids, D, lam),
+                       [7 / 3, 2, 7 / 3, 2.4], rtol=1e-14)
+    part = np.array([True, True, True, False])
+    assert np.allclose(patch_pressure(facets, ids, D, lam, part),
+                       [2, 2, 2, 0], rtol=1e-14)
+    steps = patch_pressure(facets, ids, D, np.array([lam, 2 * lam]))
+    assert steps.shape == (2, 4)
+    assert np.allclose(steps[1], 2 * steps[0], rtol=1e-14)
+
+
+def test_patch_pressure_uniform_on_a_jittered_mesh():
+    """A uniform λ = p is recovered as p at every node that takes part (the
+    patch test), whatever the stars; 0 at the others."""
+    rng = np.random.default_rng(3)
+    nodes, tri = square_mesh(7, rng)
+    ids = np.unique(tri)
+    a = nodes[tri]
+    area = 0.5 * np.linalg.norm(np.cross(a[:, 1] - a[:, 0],
+                                         a[:, 2] - a[:, 0]), axis=1)
+    D = np.bincount(tri.ravel(), np.repeat(area / 3, 3))[ids]
+    part = rng.random(len(ids)) < 0.8
+    p = patch_pressure(tri, ids, D, np.where(part, 2.5, 0.0), part)
+    assert np.abs(p[part] - 2.5).max() <= 1e-14 * 2.5
+    assert not p[~part].any()

@@ -26,8 +26,8 @@ MATERIALS = ((1.0, 0.3), (3.0, 0.2))
 def test_patch_test_non_matching(slave, system, method):
     """Irregular non-matching interfaces (3 × 3 on 4 × 4 cells, jittered):
     the applied pressure (top reaction / area) is the closed form, and
-    λ_j equals it at every slave node to 1e-10, with the traction −λ n;
-    at the default tolerance."""
+    λ_j equals it at every slave node to 1e-10, with the traction −λ n,
+    and so does its patch recovery p̄_j; at the default tolerance."""
     problem, K, _ = stacked_boxes(materials=MATERIALS, slave=slave)
     result = solve(problem, system=system, method=method)
     assert result.success, result.message
@@ -37,6 +37,8 @@ def test_patch_test_non_matching(slave, system, method):
     p = result.contact_pressure
     assert len(p) == (16 if slave == "upper" else 25)
     assert np.abs(p - applied).max() <= 1e-10 * applied
+    recovered = result.contact_pressure_patch  # exact for a uniform λ
+    assert np.abs(recovered - applied).max() <= 1e-10 * applied
     up = 1.0 if slave == "upper" else -1.0
     assert np.allclose(result.traction, [[0, 0, up * applied]] * len(p),
                        rtol=0, atol=1e-10 * applied)
@@ -95,8 +97,8 @@ def test_node_to_segment_fails_the_patch_test(slave):
 def test_cli_outputs(tmp_path):
     """``python -m solver`` on a saved 3D two-body file: exit 0, both
     bodies in result.vtu (cell data body, point data traction), the
-    interface pressure in result.npz, the interface in summary.json and the
-    figures with --plots."""
+    interface pressure (λ_j and its patch recovery) in result.npz, the
+    interface in summary.json and the figures with --plots."""
     import meshio
 
     from solver.cli import main
@@ -114,8 +116,11 @@ def test_cli_outputs(tmp_path):
     data = np.load(out / "result.npz")
     exact = uniaxial_pressure((0.5, 0.5), MATERIALS, 1e-3)
     assert np.allclose(data["contact_pressure"], exact, rtol=1e-10)
+    assert np.allclose(data["contact_pressure_patch"], exact, rtol=1e-10)
     summary = json.loads((out / "summary.json").read_text())
     assert np.isclose(summary["interface_normal_force"], exact, rtol=1e-10)
+    assert np.isclose(summary["max_interface_pressure_patch"], exact,
+                      rtol=1e-10)
     for name in ("interface_pressure.png", "interface_map.png"):
         assert (out / name).stat().st_size > 0
 

@@ -35,9 +35,15 @@ class SerialEngine:
         return condensation
 
     def normal_condensation(self, problem, geometry):
-        """K̂ = RKRᵀ for condensations onto candidate normal DOFs."""
+        """K̂ = RKRᵀ for condensations onto candidate normal DOFs; for two
+        bodies on a backend that factorises bordered matrices, the same
+        from K's own factor (:mod:`.strategies.bordered`)."""
+        from .strategies import bordered
         from .strategies.candidates import NormalCondensation
 
+        if bordered.supports(problem, self.backend):
+            return bordered.BorderedCondensation(problem, geometry,
+                                                 self.backend)
         return NormalCondensation(problem, geometry, self.backend)
 
     def full_jacobian(self, system, problem, geometry):

@@ -30,7 +30,8 @@ import scipy.sparse as sp
 from ..errors import SolverError
 from ..geometry.frames import tangent_basis
 from ..geometry.mortar import (mortar_coupling, node_to_segment,
-                               node_to_triangle, triangle_coupling)
+                               node_to_triangle, patch_pressure,
+                               triangle_coupling)
 from ..problem import ContactProblem
 
 __all__ = ["VARIANTS", "interface_coupling", "symmetry_normals",
@@ -120,7 +121,11 @@ def _pairs(pairs, segments):
 
 
 def equivalent_problem(problem, coupling, friction=False):
-    """(discrete problem in v, T⁻¹ sparse): module docstring."""
+    """(discrete problem in v, T⁻¹ sparse, covered): module docstring.
+    Without a floating body the problem in v also carries
+    ``change_of_variables`` = (K, f, E) of the bodies, from which its
+    candidates can be condensed with K's own factor
+    (:mod:`solver.contact.strategies.bordered`)."""
     n, nc = problem.n_dofs, problem.n_contact
     if not np.array_equal(coupling.slave_nodes, problem.contact_nodes):
         raise SolverError("the mortar slave nodes are not the problem's "
@@ -168,6 +173,8 @@ def equivalent_problem(problem, coupling, friction=False):
     equivalent.node_graph = lambda: _node_graph(problem, extra)
     if problem.floating:  # a body held by contact only: its modes in v
         _floating_modes(equivalent, problem, T_inv, E)
+    else:  # K SPD: the candidates may be condensed from K's own factor
+        equivalent.change_of_variables = (problem.K, problem.f, E)
     # how far the prescribed displacements move the bodies before they
     # deform: the candidates' screening margin (strategies.candidates)
     equivalent.approach_length = float(np.linalg.norm(
@@ -287,13 +294,19 @@ class TwoBodyMap:
     def result(self, result, friction=None, steps=None):
         """The drivers' ``result`` on the equivalent problem mapped back to
         u, with the two-body fields (docs/results.md, "Two bodies, added";
-        ``contact_pressure`` is the dual multiplier λ_j = z_j / D_jj)."""
+        ``contact_pressure`` is the dual multiplier λ_j = z_j / D_jj,
+        ``contact_pressure_patch`` its patch recovery,
+        :func:`~solver.geometry.mortar.patch_pressure`)."""
         problem = self.problem
         extra = dict(covered=self.covered, mortar_D=self.coupling.D,
                      body=_body(problem), variant=self.coupling.variant,
                      gap_mode=("mortar" if self.variant == "mortar"
                                else self.variant),
                      weighted_gap=self.coupling.gap)
+        if result.get("contact_pressure") is not None:
+            extra["contact_pressure_patch"] = patch_pressure(
+                problem.mortar_slave, self.coupling.slave_nodes,
+                self.coupling.D, result.contact_pressure, self.covered)
         if friction is not None and ("u" not in result  # steps not kept
                                      or not np.size(result.u)):  # or none
             result.update(extra)

@@ -15,7 +15,10 @@ phase 22 factorises all of A *and* returns the dense S on c. Phase 331
 with u_c in those rows gives the interior unknowns: one triangular sweep
 each. A non-positive pivot stops PARDISO with error -4 (SuperLU's LDLᵀ
 then names the inertia); otherwise the pivots (``pardiso_getdiag``) go
-through :func:`~solver.linalg.base.check_pivots`."""
+through :func:`~solver.linalg.base.check_pivots`. :class:`BorderedFactor`
+(two bodies' candidates, :mod:`solver.contact.strategies.bordered`) uses
+``mtype = −2`` (symmetric indefinite) on K bordered by constraint rows,
+with the border as the Schur set."""
 
 import ctypes
 import glob
@@ -32,7 +35,8 @@ from .base import Factor, check_pivots
 from .superlu import refuse
 
 __all__ = ["NAME", "EXTRA", "REQUIRES", "LICENCE", "USES_ORDER",
-           "available", "factorize", "PardisoFactor"]
+           "available", "factorize", "PardisoFactor", "factorize_bordered",
+           "BorderedFactor"]
 
 NAME, EXTRA, REQUIRES = "pardiso", "mkl", "mkl>=2023"
 LICENCE = "Intel Simplified Software Licence (oneMKL)"
@@ -71,12 +75,12 @@ def _int(value):
     return ctypes.byref(ctypes.c_int32(value))
 
 
-def _pardiso(lib, arrays, phase, n, b, x, nrhs=1):
-    """One ``pardiso`` call (maxfct = mnum = 1, mtype = 2, msglvl = 0) on
+def _pardiso(lib, arrays, phase, n, b, x, nrhs=1, mtype=2):
+    """One ``pardiso`` call (maxfct = mnum = 1, ``mtype``, msglvl = 0) on
     ``arrays`` = (pt, a, ia, ja, perm, iparm); returns its error code."""
     pt, a, ia, ja, perm, iparm = map(_ptr, arrays)
     error = ctypes.c_int32(0)
-    lib.pardiso(pt, _int(1), _int(1), _int(2), _int(phase), _int(n), a, ia,
+    lib.pardiso(pt, _int(1), _int(1), _int(mtype), _int(phase), _int(n), a, ia,
                 ja, perm, _int(nrhs), iparm, _int(0), _ptr(b), _ptr(x),
                 ctypes.byref(error))
     return error.value
@@ -186,3 +190,108 @@ class PardisoFactor(Factor):
 
 def factorize(A, order=None, schur=None, name="K", check=True):
     return PardisoFactor(A, schur, name, check)
+
+
+class BorderedFactor:
+    r"""B K⁻¹ Bᵀ and solves with K from one factorisation of the bordered
+    matrix
+
+    .. math::
+        A = \begin{pmatrix} K & B^T \\ B & 0 \end{pmatrix},
+
+    K SPD (n × n), B sparse (m × n), by PARDISO's symmetric indefinite
+    LDLᵀ (``mtype = −2``, Bunch–Kaufman pivots) with the m border rows as
+    the Schur set (``iparm[35] = 2``): the border is eliminated last, so
+    the interior factor is K's own (its fill, not that of a matrix in which
+    B's rows have been folded into K), and the Schur complement of A on
+    the border is −B K⁻¹ Bᵀ. ``C`` = B K⁻¹ Bᵀ (m × m, dense, SPD for B of
+    full row rank). :meth:`solve` (b, μ) = K⁻¹(b − Bᵀμ): the forward and
+    diagonal sweeps on (b, 0), μ put into the border rows, the backward
+    sweep (the block LDLᵀ's back substitution). K's inertia is checked:
+    no perturbed pivot and n positive pivots in the interior, otherwise
+    the one-line refusal of a K that is not positive definite."""
+
+    backend = NAME
+
+    def __init__(self, K, B, name="K"):
+        lib = self._lib = _library()
+        n, m = K.shape[0], B.shape[0]
+        self.n, self.m = n, m
+        data, indptr, indices = _bordered_upper(K, B)
+        iparm = np.zeros(64, np.int32)
+        iparm[[0, 1, 9, 34]] = 1, 2, 8, 1  # ours, METIS, eps 1e-8, 0-based
+        iparm[17] = -1
+        perm = np.zeros(n + m, np.int32)
+        perm[n:] = 1
+        iparm[35] = 2
+        S = np.zeros((m, m))
+        self._arrays = (np.zeros(64, np.int64), data, indptr, indices, perm,
+                        iparm)
+        weakref.finalize(self, _pardiso, lib, self._arrays, -1, n + m,
+                         np.zeros(1), np.zeros(1), 1, -2)
+        for phase in (11, 22):
+            error = _pardiso(lib, self._arrays, phase, n + m, np.zeros(1), S,
+                             1, -2)
+            if error == -4:
+                refuse(K, name, "PARDISO error -4")
+            if error:
+                raise SolverError(f"PARDISO phase {phase} failed with error "
+                                  f"{error} (oneMKL reference, 'pardiso')")
+        self.nnz = int(iparm[17])
+        if iparm[13] or iparm[21] != n:  # perturbed pivots, inertia
+            refuse(K, name, f"PARDISO LDLᵀ: {int(iparm[21])} positive "
+                   f"pivots of {n}, {int(iparm[13])} perturbed")
+        C = -S
+        self.C = 0.5 * (C + C.T)
+
+    def solve(self, b, mu=None):
+        """K⁻¹(b − Bᵀμ) for b (n,) and μ (m,) (default 0)."""
+        n, m = self.n, self.m
+        x = np.zeros(n + m)
+        x[:n] = b
+        for phase in (331, 332):
+            y = np.zeros_like(x)
+            error = _pardiso(self._lib, self._arrays, phase, n + m, x, y, 1,
+                             -2)
+            if error:
+                raise SolverError(f"PARDISO phase {phase} failed with error "
+                                  f"{error}")
+            x = y
+        x[n:] = 0.0 if mu is None else mu
+        y = np.zeros_like(x)
+        error = _pardiso(self._lib, self._arrays, 333, n + m, x, y, 1, -2)
+        if error:
+            raise SolverError(f"PARDISO phase 333 failed with error {error}")
+        return y[:n]
+
+
+def _bordered_upper(K, B):
+    """The upper triangle of [[K, Bᵀ], [B, 0]] in CSR (sorted, 32-bit, the
+    border's zero diagonal stored): row i < n is K's upper row i followed
+    by row i of Bᵀ (columns n + j, all beyond K's), row n + j its diagonal
+    alone; in one scatter, without assembling the whole matrix."""
+    n, m = K.shape[0], B.shape[0]
+    k_data, k_ptr, k_ind = _upper(K)
+    Bt = sp.csr_matrix(sp.csr_matrix(B, dtype=np.float64).T)
+    Bt.sum_duplicates()  # also sorts
+    k_count, b_count = np.diff(k_ptr), np.diff(Bt.indptr)
+    indptr = np.zeros(n + m + 1, np.int64)
+    np.cumsum(np.concatenate([k_count + b_count, np.ones(m, np.int64)]),
+              out=indptr[1:])
+    if indptr[-1] >= 2 ** 31:
+        raise SolverError("pardiso backend: more than 2³¹ nonzeros")
+    data = np.zeros(indptr[-1])
+    indices = np.empty(indptr[-1], np.int32)
+    start = indptr[:n]
+    at = np.repeat(start - k_ptr[:-1], k_count) + np.arange(len(k_data))
+    data[at], indices[at] = k_data, k_ind
+    at = np.repeat(start + k_count - Bt.indptr[:-1], b_count) \
+        + np.arange(Bt.nnz)
+    data[at], indices[at] = Bt.data, n + Bt.indices
+    indices[indptr[n:-1]] = np.arange(n, n + m)
+    return data, indptr.astype(np.int32), indices
+
+
+def factorize_bordered(K, B, name="K"):
+    """:class:`BorderedFactor` of K bordered by B."""
+    return BorderedFactor(K, B, name)

@@ -14,7 +14,8 @@ __all__ = ["RESULT_KEYS", "write_two_body_result", "write_two_body_vtk",
 
 #: The arrays of result.npz (those present in the result).
 RESULT_KEYS = ("u", "v", "displacement", "contact_force", "contact_pressure",
-               "contact_pressure_consistent", "friction_traction",
+               "contact_pressure_consistent", "contact_pressure_patch",
+               "friction_traction",
                "friction_bound", "traction", "normal", "gap",
                "weighted_gap", "mortar_D", "covered", "in_contact", "stick",
                "slip", "load_factor", "body", "normal_displacement",

@@ -183,4 +183,10 @@ def interface_summary(problem, result):
         summary.update(
             interface_normal_force=float(D @ pressure),
             max_interface_pressure=float(pressure.max(initial=0.0)))
+    patch = result.get("contact_pressure_patch")
+    if patch is not None and np.size(patch):
+        patch = np.asarray(patch)
+        patch = patch[-1] if patch.ndim == 2 else patch
+        summary["max_interface_pressure_patch"] = float(
+            patch.max(initial=0.0))
     return summary
