@@ -303,10 +303,11 @@ class TwoBodyMap:
                      gap_mode=("mortar" if self.variant == "mortar"
                                else self.variant),
                      weighted_gap=self.coupling.gap)
-        if result.get("contact_pressure") is not None:
+        pressure = result.get("contact_pressure")
+        if pressure is not None and np.size(pressure):  # (no step kept)
             extra["contact_pressure_patch"] = patch_pressure(
                 problem.mortar_slave, self.coupling.slave_nodes,
-                self.coupling.D, result.contact_pressure, self.covered)
+                self.coupling.D, pressure, self.covered)
         if friction is not None and ("u" not in result  # steps not kept
                                      or not np.size(result.u)):  # or none
             result.update(extra)
