@@ -16,23 +16,11 @@ definition of the predictor itself on hand-made states.
 from types import SimpleNamespace
 
 import numpy as np
-import pytest
 
-from conftest import MESHES
-from test_export3d import SPHERE, export_module
+# the a/h = 4 quarter Hertz sphere (a module fixture)
+from test_friction_start import sphere_4  # noqa: F401
 from solver import solve_friction
 from solver.contact.friction import start
-from solver.problem import load_problem
-
-
-@pytest.fixture(scope="module")
-def sphere_4(tmp_path_factory):
-    """The a/h = 4 quarter Hertz sphere (2443 DOFs)."""
-    path = tmp_path_factory.mktemp("sphere") / "hertz_sphere_4.npz"
-    export_module().export_only(SPHERE, mesh=str(MESHES /
-                                                 "hertz_sphere_4.mesh"),
-                                output=str(path))
-    return load_problem(path)
 
 
 def _system(dim=3, formulation="projection"):
