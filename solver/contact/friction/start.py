@@ -26,9 +26,11 @@ load increments the step's Δu and g_t are predicted as the previous
 step's plus its increment, u_κ ≈ u_{κ−1} + Δu_{κ−1}, g_κ ≈ g_{κ−1} +
 (g_{κ−1} − g_{κ−2}), the secant predictor of path-following methods.
 From the free motion alone, which holds g_t, the first Newton steps of
-each load step on the Hertz sphere were damped (α = 2⁻³…2⁻¹); from the
+each load step on the Hertz sphere were damped (α = 2⁻⁵…2⁻¹); from the
 secant predictor they are full steps (benchmarks/README.md, "3D
-friction: the extrapolated start")."""
+friction: the extrapolated start"). 2D keeps the free motion for now:
+the extrapolated start cuts its Jacobians too, but the 2D counts the
+README and notebooks quote have not all been re-run with it."""
 
 import numpy as np
 import scipy.linalg as sla
