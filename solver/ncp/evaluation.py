@@ -31,12 +31,14 @@ class Counted:
         self.njev += 1
         jac = self.jac(x)
         structured = hasattr(jac, "combine")
-        JE, JA, JB = (None, jac.JA, jac.JB) if structured else jac
+        JE, JA, JB = (None, None, None) if structured else jac
         E, A, B = parts
         za = zb = None
         if self.kind == "fb":
             gamma = (A == 0.0) & (B == 0.0)
             if gamma.any():
+                if structured:  # read only here (rule (31))
+                    JA, JB = jac.JA, jac.JB
                 direction = z(gamma) if z is not None else _default_z(
                     JA, gamma)
                 za, zb = JA @ direction, JB @ direction

@@ -84,6 +84,8 @@ class DiscSystem(ProjectionSystem):
     """:class:`~.projection.ProjectionSystem` on a dense condensed S (3D)
     whose :meth:`jacobian` is a :class:`DiscJacobian`."""
 
+    lazy_blocks = True  # RK stays sparse here (R S is kept apart)
+
     def __init__(self, K, *args, **kwargs):
         super().__init__(K, *args, **kwargs)
         self.dense = self.dense_schur and self.dim == 3
@@ -206,7 +208,16 @@ class DiscJacobian:
             rolling = ~s.t_free.reshape(m, k).all(axis=1)[self.own]
             self.inverse[rolling] = np.linalg.inv(
                 np.eye(k) - self.P[self.own][rolling])
-        self.JA, self.JB = s._JA, s._JB
+
+    @property
+    def JA(self):
+        """The normal pairs' −YRK (sparse; φ_FB's rule (31) only)."""
+        return self.system._JA
+
+    @property
+    def JB(self):
+        """The normal pairs' −cYR (sparse; φ_FB's rule (31) only)."""
+        return self.system._JB
 
     @property
     def Pu(self):
@@ -416,8 +427,9 @@ class _DiscCombined:
         # the turned components t
         i1, i2, w1, w2 = r1[U], r2[U], g1[U], g2[U]
         A = matrix[np.ix_(i1, i1)]
-        A *= w1[:, None]
-        A *= w1
+        scaled = np.flatnonzero(w1 != 1.0)  # turned components only
+        A[scaled] *= w1[scaled, None]
+        A[:, scaled] *= w1[scaled]
         t = np.flatnonzero(w2)
         if t.size:
             A[:, t] += matrix[np.ix_(i1, i2[t])] * (w1[:, None] * w2[t])

@@ -74,25 +74,20 @@ class ProjectionSystem(FrictionSystem):
     #: (:mod:`.newton`); False: the full J (the reference of the tests).
     reduced_newton = True
 
+    #: Assemble the sparse Jacobian blocks of RK when first used, not in
+    #: the constructor (:class:`~.disc.DiscSystem`: on a dense S they copy
+    #: S into CSR, and φ_min's reduced systems never read them).
+    lazy_blocks = False
+
     def __init__(self, K, *args, **kwargs):
         super().__init__(K, *args, **kwargs)
-        RK, R, other, a = self.RK, self.R, self.x_rows, self.t_rows
-        m, mt = self.m, self.mt
-        Zt = sp.csr_matrix((m, mt))
-        Dt, free = sp.diags(self.lumped_t, format="csr"), a
+        R, a = self.R, self.t_rows
         #: ZR with a roller's e_c rows 0 (it moves no tangential DOF)
         self._Rt = R[a]
         if self.rollers:
-            free = a[self.t_free]
-            Dt = Dt[self.t_free]
             self._Rt = sp.diags(self.t_free.astype(float)) @ R[
                 np.where(self.t_free, a, 0)]
-        self._JE_fixed = sp.bmat([
-            [RK[other], sp.csr_matrix((len(other), mt))],
-            [RK[free], -Dt]], format="csr")
-        self._JA = sp.hstack([-RK[self.n_rows], Zt], format="csr")
-        self._JB = sp.hstack([-self.gap_scale * R[self.n_rows], Zt],
-                             format="csr")
+        self._blocks = None if self.lazy_blocks else self._sparse_blocks()
         self.reduced = (self.reduced_newton and self.dim == 2
                         and not self.rollers and self.dense_schur)
         if self.reduced:
@@ -101,6 +96,39 @@ class ProjectionSystem(FrictionSystem):
             self.RK = RS  # dense: residuals by BLAS, not CSR of a dense S
             self._factor = None  # (kind, matrix, solve) of the last one
             self._flexibility = None  # T⁻¹, made when first needed
+
+    def _sparse_blocks(self):
+        """(JE's fixed rows, JA, JB) in CSR: the X and tangential
+        equilibrium rows [RK, −D] and the normal pairs' −YRK, −cYR."""
+        RK, R, other, a = self.RK, self.R, self.x_rows, self.t_rows
+        m, mt = self.m, self.mt
+        Zt = sp.csr_matrix((m, mt))
+        Dt, free = sp.diags(self.lumped_t, format="csr"), a
+        if self.rollers:
+            free = a[self.t_free]
+            Dt = Dt[self.t_free]
+        return (sp.bmat([[RK[other], sp.csr_matrix((len(other), mt))],
+                         [RK[free], -Dt]], format="csr"),
+                sp.hstack([-RK[self.n_rows], Zt], format="csr"),
+                sp.hstack([-self.gap_scale * R[self.n_rows], Zt],
+                          format="csr"))
+
+    def _block(self, i):
+        if self._blocks is None:
+            self._blocks = self._sparse_blocks()
+        return self._blocks[i]
+
+    @property
+    def _JE_fixed(self):
+        return self._block(0)
+
+    @property
+    def _JA(self):
+        return self._block(1)
+
+    @property
+    def _JB(self):
+        return self._block(2)
 
     @property
     def n_unknowns(self):

@@ -17,7 +17,7 @@ from ..result import ContactResult
 from .disc import DiscSystem
 from .projection import ProjectionSystem
 from .split import SplitSystem
-from .start import contact_corrected
+from .start import contact_corrected, extrapolated
 from ..geometry import contact_stiffness
 from ..kinematics import kinematic_breaches
 from ..verify import (accept_at_roundoff, describe_failure, force_scale,
@@ -147,13 +147,17 @@ def load_step(shared, state, run, stream, kappa, steps, load,
             return _unheld(run, kappa, steps, refused)
     load, w = space.load(load)
     system.set_step(state.u, load, state.p, step_friction, step_norm)
+    g_start, free = state.g, None
     if w is not None:  # the predictor: Γc moves as the unconstrained body
-        du = space.restrict(w - state.w)
-        du = contact_corrected(system, du) if begin is None \
-            else space.step_start(system, du, state.u, f_step)
+        du = free = space.restrict(w - state.w)
+        if begin is None:  # in 3D extrapolated from the previous step
+            du, g_start = extrapolated(system, state, free)
+            du = contact_corrected(system, du)
+        else:
+            du = space.step_start(system, du, state.u, f_step)
     elif begin is not None:  # floating, full system: put onto the obstacle
         du = space.step_start(system, None, state.u, f_step)
-    x0 = system.initial_guess(state.g, du)
+    x0 = system.initial_guess(g_start, du)
     result = solve_ncp(system.residual, shared.jacobian, x0, method=method,
                        tol=tol, max_iter=max_iter, options=shared.options,
                        error=system.error, scale=system.scale)
@@ -186,6 +190,7 @@ def load_step(shared, state, run, stream, kappa, steps, load,
         return False
     run.checks.append(check)
     run.stoppings.append(result.stopping)
+    state.g_last, state.du_last, state.free_last = state.g, du, free
     state.u, state.g = state.u + du, g
     lam = -system._force(du)[system.n_rows]
     fields = _step_fields(shared, lam, g, step_friction, state.p, step_norm)
