@@ -36,25 +36,26 @@ def block_454(exported):
     return load_problem(exported(454)[0])
 
 
+def hertz_sphere(tmp_path_factory, a_over_h):
+    """The committed quarter Hertz sphere of ``a_over_h``, exported."""
+    name = f"hertz_sphere_{a_over_h}"
+    path = tmp_path_factory.mktemp("sphere") / f"{name}.npz"
+    export_module().export_only(SPHERE, mesh=str(MESHES / f"{name}.mesh"),
+                                output=str(path))
+    return load_problem(path)
+
+
 @pytest.fixture(scope="module")
 def sphere_4(tmp_path_factory):
     """The a/h = 4 quarter Hertz sphere (2443 DOFs, rollers on x = 0 and
     y = 0)."""
-    path = tmp_path_factory.mktemp("sphere") / "hertz_sphere_4.npz"
-    export_module().export_only(SPHERE, mesh=str(MESHES /
-                                                 "hertz_sphere_4.mesh"),
-                                output=str(path))
-    return load_problem(path)
+    return hertz_sphere(tmp_path_factory, 4)
 
 
 @pytest.fixture(scope="module")
 def sphere_8(tmp_path_factory):
     """The a/h = 8 quarter Hertz sphere (5961 DOFs, 75 nodes in contact)."""
-    path = tmp_path_factory.mktemp("sphere") / "hertz_sphere_8.npz"
-    export_module().export_only(SPHERE, mesh=str(MESHES /
-                                                 "hertz_sphere_8.mesh"),
-                                output=str(path))
-    return load_problem(path)
+    return hertz_sphere(tmp_path_factory, 8)
 
 
 @pytest.mark.parametrize("name", ["block_454", "sphere_4"])

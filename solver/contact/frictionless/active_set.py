@@ -22,17 +22,18 @@ A = ∅ and gives the free solution u_f; the method's own next set, every
 node u_f penetrates, overshoots: on a smooth, non-conforming contact the
 free interference is d(r) = δ − r²/(2R) (δ the approach, R the relative
 radius of curvature), which is positive to r = √(2Rδ), while Hertz's
-contact radius is a = √(Rδ) (Johnson, *Contact mechanics*, 1985, §4.2; the
-elliptic case by the same paraboloid). From such an overshoot the set
+contact radius is a = √(Rδ) (Johnson, *Contact mechanics*, 1985, §4.2).
+From such an overshoot the set
 shrinks by the zone where the constrained pressure turns negative, which
 halves the excess area per step (for a paraboloid pressed to a radius
 b > a the pressure is zero at r² = (b² + a²)/2), so the Newton count grows
 as log₂(a/h). Hertz's contact edge is where the interference is half the
 approach, d(a) = δ/2; so the second set is :func:`hertz_start`, the nodes
 whose free interference is at least :data:`START_FRACTION` of the
-largest. It is exact to O(h) for any paraboloidal gap, every penetrating
-node for a flat punch (uniform interference); elsewhere it is a start
-that the method corrects. The free solution is solved to η_0 =
+largest. It is Hertz's circle to O(h) for an axisymmetric paraboloid,
+an ellipse somewhat rounder than Hertz's for an elliptic one, every
+penetrating node for a flat punch (uniform interference); where the
+contact is not Hertzian it is a start that the method corrects. The free solution is solved to η_0 =
 :data:`ETA_MAX` (its bulk is a rigid translation, which the near-null
 space carries: a few CG iterations).
 
@@ -44,10 +45,9 @@ tight because from Hertz's first set each step moves only a few nodes at
 the edge of the zone, and the signs of their forces are what the next set
 is made of: a loosely solved system gets some of them wrong and costs
 further Newton systems (benchmarks/README.md, issue 33). Once the active
-set repeats,
-the system is the last one (unless a sign is wrong) and is solved to
-:data:`FINAL_FRACTION` of the stopping test's bound. The stopping test and
-the verification are those of every other path
+set repeats, the system is the last one (unless a sign is wrong) and is
+solved to :data:`FINAL_FRACTION` of the stopping test's bound. The
+stopping test and the verification are those of every other path
 (:mod:`solver.contact.verify`)."""
 
 import time
