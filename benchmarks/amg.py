@@ -21,13 +21,20 @@ One row per a/h (the exports of ``run3d.py``: ``hsN.npz`` in
   full system, :mod:`solver.contact.frictionless.active_set`): Newton
   systems, CG iterations in all and per system (max / mean), its time
   over the fastest floor, over the direct solve and over AMG-PCG, and
-  ‖u_amg − u_direct‖₂ / ‖u_direct‖₂.
+  ‖u_amg − u_direct‖₂ / ‖u_direct‖₂; its CPU time over AMG-PCG's (same
+  run); Hertz's checks (``solver.studies3d.hertz_sphere_row``): the
+  errors of a (first moment of the nodal forces; fitted with p0) and of
+  the fitted p0 against Hertz's values for the computed force.
+
+The load average is printed before and after each row (stderr): the
+machine is shared, so the CPU ratios are the fairer ones.
 
 ``--no-direct`` lists the a/h whose factorisations are not run (they
 would not fit the memory): the amg rows alone.
 """
 
 import argparse
+import os
 import sys
 import tempfile
 from pathlib import Path
@@ -44,7 +51,9 @@ COLUMNS = ("a/h", "DOFs", "fastest floor [s] (backend)", "direct [s] "
            "(/floor), J", "RSS direct [MB]", "AMG-PCG K u = f [s] (CG)",
            "amg [s] (/floor, /direct, /AMG-PCG)", "Newton systems",
            "CG total (max / mean per system)", "RSS amg [MB]",
-           "in contact", "|u − u_direct| / |u_direct|")
+           "in contact", "|u − u_direct| / |u_direct|",
+           "CPU amg [s] (/AMG-PCG CPU)", "a err % (moment / fit)",
+           "p0 fit err %")
 
 
 def row(cells):
@@ -71,7 +80,7 @@ def measure_case(n, npz, backends, direct=True):
         fastest, floor, direct_time = "none", None, None
     r = measure(npz, "amg_floor")
     cells["DOFs"] = f"{r['dofs']:,}"
-    pcg = r["time"]
+    pcg, pcg_cpu = r["time"], r["cpu"]
     cells["AMG-PCG K u = f [s] (CG)"] = f"{pcg:.3g} ({r['krylov']})"
     r = measure(npz, "amg", fastest)
     ratios = [f"{r['time'] / x:.2f}" for x in (floor, direct_time, pcg)
@@ -85,6 +94,13 @@ def measure_case(n, npz, backends, direct=True):
     cells["in contact"] = r["contact"]
     if "agreement" in r:
         cells["|u − u_direct| / |u_direct|"] = f"{r['agreement']:.1e}"
+    cells["CPU amg [s] (/AMG-PCG CPU)"] = \
+        f"{r['cpu']:.3g} ({r['cpu'] / pcg_cpu:.2f})"
+    hertz = r.get("hertz")
+    if hertz:
+        cells["a err % (moment / fit)"] = \
+            f"{hertz['a moment err %']:+.2f} / {hertz['a fit err %']:+.2f}"
+        cells["p0 fit err %"] = f"{hertz['p0 fit err %']:+.2f}"
     if not (r["converged"] and r["verified"]):
         print(f"a/h {n}: amg not converged or not verified",
               file=sys.stderr, flush=True)
@@ -117,11 +133,15 @@ def main(argv=None):
     print("|" + "---|" * len(COLUMNS), flush=True)
     for n in (int(x) for x in args.a_over_h.split(",")):
         npz, _, _ = problem_file(n, folder)
+        print(f"a/h {n}: load average {os.getloadavg()[0]:.1f} before",
+              file=sys.stderr, flush=True)
         try:
             print(row(measure_case(n, npz, backends, n not in skip)),
                   flush=True)
         except StageError as error:
             print(f"a/h {n}: {error}", file=sys.stderr, flush=True)
+        print(f"a/h {n}: load average {os.getloadavg()[0]:.1f} after",
+              file=sys.stderr, flush=True)
     return 0
 
 

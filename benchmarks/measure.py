@@ -38,6 +38,8 @@ problem, which every stage holds). Stages:
   33): Newton systems, CG iterations in all and per system, the AMG
   hierarchy; ``agreement`` is ‖u − u_direct‖₂/‖u_direct‖₂ against the
   ``min`` stage's saved solution of BACKEND (3rd argument), if there;
+  ``hertz``: on a Hertz sphere (``meta`` has R), its a and p0 against
+  Hertz's (``solver.studies3d.hertz_sphere_row``);
 * ``amg_floor``: build the AMG hierarchy of K and solve K u = f once by
   AMG-preconditioned CG to 1e-8 (relative): the iterative path's floor;
 * ``clarabel``, ``sfepy``: the peers of ``peers.py`` on the same K, f and
@@ -160,6 +162,10 @@ def iterative(problem, path, reference):
            "verified": bool(r.verification["passed"]),
            "contact": r.n_contact, "amg": r.engine,
            "reason": r.get("linear_solver_reason")}
+    if "R" in (problem.meta or {}):  # a Hertz sphere: a and p0 against Hertz
+        from solver.studies3d import hertz_sphere_row
+
+        out["hertz"] = hertz_sphere_row(problem, r)
     if Path(reference).exists():
         direct = np.load(reference)
         out["agreement"] = float(np.linalg.norm(r.u - direct)

@@ -17,13 +17,37 @@ P_A K u = P_A f on the affine set C_A u = s_A
 system is solved with the one AMG hierarchy of K (built once per solve),
 warm-started from the previous u moved onto the new constraints.
 
+The first active set (issue 33). From u = 0 the first Newton system has
+A = ∅ and gives the free solution u_f; the method's own next set, every
+node u_f penetrates, overshoots: on a smooth, non-conforming contact the
+free interference is d(r) = δ − r²/(2R) (δ the approach, R the relative
+radius of curvature), which is positive to r = √(2Rδ), while Hertz's
+contact radius is a = √(Rδ) (Johnson, *Contact mechanics*, 1985, §4.2).
+From such an overshoot the set
+shrinks by the zone where the constrained pressure turns negative, which
+halves the excess area per step (for a paraboloid pressed to a radius
+b > a the pressure is zero at r² = (b² + a²)/2), so the Newton count grows
+as log₂(a/h). Hertz's contact edge is where the interference is half the
+approach, d(a) = δ/2; so the second set is :func:`hertz_start`, the nodes
+whose free interference is at least :data:`START_FRACTION` of the
+largest. It is Hertz's circle to O(h) for an axisymmetric paraboloid,
+an ellipse somewhat rounder than Hertz's for an elliptic one, every
+penetrating node for a flat punch (uniform interference); where the
+contact is not Hertzian it is a start that the method corrects. The free solution is solved to η_0 =
+:data:`ETA_MAX` (its bulk is a rigid translation, which the near-null
+space carries: a few CG iterations).
+
 Inexact Newton: while the active set changes, the system is solved to
 ‖P_A(f − Ku)‖ ≤ η_k·err_k with Eisenstat & Walker's (SISC 17, 1996)
 choice 2, η_k = γ (err_k / err_{k−1})², safeguarded by γη_{k−1}² when that
-exceeds 0.1 and capped at :data:`ETA_MAX`; once the active set repeats,
-the system is the last one (unless a sign is wrong) and is solved to
-:data:`FINAL_FRACTION` of the stopping test's bound. The stopping test and
-the verification are those of every other path
+exceeds 0.1 and kept within [:data:`ETA_MIN`, :data:`ETA_MAX`]. The cap is
+tight because from Hertz's first set each step moves only a few nodes at
+the edge of the zone, and the signs of their forces are what the next set
+is made of: a loosely solved system gets some of them wrong and costs
+further Newton systems (benchmarks/README.md, issue 33). Once the active
+set repeats, the system is the last one (unless a sign is wrong) and is
+solved to :data:`FINAL_FRACTION` of the stopping test's bound. The
+stopping test and the verification are those of every other path
 (:mod:`solver.contact.verify`)."""
 
 import time
@@ -36,20 +60,35 @@ from ...ncp import MESSAGES, stable_norm
 from ..geometry import rotation
 from ..verify import force_scale
 
-__all__ = ["solve_active_set", "ETA_MIN", "ETA_MAX", "ETA_GAMMA", "FINAL_FRACTION",
-           "KRYLOV_MAX"]
+__all__ = ["solve_active_set", "hertz_start", "ETA_MIN", "ETA_MAX",
+           "ETA_GAMMA", "FINAL_FRACTION", "KRYLOV_MAX", "START_FRACTION"]
 
-#: η_0 and the cap of the forcing terms.
-ETA_MAX = 0.1
+#: η_0 and the cap of the forcing terms (module docstring: the signs at
+#: the edge of the zone).
+ETA_MAX = 1e-3
 #: The floor of the forcing terms while the active set changes: a system
 #: whose active set is still wrong is not worth solving more accurately.
-ETA_MIN = 0.01
+ETA_MIN = 1e-4
 #: γ of Eisenstat–Walker's choice 2.
 ETA_GAMMA = 0.9
 #: The last Newton system is solved to this fraction of tol·F.
 FINAL_FRACTION = 0.5
 #: CG iterations at most per Newton system.
 KRYLOV_MAX = 2000
+#: The first active set takes the nodes whose free interference is at
+#: least this fraction of the largest (Hertz: d(a) = δ/2).
+START_FRACTION = 0.5
+
+
+def hertz_start(interference):
+    """The first active set (module docstring) from the free solution's
+    ``interference`` d = u_n − s at the contact nodes: d ≥
+    :data:`START_FRACTION` · max d, or None when nothing penetrates (the
+    method's own rule then applies)."""
+    deepest = float(np.max(interference, initial=0.0))
+    if not deepest > 0:
+        return None
+    return interference >= START_FRACTION * deepest
 
 
 def solve_active_set(problem, geometry, multigrid, tol, max_iter, x0,
@@ -82,6 +121,7 @@ def _iterate(problem, geometry, multigrid, tol, max_iter, x0, gap_scale,
                                "step", "active", "line_search_failed",
                                "krylov", "forcing")}
     previous_set, previous_error, eta = None, None, ETA_MAX
+    free = False  # the last system solved gave the free solution
     status, detail, njev, nfev = 1, "", 0, 0
     while True:
         Rr = R @ (K @ u - f)
@@ -102,6 +142,10 @@ def _iterate(problem, geometry, multigrid, tol, max_iter, x0, gap_scale,
         if njev >= max_iter:
             break
         active = lam - gap_scale * (s - un) > 0
+        if free:  # the free solution was just solved: Hertz's set
+            free, first = False, hertz_start(un - s)
+            if first is not None:
+                active = first
         history["residual"].append(residual)  # before each Newton step
         history["error"].append(err)
         history["merit"].append(0.5 * residual ** 2)
@@ -115,6 +159,7 @@ def _iterate(problem, geometry, multigrid, tol, max_iter, x0, gap_scale,
             eta = min(max(eta_new, ETA_MIN), ETA_MAX)
         floor = FINAL_FRACTION * tol * scale
         atol = floor if final else max(eta * err, floor)
+        free = x0 is None and njev == 0 and not active.any()
         rows = np.flatnonzero(active)
         CA = C[rows]
         start = u + CA.T @ ((s[rows] - un[rows]) / row_norm[rows])
