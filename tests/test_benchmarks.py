@@ -71,8 +71,10 @@ def test_memory_per_stage(row):
     stages = [float(row[f"RSS {s} [MB]"])
               for s in ("floor", "Schur", "Newton", "output")]
     assert all(50 < s < 2000 for s in stages)
+    # the table's RSS are rounded to 1 MB and the ratio to 0.01: the ratio
+    # of the rounded values may differ from it by up to 0.02 at ~100 MB
     assert float(row["Newton/floor RSS"]) == pytest.approx(
-        stages[2] / stages[0], abs=0.01)
+        stages[2] / stages[0], abs=0.02)
 
 
 def test_peers_reach_our_solution(row):

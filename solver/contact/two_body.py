@@ -273,7 +273,7 @@ class TwoBodyMap:
     def step_fields(self, prescribed):
         """A wrapper of a friction run's ``on_step`` callback that hands
         it each step's fields in u (``u``, ``displacement`` over both
-        bodies, ``v``, ``traction``); ``prescribed`` iterates over the
+        bodies, ``v``, ``traction``, ``contact_pressure_patch``); ``prescribed`` iterates over the
         Dirichlet values of every step in order
         (:meth:`ContactProblem.load_steps`)."""
         prescribed = iter(prescribed)
@@ -287,7 +287,11 @@ class TwoBodyMap:
                     fields["contact_pressure"],
                     fields["friction_traction"]),
                 displacement=self.problem.full_displacement(
-                    u, next(prescribed)))
+                    u, next(prescribed)),
+                contact_pressure_patch=patch_pressure(
+                    self.problem.mortar_slave, self.coupling.slave_nodes,
+                    self.coupling.D, fields["contact_pressure"],
+                    self.covered))
             return fields
         return convert
 

@@ -153,17 +153,20 @@ def _saved_steps(folder, result):
 def _with_saved_pressure(folder, result):
     """A friction result whose steps went to disk (the command line keeps
     none in memory) with its contact pressures read back from
-    ``result.npz``, for :func:`interface_summary`."""
+    ``result.npz`` (and their patch recovery, two bodies), for
+    :func:`interface_summary`."""
     if result.get("contact_pressure") is not None:
         return result
     path = os.path.join(folder.path, "result.npz")
     if not result.steps_completed or not os.path.exists(path):
         return result
     with np.load(path) as data:
-        pressure = data["contact_pressure"]
+        saved = {key: data[key] for key in ("contact_pressure",
+                                            "contact_pressure_patch")
+                 if key in data.files}
     from scipy.optimize import OptimizeResult
 
-    return OptimizeResult(result, contact_pressure=pressure)
+    return OptimizeResult(result, **saved)
 
 
 def interface_summary(problem, result):
