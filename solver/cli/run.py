@@ -79,7 +79,9 @@ def _check_input_file(path):
     except OSError as exc:
         raise SolverError(f"{path}: {exc.strerror.lower()}") from None
     if stat.S_ISDIR(mode):
-        raise SolverError(f"{path}: is a directory, not a problem file")
+        raise SolverError(f"{path}: is a directory, not a problem file (a "
+                          "partitioned problem folder runs with --engine "
+                          "petsc, under mpiexec)")
     if not stat.S_ISREG(mode):
         raise SolverError(f"{path}: not a regular file (a FIFO or device "
                           "cannot be read as a problem)")
