@@ -1,0 +1,153 @@
+"""Distributed from the file (issue 33, point 4; solver/mpi/distributed.py):
+``python -m solver convert X.npz DIR``, then ``mpiexec -n N python -m
+solver DIR --engine petsc`` on 1, 2 and 4 (oversubscribed) ranks.
+
+References: the serial engine's ``solver.solve(problem, start="free")``
+on the ``.npz`` (another code path: scipy's factorisation of the whole K,
+the serial condensation) for u to 1e-8; PETSc's own ``MatLoad`` /
+``VecLoad`` for the binary files the converter writes with NumPy. What
+rank 0 holds is read from the engine's ledger (``rank0_arrays``), each
+rank's rows from PETSc's ownership ranges: no array on rank 0 larger
+than Γc's Schur complement, no rank with more than its share of K."""
+
+import glob
+import json
+import os
+import shutil
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+import scipy.sparse as sp
+
+from solver import load_problem, save_problem, solve
+from solver.mpi import missing
+from solver.problem.partitioned import write_petsc_matrix, write_petsc_vector
+
+REASON = missing() or (None if shutil.which("mpiexec") else
+                       "mpiexec not found: apt-get install mpi-default-bin")
+pytestmark = pytest.mark.skipif(REASON is not None, reason=str(REASON))
+
+RTOL = 1e-8
+
+
+def mpirun(n, args, timeout=600):
+    """``python args`` on n ranks: (exit code, stdout, stderr)."""
+    env = dict(os.environ, OMP_NUM_THREADS="1")
+    done = subprocess.run(["mpiexec", "--allow-run-as-root",
+                           "--oversubscribe", "-n", str(n), sys.executable]
+                          + [str(a) for a in args], capture_output=True,
+                          text=True, timeout=timeout, env=env)
+    return done.returncode, done.stdout, done.stderr
+
+
+@pytest.fixture(scope="module")
+def converted(refined_block, tmp_path_factory):
+    """(npz, folder): the 1878 block refined once (7668 DOFs), converted
+    by the command line."""
+    from solver.cli import main
+
+    root = tmp_path_factory.mktemp("dist")
+    npz = root / "r1.npz"
+    save_problem(npz, refined_block(1))
+    assert main(["convert", str(npz), str(root / "r1")]) == 0
+    return npz, root / "r1"
+
+
+@pytest.fixture(scope="module")
+def reference(converted):
+    problem = load_problem(converted[0])
+    result = solve(problem, start="free")
+    assert result.success
+    return problem, result
+
+
+def read_pieces(out, n_nodes, dim):
+    """u over all nodes from the pieces of ``out/result.pvtu``, and how
+    many cells the pieces hold."""
+    import meshio
+
+    u = np.full((n_nodes, dim), np.nan)
+    cells = 0
+    for path in sorted(glob.glob(str(out / "result-*.vtu"))):
+        mesh = meshio.read(path)
+        u[mesh.point_data["node"]] = mesh.point_data["u"][:, :dim]
+        cells += sum(len(block.data) for block in mesh.cells)
+    return u, cells
+
+
+def test_binary_files_load_in_petsc(tmp_path):
+    """The converter's NumPy writer against PETSc's MatLoad / VecLoad."""
+    from petsc4py import PETSc
+
+    A = sp.random(7, 7, density=0.4, random_state=3, format="csr") \
+        + sp.identity(7)
+    v = np.linspace(-1.0, 2.0, 7)
+    write_petsc_matrix(tmp_path / "A.petsc", A)
+    write_petsc_vector(tmp_path / "v.petsc", v)
+    viewer = PETSc.Viewer().createBinary(str(tmp_path / "A.petsc"), "r",
+                                         comm=PETSc.COMM_SELF)
+    M = PETSc.Mat().create(comm=PETSc.COMM_SELF)
+    M.setType("aij")
+    M.load(viewer)
+    indptr, indices, data = M.getValuesCSR()
+    loaded = sp.csr_matrix((data, indices, indptr), shape=M.getSize())
+    assert abs(loaded - A).max() == 0.0
+    viewer = PETSc.Viewer().createBinary(str(tmp_path / "v.petsc"), "r",
+                                         comm=PETSc.COMM_SELF)
+    x = PETSc.Vec().create(comm=PETSc.COMM_SELF)
+    x.load(viewer)
+    assert np.array_equal(x.getArray(), v)
+
+
+@pytest.mark.parametrize("ranks", [1, 2, 4])
+def test_same_u_as_serial_and_rank0_holds_gamma_c_only(
+        converted, reference, tmp_path, ranks):
+    npz, folder = converted
+    problem, result = reference
+    out = tmp_path / "out"
+    code, stdout, err = mpirun(ranks, ["-m", "solver", folder, "--engine",
+                                       "petsc", "-o", out])
+    assert code == 0, err[-2000:]
+    assert stdout.startswith("converged")
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["converged"] and summary["engine"]["ranks"] == ranks
+    n_nodes, dim = problem.nodes.shape
+    u, cells = read_pieces(out, n_nodes, dim)
+    ref = result.displacement
+    assert np.abs(u - ref).max() <= RTOL * np.abs(ref).max()
+    assert cells == len(problem.cells)  # each cell in one piece
+    pvtu = (out / "result.pvtu").read_text()
+    assert pvtu.count("<Piece ") == ranks
+    # in contact: the serial result's nodes
+    with np.load(out / "contact.npz") as contact:
+        in_contact = np.zeros(n_nodes, bool)
+        in_contact[contact["node"][contact["in_contact"]]] = True
+    assert np.array_equal(np.flatnonzero(in_contact), np.sort(
+        problem.contact_nodes[result.in_contact]))
+    # rank 0's driver: nothing larger than Γc's Schur complement
+    engine = summary["engine"]
+    m = summary["n_contact_dofs"]
+    n = engine["n"]
+    assert m < n // 10
+    assert engine["rank0_arrays"]["largest_dimension"] <= m
+    assert engine["rank0_arrays"]["largest_entries"] <= m * m
+    # each rank read its share of K's rows (MatLoad), rank 0 too
+    rows = [stats["rows"] for stats in engine["per_rank"]]
+    assert sum(rows) == n and max(rows) <= n // ranks + dim
+
+
+def test_options_that_do_not_apply_are_refused(converted, capsys):
+    """--friction (or --system full, ...) on a partitioned problem: exit 2
+    and one line, before any collective step (so in process: every rank
+    then exits with rank 0's code, tests/test_mpi.py)."""
+    from solver.cli import build_parser
+    from solver.cli.partitioned import run_partitioned
+
+    for options in (["--friction", "0.3"], ["--system", "full"]):
+        args = build_parser().parse_args([str(converted[1]), "--engine",
+                                          "petsc", *options])
+        assert run_partitioned(args, None) == 2
+        err = capsys.readouterr().err
+        assert err.count("\n") == 1 and options[0] in err, err
