@@ -242,6 +242,15 @@ POINT_ARRAYS = (("u", "Float64", 3), ("node", "Int64", 1),
                 ("initial_gap", "Float64", 1))
 
 
+def _reader(path, comm):
+    """A binary viewer through MPI-IO: each rank reads its own part of the
+    file (PETSc's plain binary viewer reads every part on rank 0 and sends
+    it on)."""
+    from petsc4py import PETSc
+
+    return PETSc.Viewer().createMPIIO(path, "r", comm=comm)
+
+
 @command("load_partitioned")
 def _load(service, payload, local):
     """Every rank: its rows of K and f by MatLoad / VecLoad (the rows
@@ -261,15 +270,13 @@ def _load(service, payload, local):
     A = PETSc.Mat().create(comm=comm)
     A.setSizes(((b - a, n), (b - a, n)), bsize=payload["dim"])
     A.setType(PETSc.Mat.Type.AIJ)
-    viewer = PETSc.Viewer().createBinary(os.path.join(folder, "K.petsc"),
-                                         "r", comm=comm)
+    viewer = _reader(os.path.join(folder, "K.petsc"), comm)
     A.load(viewer)
     viewer.destroy()
     f = PETSc.Vec().create(comm=comm)
     f.setSizes((b - a, n))
     f.setType(PETSc.Vec.Type.MPI)
-    viewer = PETSc.Viewer().createBinary(os.path.join(folder, "f.petsc"),
-                                         "r", comm=comm)
+    viewer = _reader(os.path.join(folder, "f.petsc"), comm)
     f.load(viewer)
     viewer.destroy()
     x, rhs = A.createVecs()
