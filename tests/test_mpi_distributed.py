@@ -12,34 +12,18 @@ than Γc's Schur complement, no rank with more than its share of K."""
 
 import glob
 import json
-import os
-import shutil
-import subprocess
-import sys
 
 import numpy as np
 import pytest
 import scipy.sparse as sp
 
 from solver import load_problem, save_problem, solve
-from solver.mpi import missing
 from solver.problem.partitioned import write_petsc_matrix, write_petsc_vector
+from test_mpi import REASON, mpirun
 
-REASON = missing() or (None if shutil.which("mpiexec") else
-                       "mpiexec not found: apt-get install mpi-default-bin")
 pytestmark = pytest.mark.skipif(REASON is not None, reason=str(REASON))
 
 RTOL = 1e-8
-
-
-def mpirun(n, args, timeout=600):
-    """``python args`` on n ranks: (exit code, stdout, stderr)."""
-    env = dict(os.environ, OMP_NUM_THREADS="1")
-    done = subprocess.run(["mpiexec", "--allow-run-as-root",
-                           "--oversubscribe", "-n", str(n), sys.executable]
-                          + [str(a) for a in args], capture_output=True,
-                          text=True, timeout=timeout, env=env)
-    return done.returncode, done.stdout, done.stderr
 
 
 @pytest.fixture(scope="module")
