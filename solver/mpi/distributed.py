@@ -15,16 +15,19 @@ K_ic u_c)); the residual K u − f is checked on every row there (zero off
 Γc, the contact forces on it), and each rank writes its piece of
 ``result.pvtu``.
 
-What rank 0 holds is recorded in a :class:`Ledger` (the ``engine`` entry's
-``rank0_arrays``): every array of the driver, with its shape, so that the
-claim "nothing of K's size on rank 0" is checked by the tests, not
-assumed."""
+What rank 0 keeps is recorded in a :class:`Ledger` (the ``engine``
+entry's ``rank0_arrays``): every array its driver holds between the
+collective steps, with its shape (the NCP's own work arrays are built
+from S and are no larger), so that the claim "nothing of K's size on rank
+0" is checked by the tests, not assumed; besides, rank 0 has its own
+share of K's rows, as every rank."""
 
 import json
 import os
 import time
 
 import numpy as np
+import scipy.linalg as la
 
 from ..contact.geometry import ContactGeometry
 from ..contact.frictionless.system import FrictionlessSystem
@@ -111,6 +114,10 @@ def solve_partitioned(svc, folder, method="min", tol=1e-10, max_iter=100,
         mode=meta["gap_mode"], tangents=arrays["tangents"],
         node_dofs=arrays["node_dofs"], oblique=arrays["oblique"])
     rows = ledger.hold("schur_rows", geometry.free_dofs())
+    if not len(rows):
+        raise ProblemError(f"{folder}: no contact node takes part (every "
+                           "node of Γc is a support): nothing to solve on "
+                           "Γc; run the .npz")
     ranges = node_ranges(int(meta["n_nodes"]), dim, svc.size)
     svc.mark("start")
     scale = svc.call("load_partitioned", dict(folder=os.fspath(folder),
@@ -120,8 +127,6 @@ def solve_partitioned(svc, folder, method="min", tol=1e-10, max_iter=100,
     ledger.hold("cholesky(S)", cho[0])
     g = ledger.hold("g", svc.call("partitioned_rhs", dict(rows=rows)))
     stiffness, load_norm = float(meta["stiffness"]), float(meta["load_norm"])
-    import scipy.linalg as la
-
     start = ledger.hold("start", la.cho_solve(cho, g))
     local = compact_geometry(geometry)
     system = FrictionlessSystem(S, g, local, stiffness, stiffness, load_norm)
@@ -138,20 +143,8 @@ def solve_partitioned(svc, folder, method="min", tol=1e-10, max_iter=100,
     un = ledger.hold("u_n", system.normal_displacement(u_c))
     checked = svc.call("partitioned_displacement", dict(rows=rows), u_c)
     r_c = ledger.hold("residual_c", checked["residual_c"])
-    tol_v = verification_tolerance(tol)
-    # Γc's rows of K u − f are S u_c − g̃ once the interior rows vanish
-    # (checked on every rank: "interior_equilibrium").
-    verification = verify_contact(
-        _Residual(r_c), np.zeros(len(rows)), u_c, local.node_dofs,
-        geometry.normal, geometry.gap, lam, stiffness, tol_v,
-        load_norm=load_norm)
-    interior_error = checked["interior_norm"] / max(load_norm, 1e-300)
-    verification["interior_equilibrium"] = float(interior_error)
-    verification["finite"] = bool(verification["finite"]
-                                  and checked["finite"])
-    if not interior_error <= tol_v or not checked["finite"]:
-        verification["failed"].append("interior_equilibrium")
-        verification["passed"] = False
+    verification = _verify(checked, r_c, u_c, local, geometry, lam,
+                           stiffness, load_norm, tol)
     converged = bool(result.success and verification["passed"])
     message = result.message if verification["passed"] else \
         f"{MESSAGES[6]}: {describe_failure(verification)}"
@@ -185,6 +178,27 @@ def solve_partitioned(svc, folder, method="min", tol=1e-10, max_iter=100,
         with open(os.path.join(outdir, "summary.json"), "w") as stream:
             json.dump(summary, stream, indent=1, default=_plain)
     return summary
+
+
+def _verify(checked, r_c, u_c, local, geometry, lam, stiffness, load_norm,
+            tol):
+    """The answer checked on every row: Γc's rows of K u − f (= S u_c − g̃
+    once the interior rows vanish) against the contact forces by
+    :func:`~solver.contact.verify.verify_contact`, and the other rows'
+    ‖K u − f‖/‖f‖ computed on the ranks (``interior_equilibrium``)."""
+    tol_v = verification_tolerance(tol)
+    verification = verify_contact(
+        _Residual(r_c), np.zeros(len(r_c)), u_c, local.node_dofs,
+        geometry.normal, geometry.gap, lam, stiffness, tol_v,
+        load_norm=load_norm)
+    interior_error = checked["interior_norm"] / max(load_norm, 1e-300)
+    verification["interior_equilibrium"] = float(interior_error)
+    verification["finite"] = bool(verification["finite"]
+                                  and checked["finite"])
+    if not interior_error <= tol_v or not checked["finite"]:
+        verification["failed"].append("interior_equilibrium")
+        verification["passed"] = False
+    return verification
 
 
 class _Residual:
