@@ -6,11 +6,11 @@ References: the serial engine's ``solver.solve(problem, start="free")``
 on the ``.npz`` (another code path: scipy's factorisation of the whole K,
 the serial condensation) for u to 1e-8; PETSc's own ``MatLoad`` /
 ``VecLoad`` for the binary files the converter writes with NumPy. What
+ParaView would show is read by VTK's own reader of the ``.pvtu``. What
 rank 0 holds is read from the engine's ledger (``rank0_arrays``), each
 rank's rows from PETSc's ownership ranges: no array on rank 0 larger
 than Γc's Schur complement, no rank with more than its share of K."""
 
-import glob
 import json
 
 import numpy as np
@@ -47,18 +47,22 @@ def reference(converted):
     return problem, result
 
 
-def read_pieces(out, n_nodes, dim):
-    """u over all nodes from the pieces of ``out/result.pvtu``, and how
-    many cells the pieces hold."""
-    import meshio
+def read_pvtu(path, n_nodes, dim):
+    """u over all nodes and the number of cells of ``path``, read as
+    ParaView reads it (VTK's vtkXMLPUnstructuredGridReader: the pieces as
+    one grid)."""
+    vtk = pytest.importorskip("vtk")
+    from vtk.util.numpy_support import vtk_to_numpy
 
+    reader = vtk.vtkXMLPUnstructuredGridReader()
+    reader.SetFileName(str(path))
+    reader.Update()
+    grid = reader.GetOutput()
+    data = grid.GetPointData()
     u = np.full((n_nodes, dim), np.nan)
-    cells = 0
-    for path in sorted(glob.glob(str(out / "result-*.vtu"))):
-        mesh = meshio.read(path)
-        u[mesh.point_data["node"]] = mesh.point_data["u"][:, :dim]
-        cells += sum(len(block.data) for block in mesh.cells)
-    return u, cells
+    u[vtk_to_numpy(data.GetArray("node"))] = vtk_to_numpy(
+        data.GetArray("u"))[:, :dim]
+    return u, grid.GetNumberOfCells()
 
 
 def test_binary_files_load_in_petsc(tmp_path):
@@ -98,7 +102,7 @@ def test_same_u_as_serial_and_rank0_holds_gamma_c_only(
     summary = json.loads((out / "summary.json").read_text())
     assert summary["converged"] and summary["engine"]["ranks"] == ranks
     n_nodes, dim = problem.nodes.shape
-    u, cells = read_pieces(out, n_nodes, dim)
+    u, cells = read_pvtu(out / "result.pvtu", n_nodes, dim)
     ref = result.displacement
     assert np.abs(u - ref).max() <= RTOL * np.abs(ref).max()
     assert cells == len(problem.cells)  # each cell in one piece

@@ -78,3 +78,11 @@ def test_truncated_matrix_exit_2_on_every_rank(folder, tmp_path):
              if ln.startswith("error")]
     assert done.returncode == 2 and len(lines) == 1, done.stderr
     assert "truncated" in lines[0] and "Traceback" not in done.stderr
+
+
+def test_folder_on_the_serial_engine_says_how_to_run_it(folder, capsys):
+    from conftest import run_cli
+
+    code, _, err = run_cli([folder], capsys)
+    assert code == 2 and err.count("\n") == 1
+    assert "--engine petsc" in err and "mpiexec" in err
