@@ -8,7 +8,8 @@ each N, in fresh processes, and with ``--npz`` also the PETSc engine on
 the ``.npz`` (rank 0 reads the whole problem and scatters K), for the
 before/after. Each run prints one JSON line: wall time of the mpiexec
 (process start to exit), each rank's peak RSS (MB, ``ru_maxrss``), its
-ratio to the 1-rank run's peak, its CPU time and rows, Newton counts, and
+ratio to the 1-rank run's peak, its CPU time, rows and MUMPS's memory
+(INFO(22), MB), Newton counts, and
 the load average when it ended; then a table. The issue's target: at
 ≥ 10⁶ DOFs every rank's peak at 2 ranks ≤ 0.6× the 1-rank run's.
 Imports nothing of the solver: it reads the runs' summary.json."""
@@ -64,6 +65,8 @@ def main(argv=None):
                         ratio=[round(p / base, 3) for p in peaks],
                         cpu_s=[s["cpu_s"] for s in per_rank],
                         rows=[s.get("rows") for s in per_rank],
+                        mumps_used_mb=[s.get("mumps_mb", {}).get("used")
+                                       for s in per_rank],
                         nit=summary.get("nit"),
                         n_dofs=summary.get("n_dofs") or summary.get(
                             "n_dofs_reduced"),
@@ -74,12 +77,13 @@ def main(argv=None):
                     stream.write(json.dumps(line) + "\n")
             rows.append(line)
     print("\n| input | ranks | wall s | peak RSS per rank (MB) | "
-          "× 1-rank peak | CPU s per rank |")
-    print("|---|---|---|---|---|---|")
+          "× 1-rank peak | MUMPS per rank (MB) | CPU s per rank |")
+    print("|---|---|---|---|---|---|---|")
     for r in rows:
         print(f"| {r['input']} | {r['ranks']} | {r['wall_s']} | "
               f"{', '.join(f'{p:,.0f}' for p in r['peak_rss_mb'])} | "
               f"{', '.join(f'{x:.2f}' for x in r['ratio'])} | "
+              f"{', '.join(str(m) for m in r['mumps_used_mb'])} | "
               f"{', '.join(str(c) for c in r['cpu_s'])} |")
 
 

@@ -17,7 +17,8 @@ __all__ = ["run_partitioned", "convert_main", "REFUSED"]
 
 #: Options of the ``.npz`` runs a partitioned run refuses (frictionless,
 #: rigid obstacle, condensed system, gaps fixed by the conversion):
-#: attribute -> (value that is accepted, option).
+#: attribute -> (value that is accepted, option); ``--system condensed``
+#: is accepted too (what it runs).
 REFUSED = {"friction": (None, "--friction"), "steps": (None, "--steps"),
            "formulation": (None, "--formulation"),
            "coulomb": (None, "--coulomb"), "gap": (None, "--gap"),
@@ -43,7 +44,7 @@ def run_partitioned(args, svc):
     try:
         given = [option for name, (default, option) in REFUSED.items()
                  if getattr(args, name, default) not in (default, None)
-                 and getattr(args, name, default) != default]
+                 and not (name == "system" and args.system == "condensed")]
         if given:
             raise SolverError(
                 f"{', '.join(given)}: not for a partitioned problem (the "
