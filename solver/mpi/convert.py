@@ -67,7 +67,6 @@ def convert(source, folder, gap="obstacle"):
     np.save(os.path.join(folder, "nodes.npy"), np.asarray(problem.nodes,
                                                           float))
     np.save(os.path.join(folder, "cells.npy"), cells[order])
-    np.save(os.path.join(folder, "cell_first.npy"), first[order])
     pad = layout.red_to_pad
     np.savez(os.path.join(folder, "contact.npz"),
              node=np.asarray(problem.contact_nodes, np.int64)[geometry.index],

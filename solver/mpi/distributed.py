@@ -89,10 +89,26 @@ def compact_geometry(geometry):
                                lookup(geometry.node_dofs))
 
 
+#: Rank 0's share of the rows (and of the cells it writes) relative to
+#: another rank's: it also holds Γc's Schur complement, the NCP's dense
+#: work on it and MUMPS's host part (benchmarks/README.md, "Distributed
+#: from the file").
+ROOT_SHARE = 0.6
+
+
+def shares(count, size, root_share=ROOT_SHARE):
+    """``count`` items cut into ``size`` consecutive ranges, rank 0's
+    ``root_share`` times as long as each other's: the starts (size + 1)."""
+    weights = np.r_[root_share if size > 1 else 1.0, np.ones(size - 1)]
+    cut = np.floor(np.cumsum(weights) / weights.sum() * count + 0.5)
+    return np.r_[0, cut].astype(np.int64)
+
+
 def node_ranges(n_nodes, dim, size):
-    """Each rank's padded rows (a node's DOFs on one rank), as
-    :class:`~solver.mpi.layout.Layout`."""
-    starts = (np.arange(size + 1) * n_nodes) // size * dim
+    """Each rank's padded rows: whole nodes (a node's DOFs on one rank, as
+    :class:`~solver.mpi.layout.Layout`), rank 0 a smaller share
+    (:data:`ROOT_SHARE`)."""
+    starts = shares(n_nodes, size) * dim
     return [(int(a), int(b)) for a, b in zip(starts[:-1], starts[1:])]
 
 
@@ -128,6 +144,7 @@ def solve_partitioned(svc, folder, method="min", tol=1e-10, max_iter=100,
     g = ledger.hold("g", svc.call("partitioned_rhs", dict(rows=rows)))
     stiffness, load_norm = float(meta["stiffness"]), float(meta["load_norm"])
     start = ledger.hold("start", la.cho_solve(cho, g))
+    del cho  # the NCP factorises its own systems; S stays
     local = compact_geometry(geometry)
     system = FrictionlessSystem(S, g, local, stiffness, stiffness, load_norm)
     options = unit_free_options(method, None, load_norm, stiffness,
@@ -367,14 +384,14 @@ def _displacement(service, payload, local):
                 finite=bool(finite))
 
 
-def _local_mesh(folder, first_node, end_node):
-    """This rank's cells (those whose smallest node it owns: each cell in
-    one piece) and their nodes, memory-mapped from the folder."""
-    first = np.load(os.path.join(folder, "cell_first.npy"), mmap_mode="r")
-    lo, hi = np.searchsorted(first, [first_node, end_node])
-    cells = np.array(np.load(os.path.join(folder, "cells.npy"),
-                             mmap_mode="r")[lo:hi])
-    points = np.union1d(np.arange(first_node, end_node), cells.ravel())
+def _local_mesh(folder, rank, size):
+    """This rank's share of the cells (:func:`shares` of the cells sorted
+    by their smallest node: each cell in one piece, neighbours together)
+    and their nodes, memory-mapped from the folder."""
+    cells = np.load(os.path.join(folder, "cells.npy"), mmap_mode="r")
+    lo, hi = shares(len(cells), size)[rank:rank + 2]
+    cells = np.array(cells[lo:hi])
+    points = np.unique(cells)
     coordinates = np.array(np.load(os.path.join(folder, "nodes.npy"),
                                    mmap_mode="r")[points])
     return points, np.searchsorted(points, cells), coordinates
@@ -399,14 +416,15 @@ def _values_at(service, vec, rows):
 
 @command("partitioned_write")
 def _write(service, payload, local):
-    """Every rank writes ``result-RANK.vtu``: its cells, u, and the contact
+    """Every rank writes ``result-RANK.vtu``: its share of the cells, u, and
+    the contact
     fields at its contact nodes (broadcast from rank 0: Γc only). Returns
     the pieces' paths on rank 0."""
     import meshio
 
     folder, dim = payload["folder"], payload["dim"]
-    a, b = service.objects["ranges"][service.rank]
-    points, cells, coordinates = _local_mesh(folder, a // dim, b // dim)
+    points, cells, coordinates = _local_mesh(folder, service.rank,
+                                             service.size)
     u = _values_at(service, service.objects[KEY]["u"], (
         points[:, None] * dim + np.arange(dim)).ravel()).reshape(-1, dim)
     contact = service.comm.bcast(local, root=0)

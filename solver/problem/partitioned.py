@@ -11,9 +11,9 @@ A rigid-obstacle mesh problem is written once, by
   the mean diagonal of K, its f entry that scale times the prescribed
   value, so that u there is the prescribed value). ``MatLoad`` /
   ``VecLoad`` give each rank only its rows.
-* ``nodes.npy``, ``cells.npy``, ``cell_first.npy``: the coordinates, the
-  cells sorted by their smallest node and that node per cell (a rank finds
-  its cells by a binary search and memory-maps only them).
+* ``nodes.npy``, ``cells.npy``: the coordinates and the cells sorted by
+  their smallest node (each rank memory-maps and writes one consecutive
+  share of them, whose nodes lie close together).
 * ``contact.npz``: what lives on Γc: the contact nodes that take part,
   their padded rows (frame rows and own rows), gaps, normals, tangents.
 * ``problem.json``: sizes, the Dirichlet scale, ‖f‖, k̄, meta, source.
@@ -43,7 +43,7 @@ MAT_CLASSID, VEC_CLASSID = 1211216, 1211214
 
 #: The folder's files.
 FILES = ("problem.json", "K.petsc", "f.petsc", "nodes.npy", "cells.npy",
-         "cell_first.npy", "contact.npz")
+         "contact.npz")
 
 #: ``contact.npz``: name -> (dtype kind, meaning).
 CONTACT_KEYS = {
@@ -166,7 +166,7 @@ def read_partitioned_meta(folder):
     _check_binary(folder, "f.petsc", VEC_CLASSID, (n,))
     for name, shape in (("nodes.npy", (int(meta["n_nodes"]),
                                        int(meta["dim"]))),
-                        ("cell_first.npy", None), ("cells.npy", None)):
+                        ("cells.npy", None)):
         try:
             array = np.load(os.path.join(folder, name), mmap_mode="r")
         except (OSError, ValueError) as exc:
