@@ -93,7 +93,7 @@ def compact_geometry(geometry):
 #: another rank's: it also holds Γc's Schur complement, the NCP's dense
 #: work on it and MUMPS's host part (benchmarks/README.md, "Distributed
 #: from the file").
-ROOT_SHARE = 0.6
+ROOT_SHARE = 0.5
 
 
 def shares(count, size, root_share=ROOT_SHARE):
