@@ -127,16 +127,34 @@ def test_same_u_as_serial_and_rank0_holds_gamma_c_only(
     assert max(rows) <= 2 * n // ranks
 
 
-def test_options_that_do_not_apply_are_refused(converted, capsys):
-    """--friction (or --system full, ...) on a partitioned problem: exit 2
-    and one line, before any collective step (so in process: every rank
-    then exits with rank 0's code, tests/test_mpi.py)."""
+def test_options_that_do_not_apply_are_refused(converted, capsys,
+                                              tmp_path):
+    """--friction (or --system full, ...) on a partitioned problem: the
+    front's rules refuse it (solver.solve raises SolverError; the command
+    line exits 2 with one line), before any collective step or output (so
+    in process: every rank then exits with rank 0's code,
+    tests/test_mpi.py)."""
     from solver.cli import build_parser
-    from solver.cli.partitioned import run_partitioned
+    from solver.cli.run import run
+    from solver.errors import SolverError
 
-    for options in (["--friction", "0.3"], ["--system", "full"]):
+    problem = load_problem(converted[1])
+    assert problem.kind == "partitioned"
+    for options, text in ((dict(friction=0.3), "friction=0.3"),
+                          (dict(system="full"), "system='full'"),
+                          (dict(gap="body"), "gap='body'"),
+                          (dict(), "engine='serial'")):
+        engine = "serial" if not options else "petsc"
+        with pytest.raises(SolverError, match="partitioned") as info:
+            solve(problem, engine=engine, **options)
+        assert text in str(info.value)
+    out = tmp_path / "out"
+    for options in (["--friction", "0.3"], ["--system", "full"],
+                    ["--start", "free"], ["--plots"]):
         args = build_parser().parse_args([str(converted[1]), "--engine",
-                                          "petsc", *options])
-        assert run_partitioned(args, None) == 2
+                                          "petsc", "-o", str(out),
+                                          *options])
+        assert run(args) == 2
         err = capsys.readouterr().err
         assert err.count("\n") == 1 and options[0] in err, err
+        assert not out.exists()

@@ -231,7 +231,6 @@ def main(argv=None):
     """Run the command line; return the exit code. Under ``mpiexec`` with
     ``--engine petsc`` every rank calls it: rank 0 runs the command line,
     the others serve the engine's work (:func:`solver.mpi.engine.spmd`)."""
-    import os
     import sys
 
     argv = sys.argv[1:] if argv is None else list(argv)
@@ -256,12 +255,7 @@ def main(argv=None):
             return svc.serve()  # rank 0's exit code
         code = 1
         try:
-            if os.path.isdir(args.problem):  # a partitioned problem
-                from .partitioned import run_partitioned
-
-                code = run_partitioned(args, svc)
-            else:
-                code = run(args)
+            code = run(args)
         finally:
             svc.stop(code)
         return code

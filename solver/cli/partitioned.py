@@ -1,90 +1,59 @@
 """The command line on a partitioned problem (a folder written by
 ``python -m solver convert X.npz DIR``): ``mpiexec -n N python -m solver
-DIR --engine petsc`` (:mod:`solver.mpi.distributed`), and the converter
-itself. Each outcome is an exit code of :mod:`~solver.cli.codes` and at
-most one line on stderr, as the ``.npz`` runs."""
+DIR --engine petsc`` goes through the front as every run
+(:func:`solver.front.prepare` checks it against the rules of
+:mod:`solver.front.cases`; :func:`solver.cli.run.run` locks the output
+folder, marks it "running" and turns every outcome into an exit code);
+:func:`partitioned_job` writes its outputs. And the converter itself."""
 
 import argparse
 import os
 import sys
-import traceback
+
+import numpy as np
 
 from ..errors import SolverError
-from .codes import (EXIT_INPUT, EXIT_INTERNAL, EXIT_NOT_CONVERGED, EXIT_OK,
-                    EXIT_OUTPUT)
+from .codes import EXIT_INPUT, EXIT_NOT_CONVERGED, EXIT_OK, EXIT_OUTPUT
 
-__all__ = ["run_partitioned", "convert_main", "REFUSED"]
-
-#: Options of the ``.npz`` runs a partitioned run refuses (frictionless,
-#: rigid obstacle, condensed system, gaps fixed by the conversion):
-#: attribute -> (value that is accepted, option); ``--system condensed``
-#: is accepted too (what it runs).
-REFUSED = {"friction": (None, "--friction"), "steps": (None, "--steps"),
-           "formulation": (None, "--formulation"),
-           "coulomb": (None, "--coulomb"), "gap": (None, "--gap"),
-           "search_interval": (None, "--search-interval"),
-           "gap_scale": (None, "--gap-scale"),
-           "system": ("auto", "--system"), "variant": (None, "--variant"),
-           "start": (None, "--start"),
-           "linear_solver": ("auto", "--linear-solver"),
-           "ksp": (None, "--ksp"), "plots": (False, "--plots"),
-           "info": (False, "--info")}
+__all__ = ["partitioned_job", "convert_main"]
 
 
 def _one_line(text):
     return " ".join(str(text).split())
 
 
-def run_partitioned(args, svc):
-    """(rank 0) Solve the partitioned problem ``args.problem`` on the
-    service's ranks; return the exit code."""
-    from ..mpi.distributed import solve_partitioned
-    from ..mpi.service import EngineError
+def partitioned_job(args, plan, open_folder, emit, write_summary):
+    """Solve the checked ``plan`` on the ranks; write, each under a
+    temporary name renamed when complete, the pieces ``result-RANK.vtu``
+    (every rank its own), ``contact.npz``, ``result.pvtu`` and last
+    ``summary.json``; print the summary line."""
+    from ..mpi.distributed import write_pvtu
+    from ..output.folder import atomic_path
 
-    try:
-        given = [option for name, (default, option) in REFUSED.items()
-                 if getattr(args, name, default) not in (default, None)
-                 and not (name == "system" and args.system == "condensed")]
-        if given:
-            raise SolverError(
-                f"{', '.join(given)}: not for a partitioned problem (the "
-                "distributed solve is frictionless, on the system condensed "
-                "onto Γc, with the gaps of the conversion); run the .npz "
-                "for these")
-        outdir = args.outdir or os.path.normpath(args.problem) + "-result"
-        summary = solve_partitioned(svc, args.problem, args.method or "min",
-                                    args.tol, args.max_iter, outdir)
-    except SolverError as exc:
-        return _fail(args, f"error: {_one_line(exc)}", EXIT_INPUT)
-    except EngineError as exc:
-        return _fail(args, f"error: {_one_line(exc)}", EXIT_INTERNAL)
-    except OSError as exc:
-        return _fail(args, f"error: cannot write {exc.filename or ''}: "
-                     f"{_one_line(exc.strerror or exc)}", EXIT_OUTPUT)
-    except Exception as exc:  # a bug: one line, the traceback with --debug
-        return _fail(args, f"error: internal error: {_one_line(repr(exc))} "
-                     "(run with --debug for the traceback and report it)",
-                     EXIT_INTERNAL)
+    outdir = args.outdir or os.path.normpath(args.problem) + "-result"
+    folder = open_folder(outdir)
+    result = plan.run()
+    for name in result.piece_names():  # listed if interrupted once written
+        folder.file(name)
+    pieces = result.write_pieces(folder.path)
+    with atomic_path(folder.file("contact.npz")) as tmp:
+        np.savez(tmp, **result.contact)
+    with atomic_path(folder.file("result.pvtu")) as tmp:
+        write_pvtu(tmp, pieces)
+    summary = dict(result)
+    write_summary(summary)
     v = summary["verification"]
-    print(f"{summary['status']}: {summary['nit']} Newton iterations on "
-          f"{summary['n_contact_dofs']} contact DOFs of "
-          f"{summary['n_dofs']} ({svc.size} ranks), "
-          f"{summary['n_in_contact']} nodes in contact, max penetration "
-          f"{v['max_penetration']:.1e}, interior equilibrium "
-          f"{v['interior_equilibrium']:.1e}; {outdir}/result.pvtu")
-    sys.stdout.flush()
-    if not summary["converged"]:
+    emit(f"{summary['status']}: {summary['nit']} Newton iterations on "
+         f"{summary['n_contact_dofs']} contact DOFs of "
+         f"{summary['n_dofs']} ({summary['engine']['ranks']} ranks), "
+         f"{summary['n_in_contact']} nodes in contact, max penetration "
+         f"{v['max_penetration']:.1e}, interior equilibrium "
+         f"{v['interior_equilibrium']:.1e}; {folder.path}/result.pvtu")
+    if not result.success:
         print(f"error: not converged: {_one_line(summary['message'])}",
               file=sys.stderr)
         return EXIT_NOT_CONVERGED
     return EXIT_OK
-
-
-def _fail(args, line, code):
-    if getattr(args, "debug", False):
-        traceback.print_exc()
-    print(line, file=sys.stderr)
-    return code
 
 
 def convert_main(argv):

@@ -210,7 +210,13 @@ def _write_summary(folder, summary):
 def _run(args, state):
     from ..problem import load_problem
 
-    _check_input_file(args.problem)
+    if os.path.isdir(args.problem) and args.engine == "petsc":
+        if args.info or args.plots:  # a partitioned problem (a folder)
+            raise SolverError(f"{'--info' if args.info else '--plots'}: "
+                              "not for a partitioned problem (a folder); "
+                              "run the .npz for it")
+    else:
+        _check_input_file(args.problem)
     problem = load_problem(args.problem)
     if args.info:  # with what a solve would refuse: exit 2 then
         if args.search_interval is not None:

@@ -22,7 +22,6 @@ from S and are no larger), so that the claim "nothing of K's size on rank
 0" is checked by the tests, not assumed; besides, rank 0 has its own
 share of K's rows, as every rank."""
 
-import json
 import os
 import time
 
@@ -42,7 +41,8 @@ from .pivots import schur_cholesky
 from .schur import interior
 from .service import command
 
-__all__ = ["Ledger", "solve_partitioned", "write_pvtu", "KEY"]
+__all__ = ["Ledger", "PartitionedResult", "solve_partitioned", "write_pvtu",
+           "KEY"]
 
 #: The service's name of the loaded problem (its objects and MUMPS
 #: options prefix ``d_``).
@@ -112,12 +112,39 @@ def node_ranges(n_nodes, dim, size):
     return [(int(a), int(b)) for a, b in zip(starts[:-1], starts[1:])]
 
 
-def solve_partitioned(svc, folder, method="min", tol=1e-10, max_iter=100,
-                      outdir=None):
+class PartitionedResult(dict):
+    """The summary of a partitioned solve (what ``summary.json`` holds);
+    ``contact`` the fields on Γc (rank 0), u stays on the ranks until
+    :meth:`write_pieces`."""
+
+    def __init__(self, summary, svc, folder, meta, contact):
+        super().__init__(summary)
+        self.svc, self.folder, self.meta = svc, folder, meta
+        self.contact = contact
+
+    @property
+    def success(self):
+        return bool(self["converged"])
+
+    def piece_names(self):
+        """The pieces' file names, one per rank."""
+        return [f"result-{rank}.vtu" for rank in range(self.svc.size)]
+
+    def write_pieces(self, outdir):
+        """(collective) Every rank writes its piece ``result-RANK.vtu`` of
+        ``outdir`` under a temporary name and renames it when complete;
+        returns the pieces' paths."""
+        return self.svc.call("partitioned_write", dict(
+            folder=os.fspath(self.folder), outdir=os.fspath(outdir),
+            kind=self.meta["cell_kind"], dim=int(self.meta["dim"])),
+            self.contact)
+
+
+def solve_partitioned(svc, folder, method="min", tol=1e-10, max_iter=100):
     """(rank 0, inside :func:`~solver.mpi.engine.spmd`) Solve the
-    partitioned problem ``folder`` on every rank and write ``outdir``'s
-    pieces, ``result.pvtu``, ``contact.npz`` and return the summary (a
-    dict, also written as ``summary.json``). Module docstring."""
+    partitioned problem ``folder`` on every rank; return its
+    :class:`PartitionedResult` (u kept on the ranks, written by
+    :meth:`PartitionedResult.write_pieces`). Module docstring."""
     clock = time.perf_counter()
     meta = read_partitioned_meta(folder)
     dim = int(meta["dim"])
@@ -174,27 +201,15 @@ def solve_partitioned(svc, folder, method="min", tol=1e-10, max_iter=100,
         n_in_contact=int(np.count_nonzero(touching)),
         max_contact_force=float(lam.max(initial=0.0)),
         verification=verification, time=None)
-    if outdir is not None:
-        os.makedirs(outdir, exist_ok=True)
-        contact = dict(node=arrays["node"], force=lam, u_n=un,
-                       gap=geometry.gap, in_contact=touching)
-        pieces = svc.call("partitioned_write", dict(
-            folder=os.fspath(folder), outdir=os.fspath(outdir),
-            kind=meta["cell_kind"], dim=dim), contact)
-        write_pvtu(os.path.join(outdir, "result.pvtu"), pieces)
-        np.savez(os.path.join(outdir, "contact.npz"), **contact)
+    contact = dict(node=arrays["node"], force=lam, u_n=un,
+                   gap=geometry.gap, in_contact=touching)
     stats = svc.call("stats")
     summary["time"] = round(time.perf_counter() - clock, 4)
     summary["engine"] = dict(name="petsc", ranks=svc.size,
                              system="condensed", input="partitioned",
                              per_rank=stats, rank0_arrays=ledger.summary(),
                              n=int(meta["n"]))
-    if outdir is not None:
-        summary["files"] = ["summary.json", "result.pvtu", "contact.npz"] \
-            + [os.path.basename(p) for p in pieces]
-        with open(os.path.join(outdir, "summary.json"), "w") as stream:
-            json.dump(summary, stream, indent=1, default=_plain)
-    return summary
+    return PartitionedResult(summary, svc, folder, meta, contact)
 
 
 def _verify(checked, r_c, u_c, local, geometry, lam, stiffness, load_norm,
@@ -228,15 +243,6 @@ class _Residual:
 
     def __matmul__(self, u):
         return self.residual
-
-
-def _plain(value):
-    """JSON for NumPy scalars and arrays."""
-    if isinstance(value, np.ndarray):
-        return value.tolist()
-    if isinstance(value, np.generic):
-        return value.item()
-    raise TypeError(f"not JSON serialisable: {type(value).__name__}")
 
 
 #: VTK type names of the pieces' arrays (NumPy kind, bytes) -> name.
@@ -438,8 +444,16 @@ def _write(service, payload, local):
     data["in_contact"][at[mine]] = contact["in_contact"][mine]
     data["initial_gap"][at[mine]] = contact["gap"][mine]
     path = os.path.join(payload["outdir"], f"result-{service.rank}.vtu")
-    meshio.write(path, meshio.Mesh(
-        np.c_[coordinates, np.zeros((n, 3 - dim))],
-        [(payload["kind"], cells)], point_data=data), file_format="vtu")
+    # a temporary name until complete (swept by the output folder if cut
+    # short), so that no piece looks complete before it is
+    tmp = os.path.join(payload["outdir"], f".tmp-result-{service.rank}.vtu")
+    try:
+        meshio.write(tmp, meshio.Mesh(
+            np.c_[coordinates, np.zeros((n, 3 - dim))],
+            [(payload["kind"], cells)], point_data=data), file_format="vtu")
+        os.replace(tmp, path)
+    finally:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
     names = service.comm.gather(path, root=0)
     return names

@@ -32,7 +32,7 @@ from ..errors import ProblemError
 __all__ = ["PARTITIONED_VERSION", "FILES", "CONTACT_KEYS", "META_KEYS",
            "MAT_CLASSID", "VEC_CLASSID", "write_petsc_matrix",
            "write_petsc_vector", "petsc_header", "read_partitioned_meta",
-           "load_contact", "is_partitioned"]
+           "load_contact", "is_partitioned", "PartitionedProblem"]
 
 #: Version of the folder's layout (``problem.json``'s ``"partitioned"``).
 PARTITIONED_VERSION = 1
@@ -202,3 +202,23 @@ def load_contact(folder, dim):
     if not np.isfinite(arrays["gap"]).all():
         raise ProblemError(f"{path}: a gap is not finite")
     return arrays
+
+
+class PartitionedProblem:
+    """A handle on a partitioned problem folder for :func:`solver.solve`
+    (``load_problem(DIR)``): its ``problem.json`` validated, nothing of K
+    read (the ranks of ``mpiexec`` read their rows when it is solved)."""
+
+    kind = "partitioned"
+    is_mortar = False
+    floating = False
+
+    def __init__(self, path):
+        self.path = os.fspath(path)
+        self.meta = read_partitioned_meta(self.path)
+        self.dim = int(self.meta["dim"])
+        self.source = self.path
+
+    def __repr__(self):
+        return (f"PartitionedProblem({self.path!r}: {self.dim}D, "
+                f"{self.meta['n']} rows)")

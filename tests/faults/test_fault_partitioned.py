@@ -86,3 +86,73 @@ def test_folder_on_the_serial_engine_says_how_to_run_it(folder, capsys):
     code, _, err = run_cli([folder], capsys)
     assert code == 2 and err.count("\n") == 1
     assert "--engine petsc" in err and "mpiexec" in err
+
+
+@pytest.fixture(scope="module")
+def larger(refined_block, tmp_path_factory):
+    """The 1878 block refined twice (30360 DOFs), converted: a run long
+    enough to be stopped."""
+    from solver import save_problem
+    from solver.mpi.convert import convert
+
+    root = tmp_path_factory.mktemp("partitioned-r2")
+    save_problem(root / "r2.npz", refined_block(2))
+    convert(root / "r2.npz", root / "r2")
+    return root / "r2"
+
+
+def _files(folder):
+    return sorted(os.path.relpath(os.path.join(d, f), folder)
+                  for d, _, names in os.walk(folder) for f in names)
+
+
+@pytest.mark.skipif(shutil.which("mpiexec") is None,
+                    reason="mpiexec not found")
+@pytest.mark.parametrize("target", ["mpiexec", "rank 0"])
+def test_sigterm_leaves_no_complete_looking_result(larger, tmp_path,
+                                                   target):
+    """SIGTERM to ``mpiexec`` (or to rank 0) while a partitioned run is on:
+    the run ends as every run (solver/cli/run.py): one line "error:
+    interrupted by SIGTERM", summary.json "interrupted" listing exactly the
+    files there, no temporary file, no result.pvtu of an unfinished run;
+    exit 143 (rank 0 signalled; Open MPI's mpiexec, signalled itself,
+    exits with its own 1)."""
+    pytest.importorskip("petsc4py")
+    import signal
+    import time
+
+    out = tmp_path / "out"
+    proc = subprocess.Popen(
+        ["mpiexec", "--allow-run-as-root", "--oversubscribe", "-n", "2",
+         sys.executable, "-m", "solver", str(larger), "--engine", "petsc",
+         "-o", str(out)], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+        text=True, env=dict(os.environ, OMP_NUM_THREADS="1"))
+    try:
+        deadline = time.monotonic() + 120
+        summary = None
+        while summary is None:  # the run has opened its folder
+            assert time.monotonic() < deadline and proc.poll() is None
+            try:
+                summary = json.loads((out / "summary.json").read_text())
+            except (OSError, ValueError):
+                time.sleep(0.01)
+        assert summary["status"] == "running"
+        os.kill(proc.pid if target == "mpiexec" else summary["pid"],
+                signal.SIGTERM)
+        _, stderr = proc.communicate(timeout=120)
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+    if target == "rank 0":
+        assert proc.returncode == 143, stderr
+    else:
+        assert proc.returncode != 0, stderr
+    assert "Traceback" not in stderr
+    assert "error: interrupted by SIGTERM; completed work kept in " \
+        f"{out}/" in stderr.splitlines(), stderr
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["status"] == "interrupted" and not summary["converged"]
+    files = _files(out)
+    assert not [f for f in files if os.path.basename(f).startswith(".")]
+    assert sorted(summary["files"]) == files
+    assert "result.pvtu" not in files
