@@ -148,6 +148,8 @@ def test_options_that_do_not_apply_are_refused(converted, capsys,
         with pytest.raises(SolverError, match="partitioned") as info:
             solve(problem, engine=engine, **options)
         assert text in str(info.value)
+    with pytest.raises(SolverError, match="engine='serial' is not"):
+        solve(problem)  # the default engine
     out = tmp_path / "out"
     for options in (["--friction", "0.3"], ["--system", "full"],
                     ["--start", "free"], ["--plots"]):

@@ -112,7 +112,9 @@ class Rule:
     def message(self, case, settings):
         """The error: the option, the case, the reason."""
         given = f"{self.option}={_shown(settings, self.option)}" \
-            if self.option in settings else self.label
+            if self.option in settings and not (
+                settings[self.option] is None and self.label) \
+            else self.label  # engine=None: the label's engine='serial'
         return f"{given} is not supported for {case}: {self.reason}"
 
 
