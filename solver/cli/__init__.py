@@ -231,6 +231,13 @@ def main(argv=None):
     """Run the command line; return the exit code. Under ``mpiexec`` with
     ``--engine petsc`` every rank calls it: rank 0 runs the command line,
     the others serve the engine's work (:func:`solver.mpi.engine.spmd`)."""
+    import sys
+
+    argv = sys.argv[1:] if argv is None else list(argv)
+    if argv[:1] == ["convert"]:  # python -m solver convert X.npz DIR
+        from .partitioned import convert_main
+
+        return convert_main(argv[1:])
     parser = build_parser()
     args = parser.parse_args(argv)
     if args.json and not args.info:

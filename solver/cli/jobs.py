@@ -133,6 +133,10 @@ def solve_job(args, problem, open_folder, emit, write_summary):
         plan = prepare(problem, **options_of(args))
     except SolverError as exc:
         raise type(exc)(command_line_message(str(exc))) from None
+    if plan.case.bodies == "partitioned":
+        from .partitioned import partitioned_job
+
+        return partitioned_job(args, plan, open_folder, emit, write_summary)
     folder = open_folder(args.outdir or default_outdir(args, plan))
     result = None
     if plan.friction is None:

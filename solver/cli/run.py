@@ -79,7 +79,9 @@ def _check_input_file(path):
     except OSError as exc:
         raise SolverError(f"{path}: {exc.strerror.lower()}") from None
     if stat.S_ISDIR(mode):
-        raise SolverError(f"{path}: is a directory, not a problem file")
+        raise SolverError(f"{path}: is a directory, not a problem file (a "
+                          "partitioned problem folder runs with --engine "
+                          "petsc, under mpiexec)")
     if not stat.S_ISREG(mode):
         raise SolverError(f"{path}: not a regular file (a FIFO or device "
                           "cannot be read as a problem)")
@@ -208,7 +210,13 @@ def _write_summary(folder, summary):
 def _run(args, state):
     from ..problem import load_problem
 
-    _check_input_file(args.problem)
+    if os.path.isdir(args.problem) and args.engine == "petsc":
+        if args.info or args.plots:  # a partitioned problem (a folder)
+            raise SolverError(f"{'--info' if args.info else '--plots'}: "
+                              "not for a partitioned problem (a folder); "
+                              "run the .npz for it")
+    else:
+        _check_input_file(args.problem)
     problem = load_problem(args.problem)
     if args.info:  # with what a solve would refuse: exit 2 then
         from .jobs import command_line_message

@@ -6,7 +6,9 @@ works where" from it, and ``tests/test_combinations.py`` enumerates it.
 
 A *case*: the dimension (2, 3), the bodies ("rigid": one body against a
 rigid obstacle, "two-body": two elastic bodies by dual mortar,
-"discrete": gaps and normals given, no mesh), the contact ("frictionless",
+"discrete": gaps and normals given, no mesh, "partitioned": the folder
+of ``python -m solver convert``, read in parts by the ranks of
+``mpiexec``), the contact ("frictionless",
 "friction") and the engine ("serial", "petsc")."""
 
 from dataclasses import dataclass
@@ -17,7 +19,8 @@ from ..contact import COULOMB, FORMULATIONS, GAP_MODES, default_method
 from ..errors import SolverError
 from ..linalg import BACKENDS, ITERATIVE
 
-__all__ = ["Case", "Rule", "RULES", "AMG_REFUSALS", "auto_eligible",
+__all__ = ["Case", "Rule", "RULES", "AMG_REFUSALS", "PARTITIONED_RULES",
+           "auto_eligible",
            "DEFAULTS", "METHODS", "SYSTEMS",
            "STARTS", "ENGINES", "KSPS", "VARIANTS", "case_of", "given_options",
            "resolve", "check_geometry_rules", "support_table"]
@@ -47,7 +50,7 @@ FRICTIONLESS_ONLY = ("start", "x0")
 
 @dataclass(frozen=True)
 class Case:
-    """dim, bodies ("rigid", "two-body", "discrete"), contact
+    """dim, bodies ("rigid", "two-body", "discrete", "partitioned"), contact
     ("frictionless", "friction") and engine ("serial", "petsc")."""
 
     dim: int
@@ -66,7 +69,8 @@ class Case:
 def case_of(problem, friction, engine):
     """The :class:`Case` of a call."""
     bodies = ("two-body" if problem.is_mortar else
-              "rigid" if problem.kind == "mesh" else "discrete")
+              "rigid" if problem.kind == "mesh" else
+              "partitioned" if problem.kind == "partitioned" else "discrete")
     name = engine if isinstance(engine, str) or engine is None \
         else engine.name
     floating = bodies in ("rigid", "two-body") and problem.floating
@@ -106,7 +110,9 @@ class Rule:
     def message(self, case, settings):
         """The error: the option, the case, the reason."""
         given = f"{self.option}={_shown(settings, self.option)}" \
-            if self.option in settings else self.label
+            if self.option in settings and not (
+                settings[self.option] is None and self.label) \
+            else self.label  # engine=None: the label's engine='serial'
         return f"{given} is not supported for {case}: {self.reason}"
 
 
@@ -159,10 +165,44 @@ AMG_REFUSALS = (
 )
 
 
+def _partitioned(option, reason, applies, label=None):
+    return Rule(option, "a partitioned problem (a folder)", reason,
+                lambda c, s, g: c.bodies == "partitioned"
+                and applies(c, s, g),
+                label)
+
+
+_CONVERTED = ("the distributed solve runs from the free start on the "
+              "system condensed onto Γc, with the gaps and nodes of the "
+              "conversion; run the .npz for it")
+
+#: What the distributed solve of a partitioned problem does not do
+#: (:mod:`solver.mpi.distributed`): it is frictionless, on the petsc
+#: engine, condensed, from the free start, with the conversion's gaps.
+PARTITIONED_RULES = (
+    _partitioned("engine", "its K is read in parts by the ranks of "
+                 "mpiexec: engine='petsc', under mpiexec -n N",
+                 lambda c, s, g: c.engine != "petsc", "engine='serial'"),
+    _partitioned("friction", "the distributed solve is frictionless; run "
+                 "the .npz for friction",
+                 lambda c, s, g: c.contact == "friction"),
+    _partitioned("system", "the distributed solve runs on the system "
+                 "condensed onto Γc (MUMPS's Schur complement)",
+                 lambda c, s, g: s["system"] == "full", "system='full'"),
+) + tuple(
+    _partitioned(name, _CONVERTED, lambda c, s, g, name=name: name in g)
+    for name in ("start", "gap", "search_interval", "gap_scale",
+                 "candidates", "margin", "rollers", "x0", "ksp",
+                 "options", "geometry", "variant")) + (
+    _partitioned("backend", "the distributed solve factorises with "
+                 "MUMPS", lambda c, s, g: s["backend"] != "auto",
+                 "backend"),)
+
 #: The refused combinations, checked in order (the first that applies is
 #: reported).
 RULES = tuple(
-    [_friction_only(n) for n in FRICTION_ONLY]
+    list(PARTITIONED_RULES)
+    + [_friction_only(n) for n in FRICTION_ONLY]
     + [_frictionless_only(n) for n in FRICTIONLESS_ONLY]
     + [_amg(*refusal) for refusal in AMG_REFUSALS]
     + [
@@ -180,7 +220,8 @@ RULES = tuple(
         Rule("engine", "two bodies, discrete problems",
              "the petsc engine partitions one meshed body against a rigid "
              "obstacle; this runs on the serial engine",
-             lambda c, s, g: c.engine == "petsc" and c.bodies != "rigid",
+             lambda c, s, g: c.engine == "petsc"
+             and c.bodies in ("two-body", "discrete"),
              "engine='petsc'"),
         Rule("formulation", "3D",
              "the thesis's split formulation (Δu_t⁺, Δu_t⁻) is 2D-only; "
@@ -414,9 +455,16 @@ def _first(values, count=5):
 def support_table():
     """The README's "What works where": one Markdown row per rule."""
     rows = ["| option | refused for | why |", "|---|---|---|"]
+    groups = []  # consecutive rules of one case and reason: one row
     for rule in RULES:
-        rows.append(f"| `{rule.label or rule.option}` | {rule.where} | "
-                    f"{rule.reason} |")
+        if groups and groups[-1][0] == (rule.where, rule.reason):
+            groups[-1][1].append(rule.label or rule.option)
+        else:
+            groups.append(((rule.where, rule.reason),
+                           [rule.label or rule.option]))
+    for (where, reason), names in groups:
+        shown = ", ".join(f"`{name}`" for name in names)
+        rows.append(f"| {shown} | {where} | {reason} |")
     rows.append("| `formulation='thesis'` | roller nodes (symmetry planes) "
                 "| the split formulation has no row to drop for a "
                 "roller's constrained tangent (rollers=False makes them "

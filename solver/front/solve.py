@@ -19,7 +19,8 @@ from ..errors import SolverError
 from .cases import (DEFAULTS, auto_eligible, case_of, check_geometry_rules,
                     resolve)
 
-__all__ = ["solve", "prepare", "Plan", "solve_frictionless",
+__all__ = ["solve", "prepare", "Plan", "PartitionedPlan",
+           "solve_frictionless",
            "solve_friction", "solve_two_body", "make_engine"]
 
 
@@ -36,7 +37,11 @@ def solve(problem, *, friction=None, method=None, system="auto", start=None,
     problem : ContactProblem
         From :func:`solver.load_problem`: one body against a rigid obstacle
         (2D curve or 3D surface), two elastic bodies (dual mortar), or a
-        discrete problem with given gaps (the §6 bar).
+        discrete problem with given gaps (the §6 bar); or a partitioned
+        problem (``load_problem(DIR)`` of the folder of ``python -m solver
+        convert``): frictionless, ``engine="petsc"`` under ``mpiexec``,
+        each rank reading only its rows (docs/mpi.md); its result's
+        ``write_pieces(outdir)`` writes u, one ``.vtu`` piece per rank.
     friction : float, optional
         The coefficient of friction f_c ≥ 0: Coulomb friction in load steps
         (thesis §5); without it the problem is frictionless (67).
@@ -177,6 +182,34 @@ class Plan:
         return result
 
 
+class PartitionedPlan:
+    """A checked call of :func:`solve` on a partitioned problem (a folder
+    of ``python -m solver convert``; :mod:`solver.mpi.distributed`): run
+    it on rank 0 under ``mpiexec`` (inside :func:`solver.mpi.engine.spmd`,
+    or the command line's service); the result's ``write_pieces`` writes u
+    one piece per rank."""
+
+    friction = None
+
+    def __init__(self, problem, case, settings):
+        from .. import mpi
+
+        reason = mpi.missing()
+        if reason:
+            raise SolverError(reason)
+        self.problem, self.case, self.settings = problem, case, settings
+
+    def run(self):
+        """Solve on the ranks; a :class:`~solver.mpi.distributed.
+        PartitionedResult`."""
+        from ..mpi.distributed import solve_partitioned
+        from ..mpi.engine import service
+
+        s = self.settings
+        return solve_partitioned(service(), self.problem.path, s["method"],
+                                 s["tol"], s["max_iter"])
+
+
 def prepare(problem, **options):
     """Check a call of :func:`solve` (same arguments) and make what it
     needs before any solving: the case, its settings, the engine, the contact
@@ -192,6 +225,8 @@ def prepare(problem, **options):
     friction = given["friction"]
     case = case_of(problem, friction, given["engine"])
     settings = resolve(case, given)
+    if case.bodies == "partitioned":
+        return PartitionedPlan(problem, case, settings)
     if auto_eligible(case, given) and problem.kind == "mesh":
         settings = _choose_path(problem, case, given, settings)
     if settings["backend"] == "amg":

@@ -35,7 +35,7 @@ def service():
         from petsc4py import PETSc
 
         restore_malloc()
-        from . import factor, full, schur, snesvi  # noqa: F401 - commands
+        from . import distributed, factor, full, schur, snesvi  # noqa: F401
         from .service import Service
 
         PETSc.Options().setValue("k_mat_mumps_icntl_14", 50)  # workspace +%

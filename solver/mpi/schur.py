@@ -15,7 +15,7 @@ import numpy as np
 
 from .service import command
 
-__all__ = ["set_schur_is", "schur_complement", "interior_solves",
+__all__ = ["set_schur_is", "schur_complement", "interior_solves", "interior",
            "mumps_memory"]
 
 _LIB = []
@@ -129,7 +129,7 @@ def mumps_memory(F):
     return out
 
 
-def _interior(service, obj, rhs, rows, values):
+def interior(service, obj, rhs, rows, values):
     """x with x_c = ``values`` (on every rank) and K_ii x_i = rhs_i −
     K_ic x_c: one interior solve (``rhs`` a PETSc vector, overwritten)."""
     from .service import EngineError
@@ -157,7 +157,7 @@ def _reduced_rhs(service, obj, rows, b_pad):
     from .layout import scatter_vector
 
     scatter_vector(service, b_pad, obj["b"])
-    y = _interior(service, obj, obj["b"].copy(), rows, np.zeros(len(rows)))
+    y = interior(service, obj, obj["b"].copy(), rows, np.zeros(len(rows)))
     t = obj["b"].duplicate()
     obj["A"].mult(y, t)  # (K y)_c = K_ci y_i
     a, b = obj["A"].getOwnershipRange()
@@ -201,7 +201,7 @@ def _schur_solve(service, payload, local):
             raise EngineError("the Schur complement is singular")
     x_c = service.comm.bcast(x_c, root=0)
     scatter_vector(service, b_pad, obj["b"])
-    return gather_vector(service, _interior(service, obj, obj["b"], rows,
+    return gather_vector(service, interior(service, obj, obj["b"], rows,
                                             x_c))
 
 
@@ -219,4 +219,4 @@ def _interior_solve(service, payload, local):
         scatter_vector(service, b_pad, rhs)
     else:
         rhs.set(0.0)
-    return gather_vector(service, _interior(service, obj, rhs, rows, u_c))
+    return gather_vector(service, interior(service, obj, rhs, rows, u_c))

@@ -19,7 +19,10 @@ from ..errors import SolverError
 __all__ = ["OutputFolder", "atomic_path", "OutputError"]
 
 #: Names a run may write (besides the figures its summary lists).
-OUTPUT_NAMES = ("summary.json", "result.npz", "result.vtu", "result.pvd")
+OUTPUT_NAMES = ("summary.json", "result.npz", "result.vtu", "result.pvd",
+                "result.pvtu", "contact.npz")
+#: The pieces of a partitioned run's ``result.pvtu``, one per rank.
+PIECE_PATTERN = "result-[0-9]*.vtu"
 STEP_PATTERN = os.path.join("steps", "step_[0-9][0-9][0-9][0-9]*.vtu")
 
 
@@ -83,6 +86,7 @@ class OutputFolder:
         an earlier summary lists, the fixed names and the step files."""
         names = set(OUTPUT_NAMES)
         names.update(glob.glob(STEP_PATTERN, root_dir=self.path))
+        names.update(glob.glob(PIECE_PATTERN, root_dir=self.path))
         try:
             with open(os.path.join(self.path, "summary.json")) as stream:
                 listed = json.load(stream).get("files", [])

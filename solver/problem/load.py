@@ -25,6 +25,10 @@ def load_problem(path):
     sizes its dimensions do not allow, or any key is missing, unexpected
     or malformed."""
     path = os.fspath(path)
+    if os.path.isdir(path):  # a partitioned problem (python -m solver convert)
+        from .partitioned import PartitionedProblem
+
+        return PartitionedProblem(path)
     try:
         with open(path, "rb") as stream:
             magic = stream.read(6)

@@ -1,0 +1,87 @@
+"""The command line on a partitioned problem (a folder written by
+``python -m solver convert X.npz DIR``): ``mpiexec -n N python -m solver
+DIR --engine petsc`` goes through the front as every run
+(:func:`solver.front.prepare` checks it against the rules of
+:mod:`solver.front.cases`; :func:`solver.cli.run.run` locks the output
+folder, marks it "running" and turns every outcome into an exit code);
+:func:`partitioned_job` writes its outputs. And the converter itself."""
+
+import argparse
+import os
+import sys
+
+import numpy as np
+
+from ..errors import SolverError
+from .codes import EXIT_INPUT, EXIT_NOT_CONVERGED, EXIT_OK, EXIT_OUTPUT
+
+__all__ = ["partitioned_job", "convert_main"]
+
+
+def _one_line(text):
+    return " ".join(str(text).split())
+
+
+def partitioned_job(args, plan, open_folder, emit, write_summary):
+    """Solve the checked ``plan`` on the ranks; write, each under a
+    temporary name renamed when complete, the pieces ``result-RANK.vtu``
+    (every rank its own), ``contact.npz``, ``result.pvtu`` and last
+    ``summary.json``; print the summary line."""
+    from ..mpi.distributed import write_pvtu
+    from ..output.folder import atomic_path
+
+    outdir = args.outdir or os.path.normpath(args.problem) + "-result"
+    folder = open_folder(outdir)
+    result = plan.run()
+    for name in result.piece_names():  # listed if interrupted once written
+        folder.file(name)
+    pieces = result.write_pieces(folder.path)
+    with atomic_path(folder.file("contact.npz")) as tmp:
+        np.savez(tmp, **result.contact)
+    with atomic_path(folder.file("result.pvtu")) as tmp:
+        write_pvtu(tmp, pieces)
+    summary = dict(result)
+    write_summary(summary)
+    v = summary["verification"]
+    emit(f"{summary['status']}: {summary['nit']} Newton iterations on "
+         f"{summary['n_contact_dofs']} contact DOFs of "
+         f"{summary['n_dofs']} ({summary['engine']['ranks']} ranks), "
+         f"{summary['n_in_contact']} nodes in contact, max penetration "
+         f"{v['max_penetration']:.1e}, interior equilibrium "
+         f"{v['interior_equilibrium']:.1e}; {folder.path}/result.pvtu")
+    if not result.success:
+        print(f"error: not converged: {_one_line(summary['message'])}",
+              file=sys.stderr)
+        return EXIT_NOT_CONVERGED
+    return EXIT_OK
+
+
+def convert_main(argv):
+    """``python -m solver convert X.npz DIR [--gap obstacle|body]``."""
+    parser = argparse.ArgumentParser(
+        prog="python -m solver convert",
+        description="Write a rigid-obstacle problem file as the partitioned "
+                    "folder that mpiexec -n N python -m solver DIR --engine "
+                    "petsc reads in part: K and f in PETSc's binary format, "
+                    "the mesh as .npy, the contact geometry as contact.npz "
+                    "(docs/npz-format.md, 'The partitioned problem').")
+    parser.add_argument("problem", help="problem file (.npz)")
+    parser.add_argument("folder", help="the partitioned problem's folder")
+    parser.add_argument("--gap", choices=("obstacle", "body"),
+                        default="obstacle",
+                        help="gaps and normals as the solver's --gap")
+    args = parser.parse_args(argv)
+    from ..mpi.convert import convert
+
+    try:
+        meta = convert(args.problem, args.folder, args.gap)
+    except SolverError as exc:
+        print(f"error: {_one_line(exc)}", file=sys.stderr)
+        return EXIT_INPUT
+    except OSError as exc:
+        print(f"error: cannot write {exc.filename or args.folder}: "
+              f"{_one_line(exc.strerror or exc)}", file=sys.stderr)
+        return EXIT_OUTPUT
+    print(f"{args.folder}: {meta['n']} rows ({meta['n_free']} free DOFs), "
+          f"{meta['nnz']} nonzeros, {meta['n_nodes']} nodes")
+    return EXIT_OK

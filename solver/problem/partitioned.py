@@ -1,0 +1,224 @@
+r"""The partitioned problem: a folder that each rank of ``mpiexec`` reads
+in part (docs/npz-format.md, "The partitioned problem").
+
+A rigid-obstacle mesh problem is written once, by
+``python -m solver convert X.npz DIR`` (:mod:`solver.mpi.convert`), as
+
+* ``K.petsc``, ``f.petsc``: K and f in **PETSc's binary format**
+  (``MatView`` / ``VecView`` with a binary viewer; big-endian, 32-bit
+  indices), in the *padded* numbering of :class:`solver.mpi.layout.Layout`
+  (row ``d·node + component``; a Dirichlet DOF an identity row scaled by
+  the mean diagonal of K, its f entry that scale times the prescribed
+  value, so that u there is the prescribed value). ``MatLoad`` /
+  ``VecLoad`` give each rank only its rows.
+* ``nodes.npy``, ``cells.npy``: the coordinates and the cells sorted by
+  their smallest node (each rank memory-maps and writes one consecutive
+  share of them, whose nodes lie close together).
+* ``contact.npz``: what lives on Γc: the contact nodes that take part,
+  their padded rows (frame rows and own rows), gaps, normals, tangents.
+* ``problem.json``: sizes, the Dirichlet scale, ‖f‖, k̄, meta, source.
+
+This module defines the layout, writes and checks PETSc's binary headers
+with NumPy alone (no petsc4py), and validates a folder before any rank
+reads it: each fault is one :class:`~solver.errors.ProblemError` line."""
+
+import json
+import os
+
+import numpy as np
+
+from ..errors import ProblemError
+
+__all__ = ["PARTITIONED_VERSION", "FILES", "CONTACT_KEYS", "META_KEYS",
+           "MAT_CLASSID", "VEC_CLASSID", "write_petsc_matrix",
+           "write_petsc_vector", "petsc_header", "read_partitioned_meta",
+           "load_contact", "is_partitioned", "PartitionedProblem"]
+
+#: Version of the folder's layout (``problem.json``'s ``"partitioned"``).
+PARTITIONED_VERSION = 1
+
+#: PETSc's class ids at the head of a binary Mat and Vec (petscmat.h,
+#: petscvec.h: MAT_FILE_CLASSID, VEC_FILE_CLASSID).
+MAT_CLASSID, VEC_CLASSID = 1211216, 1211214
+
+#: The folder's files.
+FILES = ("problem.json", "K.petsc", "f.petsc", "nodes.npy", "cells.npy",
+         "contact.npz")
+
+#: ``contact.npz``: name -> (dtype kind, meaning).
+CONTACT_KEYS = {
+    "node": ("i", "global node of each contact node that takes part (Nca,)"),
+    "index": ("i", "its position along the npz's contact_nodes (Nca,)"),
+    "dofs": ("i", "padded row of each frame row: tangents, then the normal "
+                  "(Nca, d); -1 a roller's constrained direction"),
+    "node_dofs": ("i", "padded row of each component (Nca, d); -1 where "
+                       "Dirichlet"),
+    "gap": ("f", "initial gap s along the normal (Nca,)"),
+    "normal": ("f", "unit normal from the body towards the obstacle "
+                    "(Nca, d)"),
+    "tangents": ("f", "the d - 1 unit tangents (Nca, d - 1, d)"),
+    "oblique": ("b", "gap and normal projected onto the free components "
+                     "(Nca,)"),
+}
+
+#: ``problem.json``'s required entries.
+META_KEYS = ("partitioned", "dim", "n_nodes", "n", "nnz", "cell_kind",
+             "dirichlet_scale", "load_norm", "stiffness", "gap_mode",
+             "meta", "source")
+
+_HEADER = np.dtype(">i4")
+
+
+def is_partitioned(path):
+    """Whether ``path`` names a partitioned problem (a folder)."""
+    return os.path.isdir(path)
+
+
+def write_petsc_matrix(path, A):
+    """Write the square sparse ``A`` (CSR, float64, sorted indices) as
+    PETSc's binary AIJ (MatView): the class id, rows, columns, nonzeros,
+    the row lengths, the column indices, the values; all big-endian."""
+    import scipy.sparse as sp
+
+    A = sp.csr_matrix(A)
+    A.sort_indices()
+    m, n = A.shape
+    with open(path, "wb") as stream:
+        np.array([MAT_CLASSID, m, n, A.nnz], _HEADER).tofile(stream)
+        np.diff(A.indptr).astype(_HEADER).tofile(stream)
+        A.indices.astype(_HEADER).tofile(stream)
+        A.data.astype(">f8").tofile(stream)
+
+
+def write_petsc_vector(path, v):
+    """Write ``v`` as PETSc's binary Vec (VecView)."""
+    v = np.asarray(v, float)
+    with open(path, "wb") as stream:
+        np.array([VEC_CLASSID, len(v)], _HEADER).tofile(stream)
+        v.astype(">f8").tofile(stream)
+
+
+def petsc_header(path):
+    """(class id, sizes…, expected file size in bytes) of a PETSc binary
+    file, read from its first 16 bytes; ProblemError if not one."""
+    name = os.path.basename(path)
+    try:
+        with open(path, "rb") as stream:
+            head = np.frombuffer(stream.read(16), _HEADER)
+    except OSError as exc:
+        raise ProblemError(f"{path}: {exc.strerror.lower()}") from None
+    if len(head) < 2 or head[0] not in (MAT_CLASSID, VEC_CLASSID):
+        raise ProblemError(f"{path}: not a PETSc binary matrix or vector "
+                           f"(no class id in its header)")
+    if head[0] == VEC_CLASSID:
+        return int(head[0]), (int(head[1]),), 8 + 8 * int(head[1])
+    if len(head) < 4:
+        raise ProblemError(f"{path}: truncated PETSc header ({name})")
+    m, n, nnz = (int(x) for x in head[1:4])
+    return int(head[0]), (m, n, nnz), 16 + 4 * m + 12 * nnz
+
+
+def _check_binary(folder, name, classid, sizes):
+    path = os.path.join(folder, name)
+    found, shape, expected = petsc_header(path)
+    kind = "matrix" if classid == MAT_CLASSID else "vector"
+    if found != classid:
+        raise ProblemError(f"{path}: a PETSc binary {kind} was expected")
+    if shape != sizes:
+        raise ProblemError(f"{path}: sizes {shape} in its header, "
+                           f"problem.json says {sizes}")
+    actual = os.path.getsize(path)
+    if actual != expected:
+        raise ProblemError(f"{path}: {actual} bytes, its header needs "
+                           f"{expected} (truncated or damaged file)")
+
+
+def read_partitioned_meta(folder):
+    """``problem.json`` of the partitioned problem ``folder``, after
+    checking that every file of :data:`FILES` is there with the sizes it
+    says (headers and file lengths, not the values): ProblemError, one
+    line, at the first fault."""
+    folder = os.fspath(folder)
+    for name in FILES:
+        if not os.path.isfile(os.path.join(folder, name)):
+            raise ProblemError(f"{folder}: missing {name}: not a "
+                               f"partitioned problem (python -m solver "
+                               f"convert X.npz {folder})")
+    path = os.path.join(folder, "problem.json")
+    try:
+        with open(path) as stream:
+            meta = json.load(stream)
+    except (OSError, ValueError) as exc:
+        raise ProblemError(f"{path}: unreadable JSON: "
+                           f"{' '.join(str(exc).split())}") from None
+    missing = [k for k in META_KEYS if not isinstance(meta, dict)
+               or k not in meta]
+    if missing:
+        raise ProblemError(f"{path}: missing {', '.join(missing)}")
+    if meta["partitioned"] != PARTITIONED_VERSION:
+        raise ProblemError(f"{path}: partitioned layout version "
+                           f"{meta['partitioned']!r}, this solver reads "
+                           f"{PARTITIONED_VERSION}")
+    n, nnz = int(meta["n"]), int(meta["nnz"])
+    if n != int(meta["n_nodes"]) * int(meta["dim"]):
+        raise ProblemError(f"{path}: n must be n_nodes × dim")
+    _check_binary(folder, "K.petsc", MAT_CLASSID, (n, n, nnz))
+    _check_binary(folder, "f.petsc", VEC_CLASSID, (n,))
+    for name, shape in (("nodes.npy", (int(meta["n_nodes"]),
+                                       int(meta["dim"]))),
+                        ("cells.npy", None)):
+        try:
+            array = np.load(os.path.join(folder, name), mmap_mode="r")
+        except (OSError, ValueError) as exc:
+            raise ProblemError(f"{os.path.join(folder, name)}: unreadable "
+                               f"array: {' '.join(str(exc).split())}") \
+                from None
+        if shape is not None and array.shape != shape:
+            raise ProblemError(f"{os.path.join(folder, name)}: shape "
+                               f"{array.shape}, expected {shape}")
+    return meta
+
+
+def load_contact(folder, dim):
+    """The arrays of ``contact.npz`` (:data:`CONTACT_KEYS`), checked."""
+    path = os.path.join(os.fspath(folder), "contact.npz")
+    try:
+        with np.load(path, allow_pickle=False) as data:
+            arrays = {k: data[k] for k in data.files}
+    except (OSError, ValueError, EOFError) as exc:
+        raise ProblemError(f"{path}: unreadable: "
+                           f"{' '.join(str(exc).split())}") from None
+    missing = [k for k in CONTACT_KEYS if k not in arrays]
+    if missing:
+        raise ProblemError(f"{path}: missing {', '.join(missing)}")
+    m = len(arrays["gap"])
+    for key, (kind, _) in CONTACT_KEYS.items():
+        if arrays[key].dtype.kind != kind or len(arrays[key]) != m:
+            raise ProblemError(f"{path}: {key} must be {m} entries of "
+                               f"kind {kind!r}")
+    if arrays["normal"].shape != (m, dim) or arrays["dofs"].shape != \
+            (m, dim):
+        raise ProblemError(f"{path}: normal and dofs must be ({m}, {dim})")
+    if not np.isfinite(arrays["gap"]).all():
+        raise ProblemError(f"{path}: a gap is not finite")
+    return arrays
+
+
+class PartitionedProblem:
+    """A handle on a partitioned problem folder for :func:`solver.solve`
+    (``load_problem(DIR)``): its ``problem.json`` validated, nothing of K
+    read (the ranks of ``mpiexec`` read their rows when it is solved)."""
+
+    kind = "partitioned"
+    is_mortar = False
+    floating = False
+
+    def __init__(self, path):
+        self.path = os.fspath(path)
+        self.meta = read_partitioned_meta(self.path)
+        self.dim = int(self.meta["dim"])
+        self.source = self.path
+
+    def __repr__(self):
+        return (f"PartitionedProblem({self.path!r}: {self.dim}D, "
+                f"{self.meta['n']} rows)")
