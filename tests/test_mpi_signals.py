@@ -28,6 +28,7 @@ import meshio
 import numpy as np
 import pytest
 
+from mpi_processes import files as listed, rank_pid
 from solver.mpi import missing
 
 REASON = missing() or (None if shutil.which("mpiexec") else
@@ -49,29 +50,6 @@ def _open_mpi():
     done = subprocess.run(["mpiexec", "--version"], capture_output=True,
                           text=True)
     return "Open MPI" in done.stdout or "OpenRTE" in done.stdout
-
-
-def _rank_pid(launcher, rank):
-    """The process id of ``rank`` among the children of ``launcher``."""
-    for entry in os.listdir("/proc"):
-        if not entry.isdigit():
-            continue
-        try:
-            with open(f"/proc/{entry}/stat") as stream:
-                parent = int(stream.read().rsplit(")", 1)[1].split()[1])
-            with open(f"/proc/{entry}/environ", "rb") as stream:
-                env = stream.read().split(b"\0")
-        except (OSError, ValueError, IndexError):
-            continue
-        if parent == launcher and \
-                f"OMPI_COMM_WORLD_RANK={rank}".encode() in env:
-            return int(entry)
-    raise AssertionError(f"rank {rank} of mpiexec {launcher} not found")
-
-
-def _files(folder):
-    return sorted(os.path.relpath(os.path.join(d, f), folder)
-                  for d, _, names in os.walk(folder) for f in names)
 
 
 @pytest.fixture(scope="module")
@@ -101,7 +79,7 @@ def test_interrupted_friction_run(block, tmp_path, target, signum):
         while not (out / "steps" / "step_0011.vtu").exists():
             assert time.monotonic() < deadline and proc.poll() is None
             time.sleep(0.05)
-        pid = {"mpiexec": proc.pid, "rank 1": _rank_pid(proc.pid, 1),
+        pid = {"mpiexec": proc.pid, "rank 1": rank_pid(proc.pid, 1),
                "rank 0": json.loads((out / "summary.json").read_text())[
                    "pid"]}[target]
         clock = time.monotonic()
@@ -124,7 +102,7 @@ def test_interrupted_friction_run(block, tmp_path, target, signum):
     summary = json.loads((out / "summary.json").read_text())
     assert summary["status"] == "interrupted", summary
     assert summary["message"] == "interrupted by SIGTERM"
-    files = _files(out)
+    files = listed(out)
     assert not [f for f in files if os.path.basename(f).startswith(".")]
     assert sorted(summary["files"]) == files
     done = summary["steps_completed"]

@@ -12,6 +12,7 @@ import sys
 
 import pytest
 
+from mpi_processes import files as listed, rank_pid, ranks_catch_sigterm
 from solver.errors import ProblemError
 from solver.problem.partitioned import read_partitioned_meta
 
@@ -101,53 +102,6 @@ def larger(refined_block, tmp_path_factory):
     return root / "r2"
 
 
-def _ranks_catch_sigterm(launcher):
-    """Whether every child of ``launcher`` (the ranks) handles SIGTERM
-    (its SigCgt mask): a worker does once it serves; before, mpiexec's
-    SIGTERM would kill it as any process starting up."""
-    import signal
-
-    found = []
-    for entry in os.listdir("/proc"):
-        if not entry.isdigit():
-            continue
-        try:
-            with open(f"/proc/{entry}/stat") as stream:
-                parent = int(stream.read().rsplit(")", 1)[1].split()[1])
-            if parent != launcher:
-                continue
-            with open(f"/proc/{entry}/status") as stream:
-                fields = dict(line.split(":", 1) for line in stream)
-        except (OSError, ValueError, IndexError):
-            continue
-        found.append(int(fields["SigCgt"], 16)
-                     >> (signal.SIGTERM - 1) & 1)
-    return len(found) == 2 and all(found)
-
-
-def _rank_pid(launcher, rank):
-    """The process id of ``rank`` among the children of ``launcher``."""
-    for entry in os.listdir("/proc"):
-        if not entry.isdigit():
-            continue
-        try:
-            with open(f"/proc/{entry}/stat") as stream:
-                parent = int(stream.read().rsplit(")", 1)[1].split()[1])
-            with open(f"/proc/{entry}/environ", "rb") as stream:
-                env = stream.read().split(b"\0")
-        except (OSError, ValueError, IndexError):
-            continue
-        if parent == launcher and \
-                f"OMPI_COMM_WORLD_RANK={rank}".encode() in env:
-            return int(entry)
-    raise AssertionError(f"rank {rank} of mpiexec {launcher} not found")
-
-
-def _files(folder):
-    return sorted(os.path.relpath(os.path.join(d, f), folder)
-                  for d, _, names in os.walk(folder) for f in names)
-
-
 @pytest.mark.skipif(shutil.which("mpiexec") is None,
                     reason="mpiexec not found")
 @pytest.mark.parametrize("target", ["rank 0", "rank 1"])
@@ -180,11 +134,11 @@ def test_sigterm_leaves_no_complete_looking_result(larger, tmp_path,
             except (OSError, ValueError):
                 time.sleep(0.01)
         assert summary["status"] == "running"
-        while not _ranks_catch_sigterm(proc.pid):  # both ranks serve
+        while not ranks_catch_sigterm(proc.pid):  # both ranks serve
             assert time.monotonic() < deadline and proc.poll() is None
             time.sleep(0.01)
         os.kill(summary["pid"] if target == "rank 0" else
-                _rank_pid(proc.pid, 1), signal.SIGTERM)
+                rank_pid(proc.pid, 1), signal.SIGTERM)
         _, stderr = proc.communicate(timeout=120)
     finally:
         if proc.poll() is None:
@@ -195,7 +149,7 @@ def test_sigterm_leaves_no_complete_looking_result(larger, tmp_path,
         f"{out}/" in stderr.splitlines(), stderr
     summary = json.loads((out / "summary.json").read_text())
     assert summary["status"] == "interrupted" and not summary["converged"]
-    files = _files(out)
+    files = listed(out)
     assert not [f for f in files if os.path.basename(f).startswith(".")]
     assert sorted(summary["files"]) == files
     assert "result.pvtu" not in files
