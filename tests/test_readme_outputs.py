@@ -81,6 +81,9 @@ def written(block):
             if argv[1:3] == ["-m", "venv"]:
                 paths.append(f"{cwd / argv[-1]}/")
                 continue
+            if argv[1:4] == ["-m", "solver", "convert"]:  # X.npz → DIR
+                paths.append(f"{cwd / argv[5]}/")
+                continue
             if cwd != PurePosixPath("."):
                 paths.append(f"{cwd}/")  # a script's default output
             out = option(argv, "-o", "--output", "--outdir")

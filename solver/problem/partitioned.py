@@ -141,9 +141,10 @@ def read_partitioned_meta(folder):
     folder = os.fspath(folder)
     for name in FILES:
         if not os.path.isfile(os.path.join(folder, name)):
-            raise ProblemError(f"{folder}: missing {name}: not a "
-                               f"partitioned problem (python -m solver "
-                               f"convert X.npz {folder})")
+            raise ProblemError(f"{folder}: a directory missing {name}, "
+                               f"so not a partitioned problem (give a .npz "
+                               f"file, or make the folder by python -m "
+                               f"solver convert X.npz {folder})")
     path = os.path.join(folder, "problem.json")
     try:
         with open(path) as stream:
