@@ -142,6 +142,13 @@ def test_same_u_as_serial_and_rank0_holds_gamma_c_only(
     assert m < n // 10
     assert engine["rank0_arrays"]["largest_dimension"] <= m
     assert engine["rank0_arrays"]["largest_entries"] <= m * m
+    # the NCP on Γc's normal rows only (NormalSchur: frictionless, no
+    # tangential force), as the serial condensation: (m/d)² entries
+    shapes = engine["rank0_arrays"]["shapes"]
+    nodes_c = shapes["contact.gap"][0]
+    assert shapes["S_n"] == [nodes_c, nodes_c] and m > nodes_c
+    assert shapes["u_n"] == [nodes_c]
+    assert summary["nit"] == result.nit  # the serial free start's Newton
     # each rank read its share of K's rows (MatLoad), rank 0 a smaller one
     rows = [stats["rows"] for stats in engine["per_rank"]]
     assert sum(rows) == n and rows[0] <= n // ranks + dim
