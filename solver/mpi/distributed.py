@@ -110,22 +110,25 @@ class NormalSchur:
         S_n = Ŝ_NN − Ŝ_NT Ŝ_TT⁻¹ Ŝ_TN,   g_n = ĝ_N − Ŝ_NT Ŝ_TT⁻¹ ĝ_T,
 
     and u_T = Ŝ_TT⁻¹(ĝ_T − Ŝ_TN u_N) gives the rest (no force on T). The
-    NCP's dense work is then on (m/d)² entries, not m²; S and Ŝ are
-    dropped once S_n is made. Both Choleskys are :func:`schur_cholesky`'s
+    NCP's dense work is then on (m/d)² entries, not m²; S is
+    freed as soon as Ŝ's blocks are made (``work["S"]`` is taken out of
+    ``work``). Both Choleskys are :func:`schur_cholesky`'s
     pivot checks: S is SPD iff Ŝ_TT and S_n are (Ŝ is congruent to S)."""
 
-    def __init__(self, S, g, local, scale, ledger):
+    def __init__(self, work, g, local, scale, ledger):
+        S = work.pop("S")  # the caller's last reference: freed here
         m = len(g)
         self.R, _, _, normal = rotation(m, local)
         other = np.ones(m, bool)
         other[normal] = False
         self.normal, self.other = normal, np.flatnonzero(other)
-        hat = self.R @ (self.R @ S).T  # R S Rᵀ (S symmetric)
         N, T = self.normal, self.other
-        nn = hat[np.ix_(N, N)]
-        tn = hat[np.ix_(T, N)]
-        tt = ledger.hold("S_TT", hat[np.ix_(T, T)])
-        del hat
+        # Ŝ's blocks as R_X S R_Yᵀ, S symmetric: no m × m array besides S
+        side = (self.R[N] @ S).T  # S R_Nᵀ
+        nn, tn = self.R[N] @ side, self.R[T] @ side
+        del side
+        tt = ledger.hold("S_TT", self.R[T] @ (self.R[T] @ S).T)
+        del S
         r = self.R @ g
         if len(T):
             cho = schur_cholesky(tt, scale)
@@ -195,11 +198,15 @@ class PartitionedResult(dict):
     def write_pieces(self, outdir):
         """(collective) Every rank writes its piece ``result-RANK.vtu`` of
         ``outdir`` under a temporary name and renames it when complete;
-        returns the pieces' paths."""
-        return self.svc.call("partitioned_write", dict(
+        returns the pieces' paths. The ranks' statistics (``engine``'s
+        ``per_rank``: peak memory, times) are taken again afterwards, so
+        that each rank's peak includes writing its piece."""
+        pieces = self.svc.call("partitioned_write", dict(
             folder=os.fspath(self.folder), outdir=os.fspath(outdir),
             kind=self.meta["cell_kind"], dim=int(self.meta["dim"])),
             self.contact)
+        self["engine"]["per_rank"] = self.svc.call("stats")
+        return pieces
 
 
 def solve_partitioned(svc, folder, method="min", tol=1e-10, max_iter=100):
@@ -227,12 +234,13 @@ def solve_partitioned(svc, folder, method="min", tol=1e-10, max_iter=100):
     svc.mark("start")
     scale = svc.call("load_partitioned", dict(folder=os.fspath(folder),
                                               ranges=ranges, dim=dim))
-    S = ledger.hold("S", svc.call("factor", dict(key=KEY, schur=rows)))
+    work = dict(S=ledger.hold("S", svc.call("factor", dict(
+        key=KEY, schur=rows))))
     g = ledger.hold("g", svc.call("partitioned_rhs", dict(rows=rows)))
     stiffness, load_norm = float(meta["stiffness"]), float(meta["load_norm"])
     local = compact_geometry(geometry)
-    normal = NormalSchur(S, g, local, scale, ledger)
-    del S  # rank 0 keeps only the normal rows' system from here on
+    # rank 0 keeps only the normal rows' system from here on
+    normal = NormalSchur(work, g, local, scale, ledger)
     nodes = np.arange(len(geometry.gap))
     system = FrictionlessSystem(normal.S, normal.g,
                                 normal_line(geometry, nodes), stiffness,
