@@ -155,6 +155,37 @@ def test_same_u_as_serial_and_rank0_holds_gamma_c_only(
     assert max(rows) <= 2 * n // ranks
 
 
+def test_3d_quarter_sphere_with_rollers(tmp_path_factory, tmp_path):
+    """3D, two tangents per node and rollers on the symmetry planes (a
+    roller's normal row is its only free DOF in S_n's numbering): the
+    a/h 4 quarter Hertz sphere on 2 ranks against the serial engine's
+    free start (u to 1e-8, the same Newton count and contact set)."""
+    from solver.cli import main
+    from test_amg import hertz_sphere
+
+    problem = hertz_sphere(tmp_path_factory, 4)
+    result = solve(problem, start="free")
+    assert result.success
+    folder = tmp_path / "s4"
+    assert main(["convert", str(problem.source), str(folder)]) == 0
+    out = tmp_path / "out"
+    code, stdout, err = mpirun(2, ["-m", "solver", folder, "--engine",
+                                   "petsc", "-o", out])
+    assert code == 0, err[-2000:]
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["converged"] and summary["nit"] == result.nit
+    n_nodes, dim = problem.nodes.shape
+    u, _ = read_pvtu(out / "result.pvtu", n_nodes, dim)
+    ref = result.displacement
+    assert np.abs(u - ref).max() <= RTOL * np.abs(ref).max()
+    with np.load(out / "contact.npz") as contact:
+        touching = np.sort(contact["node"][contact["in_contact"]])
+    assert np.array_equal(touching, np.sort(
+        problem.contact_nodes[result.in_contact]))
+    nodes_c = summary["engine"]["rank0_arrays"]["shapes"]["S_n"][0]
+    assert summary["n_contact_dofs"] < dim * nodes_c  # rollers
+
+
 def test_options_that_do_not_apply_are_refused(converted, capsys,
                                               tmp_path):
     """--friction (or --system full, ...) on a partitioned problem: the
