@@ -9,7 +9,8 @@ the ``.npz`` (rank 0 reads the whole problem and scatters K), for the
 before/after. Each run prints one JSON line: wall time of the mpiexec
 (process start to exit), each rank's peak RSS (MB, ``ru_maxrss``), its
 ratio to the 1-rank run's peak, its CPU time, rows and MUMPS's memory
-(INFO(22), MB), Newton counts, and
+(INFO(22), MB), its peak so far after each collective step
+(``peak_after_mb``: where the peak is reached), Newton counts, and
 the load average when it ended; then a table. The issue's target: at
 ≥ 10⁶ DOFs every rank's peak at 2 ranks ≤ 0.6× the 1-rank run's.
 Imports nothing of the solver: it reads the runs' summary.json."""
@@ -67,6 +68,8 @@ def main(argv=None):
                         rows=[s.get("rows") for s in per_rank],
                         mumps_used_mb=[s.get("mumps_mb", {}).get("used")
                                        for s in per_rank],
+                        peak_after_mb=[{k: v[1] for k, v in s.get(
+                            "memory_mb", {}).items()} for s in per_rank],
                         nit=summary.get("nit"),
                         n_dofs=summary.get("n_dofs") or summary.get(
                             "n_dofs_reduced"),

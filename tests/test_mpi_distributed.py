@@ -142,10 +142,48 @@ def test_same_u_as_serial_and_rank0_holds_gamma_c_only(
     assert m < n // 10
     assert engine["rank0_arrays"]["largest_dimension"] <= m
     assert engine["rank0_arrays"]["largest_entries"] <= m * m
+    # the NCP on Γc's normal rows only (NormalSchur: frictionless, no
+    # tangential force), as the serial condensation: (m/d)² entries
+    shapes = engine["rank0_arrays"]["shapes"]
+    nodes_c = shapes["contact.gap"][0]
+    assert shapes["S_n"] == [nodes_c, nodes_c] and m > nodes_c
+    assert shapes["u_n"] == [nodes_c]
+    assert summary["nit"] == result.nit  # the serial free start's Newton
     # each rank read its share of K's rows (MatLoad), rank 0 a smaller one
     rows = [stats["rows"] for stats in engine["per_rank"]]
     assert sum(rows) == n and rows[0] <= n // ranks + dim
     assert max(rows) <= 2 * n // ranks
+
+
+def test_3d_quarter_sphere_with_rollers(tmp_path_factory, tmp_path):
+    """3D, two tangents per node and rollers on the symmetry planes (a
+    roller's normal row is its only free DOF in S_n's numbering): the
+    a/h 4 quarter Hertz sphere on 2 ranks against the serial engine's
+    free start (u to 1e-8, the same Newton count and contact set)."""
+    from solver.cli import main
+    from test_amg import hertz_sphere
+
+    problem = hertz_sphere(tmp_path_factory, 4)
+    result = solve(problem, start="free")
+    assert result.success
+    folder = tmp_path / "s4"
+    assert main(["convert", str(problem.source), str(folder)]) == 0
+    out = tmp_path / "out"
+    code, stdout, err = mpirun(2, ["-m", "solver", folder, "--engine",
+                                   "petsc", "-o", out])
+    assert code == 0, err[-2000:]
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["converged"] and summary["nit"] == result.nit
+    n_nodes, dim = problem.nodes.shape
+    u, _ = read_pvtu(out / "result.pvtu", n_nodes, dim)
+    ref = result.displacement
+    assert np.abs(u - ref).max() <= RTOL * np.abs(ref).max()
+    with np.load(out / "contact.npz") as contact:
+        touching = np.sort(contact["node"][contact["in_contact"]])
+    assert np.array_equal(touching, np.sort(
+        problem.contact_nodes[result.in_contact]))
+    nodes_c = summary["engine"]["rank0_arrays"]["shapes"]["S_n"][0]
+    assert summary["n_contact_dofs"] < dim * nodes_c  # rollers
 
 
 def test_options_that_do_not_apply_are_refused(converted, capsys,

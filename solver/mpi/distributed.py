@@ -7,9 +7,12 @@ blocked by nodes as :class:`~solver.mpi.layout.Layout`). One distributed
 MUMPS factorisation in its Schur mode gives S = K_cc − K_ci K_ii⁻¹ K_ic on
 the DOFs c of the contact nodes (thesis (63)-(66)) on rank 0; one interior
 solve gives the condensed load g̃ = f_c − K_ci K_ii⁻¹ f_i. Rank 0 holds
-only these, the contact geometry and the Newton iterates on Γc: it solves
-the condensed NCP (67) from the free start u_c = S⁻¹g̃, as the serial
-``solver.solve(problem, start="free")`` on the condensed system. A second
+only these, the contact geometry and the Newton iterates on Γc. Without
+friction only the normal unknowns carry a force, so rank 0 condenses S
+once more onto Γc's normal rows in the node frames (:class:`NormalSchur`,
+(m/d)² entries, as the serial condensation onto the candidates' normal
+DOFs) and drops S; it solves the NCP (67) on them from the free start,
+as the serial ``solver.solve(problem, start="free")``. A second
 interior solve gives u = K⁻¹(f − Bᵀλ) on the ranks (u_i = K_ii⁻¹(f_i −
 K_ic u_c)); the residual K u − f is checked on every row there (zero off
 Γc, the contact forces on it), and each rank writes its piece of
@@ -28,7 +31,8 @@ import time
 import numpy as np
 import scipy.linalg as la
 
-from ..contact.geometry import ContactGeometry
+from ..contact.geometry import ContactGeometry, rotation
+from ..contact.strategies.candidates import normal_line
 from ..contact.frictionless.system import FrictionlessSystem
 from ..contact.verify import (describe_failure, force_scale,
                               unit_free_options, verification_tolerance,
@@ -89,6 +93,67 @@ def compact_geometry(geometry):
                                lookup(geometry.node_dofs))
 
 
+class NormalSchur:
+    r"""Γc's Schur complement condensed onto its normal rows, on rank 0.
+
+    MUMPS returns S (m, m) on every free DOF of the contact nodes and g̃.
+    Without friction no tangential force acts, so only each node's normal
+    unknown needs to stay in the NCP (as the serial
+    :class:`~solver.contact.strategies.candidates.NormalCondensation`,
+    which factorises K̂ = RKRᵀ with the normal rows as its Schur set).
+    With R the nodes' frames (:func:`~solver.contact.geometry.rotation`,
+    thesis (58)-(60)), Ŝ = R S Rᵀ, ĝ = R g̃, N the normal rows and T the
+    others (the tangential rows and a roller's other free DOFs), the
+    Schur complement of K̂ on N is the Schur complement of Ŝ on N (Schur
+    complements compose):
+
+        S_n = Ŝ_NN − Ŝ_NT Ŝ_TT⁻¹ Ŝ_TN,   g_n = ĝ_N − Ŝ_NT Ŝ_TT⁻¹ ĝ_T,
+
+    and u_T = Ŝ_TT⁻¹(ĝ_T − Ŝ_TN u_N) gives the rest (no force on T). The
+    NCP's dense work is then on (m/d)² entries, not m²; S is
+    freed as soon as Ŝ's blocks are made (``work["S"]`` is taken out of
+    ``work``). Both Choleskys are :func:`schur_cholesky`'s
+    pivot checks: S is SPD iff Ŝ_TT and S_n are (Ŝ is congruent to S)."""
+
+    def __init__(self, work, g, local, scale, ledger):
+        S = work.pop("S")  # the caller's last reference: freed here
+        m = len(g)
+        self.R, _, _, normal = rotation(m, local)
+        other = np.ones(m, bool)
+        other[normal] = False
+        self.normal, self.other = normal, np.flatnonzero(other)
+        N, T = self.normal, self.other
+        # Ŝ's blocks as R_X S R_Yᵀ, S symmetric: no m × m array besides S
+        side = (self.R[N] @ S).T  # S R_Nᵀ
+        nn, tn = self.R[N] @ side, self.R[T] @ side
+        del side
+        tt = ledger.hold("S_TT", self.R[T] @ (self.R[T] @ S).T)
+        del S
+        r = self.R @ g
+        if len(T):
+            cho = schur_cholesky(tt, scale)
+            del tt
+            self.X = ledger.hold("S_TT⁻¹S_TN", la.cho_solve(cho, tn))
+            self.y = la.cho_solve(cho, r[T])
+            del cho
+        else:
+            self.X, self.y = np.zeros((0, len(N))), np.zeros(0)
+        self.S = ledger.hold("S_n", nn - tn.T @ self.X)
+        self.S += self.S.T
+        self.S *= 0.5
+        self.g = ledger.hold("g_n", r[N] - tn.T @ self.y)
+        del tn, nn
+        cho = schur_cholesky(self.S, scale)
+        self.start = la.cho_solve(cho, self.g)  # the free start, λ = 0
+
+    def displacement(self, u_n):
+        """u on Γc's free DOFs (S's numbering) from the normal rows' u_n."""
+        u = np.empty(len(self.normal) + len(self.other))
+        u[self.normal] = u_n
+        u[self.other] = self.y - self.X @ u_n
+        return self.R.T @ u
+
+
 #: Rank 0's share of the rows (and of the cells it writes) relative to
 #: another rank's: it also holds Γc's Schur complement, the NCP's dense
 #: work on it and MUMPS's host part (benchmarks/README.md, "Distributed
@@ -133,11 +198,15 @@ class PartitionedResult(dict):
     def write_pieces(self, outdir):
         """(collective) Every rank writes its piece ``result-RANK.vtu`` of
         ``outdir`` under a temporary name and renames it when complete;
-        returns the pieces' paths."""
-        return self.svc.call("partitioned_write", dict(
+        returns the pieces' paths. The ranks' statistics (``engine``'s
+        ``per_rank``: peak memory, times) are taken again afterwards, so
+        that each rank's peak includes writing its piece."""
+        pieces = self.svc.call("partitioned_write", dict(
             folder=os.fspath(self.folder), outdir=os.fspath(outdir),
             kind=self.meta["cell_kind"], dim=int(self.meta["dim"])),
             self.contact)
+        self["engine"]["per_rank"] = self.svc.call("stats")
+        return pieces
 
 
 def solve_partitioned(svc, folder, method="min", tol=1e-10, max_iter=100):
@@ -165,26 +234,28 @@ def solve_partitioned(svc, folder, method="min", tol=1e-10, max_iter=100):
     svc.mark("start")
     scale = svc.call("load_partitioned", dict(folder=os.fspath(folder),
                                               ranges=ranges, dim=dim))
-    S = ledger.hold("S", svc.call("factor", dict(key=KEY, schur=rows)))
-    cho = schur_cholesky(S, scale)
-    ledger.hold("cholesky(S)", cho[0])
+    work = dict(S=ledger.hold("S", svc.call("factor", dict(
+        key=KEY, schur=rows))))
     g = ledger.hold("g", svc.call("partitioned_rhs", dict(rows=rows)))
     stiffness, load_norm = float(meta["stiffness"]), float(meta["load_norm"])
-    start = ledger.hold("start", la.cho_solve(cho, g))
-    del cho  # the NCP factorises its own systems; S stays
     local = compact_geometry(geometry)
-    system = FrictionlessSystem(S, g, local, stiffness, stiffness, load_norm)
+    # rank 0 keeps only the normal rows' system from here on
+    normal = NormalSchur(work, g, local, scale, ledger)
+    nodes = np.arange(len(geometry.gap))
+    system = FrictionlessSystem(normal.S, normal.g,
+                                normal_line(geometry, nodes), stiffness,
+                                stiffness, load_norm)
     options = unit_free_options(method, None, load_norm, stiffness,
                                 geometry.gap)
-    result = solve_ncp(system.residual, system.jacobian, start,
-                       method=method, tol=tol, max_iter=max_iter,
-                       options=options, error=system.error,
-                       scale=system.scale)
-    u_c = ledger.hold("u_c", result.x)
-    lam = ledger.hold("lambda", system.contact_force(u_c))
+    result = solve_ncp(system.residual, system.jacobian,
+                       ledger.hold("start", normal.start), method=method,
+                       tol=tol, max_iter=max_iter, options=options,
+                       error=system.error, scale=system.scale)
+    u_n = ledger.hold("u_n", result.x)
+    lam = ledger.hold("lambda", system.contact_force(u_n))
     # in contact: λ above round-off, as the serial result's in_contact
     touching = lam > 1e-9 * force_scale(load_norm, lam)
-    un = ledger.hold("u_n", system.normal_displacement(u_c))
+    u_c = ledger.hold("u_c", normal.displacement(u_n))
     checked = svc.call("partitioned_displacement", dict(rows=rows), u_c)
     r_c = ledger.hold("residual_c", checked["residual_c"])
     verification = _verify(checked, r_c, u_c, local, geometry, lam,
@@ -201,7 +272,7 @@ def solve_partitioned(svc, folder, method="min", tol=1e-10, max_iter=100):
         n_in_contact=int(np.count_nonzero(touching)),
         max_contact_force=float(lam.max(initial=0.0)),
         verification=verification, time=None)
-    contact = dict(node=arrays["node"], force=lam, u_n=un,
+    contact = dict(node=arrays["node"], force=lam, u_n=u_n,
                    gap=geometry.gap, in_contact=touching)
     stats = svc.call("stats")
     summary["time"] = round(time.perf_counter() - clock, 4)
