@@ -16,8 +16,9 @@ this process:
   solve K u = f once (``measure.floor``); **fastest**: the shortest;
 * **mortar**: the solve's ``geometry_time``, what :func:`solver.solve`
   does before it iterates: the mortar integration (pair search, clipping,
-  D and M on the triangles), the change of variables K̃ = T⁻ᵀKT⁻¹ and the
-  contact geometry (an upper bound on the integration alone);
+  D and M on the triangles), the case's check for rigid-body modes, the
+  change of variables K̃ = T⁻ᵀKT⁻¹ and the contact geometry (an upper
+  bound on the integration alone);
 * **solve**: ``solve(problem)``, every argument at its default (the
   backend "auto": PARDISO when installed, whose bordered factorisation of
   K condenses the candidates; mortar coupling, change of variables, the
@@ -32,12 +33,16 @@ this process:
   (RMS and largest, over p0); then the same of the patch-recovered
   pressure p̄_j (``result.contact_pressure_patch``, "p̄" columns).
 
-``--a-over-h 16,22,32`` runs one mesh after the other (a refinement).
-It prints one Markdown table, a row per mesh (wall times; CPU times in
-brackets).
+``--a-over-h 16,22,32`` runs one mesh after the other (a refinement);
+``--runs N`` repeats each mesh's measurement N times (floors and solve,
+the problem loaded afresh each time). It prints one Markdown table, a row
+per run (wall times; CPU times, all threads of the process, in brackets;
+"load": the 1-minute load average before and after the row, the
+machine's other work that the wall ratios include).
 """
 
 import argparse
+import os
 import sys
 import tempfile
 import time
@@ -68,6 +73,8 @@ def main(argv=None):
     parser.add_argument("--workdir")
     parser.add_argument("--mesh", help="an existing two_spheres mesh")
     parser.add_argument("--backends")
+    parser.add_argument("--runs", type=int, default=1,
+                        help="measurements per mesh")
     args = parser.parse_args(argv)
     from run import installed
 
@@ -80,12 +87,14 @@ def main(argv=None):
             folder / f"two_spheres_{float(n):g}.mesh"
             for n in args.a_over_h.split(",")]
         for mesh in meshes:
-            rows.append(measure(mesh, folder, backends))
-            if len(rows) == 1:
-                print("| " + " | ".join(rows[0][0]) + " |")
-                print("|" + "---|" * len(rows[0][0]))
-            print("| " + " | ".join(str(v) for v in rows[-1][0].values())
-                  + " |", flush=True)
+            for _ in range(args.runs):
+                rows.append(measure(mesh, folder, backends))
+                if len(rows) == 1:
+                    print("| " + " | ".join(rows[0][0]) + " |")
+                    print("|" + "---|" * len(rows[0][0]))
+                print("| " + " | ".join(str(v) for v in
+                                        rows[-1][0].values()) + " |",
+                      flush=True)
     return 0 if all(ok for _, ok in rows) else 1
 
 
@@ -95,6 +104,7 @@ def measure(mesh, folder, backends):
     from solver import load_problem, solve
     from solver.studies3d import hertz_checks
 
+    load = os.getloadavg()[0]
     clock = time.perf_counter()
     if not mesh.exists():
         import subprocess
@@ -127,6 +137,8 @@ def measure(mesh, folder, backends):
             f"{run.times['time']:.2f} ({run.times['time'] / base['time']:.2f}"
             f"; CPU {run.times['cpu'] / base['cpu']:.2f})"
             + ("" if result.success else " NOT CONVERGED"),
+        "solve CPU [s]": f"{run.times['cpu']:.2f}",
+        "load": f"{load:.1f} → {os.getloadavg()[0]:.1f}",
         "J/F": f"{result.njev}/{result.nfev}",
         "in contact": check["in_contact"],
         "a moment": f"{check['a_moment']:+.2%}",

@@ -30,8 +30,8 @@ import scipy.linalg as sla
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
-__all__ = ["KERNEL_RTOL", "rigid_motions", "rigid_modes", "fixing_dofs",
-           "held_stiffness"]
+__all__ = ["KERNEL_RTOL", "rigid_motions", "rigid_modes", "pinned",
+           "fixing_dofs", "held_stiffness"]
 
 #: A rigid motion c counts as in ker K if ‖K G c‖ ≤ this × ‖K‖‖G c‖.
 KERNEL_RTOL = 1e-8
@@ -90,6 +90,29 @@ def rigid_modes(K, points, components, rtol=KERNEL_RTOL, groups=None):
     rows = np.flatnonzero(used)[keep]
     C[rows] = sla.solve_triangular(T, V) / norms[rows, None]
     return R, C
+
+
+def pinned(points, components, rtol=KERNEL_RTOL):
+    """Whether the prescribed DOFs at ``points`` (n, d) in ``components``
+    (n,) of one connected elastic body stop every rigid motion: their rows
+    of :func:`rigid_motions` have full column rank (smallest singular
+    value of the column-normalised rows above ``rtol`` × the largest).
+    Then K (the free DOFs' block of a stiffness whose kernel is the rigid
+    motions) has none in its kernel: a rigid motion c with K G_f c = 0
+    extended by zero on the prescribed DOFs has zero energy, so it is a
+    rigid motion of the whole body, which must then leave every prescribed
+    DOF at rest (G_x c = 0), impossible at full rank. A cheap sufficient
+    test of a supported body (no product with K, no factorisation); False
+    says nothing (:func:`rigid_modes` decides)."""
+    points = np.asarray(points, float)
+    if len(points) < (3 if points.shape[1] == 2 else 6):
+        return False  # (none: a body with no Dirichlet DOF)
+    G = rigid_motions(points, components)
+    norms = np.linalg.norm(G, axis=0)
+    if not (norms > 0).all():
+        return False
+    s = np.linalg.svd(G / norms, compute_uv=False)
+    return bool(s[-1] > rtol * s[0])
 
 
 def _modes_by_body(K, points, components, rtol, groups):

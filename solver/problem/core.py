@@ -226,7 +226,7 @@ class ContactProblem:
         nodewise equivalent is given its modes by
         :mod:`solver.contact.two_body`). Remembered for this K object."""
         if self._modes is None or self._modes[0] is not self.K:
-            if self.kind != "mesh":
+            if self.kind != "mesh" or self._pinned():
                 modes = (np.zeros((self.n_dofs, 0)),
                          np.zeros((3 if self.dim == 2 else 6, 0)))
             else:
@@ -238,6 +238,26 @@ class ContactProblem:
                                     self.dof_map[:, 1], groups=groups)
             self._modes = (self.K, modes)
         return self._modes[1]
+
+    def _pinned(self):
+        """Whether every body's Dirichlet DOFs stop all its rigid motions
+        (:func:`solver.linalg.kernel.pinned`, on the DOFs of the cells'
+        nodes that are not in ``dof_map``): then K has no rigid-body mode,
+        known without the product with K and the SVD of
+        :func:`~solver.linalg.kernel.rigid_modes`."""
+        from ..linalg.kernel import pinned
+
+        if self.cells is None:
+            return False
+        fixed = np.zeros(self.nodes.shape, bool)
+        fixed[np.asarray(self.cells).ravel()] = True
+        fixed[self.dof_map[:, 0], self.dof_map[:, 1]] = False
+        node, component = np.nonzero(fixed)
+        body = np.zeros(len(self.nodes), np.int64) if self.n_bodies == 1 \
+            else np.asarray(self.body)
+        return all(pinned(self.nodes[node[body[node] == b]],
+                          component[body[node] == b])
+                   for b in range(self.n_bodies))
 
     def held_stiffness(self):
         """(F, K_F) of a floating body: r DOFs F off Γc that remove the
