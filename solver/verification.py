@@ -145,15 +145,24 @@ def contact_radius_from_moment(radius, force):
     return 16.0 / (3.0 * np.pi) * (force @ radius) / force.sum()
 
 
+#: Pressures below this fraction of the largest are round-off, not contact
+#: (:func:`fit_hertz_profile`).
+FIT_FLOOR = 1e-8
+
+
 def fit_hertz_profile(radius, p, guess):
     """Least-squares (a, p0) of p(r) = p0 sqrt(1 − r²/a²) through nodal
     pressures ``p`` at distances ``radius`` from the axis, over the nodes
-    with p > 0 (``guess`` = (a, p0)). The fit's residual uses every node
-    with p > 0 and the model's zero outside r < a."""
+    in contact (``guess`` = (a, p0)). The fit's residual uses every such
+    node and the model's zero outside r < a. A node counts as in contact
+    when its pressure exceeds :data:`FIT_FLOOR` of the largest: a
+    pressure recovered from a residual (the mortar's λ = z/D off the
+    active set) is zero only to round-off, and round-off of either sign
+    must not decide which nodes the fit takes."""
     from scipy.optimize import least_squares
 
     radius, p = np.asarray(radius, float), np.asarray(p, float)
-    keep = p > 0
+    keep = p > FIT_FLOOR * p.max()
 
     def residual(x):
         return hertz_pressure(radius[keep], x[0], x[1]) - p[keep]
