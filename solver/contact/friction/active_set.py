@@ -64,9 +64,12 @@ from .projection import ProjectionSystem
 __all__ = ["IterativeSpace", "LaggedProjection", "solve_step",
            "SPRING_CAP"]
 
-#: q/(1 − q) of a slip node's spring is capped here (q → 1 at the edge of
-#: the stick set): the spring shapes only the Newton path (module
-#: docstring), and an unbounded one would spoil the preconditioner.
+#: A slip node whose spring q/(1 − q)·D c_t would exceed this multiple of
+#: D c_t (≈ the diagonal of K; q → 1 at the edge of the stick set) gets
+#: the spring's limit, the constraint e·Δu = 0, instead. Either shapes only
+#: the Newton path (module docstring); constraining every slip node this
+#: way (a cap of 1 or 10) costs 3–5× the Newton systems on the a/h 8
+#: sphere, so the cap only catches q ≈ 1.
 SPRING_CAP = 1e3
 
 
@@ -262,29 +265,33 @@ def _iterate(system, multigrid, x0, load, tol, max_iter, hertz):
         force[slip.repeat(k)] = ((lumped * b)[slip, None]
                                  * hat[slip]).ravel()
         rhs = f + R[t_rows[t_free]].T @ force[t_free]
-        V, spring = None, None
+        V, spring, W = None, None, None
         if k == 2 and slip.any():
             across = np.column_stack([-hat[:, 1], hat[:, 0]]) * mask
-            keep = slip & (np.linalg.norm(across, axis=1) > 0.5)
-            if keep.any():
-                q = np.minimum(b[keep] / size[keep], 1.0)
-                ratio = np.minimum(q / np.maximum(1.0 - q, 1e-300),
-                                   SPRING_CAP)
-                spring = lumped[keep] * c_t * ratio
-                nodes = np.flatnonzero(keep)
-                # v = R_tᵀ e: the tangent rows of the node weighted by e
-                rows = t_rows.reshape(m, k)[nodes]
-                weights = across[nodes]
-                used = rows >= 0
-                E = sp.csr_matrix((weights[used], (np.nonzero(used)[0],
-                                                   rows[used])),
-                                  shape=(len(nodes), n))
-                V = (E @ R).T.tocsr()
+            nodes = np.flatnonzero(slip & (np.linalg.norm(across, axis=1)
+                                           > 0.5))
+            q = np.minimum(b[nodes] / size[nodes], 1.0)
+            ratio = q / np.maximum(1.0 - q, 1e-300)
+            # v = R_tᵀ e: the tangent rows of the node weighted by e
+            rows = t_rows.reshape(m, k)[nodes]
+            used = rows >= 0
+            E = sp.csr_matrix((across[nodes][used], (np.nonzero(used)[0],
+                                                     rows[used])),
+                              shape=(len(nodes), n))
+            across_rows = (E @ R).tocsr()
+            soft = ratio <= SPRING_CAP
+            if soft.any():
+                V = across_rows[soft].T.tocsr()
+                spring = lumped[nodes[soft]] * c_t * ratio[soft]
                 rhs = rhs + V @ (spring * (V.T @ u_previous))
+            if not soft.all():  # stiffer than SPRING_CAP: e·Δu_t = 0
+                W = across_rows[~soft]
         constrained = np.concatenate([
             n_rows[active], t_rows.reshape(m, k)[stick][
                 t_free.reshape(m, k)[stick]]])
         C = R[constrained].tocsr()
+        if W is not None:
+            C = sp.vstack([C, W], format="csr")
         target = np.concatenate([s[active], (C @ u_previous)[
             int(active.sum()):]])
         row_norm = np.asarray(C.multiply(C).sum(axis=1)).ravel()
