@@ -43,7 +43,7 @@ COLUMNS = ("a/h", "DOFs", "AMG-PCG K u = f [s] (CPU; CG)",
            "amg friction [s] (CPU)", "wall ratio", "CPU ratio",
            "Newton systems per step", "CG per step", "stick / slip (last)",
            "RSS amg [MB]", "direct [s] (CPU)",
-           "|u − u_direct| / |u_direct|", "load average")
+           "‖u − u_direct‖ / ‖u_direct‖", "load average")
 
 
 def row(cells):
@@ -73,7 +73,7 @@ def measure_case(n, npz, steps, direct):
     cells["stick / slip (last)"] = f"{r['stick'][-1]} / {r['slip'][-1]}"
     cells["RSS amg [MB]"] = f"{r['peak_rss_mb']:.0f}"
     if "agreement" in r:
-        cells["|u − u_direct| / |u_direct|"] = f"{r['agreement']:.1e}"
+        cells["‖u − u_direct‖ / ‖u_direct‖"] = f"{r['agreement']:.1e}"
     cells["load average"] = " → ".join(load)
     if not (r["converged"] and r["verified"]):
         print(f"a/h {n}: amg friction not converged or not verified: "
