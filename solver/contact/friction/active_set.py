@@ -58,6 +58,7 @@ from ...ncp import MESSAGES
 from ..frictionless.active_set import (ETA_GAMMA, ETA_MAX, ETA_MIN,
                                        FINAL_FRACTION, KRYLOV_MAX,
                                        hertz_start)
+from ..strategies.reduction import FullSystem
 from ..verify import contact_weight
 from .projection import ProjectionSystem
 
@@ -81,16 +82,16 @@ class LaggedProjection(ProjectionSystem):
     lazy_blocks = True
 
 
-class IterativeSpace:
+class IterativeSpace(FullSystem):
     """The reduction of the friction driver on the iterative path: the full
-    system (nothing condensed) whose load steps are solved by
-    :func:`solve_step` with the ``engine``'s AMG hierarchy of K."""
+    system (nothing condensed; its load, restriction and displacement are
+    :class:`~..strategies.reduction.FullSystem`'s) whose load steps are
+    solved by :func:`solve_step` with the ``engine``'s AMG hierarchy of
+    K."""
 
-    name = "none"
-    condensed = False
     system_kind = LaggedProjection
 
-    def __init__(self, problem, geometry, engine):
+    def __init__(self, problem, geometry, engine):  # no factorisation
         self.problem, self.geometry, self.engine = problem, geometry, engine
         self.K = problem.K
         self.linear_solver = engine.linear_solver
@@ -98,18 +99,6 @@ class IterativeSpace:
         self.first = True  # no step solved yet: the Hertz start applies
         self._last = None  # (f_κ, u_κ) of the last step solved
         self._increment = None  # (Δf, Δu) of the last step solved
-
-    def load(self, f):
-        """(f, None): the system takes the load as it is."""
-        return f, None
-
-    def restrict(self, u):
-        """The unknowns of a reduced displacement u: all of it."""
-        return np.asarray(u, float)
-
-    def displacement(self, x, w=None):
-        """u from the system's unknowns: x itself."""
-        return x
 
     def jacobian(self, system):
         """None: the active set method assembles no Jacobian."""
