@@ -392,10 +392,14 @@ def resolve(case, options):
 
 def auto_eligible(case, given):
     """Whether ``backend="auto"`` may choose the iterative path for this
-    call: a frictionless rigid-obstacle problem on the serial engine with
-    none of the options that path refuses (:data:`AMG_REFUSALS`) or that
-    need the condensed system."""
-    return (case.contact == "frictionless" and case.bodies == "rigid"
+    call: a rigid-obstacle problem of a supported body on the serial
+    engine, frictionless or with friction by the projection formulation
+    and the lagged bound, with none of the options that path refuses
+    (:data:`AMG_REFUSALS`) or that need the condensed system."""
+    lagged = given["coulomb"] in (None, "lagged") \
+        and given["formulation"] in (None, "projection")
+    return ((case.contact == "frictionless" or lagged)
+            and case.bodies == "rigid" and case.support == "supported"
             and case.engine == "serial" and given["backend"] == "auto"
             and given["method"] in (None, "min")
             and given["system"] == "auto"

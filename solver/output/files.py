@@ -235,6 +235,7 @@ def friction_summary_of(result, problem, tol=None, **extra):
         "gap": result.gap_mode,
         "system": "condensed" if result.get("condensed") else "full",
         "linear_solver": result.get("linear_solver"),
+        "linear_solver_reason": result.get("linear_solver_reason"),
         "stopping": stopping_of(result, tol),
         "verification": verification_of(result),
         "n_jacobian": int(result.njev),

@@ -89,6 +89,7 @@ def format_friction_result(summary, outdir):
         f"evaluations       J {summary['n_jacobian']}, F "
         f"{summary['n_residual']} in total (thesis Table 2 metrics)",
         f"system            {_system_text(summary)}",
+        *_reason_text(summary),
         f"gradient steps    {summary['gradient_steps']}",
         *verification_text(summary)]
     if summary["steps_completed"]:
