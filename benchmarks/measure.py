@@ -40,6 +40,12 @@ problem, which every stage holds). Stages:
   ``min`` stage's saved solution of BACKEND (3rd argument), if there;
   ``hertz``: on a Hertz sphere (``meta`` has R), its a and p0 against
   Hertz's (``solver.studies3d.hertz_sphere_row``);
+* ``amg_friction``: ``solve(problem, friction=0.3, steps=STEPS,
+  backend="amg")`` (lagged bound, the active set method of
+  ``solver.contact.friction.active_set``): Newton systems and CG
+  iterations per step, stick and slip counts; u saved
+  (``PROBLEM.friction.amg.npy``) and, if the ``friction3d`` stage's
+  ``reduced`` answer is there, ``agreement`` = ‖u − u_direct‖₂/‖u_direct‖₂;
 * ``amg_floor``: build the AMG hierarchy of K and solve K u = f once by
   AMG-preconditioned CG to 1e-8 (relative): the iterative path's floor;
 * ``clarabel``, ``sfepy``: the peers of ``peers.py`` on the same K, f and
@@ -173,6 +179,26 @@ def iterative(problem, path, reference):
     return out
 
 
+def iterative_friction(problem, steps, path):
+    with Clock() as clock:
+        r = solve(problem, friction=0.3, steps=steps, backend="amg")
+    np.save(f"{path}.friction.amg.npy", r.u)
+    out = {**clock.times, "J": r.njev, "converged": bool(r.success),
+           "verified": bool(r.verification["passed"]),
+           "J_steps": [x["njev"] for x in r.records],
+           "krylov_steps": [x.get("krylov") for x in r.records],
+           "contact": r.records[-1]["n_contact"] if r.records else None,
+           "stick": [x["n_stick"] for x in r.records],
+           "slip": [x["n_slip"] for x in r.records], "amg": r.engine,
+           "message": r.message}
+    direct = Path(f"{path}.friction.reduced.npy")
+    if direct.exists():  # the friction3d stage's (factorisation) answer
+        u = np.load(direct)
+        out["agreement"] = float(np.linalg.norm(r.u - u)
+                                 / np.linalg.norm(u))
+    return out
+
+
 def iterative_floor(problem):
     from solver.linalg import amg, threads
 
@@ -223,6 +249,8 @@ def main(argv):
         out.update(friction3d(problem, backend, int(argv[3]), argv[4], path))
     elif stage == "amg":
         out.update(iterative(problem, path, f"{path}.min.{backend}.npy"))
+    elif stage == "amg_friction":
+        out.update(iterative_friction(problem, int(argv[3]), path))
     elif stage == "amg_floor":
         out.update(iterative_floor(problem))
     elif stage in ("clarabel", "sfepy"):

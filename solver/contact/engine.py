@@ -65,8 +65,9 @@ class SerialEngine:
 class IterativeEngine:
     """The linear algebra in this process without a factorisation of K:
     one smoothed-aggregation hierarchy of K (:mod:`solver.linalg.amg`)
-    preconditions CG on every Newton system of the frictionless active set
-    method (:mod:`.frictionless.active_set`). ``reason``: why it runs (the
+    preconditions CG on every Newton system of the active set methods,
+    frictionless (:mod:`.frictionless.active_set`) and with friction, for
+    all load steps (:mod:`.friction.active_set`). ``reason``: why it runs (the
     choice of ``backend="auto"``, or None when asked for by name)."""
 
     name = "serial"

@@ -144,9 +144,16 @@ def _amg(where, reason, applies):
 #: What the iterative path (backend="amg": the active set method, its
 #: Newton systems by AMG-preconditioned CG) does not do yet.
 AMG_REFUSALS = (
-    ("friction", "friction's Newton systems are not symmetric (GMRES on "
-     "them is not built yet); use a factorisation",
-     lambda c, s, g: c.contact == "friction"),
+    ("friction with coulomb='implicit'", "the implicit bound f_c p(u) "
+     "ties a slip node's tangential rows to its normal reaction, a "
+     "nonsymmetric Newton system that projected CG does not take (GMRES "
+     "on it is not built yet); use coulomb='lagged' or a factorisation",
+     lambda c, s, g: c.contact == "friction" and s["coulomb"] == "implicit"),
+    ("friction with formulation='thesis'", "the active set method solves "
+     "the projection formulation; use formulation='projection' (the "
+     "default) or a factorisation",
+     lambda c, s, g: c.contact == "friction"
+     and s["formulation"] == "thesis"),
     ("two bodies, discrete problems", "its near-null space is the "
      "rigid-body modes of one meshed body against a rigid obstacle",
      lambda c, s, g: c.bodies != "rigid"),
@@ -385,10 +392,14 @@ def resolve(case, options):
 
 def auto_eligible(case, given):
     """Whether ``backend="auto"`` may choose the iterative path for this
-    call: a frictionless rigid-obstacle problem on the serial engine with
-    none of the options that path refuses (:data:`AMG_REFUSALS`) or that
-    need the condensed system."""
-    return (case.contact == "frictionless" and case.bodies == "rigid"
+    call: a rigid-obstacle problem of a supported body on the serial
+    engine, frictionless or with friction by the projection formulation
+    and the lagged bound, with none of the options that path refuses
+    (:data:`AMG_REFUSALS`) or that need the condensed system."""
+    lagged = given["coulomb"] in (None, "lagged") \
+        and given["formulation"] in (None, "projection")
+    return ((case.contact == "frictionless" or lagged)
+            and case.bodies == "rigid" and case.support == "supported"
             and case.engine == "serial" and given["backend"] == "auto"
             and given["method"] in (None, "min")
             and given["system"] == "auto"

@@ -235,6 +235,7 @@ def friction_summary_of(result, problem, tol=None, **extra):
         "gap": result.gap_mode,
         "system": "condensed" if result.get("condensed") else "full",
         "linear_solver": result.get("linear_solver"),
+        "linear_solver_reason": result.get("linear_solver_reason"),
         "stopping": stopping_of(result, tol),
         "verification": verification_of(result),
         "n_jacobian": int(result.njev),
@@ -243,6 +244,10 @@ def friction_summary_of(result, problem, tol=None, **extra):
         "gradient_steps": int(sum(r["gradient_steps"]
                                   for r in result.records)),
         "n_dof": int(problem.n_dofs),
+        # the iterative path: CG iterations in all (per step in per_step)
+        "krylov_iterations": sum(r["krylov"] for r in result.records
+                                 if "krylov" in r) if any(
+            "krylov" in r for r in result.records) else None,
         # a body held by contact only: its rigid-body motion at the last
         # completed step (else None)
         "rigid_body_motion": _rigid_body_of(result.get("rigid_body")),

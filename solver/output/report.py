@@ -89,6 +89,7 @@ def format_friction_result(summary, outdir):
         f"evaluations       J {summary['n_jacobian']}, F "
         f"{summary['n_residual']} in total (thesis Table 2 metrics)",
         f"system            {_system_text(summary)}",
+        *_reason_text(summary),
         f"gradient steps    {summary['gradient_steps']}",
         *verification_text(summary)]
     if summary["steps_completed"]:
@@ -128,9 +129,11 @@ def _force_lines(summary):
 def _system_text(summary):
     if summary.get("linear_solver") == "amg":
         krylov = summary.get("krylov_per_system") or []
+        most = f"at most {max(krylov)} per Newton system" if krylov else \
+            f"{summary.get('n_jacobian')} Newton systems"  # friction
         return ("full primal system, active set method, AMG-preconditioned "
                 f"CG ({summary.get('krylov_iterations')} CG iterations, "
-                f"at most {max(krylov, default=0)} per Newton system)")
+                f"{most})")
     if summary["system"] == "full" and summary.get("rigid_body_motion"):
         return ("full (in all unknowns; the DOFs that hold the rigid-body "
                 "modes replaced by the modes' amplitudes)")

@@ -111,7 +111,12 @@ def run_friction(problem, geometry, engine, friction, steps=None,
     if steps > MAX_LOAD_STEPS:
         raise SolverError(f"{steps} load steps: at most {MAX_LOAD_STEPS} are "
                           "supported")
-    space = reduction(problem, geometry, engine, condense, friction)
+    if getattr(engine, "iterative", False):  # AMG: the active set method
+        from .active_set import IterativeSpace
+
+        space = IterativeSpace(problem, geometry, engine)
+    else:
+        space = reduction(problem, geometry, engine, condense, friction)
     shared = setup(problem, geometry, space, friction, formulation, coulomb,
                    method, tol, options, gap_scale)
     stream = StepStream(problem, space, on_step, keep_steps, steps)

@@ -112,7 +112,9 @@ def setup(problem, geometry, space, friction, formulation, coulomb, method,
     watchdog = getattr(space, "watchdog", 0)  # a floating body's steps
     if method == "fb" and watchdog and "watchdog" not in (options or {}):
         options = dict(options or {}, watchdog=watchdog)
-    if formulation == "thesis":
+    if getattr(space, "system_kind", None) is not None:
+        kind = space.system_kind  # the iterative path's (.active_set)
+    elif formulation == "thesis":
         kind = SplitSystem
     elif space.condensed and geometry.dim == 3:
         kind = DiscSystem  # the tractions eliminated
@@ -158,9 +160,14 @@ def load_step(shared, state, run, stream, kappa, steps, load,
     elif begin is not None:  # floating, full system: put onto the obstacle
         du = space.step_start(system, None, state.u, f_step)
     x0 = system.initial_guess(g_start, du)
-    result = solve_ncp(system.residual, shared.jacobian, x0, method=method,
-                       tol=tol, max_iter=max_iter, options=shared.options,
-                       error=system.error, scale=system.scale)
+    newton = getattr(space, "newton", None)  # the iterative path's own
+    if newton is not None:
+        result = newton(system, x0, load, tol, max_iter)
+    else:
+        result = solve_ncp(system.residual, shared.jacobian, x0,
+                           method=method, tol=tol, max_iter=max_iter,
+                           options=shared.options, error=system.error,
+                           scale=system.scale)
     result.stopping.update(test=STOPPING_TEST, step=kappa)
     for key in run.totals:
         run.totals[key] += int(result[key])
@@ -179,6 +186,8 @@ def load_step(shared, state, run, stream, kappa, steps, load,
                   message=result.message,
                   gradient_steps=int(sum(s == "gradient" for s in
                                          result.history["step"])))
+    if "krylov" in result:  # the iterative path: Krylov iterations
+        record["krylov"] = int(result["krylov"])
     run.records.append(record)
     if not result.success:
         run.failed = kappa

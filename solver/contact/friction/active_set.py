@@ -1,0 +1,309 @@
+r"""Coulomb friction on the iterative path (``backend="amg"``): each load
+step of the projection formulation (:mod:`.projection`, lagged bound) by
+the primal–dual active set method of Hüeber, Stadler & Wohlmuth (SISC 30,
+2008), its Newton systems by AMG-preconditioned projected CG on the full
+primal system; nothing mesh-sized is factorised.
+
+The step's unknowns are u = u_{κ−1} + Δu and the tractions g; the
+tangential equilibrium rows r_t(u) = D g (r = R(Ku − f_κ), D the lumped
+boundary matrix) are linear, so g = r_t(u)/D is eliminated exactly and
+the Newton iterates live in u alone. At the iterate, with w = g −
+c_t Δu_t (c_t of :class:`~.system.FrictionSystem`) and the lagged radius
+b = f_c p_{κ−1}, every contact node falls into one of the sets of the
+method (semismooth Newton with φ_min on the projection rows g = P(w)):
+
+* normal: active A = {λ − c(s − u_n) > 0} (u_n = s) or inactive (λ = 0),
+  c = k̄ as on the frictionless path (:mod:`..frictionless.active_set`);
+* stick |w| < b: Δu_t = 0, the tangential rows constrained;
+* slip |w| ≥ b: with ŵ = w/|w|, q = b/|w| ≤ 1, the Newton step of
+  g = P(w), ∂P/∂w = q(I − ŵŵᵀ), gives
+
+  .. math::  g·ŵ = b, \qquad g·e = −\frac{q}{1 − q}\, c_t\, Δu·e
+
+  for the tangent e ⟂ ŵ (3D; none in 2D or at a roller, whose other
+  tangent is prescribed), because w·e = 0 at the iterate: the slip
+  direction carries the bound as a load, and the direction across it a
+  spring k_e = D c_t q/(1 − q) ≥ 0. In 2D the slip rows are pure loads.
+  A zero radius (b = 0: no contact at step κ−1) leaves the node free.
+
+The "nonsymmetric" linearised slip term of Hüeber, Stadler & Wohlmuth is
+symmetric here because g has been eliminated with the lagged radius: the
+Newton system is the SPD K + Σ k_e v vᵀ (v = R_tᵀe, one rank-one spring
+per 3D slip node) on the affine set of the normal and stick constraints,
+which :func:`~solver.linalg.amg.projected_cg` solves with the one AMG
+hierarchy of K (built once for all load steps; the springs are left out
+of the preconditioner). The spring only shapes the Newton path: at a
+fixed point g·e = 0, so the answer is that of the factorisation path. The
+implicit bound f_c p(u) would tie the slip rows to the normal reaction,
+which is not symmetric; it is refused (front/cases.py).
+
+Warm starts: each step starts from u_{κ−1} (the sets of the new load at
+the old answer) and each Newton system from the last iterate moved onto
+its constraints. Inexact Newton with Eisenstat & Walker's forcing term as
+on the frictionless path (its :data:`~..frictionless.active_set.ETA_MAX`,
+:data:`~..frictionless.active_set.ETA_MIN`, γ, final fraction). The stopping test
+and the verification of each step are those of the factorisation path
+(:meth:`~.projection.ProjectionSystem.error`,
+:func:`~solver.contact.verify.verify_contact` in :mod:`.steps`)."""
+
+import time
+
+import numpy as np
+import scipy.sparse as sp
+from scipy.optimize import OptimizeResult
+
+from ...linalg.amg import projected_cg
+from ...linalg.threads import single_blas_thread
+from ...ncp import MESSAGES
+from ..frictionless.active_set import (ETA_GAMMA, ETA_MAX, ETA_MIN,
+                                       FINAL_FRACTION, KRYLOV_MAX,
+                                       hertz_start)
+from ..strategies.reduction import FullSystem
+from ..verify import contact_weight
+from .projection import ProjectionSystem
+
+__all__ = ["IterativeSpace", "LaggedProjection", "solve_step",
+           "SPRING_CAP"]
+
+#: A slip node whose spring q/(1 − q)·D c_t would exceed this multiple of
+#: D c_t (≈ the diagonal of K; q → 1 at the edge of the stick set) gets
+#: the spring's limit, the constraint e·Δu = 0, instead. Either shapes only
+#: the Newton path (module docstring); constraining every slip node this
+#: way (a cap of 1 or 10) costs 3–5× the Newton systems on the a/h 8
+#: sphere, so the cap only catches q ≈ 1.
+SPRING_CAP = 1e3
+
+
+class LaggedProjection(ProjectionSystem):
+    """The projection formulation of a step whose Jacobian blocks are never
+    assembled (the active set method does not use them; on the full system
+    each would be a copy of K)."""
+
+    lazy_blocks = True
+
+
+class IterativeSpace(FullSystem):
+    """The reduction of the friction driver on the iterative path: the full
+    system (nothing condensed; its load, restriction and displacement are
+    :class:`~..strategies.reduction.FullSystem`'s) whose load steps are
+    solved by :func:`solve_step` with the ``engine``'s AMG hierarchy of
+    K."""
+
+    system_kind = LaggedProjection
+
+    def __init__(self, problem, geometry, engine):  # no factorisation
+        self.problem, self.geometry, self.engine = problem, geometry, engine
+        self.K = problem.K
+        self.linear_solver = engine.linear_solver
+        self._multigrid = None
+        self.first = True  # no step solved yet: the Hertz start applies
+        self._last = None  # (f_κ, u_κ) of the last step solved
+        self._increment = None  # (Δf, Δu) of the last step solved
+
+    def jacobian(self, system):
+        """None: the active set method assembles no Jacobian."""
+        return None
+
+    def newton(self, system, x0, load, tol, max_iter):
+        """Solve the step set on ``system`` (:meth:`~.system.
+        FrictionSystem.set_step`, its load vector ``load``) from ``x0``;
+        the result of :func:`solve_step`."""
+        if self._multigrid is None:  # once for all load steps
+            self._multigrid = self.engine.multigrid(self.problem)
+        first, self.first = self.first, False
+        load = np.asarray(load, float)
+        if load.ndim == 0:
+            load = float(load) * system.f
+        x0 = np.array(x0, float)
+        x0[:system.n] = self.predictor(load, system.u_previous)
+        result = solve_step(system, self._multigrid, x0, load, tol,
+                            max_iter, hertz=first)
+        u = system.u_previous + result.x[:system.n]
+        if self._last is not None:
+            self._increment = (load - self._last[0], u - self._last[1])
+        self._last = (load, u)
+        return result
+
+    def predictor(self, load, u_previous):
+        """Δu of the step's start: the last step's increment when the
+        load repeats that step's load increment (steps of one stage: the
+        answer moves nearly linearly), else 0. The iterates do not depend
+        on it beyond the Newton path (the sets are read from the start)."""
+        if self._increment is None or self._last is None \
+                or not np.array_equal(u_previous, self._last[1]):
+            return np.zeros_like(u_previous)
+        step, du = self._increment
+        change = load - self._last[0]
+        size = np.linalg.norm(step)
+        if size > 0 and np.linalg.norm(change - step) <= 1e-12 * size:
+            return du
+        return np.zeros_like(u_previous)
+
+
+def solve_step(system, multigrid, x0, load, tol, max_iter, hertz=False):
+    """One load step of ``system`` (a :class:`~.projection.
+    ProjectionSystem` on the full K, lagged bound, its step set) by the
+    active set method of the module, each Newton system by projected CG
+    preconditioned by ``multigrid``, from x0 = [Δu; ĝ] (only Δu is used:
+    g follows from u). ``hertz``: the first system may give the free
+    solution, and then the next set is :func:`~..frictionless.active_set.
+    hertz_start`. Returns an OptimizeResult as :func:`solver.ncp.solve_ncp`'s
+    (``x`` = [Δu; ĝ], ``success``, ``status``, ``message``, ``nit``,
+    ``njev`` = Newton systems, ``nfev``, ``error``, ``stopping``,
+    ``history`` with ``krylov`` per system) plus ``krylov`` in total."""
+    with single_blas_thread():  # vectors: BLAS threads only spin
+        return _iterate(system, multigrid, x0, load, tol, max_iter, hertz)
+
+
+class _Springs:
+    """K + V diag(k) Vᵀ as an operator for :func:`projected_cg`."""
+
+    def __init__(self, K, V, k):
+        self.K, self.V, self.k = K, V, k
+        self.shape = K.shape
+
+    def __matmul__(self, x):
+        out = self.K @ x
+        if self.V is not None:
+            out = out + self.V @ (self.k * (self.V.T @ x))
+        return out
+
+
+def _iterate(system, multigrid, x0, load, tol, max_iter, hertz):
+    clock = time.perf_counter()
+    n, m, k = system.n, system.m, system.dim - 1
+    K, R = system.K, system.R
+    t_rows, n_rows, t_free = system.t_rows, system.n_rows, system.t_free
+    free_rows = t_rows[t_free]  # a roller's e_c has no row
+    lumped, lumped_t, c_t = system.lumped, system.lumped_t, system.c_t
+    s, c = system.geometry.gap, system.stiffness
+    load = np.asarray(load, float)
+    f = float(load) * system.f if load.ndim == 0 else load
+    Rf = R @ f
+    u_previous = system.u_previous
+    C_n = R[n_rows].tocsr()
+    R_t = R[free_rows].tocsr()  # the free tangential rows
+    mask = t_free.reshape(m, k).astype(float)
+    b, _ = system.bound(np.zeros(n), derivative=False)  # lagged: f_c p_{κ−1}
+    u = u_previous + np.asarray(x0[:n], float)
+    history = {key: [] for key in ("residual", "error", "merit", "alpha",
+                                   "step", "active", "stick", "slip",
+                                   "krylov", "forcing")}
+    previous_sets, previous_error, eta = None, None, ETA_MAX
+    free_solve = False
+    status, detail, njev, nfev = 1, "", 0, 0
+    x = None
+    while True:
+        r = R @ (K @ u) - Rf
+        g = np.zeros(system.mt)
+        g[t_free] = r[free_rows] / lumped_t[t_free]
+        x = np.concatenate([u - u_previous, g / c_t])
+        parts = system.residual(x)
+        err = system.error(*parts)
+        scale = system.scale(*parts)
+        nfev += 1
+        if not np.isfinite(err) or not np.all(np.isfinite(u)):
+            status, detail = 4, "the iterate is not finite"
+            break
+        if err <= tol * scale:
+            status = 0
+            break
+        if njev >= max_iter:
+            break
+        lam = -r[n_rows]
+        un = C_n @ u
+        active = lam - c * (s - un) > 0
+        if free_solve:  # the free solution was just solved: Hertz's set
+            free_solve, first = False, hertz_start(un - s)
+            if first is not None:
+                active = first
+        slide = np.zeros(system.mt)
+        slide[t_free] = R_t @ (u - u_previous)
+        w = ((g - c_t * slide) * t_free).reshape(m, k)
+        size = np.linalg.norm(w, axis=1)
+        stick = size < b
+        slip = ~stick & (b > 0)
+        hat = np.divide(w, size[:, None], out=np.zeros_like(w),
+                        where=size[:, None] > 0)
+        sets = (active, stick, slip)
+        final = previous_sets is not None and all(
+            np.array_equal(a, p) for a, p in zip(sets, previous_sets))
+        history["residual"].append(err)
+        history["error"].append(err)
+        history["merit"].append(0.5 * err ** 2)
+        history["active"].append(int(active.sum()))
+        history["stick"].append(int(stick.sum()))
+        history["slip"].append(int(slip.sum()))
+        if previous_error is not None and not final:
+            eta_new = ETA_GAMMA * (err / previous_error) ** 2
+            if ETA_GAMMA * eta ** 2 > 0.1:
+                eta_new = max(eta_new, ETA_GAMMA * eta ** 2)
+            eta = min(max(eta_new, ETA_MIN), ETA_MAX)
+        weight = contact_weight(system.load_norm, lam, lumped_t * g)
+        floor = FINAL_FRACTION * tol * scale / weight
+        atol = max(eta * err / weight, floor)
+        if final and not (k == 2 and slip.any()):
+            atol = floor  # the sets repeat: the last, linear system
+        elif final:  # 3D slip directions still turn: Newton's own rate
+            atol = max(min(ETA_GAMMA * (err / previous_error) ** 2,
+                           ETA_MAX) * err / weight, floor)
+        free_solve = hertz and njev == 0 and not active.any() \
+            and not stick.any()
+        # the loads and springs of the slip nodes (module docstring)
+        force = np.zeros(system.mt)
+        force[slip.repeat(k)] = ((lumped * b)[slip, None]
+                                 * hat[slip]).ravel()
+        rhs = f + R[t_rows[t_free]].T @ force[t_free]
+        V, spring, W = None, None, None
+        if k == 2 and slip.any():
+            across = np.column_stack([-hat[:, 1], hat[:, 0]]) * mask
+            nodes = np.flatnonzero(slip & (np.linalg.norm(across, axis=1)
+                                           > 0.5))
+            q = np.minimum(b[nodes] / size[nodes], 1.0)
+            ratio = q / np.maximum(1.0 - q, 1e-300)
+            # v = R_tᵀ e: the tangent rows of the node weighted by e
+            rows = t_rows.reshape(m, k)[nodes]
+            used = rows >= 0
+            E = sp.csr_matrix((across[nodes][used], (np.nonzero(used)[0],
+                                                     rows[used])),
+                              shape=(len(nodes), n))
+            across_rows = (E @ R).tocsr()
+            soft = ratio <= SPRING_CAP
+            if soft.any():
+                V = across_rows[soft].T.tocsr()
+                spring = lumped[nodes[soft]] * c_t * ratio[soft]
+                rhs = rhs + V @ (spring * (V.T @ u_previous))
+            if not soft.all():  # stiffer than SPRING_CAP: e·Δu_t = 0
+                W = across_rows[~soft]
+        constrained = np.concatenate([
+            n_rows[active], t_rows.reshape(m, k)[stick][
+                t_free.reshape(m, k)[stick]]])
+        C = R[constrained].tocsr()
+        if W is not None:
+            C = sp.vstack([C, W], format="csr")
+        target = np.concatenate([s[active], (C @ u_previous)[
+            int(active.sum()):]])
+        row_norm = np.asarray(C.multiply(C).sum(axis=1)).ravel()
+        start = u + C.T @ ((target - C @ u) / row_norm)
+        krylov = projected_cg(_Springs(K, V, spring), rhs, multigrid, start,
+                              C, atol=atol, maxiter=KRYLOV_MAX)
+        njev += 1
+        history["step"].append("active set")
+        history["alpha"].append(1.0)
+        history["krylov"].append(krylov.iterations)
+        history["forcing"].append(atol / err if err > 0 else 0.0)
+        u = krylov.x
+        previous_sets, previous_error = sets, err
+        if not krylov.converged:
+            status, detail = 5, (f"CG did not reach its tolerance in "
+                                 f"{krylov.iterations} iterations")
+            break
+    message = MESSAGES[status] + (f": {detail}" if detail else "")
+    return OptimizeResult(
+        x=x, success=status == 0, status=status, message=message, nit=njev,
+        njev=njev, nfev=nfev, residual=err, error=err, method="min",
+        krylov=int(sum(history["krylov"])), history=history,
+        stopping=dict(test="error(x) ≤ tol·scale(x)", tol=float(tol),
+                      scale=float(scale), absolute=float(err),
+                      relative=float(err / scale) if scale > 0 else 0.0),
+        time=time.perf_counter() - clock)
