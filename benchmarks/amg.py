@@ -70,12 +70,16 @@ def measure_case(n, npz, backends, direct=True):
         for backend in backends:
             r = measure(npz, "floor", backend)
             floors[backend] = r["time"]
+            print(f"a/h {n}: floor {backend} wall {r['time']:.3g} s, CPU "
+                  f"{r['cpu']:.3g} s", file=sys.stderr, flush=True)
         fastest = min(floors, key=floors.get)
         floor = floors[fastest]
         cells["fastest floor [s] (backend)"] = f"{floor:.3g} ({fastest})"
         r = measure(npz, "min", fastest)
         cells["DOFs"] = f"{r['dofs']:,}"
         direct_time = r["time"]
+        print(f"a/h {n}: direct ({fastest}) wall {r['time']:.3g} s, CPU "
+              f"{r['cpu']:.3g} s", file=sys.stderr, flush=True)
         cells["direct [s] (/floor), J"] = \
             f"{direct_time:.3g} ({direct_time / floor:.2f}), {r['J']}"
         cells["RSS direct [MB]"] = f"{r['peak_rss_mb']:.0f}"

@@ -147,9 +147,9 @@ AMG_REFUSALS = (
     ("friction", "friction's Newton systems are not symmetric (GMRES on "
      "them is not built yet); use a factorisation",
      lambda c, s, g: c.contact == "friction"),
-    ("two bodies, discrete problems", "its near-null space is the "
-     "rigid-body modes of one meshed body against a rigid obstacle",
-     lambda c, s, g: c.bodies != "rigid"),
+    ("discrete problems", "its near-null space is the rigid-body modes "
+     "of meshed bodies (no mesh here)",
+     lambda c, s, g: c.bodies not in ("rigid", "two-body")),
     ("a body held by contact only", "its K is singular (rigid-body "
      "modes), which AMG-preconditioned CG does not take; such a body is "
      "solved by a factorisation (condensed with K⁺, or system='full' with "
