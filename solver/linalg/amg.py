@@ -25,8 +25,8 @@ P M P with M ≈ K⁻¹ is not a uniform preconditioner of the constrained
 operator: even with M = K⁻¹ exactly, the eigenvalues of P K⁻¹ P · P K P
 on range(P) spread with the Schur complement C_A K⁻¹ C_Aᵀ of the active
 set, a surface operator whose condition number grows like 1/h, so the CG
-count grows like h^(−1/2) under refinement (1.88× from a/h 16 to 64 on the
-Hertz sphere; benchmarks/README.md). :meth:`Multigrid.eliminated` is the
+count grows like h^(−1/2) under refinement (measured on the Hertz sphere:
+benchmarks/README.md). :meth:`Multigrid.eliminated` is the
 uniform one: where R is orthogonal, C_A u = s_A fixes DOFs of y = R u, and
 the system is the principal submatrix K̂_FF of K̂ = R K Rᵀ on the other
 DOFs F, an elasticity operator with Dirichlet-like conditions on the
@@ -187,12 +187,15 @@ class Multigrid:
 class KrylovResult:
     """What :func:`projected_cg` did: ``x``, ``iterations``,
     ``converged``, ``residual`` ‖P(f − Kx)‖₂ at the end and ``initial``
-    at the start (their ratio: the reduction this solve achieved)."""
+    at the start (their ratio: the reduction this solve achieved);
+    ``setup``: the seconds of a preconditioner built for this solve alone
+    (0; set by whoever built one)."""
 
     def __init__(self, x, iterations, converged, residual, initial=None):
         self.x, self.iterations = x, iterations
         self.converged, self.residual = converged, residual
         self.initial = residual if initial is None else initial
+        self.setup = 0.0
 
 
 def projected_cg(K, f, precondition, x0, C=None, atol=0.0, maxiter=None):

@@ -64,7 +64,6 @@ stopping test and the verification are those of every other path
 import time
 
 import numpy as np
-
 import scipy.sparse as sp
 
 from ...linalg.amg import projected_cg
@@ -217,7 +216,7 @@ def _iterate(problem, geometry, multigrid, tol, max_iter, x0, gap_scale,
         else:
             krylov = projected_cg(K, f, multigrid, start, CA, atol=atol,
                                   maxiter=KRYLOV_MAX)
-            krylov.setup, x = 0.0, krylov.x
+            x = krylov.x
         njev += 1
         history["step"].append(float(np.linalg.norm(x - u)))
         history["alpha"].append(1.0)
