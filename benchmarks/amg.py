@@ -19,7 +19,9 @@ One row per a/h (the exports of ``run3d.py``: ``hsN.npz`` in
   K u = f once by preconditioned CG to 1e-8: the iterative path's floor;
 * **amg**: ``solve(problem, backend="amg")`` (the active set method on the
   full system, :mod:`solver.contact.frictionless.active_set`): Newton
-  systems, CG iterations in all and per system (max / mean), its time
+  systems, CG iterations in all and per system (max / mean), CG
+  iterations per decade of residual reduction (the systems after the free
+  solution: their tolerances differ, so both are printed), its time
   over the fastest floor, over the direct solve and over AMG-PCG, and
   ‖u_amg − u_direct‖₂ / ‖u_direct‖₂; its CPU time over AMG-PCG's (same
   run); Hertz's checks (``solver.studies3d.hertz_sphere_row``): the
@@ -50,7 +52,8 @@ from run3d import problem_file  # noqa: E402
 COLUMNS = ("a/h", "DOFs", "fastest floor [s] (backend)", "direct [s] "
            "(/floor), J", "RSS direct [MB]", "AMG-PCG K u = f [s] (CG)",
            "amg [s] (/floor, /direct, /AMG-PCG)", "Newton systems",
-           "CG total (max / mean per system)", "RSS amg [MB]",
+           "CG total (max / mean per system)",
+           "CG per decade (contact systems)", "RSS amg [MB]",
            "in contact", "|u − u_direct| / |u_direct|",
            "CPU amg [s] (/AMG-PCG CPU)", "a err % (moment / fit)",
            "p0 fit err %")
@@ -67,12 +70,16 @@ def measure_case(n, npz, backends, direct=True):
         for backend in backends:
             r = measure(npz, "floor", backend)
             floors[backend] = r["time"]
+            print(f"a/h {n}: floor {backend} wall {r['time']:.3g} s, CPU "
+                  f"{r['cpu']:.3g} s", file=sys.stderr, flush=True)
         fastest = min(floors, key=floors.get)
         floor = floors[fastest]
         cells["fastest floor [s] (backend)"] = f"{floor:.3g} ({fastest})"
         r = measure(npz, "min", fastest)
         cells["DOFs"] = f"{r['dofs']:,}"
         direct_time = r["time"]
+        print(f"a/h {n}: direct ({fastest}) wall {r['time']:.3g} s, CPU "
+              f"{r['cpu']:.3g} s", file=sys.stderr, flush=True)
         cells["direct [s] (/floor), J"] = \
             f"{direct_time:.3g} ({direct_time / floor:.2f}), {r['J']}"
         cells["RSS direct [MB]"] = f"{r['peak_rss_mb']:.0f}"
@@ -90,6 +97,12 @@ def measure_case(n, npz, backends, direct=True):
     cells["Newton systems"] = r["J"]
     cells["CG total (max / mean per system)"] = \
         f"{r['krylov']} ({r['krylov_max']} / {r['krylov_mean']:.1f})"
+    decades = r.get("krylov_decades")
+    if decades:  # CG per decade of residual reduction, after the free one
+        its, dec = r["krylov_per_system"][1:], decades[1:]
+        if sum(dec) > 0:
+            cells["CG per decade (contact systems)"] = \
+                f"{sum(its) / sum(dec):.2f}"
     cells["RSS amg [MB]"] = f"{r['peak_rss_mb']:.0f}"
     cells["in contact"] = r["contact"]
     if "agreement" in r:
@@ -107,6 +120,14 @@ def measure_case(n, npz, backends, direct=True):
     print(f"a/h {n}: CG per Newton system {r['krylov_per_system']}, "
           f"active set sizes {r['active']}, AMG {r['amg']}",
           file=sys.stderr, flush=True)
+    if decades:
+        print(f"a/h {n}: decades of residual reduction per system "
+              f"{[round(x, 2) for x in decades]}, eliminated hierarchy "
+              f"setup per system [s] "
+              f"{[round(x, 3) for x in r['setup_per_system']]}; amg wall "
+              f"{r['time']:.3g} s, CPU {r['cpu']:.3g} s; AMG-PCG wall "
+              f"{pcg:.3g} s, CPU {pcg_cpu:.3g} s",
+              file=sys.stderr, flush=True)
     return cells
 
 

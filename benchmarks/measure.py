@@ -164,6 +164,8 @@ def iterative(problem, path, reference):
     out = {**clock.times, "J": r.njev, "krylov": r.krylov,
            "krylov_max": max(krylov), "krylov_mean": r.krylov / len(krylov),
            "krylov_per_system": krylov, "active": r.history["active"],
+           "krylov_decades": r.history.get("krylov_decades"),
+           "setup_per_system": r.history.get("setup"),
            "converged": bool(r.success),
            "verified": bool(r.verification["passed"]),
            "contact": r.n_contact, "amg": r.engine,

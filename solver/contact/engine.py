@@ -88,13 +88,16 @@ class IterativeEngine:
 
     def multigrid(self, problem):
         """The AMG hierarchy of ``problem.K`` with its rigid-body modes
-        (built once per K)."""
+        (a two-body problem's nodewise equivalent gives its own,
+        ``near_null_space``: :func:`~.two_body.near_null_space`; built
+        once per K)."""
         from ..linalg.amg import Multigrid, rigid_body_modes
         from ..linalg.threads import single_blas_thread
 
         if self._built is None or self._built[0] is not problem.K:
-            modes = rigid_body_modes(problem.nodes[problem.dof_map[:, 0]],
-                                     problem.dof_map[:, 1])
+            near = getattr(problem, "near_null_space", None)  # two bodies
+            modes = near() if near is not None else rigid_body_modes(
+                problem.nodes[problem.dof_map[:, 0]], problem.dof_map[:, 1])
             with single_blas_thread():  # its dense parts are small
                 self._built = (problem.K, Multigrid(problem.K, modes))
         return self._built[1]

@@ -35,7 +35,8 @@ from ..geometry.mortar import (mortar_coupling, node_to_segment,
 from ..problem import ContactProblem
 
 __all__ = ["VARIANTS", "interface_coupling", "symmetry_normals",
-           "equivalent_problem", "interface_stiffness", "TwoBodyMap"]
+           "equivalent_problem", "interface_stiffness", "near_null_space",
+           "TwoBodyMap"]
 
 #: Couplings: the dual mortar, and node-to-segment (patch-test foil), by
 #: dimension.
@@ -171,6 +172,7 @@ def equivalent_problem(problem, coupling, friction=False):
         load_path_friction=problem.load_path_friction,
         source=problem.source)
     equivalent.node_graph = lambda: _node_graph(problem, extra)
+    equivalent.near_null_space = lambda: near_null_space(problem, E)
     if problem.floating:  # a body held by contact only: its modes in v
         _floating_modes(equivalent, problem, T_inv, E)
     else:  # K SPD: the candidates may be condensed from K's own factor
@@ -193,6 +195,29 @@ def _floating_modes(equivalent, problem, T_inv, E):
     Q, S = np.linalg.qr(R - E @ R)
     equivalent._modes = (equivalent.K, (Q, C @ np.linalg.inv(S)))
     equivalent.original, equivalent.T_inv = problem, T_inv
+
+
+def near_null_space(problem, E):
+    """The near-null space of K̃ for algebraic multigrid
+    (:class:`solver.linalg.amg.Multigrid`): each body's rigid-body modes
+    (:func:`solver.linalg.amg.rigid_body_modes` on its own DOFs, zero on
+    the other body's; 3 per body in 2D, 6 in 3D) in the variables
+    v = Tu = (I − E)u, i.e. T B: K̃ T B = T⁻ᵀ K B, which vanishes away
+    from the supports as K B does (Wiesner et al., IJNME 122, 2021, build
+    their mortar AMG on the same modes)."""
+    from ..linalg.amg import rigid_body_modes
+
+    node, comp = problem.dof_map[:, 0], problem.dof_map[:, 1]
+    body = _body(problem)[node]
+    points = problem.nodes[node]
+    blocks = []
+    for b in np.unique(body):
+        mine = body == b
+        block = np.zeros((problem.n_dofs, 3 if problem.dim == 2 else 6))
+        block[mine] = rigid_body_modes(points[mine], comp[mine])
+        blocks.append(block)
+    B = np.hstack(blocks)
+    return B - E @ B
 
 
 def interface_stiffness(K, E):

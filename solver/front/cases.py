@@ -154,9 +154,13 @@ AMG_REFUSALS = (
      "default) or a factorisation",
      lambda c, s, g: c.contact == "friction"
      and s["formulation"] == "thesis"),
-    ("two bodies, discrete problems", "its near-null space is the "
-     "rigid-body modes of one meshed body against a rigid obstacle",
-     lambda c, s, g: c.bodies != "rigid"),
+    ("two bodies with friction", "the active set method's friction "
+     "eliminates the tractions of nodes against a rigid obstacle; the "
+     "mortar's friction on it is not built yet; use a factorisation",
+     lambda c, s, g: c.contact == "friction" and c.bodies == "two-body"),
+    ("discrete problems", "its near-null space is the rigid-body modes "
+     "of meshed bodies (no mesh here)",
+     lambda c, s, g: c.bodies not in ("rigid", "two-body")),
     ("a body held by contact only", "its K is singular (rigid-body "
      "modes), which AMG-preconditioned CG does not take; such a body is "
      "solved by a factorisation (condensed with K⁺, or system='full' with "

@@ -21,6 +21,21 @@ projected CG of constrained quadratic programs; Dostál, *Optimal quadratic
 programming algorithms*, Springer 2009, §5.9). P costs one sparse product
 with C_A; nothing mesh-sized is factorised.
 
+P M P with M ≈ K⁻¹ is not a uniform preconditioner of the constrained
+operator: even with M = K⁻¹ exactly, the eigenvalues of P K⁻¹ P · P K P
+on range(P) spread with the Schur complement C_A K⁻¹ C_Aᵀ of the active
+set, a surface operator whose condition number grows like 1/h, so the CG
+count grows like h^(−1/2) under refinement (measured on the Hertz sphere:
+benchmarks/README.md). :meth:`Multigrid.eliminated` is the
+uniform one: where R is orthogonal, C_A u = s_A fixes DOFs of y = R u, and
+the system is the principal submatrix K̂_FF of K̂ = R K Rᵀ on the other
+DOFs F, an elasticity operator with Dirichlet-like conditions on the
+contact zone; its hierarchy keeps K's aggregates and smoothed prolongator
+with the rows of the fixed DOFs dropped (the usual treatment of Dirichlet
+rows in smoothed aggregation; Vaněk, Mandel & Brezina 1996, §4) and
+recomputes only the Galerkin products and the smoothers: a fraction of a
+setup per active set, nothing re-aggregated.
+
 :func:`factor_memory` estimates, before anything is factorised, the bytes
 a Cholesky factor of K would take from CHOLMOD's symbolic analysis (its
 fill-reducing ordering and the supernodal column counts), so that
@@ -35,7 +50,7 @@ import scipy.sparse as sp
 __all__ = ["NAME", "EXTRA", "REQUIRES", "LICENCE", "available",
            "rigid_body_modes", "Multigrid", "projected_cg", "KrylovResult",
            "factor_memory", "available_memory", "direct_fits",
-           "FACTOR_OVERHEAD", "MEMORY_SHARE"]
+           "FACTOR_OVERHEAD", "MEMORY_SHARE", "SMOOTHER"]
 
 NAME, EXTRA, REQUIRES = "amg", "amg", "pyamg>=5.2"
 LICENCE = "MIT (pyamg)"
@@ -72,6 +87,13 @@ def rigid_body_modes(points, components):
     return np.column_stack(modes)
 
 
+#: The pre- and post-smoother of every level: one symmetric (block)
+#: Gauss–Seidel sweep, pyamg's default for smoothed aggregation (more
+#: sweeps, Chebyshev or energy-minimising prolongators did not change the
+#: growth of the contact systems' CG counts: benchmarks/README.md).
+SMOOTHER = ("block_gauss_seidel", {"sweep": "symmetric"})
+
+
 class Multigrid:
     """One smoothed-aggregation hierarchy of the SPD K (module docstring)
     with the near-null space ``modes`` (:func:`rigid_body_modes`):
@@ -85,24 +107,95 @@ class Multigrid:
         K = sp.csr_matrix(K)
         self._ml = pyamg.smoothed_aggregation_solver(
             K, B=np.ascontiguousarray(modes), symmetry="hermitian",
-            max_coarse=300, coarse_solver="splu")
+            max_coarse=300, coarse_solver="splu", presmoother=SMOOTHER,
+            postsmoother=SMOOTHER)
+        self._finish(clock, K.shape[0])
+        self._rotated = None  # (Q, Q P_0) of the last eliminated()
+
+    def _finish(self, clock, n):
         self._cycle = self._ml.aspreconditioner(cycle="V")
         self.levels = len(self._ml.levels)
         self.operator_complexity = float(self._ml.operator_complexity())
         self.setup_time = time.perf_counter() - clock
-        self.n = K.shape[0]
+        self.n = n
 
     def __call__(self, r):
         return self._cycle @ r
 
+    def operators(self):
+        """The operator of every level, finest first (sparse)."""
+        return [level.A for level in self._ml.levels]
+
+    def prolongators(self):
+        """The prolongator of every level but the coarsest (sparse)."""
+        return [level.P for level in self._ml.levels[:-1]]
+
+    def eliminated(self, K_hat, rotation, keep):
+        """The hierarchy of A = K̂_FF = K̂[keep][:, keep], K̂ = Q K Qᵀ
+        (``K_hat``; ``rotation`` Q orthogonal, ``keep`` a boolean mask of
+        its rows: the DOFs not fixed), built from this one's (module
+        docstring): the finest prolongator P̂ = Q P_0 with the fixed rows
+        E dropped, the coarser ones this hierarchy's, the same smoothers
+        and coarse solver. The first coarse operator P̂_Fᵀ K̂_FF P̂_F is
+        K's own P_0ᵀ K P_0 = P̂ᵀ K̂ P̂ less the products through the rows E
+        only (−P̂_Eᵀ Y − Yᵀ P̂_E + P̂_Eᵀ K̂_EE P̂_E, Y = K̂_E: P̂), so a new
+        active set costs O(|E|) there, not a Galerkin product of the mesh;
+        the coarser ones are recomputed (small). Returns a Multigrid of A
+        (``matrix`` A itself, ``setup_time`` the time this took)."""
+        from pyamg.multilevel import MultilevelSolver
+        from pyamg.relaxation.smoothing import change_smoothers
+
+        clock = time.perf_counter()
+        K_hat = sp.csr_matrix(K_hat)
+        keep = np.asarray(keep, bool)
+        A = K_hat[keep][:, keep].tocsr()
+        fine = self._ml.levels
+        levels = []
+        for k, level in enumerate(fine[:-1]):
+            new = MultilevelSolver.Level()
+            if k == 0:
+                if self._rotated is None or self._rotated[0] is not rotation:
+                    self._rotated = (rotation,
+                                     sp.csr_matrix(rotation @ level.P))
+                P = self._rotated[1]
+                new.A, new.P = A, P[keep]
+                new.R = new.P.T.tocsr()
+                fixed = np.flatnonzero(~keep)
+                P_E, Y = P[fixed], K_hat[fixed] @ P
+                coarse = (fine[1].A - P_E.T @ Y - Y.T @ P_E
+                          + P_E.T @ (K_hat[fixed][:, fixed] @ P_E))
+            else:
+                new.A = coarse
+                new.P, new.R = level.P, level.R
+                coarse = new.R @ new.A @ new.P
+            if sp.isspmatrix_bsr(fine[k + 1].A):
+                coarse = sp.bsr_matrix(coarse,
+                                       blocksize=fine[k + 1].A.blocksize)
+            levels.append(new)
+        coarsest = MultilevelSolver.Level()
+        coarsest.A = sp.csr_matrix(coarse) if levels else A
+        levels.append(coarsest)
+        out = Multigrid.__new__(Multigrid)
+        out._ml = MultilevelSolver(levels, coarse_solver="splu")
+        change_smoothers(out._ml, SMOOTHER, SMOOTHER)
+        out._rotated = None
+        out.matrix = A
+        out._finish(clock, A.shape[0])
+        return out
+
 
 class KrylovResult:
     """What :func:`projected_cg` did: ``x``, ``iterations``,
-    ``converged``, ``residual`` ‖P(f − Kx)‖₂ at the end."""
+    ``converged``, ``residual`` ‖P(f − Kx)‖₂ at the end and ``initial``
+    at the start (their ratio: the reduction this solve achieved);
+    ``setup``: the seconds of a preconditioner built for this solve alone
+    (0; set by whoever built one)."""
 
-    def __init__(self, x, iterations, converged, residual):
+    def __init__(self, x, iterations, converged, residual, initial=None):
         self.x, self.iterations = x, iterations
         self.converged, self.residual = converged, residual
+        self.initial = residual if initial is None else initial
+        self.setup = 0.0
 
 
 def projected_cg(K, f, precondition, x0, C=None, atol=0.0, maxiter=None):
@@ -123,9 +216,9 @@ def projected_cg(K, f, precondition, x0, C=None, atol=0.0, maxiter=None):
             return v
     maxiter = K.shape[0] if maxiter is None else int(maxiter)
     r = project(f - K @ x)
-    norm = float(np.linalg.norm(r))
+    norm = initial = float(np.linalg.norm(r))
     if norm <= atol:
-        return KrylovResult(x, 0, True, norm)
+        return KrylovResult(x, 0, True, norm, norm)
     z = project(precondition(r))
     p = z.copy()
     rz = float(r @ z)
@@ -133,18 +226,18 @@ def projected_cg(K, f, precondition, x0, C=None, atol=0.0, maxiter=None):
         q = project(K @ p)
         pq = float(p @ q)
         if not pq > 0:  # breakdown: p in the kernel (cannot happen on SPD)
-            return KrylovResult(x, k, False, norm)
+            return KrylovResult(x, k, False, norm, initial)
         alpha = rz / pq
         x += alpha * p
         r -= alpha * q
         norm = float(np.linalg.norm(r))
         if norm <= atol:
-            return KrylovResult(x, k, True, norm)
+            return KrylovResult(x, k, True, norm, initial)
         z = project(precondition(r))
         rz, rz_old = float(r @ z), rz
         p *= rz / rz_old
         p += z
-    return KrylovResult(x, maxiter, False, norm)
+    return KrylovResult(x, maxiter, False, norm, initial)
 
 
 def factor_memory(K):

@@ -12,10 +12,21 @@ forces λ = −Y(RKu − Rf) (:mod:`.system`) the active set is
 
 and the Newton step solves K u = f − C_Aᵀ λ_A with u_n = s on A and λ = 0
 off A, C the normal rows of R. Eliminating λ_A leaves the SPD problem
-P_A K u = P_A f on the affine set C_A u = s_A
-(:func:`solver.linalg.amg.projected_cg`); λ follows from u. Every Newton
-system is solved with the one AMG hierarchy of K (built once per solve),
-warm-started from the previous u moved onto the new constraints.
+P_A K u = P_A f on the affine set C_A u = s_A; λ follows from u. R is
+orthogonal (unless a roller's normal leaves its free plane), so in
+y = R u the constraints fix the active normal DOFs and the system is the
+principal submatrix K̂_FF y_F = (R f − K̂ y_A)_F of K̂ = R K Rᵀ
+(:func:`~solver.contact.geometry.rotate_stiffness`), an elasticity
+operator with a Dirichlet-like condition on the contact zone. Its CG is
+preconditioned by a V-cycle of K̂_FF built from the one hierarchy of K
+(built once per solve) by :meth:`solver.linalg.amg.Multigrid.eliminated`:
+the same aggregates, only the Galerkin products renewed per active set.
+The projected CG with K's own V-cycle, P M P
+(:func:`solver.linalg.amg.projected_cg`), needs CG counts that grow like
+h^(−1/2) (the active set's Schur complement; :mod:`solver.linalg.amg`);
+it remains the path when R is not orthogonal (:data:`ORTHOGONAL_TOL`).
+Every system is warm-started from the previous u moved onto the new
+constraints.
 
 The first active set (issue 33). From u = 0 the first Newton system has
 A = ∅ and gives the free solution u_f; the method's own next set, every
@@ -53,15 +64,18 @@ stopping test and the verification are those of every other path
 import time
 
 import numpy as np
+import scipy.sparse as sp
 
 from ...linalg.amg import projected_cg
 from ...linalg.threads import single_blas_thread
 from ...ncp import MESSAGES, stable_norm
-from ..geometry import rotation
+from ..geometry import rotate_stiffness, rotation
 from ..verify import force_scale
 
-__all__ = ["solve_active_set", "hertz_start", "ETA_MIN", "ETA_MAX",
-           "ETA_GAMMA", "FINAL_FRACTION", "KRYLOV_MAX", "START_FRACTION"]
+__all__ = ["solve_active_set", "hertz_start", "eliminated_step",
+           "is_orthogonal", "ETA_MIN", "ETA_MAX",
+           "ETA_GAMMA", "FINAL_FRACTION", "KRYLOV_MAX", "START_FRACTION",
+           "ORTHOGONAL_TOL"]
 
 #: η_0 and the cap of the forcing terms (module docstring: the signs at
 #: the edge of the zone).
@@ -78,6 +92,9 @@ KRYLOV_MAX = 2000
 #: The first active set takes the nodes whose free interference is at
 #: least this fraction of the largest (Hertz: d(a) = δ/2).
 START_FRACTION = 0.5
+#: The Newton systems are solved on the eliminated K̂_FF when
+#: max |R Rᵀ − I| is at most this (module docstring), else projected.
+ORTHOGONAL_TOL = 1e-12
 
 
 def hertz_start(interference):
@@ -106,6 +123,31 @@ def solve_active_set(problem, geometry, multigrid, tol, max_iter, x0,
                         gap_scale, stiffness, load_norm)
 
 
+def is_orthogonal(R):
+    """Whether the sparse R is orthogonal to :data:`ORTHOGONAL_TOL`."""
+    E = (R @ R.T - sp.identity(R.shape[0], format="csr")).tocsr()
+    return bool((abs(E).max() if E.nnz else 0.0) <= ORTHOGONAL_TOL)
+
+
+def eliminated_step(K_hat, f_hat, R, multigrid, fixed, start, atol):
+    """One Newton system on the eliminated K̂_FF (module docstring): the
+    DOFs ``fixed`` of y = R ``start`` keep their values, the others solve
+    K̂_FF y_F = (f̂ − K̂ y_fixed)_F by CG preconditioned with
+    ``multigrid.eliminated`` to ‖·‖ ≤ ``atol`` (the norm of P_A(f − Ku),
+    R being orthogonal). Returns (the KrylovResult, with ``setup`` the
+    seconds of the hierarchy, and u = Rᵀ y)."""
+    keep = np.ones(len(f_hat), bool)
+    keep[fixed] = False
+    y = R @ start
+    b = (f_hat - K_hat @ np.where(keep, 0.0, y))[keep]
+    preconditioner = multigrid.eliminated(K_hat, R, keep)
+    krylov = projected_cg(preconditioner.matrix, b, preconditioner,
+                          y[keep], atol=atol, maxiter=KRYLOV_MAX)
+    krylov.setup = preconditioner.setup_time
+    y[keep] = krylov.x
+    return krylov, R.T @ y
+
+
 def _iterate(problem, geometry, multigrid, tol, max_iter, x0, gap_scale,
              stiffness, load_norm):
     clock = time.perf_counter()
@@ -116,10 +158,15 @@ def _iterate(problem, geometry, multigrid, tol, max_iter, x0, gap_scale,
     other[normal_rows] = False
     C = R[normal_rows].tocsr()
     row_norm = np.asarray(C.multiply(C).sum(axis=1)).ravel()
+    eliminate = is_orthogonal(R)
+    if eliminate:
+        K_hat = rotate_stiffness(K, R, geometry.free_dofs())
+        f_hat = R @ f
     u = np.zeros(n) if x0 is None else np.array(x0, float)
     history = {k: [] for k in ("residual", "error", "merit", "alpha",
                                "step", "active", "line_search_failed",
-                               "krylov", "forcing")}
+                               "krylov", "forcing", "krylov_decades",
+                               "setup")}
     previous_set, previous_error, eta = None, None, ETA_MAX
     free = False  # the last system solved gave the free solution
     status, detail, njev, nfev = 1, "", 0, 0
@@ -163,15 +210,24 @@ def _iterate(problem, geometry, multigrid, tol, max_iter, x0, gap_scale,
         rows = np.flatnonzero(active)
         CA = C[rows]
         start = u + CA.T @ ((s[rows] - un[rows]) / row_norm[rows])
-        krylov = projected_cg(K, f, multigrid, start, CA, atol=atol,
-                              maxiter=KRYLOV_MAX)
+        if eliminate and rows.size:
+            krylov, x = eliminated_step(K_hat, f_hat, R, multigrid,
+                                        normal_rows[rows], start, atol)
+        else:
+            krylov = projected_cg(K, f, multigrid, start, CA, atol=atol,
+                                  maxiter=KRYLOV_MAX)
+            x = krylov.x
         njev += 1
-        history["step"].append(float(np.linalg.norm(krylov.x - u)))
+        history["step"].append(float(np.linalg.norm(x - u)))
         history["alpha"].append(1.0)
         history["line_search_failed"].append(False)
         history["krylov"].append(krylov.iterations)
         history["forcing"].append(atol / err if err > 0 else 0.0)
-        u = krylov.x
+        history["krylov_decades"].append(
+            float(np.log10(krylov.initial / krylov.residual))
+            if krylov.residual > 0 and krylov.initial > 0 else 0.0)
+        history["setup"].append(krylov.setup)
+        u = x
         previous_set, previous_error = active, err
         if not krylov.converged:
             status, detail = 5, (f"CG did not reach its tolerance in "
