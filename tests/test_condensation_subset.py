@@ -73,6 +73,10 @@ def test_subset_is_the_schur_complement_of_k(exported):
                                atol=1e-9 * np.abs(r[k]).max())
     assert Condensation.of(problem, k) is sub  # kept
     assert Condensation.of(problem, c) is parent  # and so is its parent
+    shuffled = Condensation.of(problem, c[::-1])  # the same DOFs, reordered
+    np.testing.assert_array_equal(shuffled.S, parent.S[::-1, ::-1])
+    np.testing.assert_allclose(shuffled.displacement(w[c[::-1]], w), w,
+                               rtol=0, atol=1e-12 * np.abs(w).max())
 
 
 def test_subset_too_small_or_outside_factorises_anew(exported):

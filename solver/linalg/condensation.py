@@ -28,8 +28,10 @@ import weakref
 
 import numpy as np
 import scipy.linalg as sla
+from scipy.linalg import blas
 
 from .base import get_backend, resolve
+from .dense import symmetric_from_upper
 from .threads import single_blas_thread
 from .ordering import dof_ordering
 
@@ -169,16 +171,20 @@ class SubCondensation(Condensation):
         dropped[self.keep] = False
         self.drop = np.flatnonzero(dropped)
         S, k, o = parent.S, self.keep, self.drop
-        with single_blas_thread():
-            if len(o):
-                factor = sla.cho_factor(S[np.ix_(o, o)], check_finite=False)
-                self.X = sla.cho_solve(factor, S[np.ix_(o, k)],
-                                       check_finite=False)
-                Sk = S[np.ix_(k, k)] - S[np.ix_(k, o)] @ self.X
-            else:
-                self.X = np.zeros((0, len(k)))
-                Sk = S[np.ix_(k, k)]
-        self.S = 0.5 * (Sk + Sk.T)
+        if not len(o):  # the same DOFs in another order
+            self.L, self.W = np.eye(0), np.zeros((0, len(k)))
+            self.S = S[np.ix_(k, k)]
+            self._solved, self._gram = [], None
+            self.n_solves = 0
+            return
+        # S_oo = L Lᵀ, W = L⁻¹S_ok, S = S_kk − WᵀW (potrf, trsm, syrk)
+        self.L = sla.cholesky(S[np.ix_(o, o)], lower=True,
+                              check_finite=False)
+        self.W = sla.solve_triangular(self.L, S[np.ix_(o, k)], lower=True,
+                                      check_finite=False)
+        upper = blas.dsyrk(-1.0, self.W, beta=1.0, c=S[np.ix_(k, k)],
+                           trans=1)
+        self.S = symmetric_from_upper(upper)
         self._solved, self._gram = [], None
         self.n_solves = 0
 
@@ -195,6 +201,10 @@ class SubCondensation(Condensation):
         u_c = np.asarray(u_c, float)
         full = np.empty((len(self.parent.dofs),) + u_c.shape[1:])
         full[self.keep] = u_c
+        if not len(self.drop):
+            full[self.keep] = u_c
+            return self.parent.displacement(full, w)
         full[self.drop] = w[self.parent.dofs[self.drop]] \
-            - self.X @ (u_c - w[self.dofs])
+            - sla.solve_triangular(self.L, self.W @ (u_c - w[self.dofs]),
+                                   lower=True, trans=1, check_finite=False)
         return self.parent.displacement(full, w)

@@ -11,7 +11,7 @@ import warnings
 import numpy as np
 import scipy.linalg as sla
 
-__all__ = ["factorize"]
+__all__ = ["factorize", "symmetric_from_upper", "SYMMETRIZE_BLOCK"]
 
 
 def factorize(A, symmetric):
@@ -30,3 +30,25 @@ def factorize(A, symmetric):
         if not np.all(np.diagonal(lu)):
             return None
         return lambda b: sla.lu_solve((lu, piv), b, check_finite=False)
+
+
+#: Columns per block of :func:`symmetric_from_upper`'s copy.
+SYMMETRIZE_BLOCK = 512
+
+
+def symmetric_from_upper(a):
+    """The symmetric matrix whose upper triangle ``a`` holds (LAPACK's
+    potri and syrk write only that one), made in place: each block of
+    columns takes its lower part from the transposed block of rows, so
+    no n×n temporaries are made (two ``np.triu`` copies took 0.8 s at
+    order 3·10³)."""
+    n = len(a)
+    for j in range(0, n, SYMMETRIZE_BLOCK):
+        e = min(j + SYMMETRIZE_BLOCK, n)
+        a[e:, j:e] = a[j:e, e:].T
+        block = a[j:e, j:e]
+        lower = np.tril_indices(e - j, -1)
+        block[lower] = block.T[lower]
+    if a.flags.f_contiguous and not a.flags.c_contiguous:
+        return a.T  # the same matrix, in C order as NumPy's products give
+    return a

@@ -34,6 +34,7 @@ import scipy.linalg as sla
 from scipy.linalg import blas
 
 from ...linalg import Condensation, dof_ordering, get_backend, resolve
+from ...linalg.dense import symmetric_from_upper
 from ..geometry import ContactGeometry, rotate_stiffness, rotation
 
 __all__ = ["GAP_FRACTION", "MAX_ROUNDS", "initial_candidates", "approach",
@@ -191,7 +192,7 @@ class NodalCondensation(NormalCondensation):
                                       check_finite=False)
         upper = blas.dsyrk(-1.0, self.W, beta=1.0, c=T[np.ix_(n, n)],
                            trans=1)
-        S = np.triu(upper) + np.triu(upper, 1).T
+        S = symmetric_from_upper(upper)
         _, self.w_full = self.condensation.load(self.problem.f)
         self.w = self.R @ self.w_full  # rotated, as K̂⁻¹f̂
         self.c, self.n, self.t, self.R_cc = c, n, t, R_cc
