@@ -40,8 +40,8 @@ def symmetric_from_upper(a):
     """The symmetric matrix whose upper triangle ``a`` holds (LAPACK's
     potri and syrk write only that one), made in place: each block of
     columns takes its lower part from the transposed block of rows, so
-    no n×n temporaries are made (two ``np.triu`` copies took 0.8 s at
-    order 3·10³)."""
+    no n×n temporaries are made (benchmarks/README.md, "3D friction: one
+    factorisation of K")."""
     n = len(a)
     for j in range(0, n, SYMMETRIZE_BLOCK):
         e = min(j + SYMMETRIZE_BLOCK, n)
