@@ -27,11 +27,9 @@ o the DOFs dropped: no second factorisation of K when the set shrinks
 import weakref
 
 import numpy as np
-import scipy.linalg as sla
-from scipy.linalg import blas
 
 from .base import get_backend, resolve
-from .dense import symmetric_from_upper
+from .dense import DenseSchur
 from .threads import single_blas_thread
 from .ordering import dof_ordering
 
@@ -171,20 +169,11 @@ class SubCondensation(Condensation):
         dropped[self.keep] = False
         self.drop = np.flatnonzero(dropped)
         S, k, o = parent.S, self.keep, self.drop
-        if not len(o):  # the same DOFs in another order
-            self.L, self.W = np.eye(0), np.zeros((0, len(k)))
-            self.S = S[np.ix_(k, k)]
-            self._solved, self._gram = [], None
-            self.n_solves = 0
-            return
-        # S_oo = L Lᵀ, W = L⁻¹S_ok, S = S_kk − WᵀW (potrf, trsm, syrk)
-        self.L = sla.cholesky(S[np.ix_(o, o)], lower=True,
-                              check_finite=False)
-        self.W = sla.solve_triangular(self.L, S[np.ix_(o, k)], lower=True,
-                                      check_finite=False)
-        upper = blas.dsyrk(-1.0, self.W, beta=1.0, c=S[np.ix_(k, k)],
-                           trans=1)
-        self.S = symmetric_from_upper(upper)
+        if len(o):  # X = S_oo⁻¹S_ok as L⁻ᵀW (DenseSchur)
+            self.schur = DenseSchur(S, k, o)
+            self.S = self.schur.S
+        else:  # the same DOFs in another order
+            self.schur, self.S = None, S[np.ix_(k, k)]
         self._solved, self._gram = [], None
         self.n_solves = 0
 
@@ -205,6 +194,5 @@ class SubCondensation(Condensation):
             full[self.keep] = u_c
             return self.parent.displacement(full, w)
         full[self.drop] = w[self.parent.dofs[self.drop]] \
-            - sla.solve_triangular(self.L, self.W @ (u_c - w[self.dofs]),
-                                   lower=True, trans=1, check_finite=False)
+            - self.schur.response(u_c - w[self.dofs])
         return self.parent.displacement(full, w)

@@ -30,11 +30,9 @@ P. Wriggers, *Computational Contact Mechanics*, 2nd ed., Springer 2006,
 search (a global screening with a margin, then the exact local check)."""
 
 import numpy as np
-import scipy.linalg as sla
-from scipy.linalg import blas
 
 from ...linalg import Condensation, dof_ordering, get_backend, resolve
-from ...linalg.dense import symmetric_from_upper
+from ...linalg.dense import DenseSchur
 from ..geometry import ContactGeometry, rotate_stiffness, rotation
 
 __all__ = ["GAP_FRACTION", "MAX_ROUNDS", "initial_candidates", "approach",
@@ -184,15 +182,8 @@ class NodalCondensation(NormalCondensation):
         t = np.setdiff1d(np.arange(len(c)), n)
         R_cc = self.R[c][:, c]
         T = np.asarray(R_cc @ (R_cc @ self.condensation.S).T)  # symmetric
-        # T_tt = L Lᵀ, W = L⁻¹T_tn, S_n = T_nn − WᵀW (potrf, trsm, syrk:
-        # |t|³/3 + |t|²|n| + |t||n|² flops); Y = L⁻ᵀW applied when needed
-        self.L = sla.cholesky(T[np.ix_(t, t)], lower=True,
-                              check_finite=False)
-        self.W = sla.solve_triangular(self.L, T[np.ix_(t, n)], lower=True,
-                                      check_finite=False)
-        upper = blas.dsyrk(-1.0, self.W, beta=1.0, c=T[np.ix_(n, n)],
-                           trans=1)
-        S = symmetric_from_upper(upper)
+        self.schur = DenseSchur(T, n, t)  # S_n, and Y x for displacement
+        S = self.schur.S
         _, self.w_full = self.condensation.load(self.problem.f)
         self.w = self.R @ self.w_full  # rotated, as K̂⁻¹f̂
         self.c, self.n, self.t, self.R_cc = c, n, t, R_cc
@@ -208,9 +199,7 @@ class NodalCondensation(NormalCondensation):
         u_hat = self.w[c].copy()
         change = np.asarray(u_n, float) - u_hat[n]
         u_hat[n] += change
-        u_hat[t] -= sla.solve_triangular(self.L, self.W @ change,
-                                         lower=True, trans=1,
-                                         check_finite=False)
+        u_hat[t] -= self.schur.response(change)
         u = self.condensation.displacement(self.R_cc.T @ u_hat, self.w_full)
         return u, (self.R @ u)[self.normal_rows]
 
