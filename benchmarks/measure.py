@@ -34,6 +34,8 @@ problem, which every stage holds). Stages:
   system, ``solver.contact.friction.disc.REDUCED`` off) in place of
   COULOMB; u saved next to the problem (``PROBLEM.friction.NEWTON.npy``)
   and, if the other's is there, ``agreement`` = max|u − u_other|/max|u|;
+  ``J_steps`` the Jacobians of every load step, ``load_average`` the
+  machine's 1-minute load average at the end;
 * ``amg``: ``solve(problem, backend="amg")`` (the iterative path, issue
   33): Newton systems, CG iterations in all and per system, the AMG
   hierarchy; ``agreement`` is ‖u − u_direct‖₂/‖u_direct‖₂ against the
@@ -59,6 +61,7 @@ the ``floor`` and ``schur`` stages measure what lies below it on purpose
 """
 
 import json
+import os
 import resource
 import sys
 import time
@@ -148,6 +151,8 @@ def friction3d(problem, backend, steps, newton, path):
            "verified": bool(r.verification["passed"]),
            "contact": r.records[-1]["n_contact"] if r.records else None,
            "J_max": max((x["njev"] for x in r.records), default=0),
+           "J_steps": [int(x["njev"]) for x in r.records],
+           "load_average": os.getloadavg()[0],
            "candidates": (r.get("candidates") or {}).get("n_candidates"),
            "backend": r.linear_solver}
     if other.exists():

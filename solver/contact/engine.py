@@ -34,17 +34,25 @@ class SerialEngine:
         problem.mark_stiffness_checked()  # by that factorisation
         return condensation
 
-    def normal_condensation(self, problem, geometry):
+    #: :meth:`normal_condensation` can condense onto the candidates'
+    #: every DOF (``nodal``).
+    nodal_condensation = True
+
+    def normal_condensation(self, problem, geometry, nodal=False):
         """K̂ = RKRᵀ for condensations onto candidate normal DOFs; for two
         bodies on a backend that factorises bordered matrices, the same
-        from K's own factor (:mod:`.strategies.bordered`)."""
+        from K's own factor (:mod:`.strategies.bordered`); ``nodal``: from
+        K condensed onto every free DOF of the candidates, for a friction
+        run to reuse (:class:`~.strategies.candidates.NodalCondensation`)."""
         from .strategies import bordered
-        from .strategies.candidates import NormalCondensation
+        from .strategies.candidates import (NodalCondensation,
+                                            NormalCondensation)
 
         if bordered.supports(problem, self.backend):
             return bordered.BorderedCondensation(problem, geometry,
                                                  self.backend)
-        return NormalCondensation(problem, geometry, self.backend)
+        kind = NodalCondensation if nodal else NormalCondensation
+        return kind(problem, geometry, self.backend)
 
     def full_jacobian(self, system, problem, geometry):
         """The full system's Jacobian: the system's own (each Newton step one

@@ -9,7 +9,7 @@ them the iterative path, algebraic multigrid for K (:mod:`.amg`)."""
 from .base import (AUTO_ORDER, BACKENDS, ITERATIVE, PIVOT_RTOL, Factor,
                    available_backends, check_pivots, factorize, get_backend,
                    resolve)
-from .condensation import Condensation
+from .condensation import Condensation, SubCondensation
 from .ordering import LEAF_SIZE, dof_ordering, nested_dissection
 from .superlu import Factorization
 
@@ -17,4 +17,4 @@ __all__ = ["PIVOT_RTOL", "BACKENDS", "ITERATIVE", "AUTO_ORDER", "Factor",
            "factorize",
            "available_backends", "get_backend", "resolve", "check_pivots",
            "LEAF_SIZE", "nested_dissection", "dof_ordering", "Factorization",
-           "Condensation"]
+           "Condensation", "SubCondensation"]

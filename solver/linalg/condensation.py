@@ -12,19 +12,37 @@ Dirichlet map). Contact acts only on these DOFs, so the thesis's systems
 and f → g̃: one factorisation of K, with its S, serves every Newton
 iteration and every load step (Wriggers, *Computational Contact
 Mechanics*, 2006, §6.2.2; Dostál, *Optimal Quadratic Programming
-Algorithms*, 2009)."""
+Algorithms*, 2009).
+
+K condensed onto a subset k of the DOFs of a condensation made already is
+the Schur complement of its S on k (the quotient property of Schur
+complements, Crabtree & Haynsworth, Proc. AMS 22 (1969) 364-366),
+
+.. math:: S_k = S_{kk} − S_{ko} S_{oo}^{-1} S_{ok},
+
+o the DOFs dropped: no second factorisation of K when the set shrinks
+(the friction candidates within the frictionless screening's,
+:mod:`solver.contact.strategies.friction_candidates`)."""
 
 import weakref
 
 import numpy as np
 
 from .base import get_backend, resolve
+from .dense import DenseSchur
 from .threads import single_blas_thread
 from .ordering import dof_ordering
 
-__all__ = ["Condensation"]
+__all__ = ["Condensation", "SubCondensation", "SUBSET_FRACTION"]
 
 _MADE = {}  # id(K) -> the last Condensation of that K (dropped with K)
+
+#: A subset k of a made condensation's DOFs is condensed from its S
+#: (module docstring) when the DOFs dropped are at most this fraction of
+#: those kept: its dense cost, |o|³/3 + |o|·|k|², then stays below the
+#: |k|³ of the friction run's flexibility on k, and far below a
+#: factorisation of K with a Schur set.
+SUBSET_FRACTION = 0.25
 
 
 class Condensation:
@@ -60,18 +78,38 @@ class Condensation:
         K, dofs, backend = problem.K, np.asarray(dofs).ravel(), \
             resolve(backend)
         made = _MADE.get(id(K))
-        if made is not None and made.backend == backend \
-                and np.array_equal(made.dofs, dofs):
-            return made
+        for parent in (made, getattr(made, "parent", None)):
+            if parent is None or parent.backend != backend:
+                continue
+            if np.array_equal(parent.dofs, dofs):
+                return parent
+            if parent.covers(dofs):  # the Schur complement of its S
+                _MADE[id(K)] = made = SubCondensation(parent, dofs)
+                return made
         if id(K) not in _MADE:
             weakref.finalize(K, _MADE.pop, id(K), None)
         _MADE[id(K)] = made = cls(problem, dofs, backend)
         return made
 
+    def covers(self, dofs):
+        """Whether K condensed onto ``dofs`` is best made from this S: all
+        of them among this condensation's DOFs, and at most
+        :data:`SUBSET_FRACTION` of those kept dropped."""
+        dofs = np.asarray(dofs).ravel()
+        dropped = len(self.dofs) - len(dofs)
+        return 0 < len(dofs) and 0 <= dropped <= SUBSET_FRACTION * len(dofs) \
+            and len(np.unique(dofs)) == len(dofs) \
+            and np.isin(dofs, self.dofs).all()
+
     def load(self, f):
         """(g̃, w): the condensed load g̃ = S (K⁻¹f)_c and w = K⁻¹f; a
         combination a f₁ + b f₂ of the last two loads reuses their solutions
         (proportional loads and piecewise linear load paths cost no solve)."""
+        w = self._solution(f)
+        return self.S @ w[self.dofs], w
+
+    def _solution(self, f):
+        """w = K⁻¹f, from the stored solutions where f is in their span."""
         f = np.asarray(f, dtype=np.float64)
         w = self._combination(f)
         if w is None:
@@ -79,7 +117,7 @@ class Condensation:
             self.n_solves += 1
             self._solved = (self._solved + [(f.copy(), w)])[-2:]
             self._gram = None
-        return self.S @ w[self.dofs], w
+        return w
 
     def _combination(self, f):
         """K⁻¹f from the stored solutions if f is in their span, else None
@@ -110,3 +148,51 @@ class Condensation:
         self.n_solves += 1
         return w + self.factorization.back_substitute(
             None, np.asarray(u_c, float) - w[self.dofs])
+
+
+class SubCondensation(Condensation):
+    r"""K condensed onto ``dofs``, a subset of the DOFs of the condensation
+    ``parent``, from its S (module docstring): S = S_kk − S_ko S_oo⁻¹ S_ok
+    and, for :meth:`displacement`, X = S_oo⁻¹ S_ok, the response of the
+    dropped DOFs o (no force on them) to the kept ones. Loads and
+    back-substitutions go through the parent's factorisation."""
+
+    def __init__(self, parent, dofs):
+        self.parent = parent
+        self.dofs = np.asarray(dofs, np.int64).ravel()
+        self.backend, self.factorization = parent.backend, \
+            parent.factorization
+        position = np.full(int(parent.dofs.max()) + 1, -1)
+        position[parent.dofs] = np.arange(len(parent.dofs))
+        self.keep = position[self.dofs]
+        dropped = np.ones(len(parent.dofs), bool)
+        dropped[self.keep] = False
+        self.drop = np.flatnonzero(dropped)
+        S, k, o = parent.S, self.keep, self.drop
+        if len(o):  # X = S_oo⁻¹S_ok as L⁻ᵀW (DenseSchur)
+            self.schur = DenseSchur(S, k, o)
+            self.S = self.schur.S
+        else:  # the same DOFs in another order
+            self.schur, self.S = None, S[np.ix_(k, k)]
+        self._solved, self._gram = [], None
+        self.n_solves = 0
+
+    def load(self, f):
+        """(g̃, w) as :meth:`Condensation.load`, through the parent (its
+        stored solutions shared)."""
+        w = self.parent._solution(f)
+        return self.S @ w[self.dofs], w
+
+    def displacement(self, u_c, w):
+        """u with u_c on the kept DOFs: the dropped ones at w_o −
+        X (u_c − w_k), then the parent's back-substitution."""
+        self.n_solves += 1
+        u_c = np.asarray(u_c, float)
+        full = np.empty((len(self.parent.dofs),) + u_c.shape[1:])
+        full[self.keep] = u_c
+        if not len(self.drop):
+            full[self.keep] = u_c
+            return self.parent.displacement(full, w)
+        full[self.drop] = w[self.parent.dofs[self.drop]] \
+            - self.schur.response(u_c - w[self.dofs])
+        return self.parent.displacement(full, w)

@@ -65,6 +65,7 @@ import scipy.linalg as sla
 from scipy.linalg import lapack
 import scipy.sparse as sp
 
+from ...linalg.dense import symmetric_from_upper
 from ...linalg.threads import blas_threads_for
 from .projection import ProjectionSystem, block_diagonal, disc_derivative
 
@@ -131,8 +132,7 @@ class DiscSystem(ProjectionSystem):
             if info != 0:
                 self._flexibility = False
                 raise np.linalg.LinAlgError("T is not positive definite")
-            upper = np.triu(inverse)
-            self._flexibility = upper + np.triu(upper, 1).T
+            self._flexibility = symmetric_from_upper(inverse)
         return self._flexibility
 
     def _force(self, du):

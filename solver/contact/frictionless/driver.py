@@ -41,7 +41,7 @@ STOPPING_TEST = ("‖[E; w·min(λ, k̄(s − u_n))]‖₂ ≤ tol·F, F = max(�
 def run_frictionless(problem, geometry, engine, method="min", tol=1e-10,
                      max_iter=100, x0=None, gap_scale=None, options=None,
                      condense=True, start="nested", candidates=False,
-                     margin=None):
+                     margin=None, nodal=False):
     r"""Solve the frictionless contact problem (67) by semismooth Newton.
 
     The driver behind :func:`solver.solve` for frictionless contact, whose
@@ -54,7 +54,10 @@ def run_frictionless(problem, geometry, engine, method="min", tol=1e-10,
     (λ = 0), "x0", "zero" (the thesis's u = 0) or "rigid" (a body held by
     contact only on the full system: put onto the obstacle as a rigid
     body, :mod:`~solver.contact.strategies.floating_full`). ``max_iter``
-    counts all levels and rounds together.
+    counts all levels and rounds together. ``nodal`` (with
+    ``candidates``): condense K onto every free DOF of the candidates, for
+    a friction run to reuse (:class:`~solver.contact.strategies.candidates.
+    NodalCondensation`).
 
     Returns a ContactResult: the NCP result's counts, ``history`` and
     ``status`` (6: the stopping test met but the verification failed), the
@@ -86,7 +89,8 @@ def run_frictionless(problem, geometry, engine, method="min", tol=1e-10,
         result, u, lam_free, un_free, screening = solve_on_candidates(
             problem, geometry, method, tol, max_iter, x0, gap_scale,
             stiffness, options, load_norm, margin,
-            engine.normal_condensation(problem, geometry))
+            engine.normal_condensation(problem, geometry, nodal=True)
+            if nodal else engine.normal_condensation(problem, geometry))
         linear_solver, name = engine.linear_solver, "normal candidates"
     else:
         space = reduction(problem, geometry, engine, condense)

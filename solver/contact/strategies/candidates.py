@@ -31,11 +31,13 @@ search (a global screening with a margin, then the exact local check)."""
 
 import numpy as np
 
-from ...linalg import dof_ordering, get_backend
+from ...linalg import Condensation, dof_ordering, get_backend, resolve
+from ...linalg.dense import DenseSchur
 from ..geometry import ContactGeometry, rotate_stiffness, rotation
 
 __all__ = ["GAP_FRACTION", "MAX_ROUNDS", "initial_candidates", "approach",
-           "enlarge_candidates", "normal_line", "NormalCondensation"]
+           "enlarge_candidates", "normal_line", "NormalCondensation",
+           "NodalCondensation"]
 
 #: Default round-0 margin: this fraction of the gap range above s_min.
 GAP_FRACTION = 0.05
@@ -100,7 +102,10 @@ class NormalCondensation:
     the nodes of ``geometry`` (any d; a roller's normal row ``dofs[i, -1]``
     is one of its free DOFs), by the :mod:`solver.linalg` ``backend``. Call
     :meth:`factorize` with the candidates (positions in ``geometry``) for
-    each round; K̂ and f̂ are built once."""
+    each round; K̂ and f̂ are built once.
+
+    :class:`NodalCondensation` condenses K onto *every* free DOF of the
+    candidates instead, for the screening of a friction run."""
 
     def __init__(self, problem, geometry, backend):
         self.problem, self.geometry = problem, geometry
@@ -136,6 +141,67 @@ class NormalCondensation:
             self.factor.back_substitute(None, np.asarray(u_n, float)
                                         - self.w[c])
         return self.R.T @ u_hat, u_hat[self.normal_rows]
+
+
+class NodalCondensation(NormalCondensation):
+    r""":class:`NormalCondensation` from K condensed onto every free DOF c
+    of the candidates (:class:`~solver.linalg.Condensation`, kept for later
+    runs on the same K): the screening of a friction run, whose candidates
+    lie within the screening's, so that the friction run takes its S from
+    this factorisation (:meth:`~solver.linalg.Condensation.of`, a Schur
+    complement of this S) instead of factorising K again. In the rotated components T = R_cc S
+    R_ccᵀ (R orthogonal on each node's free DOFs), and the normal rows n
+    are condensed from it with the tangential ones t free of force:
+
+    .. math:: S_n = T_{nn} − T_{nt} Y, \quad Y = T_{tt}^{-1} T_{tn},
+
+    û_t = ŵ_t − Y (u_n − ŵ_n) for :meth:`displacement`; ŵ = R K⁻¹f."""
+
+    def __init__(self, problem, geometry, backend):
+        self.problem, self.geometry = problem, geometry
+        self.backend = resolve(backend)
+        self.R = rotation(problem.n_dofs, geometry)[0]
+        self.normal_rows = geometry.dofs[:, -1]
+        self.factorizations = 0
+
+    def factorize(self, nodes):
+        """K condensed onto every free DOF of ``nodes``, then onto their
+        normal rows (class docstring). Returns (S, g̃, w_c) as
+        :meth:`NormalCondensation.factorize`."""
+        self.nodes = np.asarray(nodes, np.int64)
+        if not len(self.nodes):  # a plain factorisation of K̂
+            NormalCondensation.__init__(self, self.problem, self.geometry,
+                                        self.backend)
+            return super().factorize(self.nodes)
+        c = self.geometry.subset(self.nodes).free_dofs()
+        self.condensation = Condensation.of(self.problem, c, self.backend)
+        self.factorizations += 1
+        lookup = np.full(self.problem.n_dofs, -1)
+        lookup[c] = np.arange(len(c))
+        n = lookup[self.normal_rows[self.nodes]]
+        t = np.setdiff1d(np.arange(len(c)), n)
+        R_cc = self.R[c][:, c]
+        T = np.asarray(R_cc @ (R_cc @ self.condensation.S).T)  # symmetric
+        self.schur = DenseSchur(T, n, t)  # S_n, and Y x for displacement
+        S = self.schur.S
+        _, self.w_full = self.condensation.load(self.problem.f)
+        self.w = self.R @ self.w_full  # rotated, as K̂⁻¹f̂
+        self.c, self.n, self.t, self.R_cc = c, n, t, R_cc
+        w_n = self.w[c[n]]
+        return S, S @ w_n, w_n
+
+    def displacement(self, u_n):
+        """(u, normal displacement at every free contact node) from the
+        candidates' normal displacements u_n."""
+        if not len(self.nodes):
+            return super().displacement(u_n)
+        c, n, t = self.c, self.n, self.t
+        u_hat = self.w[c].copy()
+        change = np.asarray(u_n, float) - u_hat[n]
+        u_hat[n] += change
+        u_hat[t] -= self.schur.response(change)
+        u = self.condensation.displacement(self.R_cc.T @ u_hat, self.w_full)
+        return u, (self.R @ u)[self.normal_rows]
 
 
 def solve_on_candidates(problem, geometry, method, tol, max_iter, x0,

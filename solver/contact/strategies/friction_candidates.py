@@ -11,7 +11,11 @@ candidates (:mod:`.candidates`; Wriggers's screening), gives every
 node's remaining gap and contact set; the first friction candidates
 are that set and :data:`RINGS` rings of its neighbours along the contact
 triangles, or the nodes with s − u_n ≤ ``margin`` (default
-:data:`RING_FRACTION` of its range). Each load step's non-candidates are
+:data:`RING_FRACTION` of its range). In 3D the screening condenses K onto
+every free DOF of its candidates
+(:class:`~.candidates.NodalCondensation`): the friction candidates lie
+within them, and the friction run's S is then a dense Schur complement
+of that S (:class:`~solver.linalg.SubCondensation`), K factorised once. Each load step's non-candidates are
 checked as the step is delivered; a penetration enlarges the set and the
 run **restarts from the first step**: friction is path-dependent, and the
 new candidates then share the full problem's history (the zero state).
@@ -133,7 +137,9 @@ def friction_on_candidates(solve, problem, friction, geometry, engine,
         problem, geometry, engine, kwargs.get("method", "fb"),
         tol=tol, max_iter=kwargs.get("max_iter", 100),
         gap_scale=kwargs["gap_scale"], options=kwargs.get("options"),
-        condense=True, start="free", candidates=True)
+        condense=True, start="free", candidates=True,
+        nodal=geometry.dim == 3 and getattr(engine, "nodal_condensation",
+                                            False))
     nodes, delta = first_candidates(
         remaining_gap(geometry, screen.u), margin,
         screen.in_contact[geometry.index], surface_adjacency(
