@@ -129,18 +129,21 @@ def is_orthogonal(R):
     return bool((abs(E).max() if E.nnz else 0.0) <= ORTHOGONAL_TOL)
 
 
-def eliminated_step(K_hat, f_hat, R, multigrid, fixed, start, atol):
+def eliminated_step(K_hat, f_hat, R, multigrid, fixed, start, atol,
+                    spring=None):
     """One Newton system on the eliminated K̂_FF (module docstring): the
     DOFs ``fixed`` of y = R ``start`` keep their values, the others solve
     K̂_FF y_F = (f̂ − K̂ y_fixed)_F by CG preconditioned with
     ``multigrid.eliminated`` to ‖·‖ ≤ ``atol`` (the norm of P_A(f − Ku),
-    R being orthogonal). Returns (the KrylovResult, with ``setup`` the
-    seconds of the hierarchy, and u = Rᵀ y)."""
+    R being orthogonal). ``spring``: S (n, n) in y, zero on the fixed rows
+    and columns, added to K̂ (friction's slip springs). Returns (the
+    KrylovResult, with ``setup`` the seconds of the hierarchy, and u =
+    Rᵀ y)."""
     keep = np.ones(len(f_hat), bool)
     keep[fixed] = False
     y = R @ start
     b = (f_hat - K_hat @ np.where(keep, 0.0, y))[keep]
-    preconditioner = multigrid.eliminated(K_hat, R, keep)
+    preconditioner = multigrid.eliminated(K_hat, R, keep, spring)
     krylov = projected_cg(preconditioner.matrix, b, preconditioner,
                           y[keep], atol=atol, maxiter=KRYLOV_MAX)
     krylov.setup = preconditioner.setup_time
