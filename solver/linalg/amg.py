@@ -141,11 +141,12 @@ class Multigrid:
         only (−P̂_Eᵀ Y − Yᵀ P̂_E + P̂_Eᵀ K̂_EE P̂_E, Y = K̂_E: P̂), so a new
         active set costs O(|E|) there, not a Galerkin product of the mesh;
         the coarser ones likewise through the change of the finer one
-        (R_k Δ_k P_k added to this hierarchy's operator). ``spring``: a symmetric
-        positive semidefinite sparse S (n, n), zero on the rows and columns
-        not kept (friction's slip springs, :mod:`solver.contact.friction.
-        active_set`): A = (K̂ + S)_FF, and the first coarse operator gains
-        P̂_Sᵀ S_SS P̂_S through S's rows only. Returns a Multigrid of A
+        (R_k Δ_k P_k added to this hierarchy's operator). ``spring``: a
+        symmetric positive semidefinite sparse S (n, n), zero on the rows
+        and columns not kept (friction's slip springs,
+        :mod:`solver.contact.friction.active_set`): A = (K̂ + S)_FF, and
+        the first coarse operator gains P̂_Sᵀ S_SS P̂_S through S's rows
+        only. Returns a Multigrid of A
         (``matrix`` A itself, ``setup_time`` the time this took)."""
         from pyamg.multilevel import MultilevelSolver
         from pyamg.relaxation.smoothing import change_smoothers

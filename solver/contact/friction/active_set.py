@@ -75,7 +75,7 @@ from ...ncp import MESSAGES
 from ..frictionless.active_set import (ETA_GAMMA, ETA_MAX, ETA_MIN,
                                        FINAL_FRACTION, KRYLOV_MAX,
                                        eliminated_step, hertz_start,
-                                       is_orthogonal)
+                                       is_orthogonal, record_krylov)
 from ..geometry import rotate_stiffness
 from ..strategies.reduction import FullSystem
 from ..verify import contact_weight
@@ -178,7 +178,8 @@ def solve_step(system, multigrid, x0, load, tol, max_iter, hertz=False,
     hertz_start`. Returns an OptimizeResult as :func:`solver.ncp.solve_ncp`'s
     (``x`` = [Δu; ĝ], ``success``, ``status``, ``message``, ``nit``,
     ``njev`` = Newton systems, ``nfev``, ``error``, ``stopping``,
-    ``history`` with ``krylov`` per system) plus ``krylov`` in total.
+    ``history`` with ``krylov`` and ``setup`` per system) plus ``krylov``
+    in total.
     ``K_hat``: K̂ = R K Rᵀ (R = ``system.R`` orthogonal) to solve each
     Newton system eliminated (module docstring), None: projected CG."""
     with single_blas_thread():  # vectors: BLAS threads only spin
@@ -219,7 +220,8 @@ def _iterate(system, multigrid, x0, load, tol, max_iter, hertz, K_hat):
     u = u_previous + np.asarray(x0[:n], float)
     history = {key: [] for key in ("residual", "error", "merit", "alpha",
                                    "step", "active", "stick", "slip",
-                                   "krylov", "forcing")}
+                                   "krylov", "forcing", "krylov_decades",
+                                   "setup")}
     previous_sets, previous_error, eta = None, None, ETA_MAX
     free_solve = False
     status, detail, njev, nfev = 1, "", 0, 0
@@ -331,13 +333,11 @@ def _iterate(system, multigrid, x0, load, tol, max_iter, hertz, K_hat):
         njev += 1
         history["step"].append("active set")
         history["alpha"].append(1.0)
-        history["krylov"].append(krylov.iterations)
-        history["forcing"].append(atol / err if err > 0 else 0.0)
+        failure = record_krylov(history, krylov, atol, err)
         u = u_next
         previous_sets, previous_error = sets, err
-        if not krylov.converged:
-            status, detail = 5, (f"CG did not reach its tolerance in "
-                                 f"{krylov.iterations} iterations")
+        if failure:
+            status, detail = 5, failure
             break
     message = MESSAGES[status] + (f": {detail}" if detail else "")
     return OptimizeResult(
