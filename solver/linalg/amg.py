@@ -130,7 +130,7 @@ class Multigrid:
         """The prolongator of every level but the coarsest (sparse)."""
         return [level.P for level in self._ml.levels[:-1]]
 
-    def eliminated(self, K_hat, rotation, keep):
+    def eliminated(self, K_hat, rotation, keep, spring=None):
         """The hierarchy of A = K̂_FF = K̂[keep][:, keep], K̂ = Q K Qᵀ
         (``K_hat``; ``rotation`` Q orthogonal, ``keep`` a boolean mask of
         its rows: the DOFs not fixed), built from this one's (module
@@ -140,7 +140,13 @@ class Multigrid:
         K's own P_0ᵀ K P_0 = P̂ᵀ K̂ P̂ less the products through the rows E
         only (−P̂_Eᵀ Y − Yᵀ P̂_E + P̂_Eᵀ K̂_EE P̂_E, Y = K̂_E: P̂), so a new
         active set costs O(|E|) there, not a Galerkin product of the mesh;
-        the coarser ones are recomputed (small). Returns a Multigrid of A
+        the coarser ones likewise through the change of the finer one
+        (R_k Δ_k P_k added to this hierarchy's operator). ``spring``: a
+        symmetric positive semidefinite sparse S (n, n), zero on the rows
+        and columns not kept (friction's slip springs,
+        :mod:`solver.contact.friction.active_set`): A = (K̂ + S)_FF, and
+        the first coarse operator gains P̂_Sᵀ S_SS P̂_S through S's rows
+        only. Returns a Multigrid of A
         (``matrix`` A itself, ``setup_time`` the time this took)."""
         from pyamg.multilevel import MultilevelSolver
         from pyamg.relaxation.smoothing import change_smoothers
@@ -149,6 +155,10 @@ class Multigrid:
         K_hat = sp.csr_matrix(K_hat)
         keep = np.asarray(keep, bool)
         A = K_hat[keep][:, keep].tocsr()
+        if spring is not None:
+            spring = sp.csr_matrix(spring)
+            A = (A + spring[keep][:, keep]).tocsr()
+            touched = np.flatnonzero(np.diff(spring.indptr))
         fine = self._ml.levels
         levels = []
         for k, level in enumerate(fine[:-1]):
@@ -159,15 +169,21 @@ class Multigrid:
                                      sp.csr_matrix(rotation @ level.P))
                 P = self._rotated[1]
                 new.A, new.P = A, P[keep]
-                new.R = new.P.T.tocsr()
+                new.R = new.P.T  # CSC: its products need no CSR copy
                 fixed = np.flatnonzero(~keep)
                 P_E, Y = P[fixed], K_hat[fixed] @ P
                 coarse = (fine[1].A - P_E.T @ Y - Y.T @ P_E
                           + P_E.T @ (K_hat[fixed][:, fixed] @ P_E))
-            else:
+                if spring is not None and len(touched):
+                    P_S = P[touched]
+                    coarse = coarse + P_S.T @ (
+                        spring[touched][:, touched] @ P_S)
+            else:  # R (A_k + Δ) P = A_{k+1} + R Δ P, Δ near E only
                 new.A = coarse
                 new.P, new.R = level.P, level.R
-                coarse = new.R @ new.A @ new.P
+                change = sp.csr_matrix(coarse - level.A)
+                change.eliminate_zeros()
+                coarse = fine[k + 1].A + new.R @ change @ new.P
             if sp.isspmatrix_bsr(fine[k + 1].A):
                 coarse = sp.bsr_matrix(coarse,
                                        blocksize=fine[k + 1].A.blocksize)

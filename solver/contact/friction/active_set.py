@@ -1,8 +1,9 @@
 r"""Coulomb friction on the iterative path (``backend="amg"``): each load
 step of the projection formulation (:mod:`.projection`, lagged bound) by
 the primal–dual active set method of Hüeber, Stadler & Wohlmuth (SISC 30,
-2008), its Newton systems by AMG-preconditioned projected CG on the full
-primal system; nothing mesh-sized is factorised.
+2008), its Newton systems by AMG-preconditioned CG on the primal system
+with the constrained DOFs eliminated (or projected); nothing mesh-sized
+is factorised.
 
 The step's unknowns are u = u_{κ−1} + Δu and the tractions g; the
 tangential equilibrium rows r_t(u) = D g (r = R(Ku − f_κ), D the lumped
@@ -29,13 +30,29 @@ method (semismooth Newton with φ_min on the projection rows g = P(w)):
 The "nonsymmetric" linearised slip term of Hüeber, Stadler & Wohlmuth is
 symmetric here because g has been eliminated with the lagged radius: the
 Newton system is the SPD K + Σ k_e v vᵀ (v = R_tᵀe, one rank-one spring
-per 3D slip node) on the affine set of the normal and stick constraints,
-which :func:`~solver.linalg.amg.projected_cg` solves with the one AMG
-hierarchy of K (built once for all load steps; the springs are left out
-of the preconditioner). The spring only shapes the Newton path: at a
-fixed point g·e = 0, so the answer is that of the factorisation path. The
-implicit bound f_c p(u) would tie the slip rows to the normal reaction,
-which is not symmetric; it is refused (front/cases.py).
+per 3D slip node) on the affine set of the normal and stick constraints.
+The spring only shapes the Newton path: at a fixed point g·e = 0, so the
+answer is that of the factorisation path. The implicit bound f_c p(u)
+would tie the slip rows to the normal reaction, which is not symmetric;
+it is refused (front/cases.py).
+
+Where R is orthogonal (:func:`~..frictionless.active_set.is_orthogonal`)
+the constraints fix DOFs of y = R u, the active normals and the stick
+tangentials, and the system is solved eliminated as on the frictionless
+path (:func:`~..frictionless.active_set.eliminated_step`): CG on
+(K̂ + S)_FF, K̂ = R K Rᵀ, whose spring S = Eᵀ diag(k_e) E (R v = Eᵀ e: e
+on the node's two tangent rows) is a 2 × 2 block per slip node, inside
+K̂'s pattern; its V-cycle is :meth:`~solver.linalg.amg.Multigrid.
+eliminated` of the one hierarchy of K (built once for all load steps),
+K's aggregates and prolongator with the fixed rows dropped and the first
+coarse operator updated through the fixed and the slip rows. The
+preconditioner then sees neither the constraints' Schur complement nor
+the springs as a perturbation, so the CG count per system stays nearly
+flat under refinement (benchmarks/README.md). A spring there is capped at
+:data:`SPRING_CAP` (no constraint across the slip, which would not be a
+DOF of y). Otherwise the system is solved by
+:func:`~solver.linalg.amg.projected_cg` with K's own V-cycle, the springs
+left to CG.
 
 Warm starts: each step starts from u_{κ−1} (the sets of the new load at
 the old answer) and each Newton system from the last iterate moved onto
@@ -57,7 +74,9 @@ from ...linalg.threads import single_blas_thread
 from ...ncp import MESSAGES
 from ..frictionless.active_set import (ETA_GAMMA, ETA_MAX, ETA_MIN,
                                        FINAL_FRACTION, KRYLOV_MAX,
-                                       hertz_start)
+                                       eliminated_step, hertz_start,
+                                       is_orthogonal, record_krylov)
+from ..geometry import rotate_stiffness
 from ..strategies.reduction import FullSystem
 from ..verify import contact_weight
 from .projection import ProjectionSystem
@@ -67,10 +86,11 @@ __all__ = ["IterativeSpace", "LaggedProjection", "solve_step",
 
 #: A slip node whose spring q/(1 − q)·D c_t would exceed this multiple of
 #: D c_t (≈ the diagonal of K; q → 1 at the edge of the stick set) gets
-#: the spring's limit, the constraint e·Δu = 0, instead. Either shapes only
-#: the Newton path (module docstring); constraining every slip node this
-#: way (a cap of 1 or 10) costs 3–5× the Newton systems on the a/h 8
-#: sphere, so the cap only catches q ≈ 1.
+#: the spring's limit, the constraint e·Δu = 0, instead on the projected
+#: path, and this spring on the eliminated one (module docstring). Either
+#: shapes only the Newton path; constraining every slip node this way (a
+#: cap of 1 or 10) costs 3–5× the Newton systems on the a/h 8 sphere, so
+#: the cap only catches q ≈ 1.
 SPRING_CAP = 1e3
 
 
@@ -96,6 +116,7 @@ class IterativeSpace(FullSystem):
         self.K = problem.K
         self.linear_solver = engine.linear_solver
         self._multigrid = None
+        self._rotated = None  # (R, K̂ = R K Rᵀ or None) of the system
         self.first = True  # no step solved yet: the Hertz start applies
         self._last = None  # (f_κ, u_κ) of the last step solved
         self._increment = None  # (Δf, Δu) of the last step solved
@@ -116,8 +137,14 @@ class IterativeSpace(FullSystem):
             load = float(load) * system.f
         x0 = np.array(x0, float)
         x0[:system.n] = self.predictor(load, system.u_previous)
+        if self._rotated is None or self._rotated[0] is not system.R:
+            K_hat = None
+            if is_orthogonal(system.R):
+                K_hat = rotate_stiffness(system.K, system.R,
+                                         system.geometry.free_dofs())
+            self._rotated = (system.R, K_hat)
         result = solve_step(system, self._multigrid, x0, load, tol,
-                            max_iter, hertz=first)
+                            max_iter, hertz=first, K_hat=self._rotated[1])
         u = system.u_previous + result.x[:system.n]
         if self._last is not None:
             self._increment = (load - self._last[0], u - self._last[1])
@@ -140,7 +167,8 @@ class IterativeSpace(FullSystem):
         return np.zeros_like(u_previous)
 
 
-def solve_step(system, multigrid, x0, load, tol, max_iter, hertz=False):
+def solve_step(system, multigrid, x0, load, tol, max_iter, hertz=False,
+               K_hat=None):
     """One load step of ``system`` (a :class:`~.projection.
     ProjectionSystem` on the full K, lagged bound, its step set) by the
     active set method of the module, each Newton system by projected CG
@@ -150,9 +178,13 @@ def solve_step(system, multigrid, x0, load, tol, max_iter, hertz=False):
     hertz_start`. Returns an OptimizeResult as :func:`solver.ncp.solve_ncp`'s
     (``x`` = [Δu; ĝ], ``success``, ``status``, ``message``, ``nit``,
     ``njev`` = Newton systems, ``nfev``, ``error``, ``stopping``,
-    ``history`` with ``krylov`` per system) plus ``krylov`` in total."""
+    ``history`` with ``krylov`` and ``setup`` per system) plus ``krylov``
+    in total.
+    ``K_hat``: K̂ = R K Rᵀ (R = ``system.R`` orthogonal) to solve each
+    Newton system eliminated (module docstring), None: projected CG."""
     with single_blas_thread():  # vectors: BLAS threads only spin
-        return _iterate(system, multigrid, x0, load, tol, max_iter, hertz)
+        return _iterate(system, multigrid, x0, load, tol, max_iter, hertz,
+                        K_hat)
 
 
 class _Springs:
@@ -169,7 +201,7 @@ class _Springs:
         return out
 
 
-def _iterate(system, multigrid, x0, load, tol, max_iter, hertz):
+def _iterate(system, multigrid, x0, load, tol, max_iter, hertz, K_hat):
     clock = time.perf_counter()
     n, m, k = system.n, system.m, system.dim - 1
     K, R = system.K, system.R
@@ -188,7 +220,8 @@ def _iterate(system, multigrid, x0, load, tol, max_iter, hertz):
     u = u_previous + np.asarray(x0[:n], float)
     history = {key: [] for key in ("residual", "error", "merit", "alpha",
                                    "step", "active", "stick", "slip",
-                                   "krylov", "forcing")}
+                                   "krylov", "forcing", "krylov_decades",
+                                   "setup")}
     previous_sets, previous_error, eta = None, None, ETA_MAX
     free_solve = False
     status, detail, njev, nfev = 1, "", 0, 0
@@ -254,13 +287,15 @@ def _iterate(system, multigrid, x0, load, tol, max_iter, hertz):
         force[slip.repeat(k)] = ((lumped * b)[slip, None]
                                  * hat[slip]).ravel()
         rhs = f + R[t_rows[t_free]].T @ force[t_free]
-        V, spring, W = None, None, None
+        V, spring, W, S = None, None, None, None
         if k == 2 and slip.any():
             across = np.column_stack([-hat[:, 1], hat[:, 0]]) * mask
             nodes = np.flatnonzero(slip & (np.linalg.norm(across, axis=1)
                                            > 0.5))
             q = np.minimum(b[nodes] / size[nodes], 1.0)
             ratio = q / np.maximum(1.0 - q, 1e-300)
+            if K_hat is not None:  # no constraint across: the cap's spring
+                ratio = np.minimum(ratio, SPRING_CAP)
             # v = R_tᵀ e: the tangent rows of the node weighted by e
             rows = t_rows.reshape(m, k)[nodes]
             used = rows >= 0
@@ -273,6 +308,9 @@ def _iterate(system, multigrid, x0, load, tol, max_iter, hertz):
                 V = across_rows[soft].T.tocsr()
                 spring = lumped[nodes[soft]] * c_t * ratio[soft]
                 rhs = rhs + V @ (spring * (V.T @ u_previous))
+                if K_hat is not None:  # in y = R u: R V = Eᵀ
+                    E_soft = E[soft]
+                    S = (E_soft.T @ sp.diags(spring) @ E_soft).tocsr()
             if not soft.all():  # stiffer than SPRING_CAP: e·Δu_t = 0
                 W = across_rows[~soft]
         constrained = np.concatenate([
@@ -285,18 +323,21 @@ def _iterate(system, multigrid, x0, load, tol, max_iter, hertz):
             int(active.sum()):]])
         row_norm = np.asarray(C.multiply(C).sum(axis=1)).ravel()
         start = u + C.T @ ((target - C @ u) / row_norm)
-        krylov = projected_cg(_Springs(K, V, spring), rhs, multigrid, start,
-                              C, atol=atol, maxiter=KRYLOV_MAX)
+        if K_hat is not None and (len(constrained) or S is not None):
+            krylov, u_next = eliminated_step(K_hat, R @ rhs, R, multigrid,
+                                             constrained, start, atol, S)
+        else:
+            krylov = projected_cg(_Springs(K, V, spring), rhs, multigrid,
+                                  start, C, atol=atol, maxiter=KRYLOV_MAX)
+            u_next = krylov.x
         njev += 1
         history["step"].append("active set")
         history["alpha"].append(1.0)
-        history["krylov"].append(krylov.iterations)
-        history["forcing"].append(atol / err if err > 0 else 0.0)
-        u = krylov.x
+        failure = record_krylov(history, krylov, atol, err)
+        u = u_next
         previous_sets, previous_error = sets, err
-        if not krylov.converged:
-            status, detail = 5, (f"CG did not reach its tolerance in "
-                                 f"{krylov.iterations} iterations")
+        if failure:
+            status, detail = 5, failure
             break
     message = MESSAGES[status] + (f": {detail}" if detail else "")
     return OptimizeResult(

@@ -73,7 +73,7 @@ from ..geometry import rotate_stiffness, rotation
 from ..verify import force_scale
 
 __all__ = ["solve_active_set", "hertz_start", "eliminated_step",
-           "is_orthogonal", "ETA_MIN", "ETA_MAX",
+           "is_orthogonal", "record_krylov", "ETA_MIN", "ETA_MAX",
            "ETA_GAMMA", "FINAL_FRACTION", "KRYLOV_MAX", "START_FRACTION",
            "ORTHOGONAL_TOL"]
 
@@ -129,23 +129,43 @@ def is_orthogonal(R):
     return bool((abs(E).max() if E.nnz else 0.0) <= ORTHOGONAL_TOL)
 
 
-def eliminated_step(K_hat, f_hat, R, multigrid, fixed, start, atol):
+def eliminated_step(K_hat, f_hat, R, multigrid, fixed, start, atol,
+                    spring=None):
     """One Newton system on the eliminated K̂_FF (module docstring): the
     DOFs ``fixed`` of y = R ``start`` keep their values, the others solve
     K̂_FF y_F = (f̂ − K̂ y_fixed)_F by CG preconditioned with
     ``multigrid.eliminated`` to ‖·‖ ≤ ``atol`` (the norm of P_A(f − Ku),
-    R being orthogonal). Returns (the KrylovResult, with ``setup`` the
-    seconds of the hierarchy, and u = Rᵀ y)."""
+    R being orthogonal). ``spring``: S (n, n) in y, zero on the fixed rows
+    and columns, added to K̂ (friction's slip springs). Returns (the
+    KrylovResult, with ``setup`` the seconds of the hierarchy, and u =
+    Rᵀ y)."""
     keep = np.ones(len(f_hat), bool)
     keep[fixed] = False
     y = R @ start
     b = (f_hat - K_hat @ np.where(keep, 0.0, y))[keep]
-    preconditioner = multigrid.eliminated(K_hat, R, keep)
+    preconditioner = multigrid.eliminated(K_hat, R, keep, spring)
     krylov = projected_cg(preconditioner.matrix, b, preconditioner,
                           y[keep], atol=atol, maxiter=KRYLOV_MAX)
     krylov.setup = preconditioner.setup_time
     y[keep] = krylov.x
     return krylov, R.T @ y
+
+
+def record_krylov(history, krylov, atol, err):
+    """Append what one Newton system's CG (``krylov``, a KrylovResult)
+    did to ``history``: ``krylov`` iterations, ``forcing`` atol/err,
+    ``krylov_decades`` of residual gained, ``setup`` seconds of its
+    hierarchy. Returns why it failed (a sentence), or None."""
+    history["krylov"].append(krylov.iterations)
+    history["forcing"].append(atol / err if err > 0 else 0.0)
+    history["krylov_decades"].append(
+        float(np.log10(krylov.initial / krylov.residual))
+        if krylov.residual > 0 and krylov.initial > 0 else 0.0)
+    history["setup"].append(krylov.setup)
+    if krylov.converged:
+        return None
+    return (f"CG did not reach its tolerance in {krylov.iterations} "
+            "iterations")
 
 
 def _iterate(problem, geometry, multigrid, tol, max_iter, x0, gap_scale,
@@ -221,17 +241,11 @@ def _iterate(problem, geometry, multigrid, tol, max_iter, x0, gap_scale,
         history["step"].append(float(np.linalg.norm(x - u)))
         history["alpha"].append(1.0)
         history["line_search_failed"].append(False)
-        history["krylov"].append(krylov.iterations)
-        history["forcing"].append(atol / err if err > 0 else 0.0)
-        history["krylov_decades"].append(
-            float(np.log10(krylov.initial / krylov.residual))
-            if krylov.residual > 0 and krylov.initial > 0 else 0.0)
-        history["setup"].append(krylov.setup)
+        failure = record_krylov(history, krylov, atol, err)
         u = x
         previous_set, previous_error = active, err
-        if not krylov.converged:
-            status, detail = 5, (f"CG did not reach its tolerance in "
-                                 f"{krylov.iterations} iterations")
+        if failure:
+            status, detail = 5, failure
             break
     message = MESSAGES[status] + (f": {detail}" if detail else "")
     result = dict(
