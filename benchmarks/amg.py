@@ -36,7 +36,6 @@ would not fit the memory): the amg rows alone.
 """
 
 import argparse
-import os
 import sys
 import tempfile
 from pathlib import Path
@@ -45,9 +44,9 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 sys.path.insert(1, str(Path(__file__).resolve().parent.parent))
 
 import processes  # noqa: E402
-from processes import StageError, measure  # noqa: E402
+from processes import measure  # noqa: E402
 from run import installed  # noqa: E402
-from run3d import problem_file  # noqa: E402
+from run3d import sizes_table  # noqa: E402
 
 COLUMNS = ("a/h", "DOFs", "fastest floor [s] (backend)", "direct [s] "
            "(/floor), J", "RSS direct [MB]", "AMG-PCG K u = f [s] (CG)",
@@ -57,10 +56,6 @@ COLUMNS = ("a/h", "DOFs", "fastest floor [s] (backend)", "direct [s] "
            "in contact", "|u − u_direct| / |u_direct|",
            "CPU amg [s] (/AMG-PCG CPU)", "a err % (moment / fit)",
            "p0 fit err %")
-
-
-def row(cells):
-    return "| " + " | ".join(str(cells.get(c, "–")) for c in COLUMNS) + " |"
 
 
 def measure_case(n, npz, backends, direct=True):
@@ -150,19 +145,8 @@ def main(argv=None):
         processes.LOG[:] = [args.log]
     skip = {int(n) for n in args.no_direct.split(",") if n}
     folder = args.workdir or tempfile.mkdtemp(prefix="amg-bench-")
-    print(row({c: c for c in COLUMNS}))
-    print("|" + "---|" * len(COLUMNS), flush=True)
-    for n in (int(x) for x in args.a_over_h.split(",")):
-        npz, _, _ = problem_file(n, folder)
-        print(f"a/h {n}: load average {os.getloadavg()[0]:.1f} before",
-              file=sys.stderr, flush=True)
-        try:
-            print(row(measure_case(n, npz, backends, n not in skip)),
-                  flush=True)
-        except StageError as error:
-            print(f"a/h {n}: {error}", file=sys.stderr, flush=True)
-        print(f"a/h {n}: load average {os.getloadavg()[0]:.1f} after",
-              file=sys.stderr, flush=True)
+    sizes_table((int(x) for x in args.a_over_h.split(",")), folder, COLUMNS,
+                lambda n, npz: measure_case(n, npz, backends, n not in skip))
     return 0
 
 

@@ -36,18 +36,14 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 sys.path.insert(1, str(Path(__file__).resolve().parent.parent))
 
 import processes  # noqa: E402
-from processes import StageError, measure  # noqa: E402
-from run3d import problem_file  # noqa: E402
+from processes import measure  # noqa: E402
+from run3d import sizes_table  # noqa: E402
 
 COLUMNS = ("a/h", "DOFs", "AMG-PCG K u = f [s] (CPU; CG)",
            "amg friction [s] (CPU)", "wall ratio", "CPU ratio",
            "Newton systems per step", "CG per step", "stick / slip (last)",
            "RSS amg [MB]", "direct [s] (CPU)",
            "‖u − u_direct‖ / ‖u_direct‖", "load average")
-
-
-def row(cells):
-    return "| " + " | ".join(str(cells.get(c, "–")) for c in COLUMNS) + " |"
 
 
 def measure_case(n, npz, steps, direct):
@@ -94,19 +90,8 @@ def main(argv=None):
         processes.LOG[:] = [args.log]
     direct = {int(n) for n in args.direct.split(",") if n}
     folder = args.workdir or tempfile.mkdtemp(prefix="amg-friction-")
-    print(row({c: c for c in COLUMNS}))
-    print("|" + "---|" * len(COLUMNS), flush=True)
-    for n in (int(x) for x in args.a_over_h.split(",")):
-        npz, _, _ = problem_file(n, folder)
-        print(f"a/h {n}: load average {os.getloadavg()[0]:.1f} before",
-              file=sys.stderr, flush=True)
-        try:
-            print(row(measure_case(n, npz, args.steps, n in direct)),
-                  flush=True)
-        except StageError as error:
-            print(f"a/h {n}: {error}", file=sys.stderr, flush=True)
-        print(f"a/h {n}: load average {os.getloadavg()[0]:.1f} after",
-              file=sys.stderr, flush=True)
+    sizes_table((int(x) for x in args.a_over_h.split(",")), folder, COLUMNS,
+                lambda n, npz: measure_case(n, npz, args.steps, n in direct))
     return 0
 
 

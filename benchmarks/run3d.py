@@ -140,6 +140,29 @@ def row(cells, names):
     return "| " + " | ".join(str(cells.get(c, "–")) for c in names) + " |"
 
 
+def sizes_table(sizes, folder, names, measure_one):
+    """Print a Markdown table with columns ``names``: one row per a/h in
+    ``sizes``, ``measure_one(n, npz)`` the row's cells for the Hertz sphere
+    at that a/h (made and exported into ``folder`` unless there). A stage
+    that fails names its a/h on stderr and the table goes on; the load
+    average before and after each row goes to stderr (the machine is
+    shared)."""
+    import os
+
+    print(row({c: c for c in names}, names))
+    print("|" + "---|" * len(names), flush=True)
+    for n in sizes:
+        npz, _, _ = problem_file(n, folder)
+        print(f"a/h {n}: load average {os.getloadavg()[0]:.1f} before",
+              file=sys.stderr, flush=True)
+        try:
+            print(row(measure_one(n, npz), names), flush=True)
+        except StageError as error:
+            print(f"a/h {n}: {error}", file=sys.stderr, flush=True)
+        print(f"a/h {n}: load average {os.getloadavg()[0]:.1f} after",
+              file=sys.stderr, flush=True)
+
+
 def parse(argv):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--a-over-h", default="8,16,32",
