@@ -54,7 +54,9 @@ def test_same_answer_fewer_jacobians(sphere_4, monkeypatch):
     """The quarter Hertz sphere, f_c = 0.3 in 10 steps: the same u (to
     1e-8, relative) and the same stick and slip sets in every step as the
     run from the free motion, verified on every node, with fewer
-    Jacobians (measured: 30 against 38, at most 4 in a step against 6)."""
+    Jacobians (measured: 27 against 34, at most 4 in a step against 5;
+    with the scalar c_t, ``disc.NODAL_CT = False``, 30 against 38 and 4
+    against 6)."""
     ours = solve_friction(sphere_4, 0.3, steps=10)
     monkeypatch.setattr(start, "EXTRAPOLATE", False)
     before = solve_friction(sphere_4, 0.3, steps=10)

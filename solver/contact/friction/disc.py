@@ -56,7 +56,33 @@ contact (κ = f_c a_i/D_i along ŵ, a_i = [λ_i > 0], from −ŵ ∂b/∂Δu), a
 force row still: the primal system takes the T' row of n_i into that row
 (then unsymmetric, LU); the dual one is not used then (through C the
 coupling would carry C's round-off times f_c,
-:data:`~.newton.DUAL_MAX_FRICTION`)."""
+:data:`~.newton.DUAL_MAX_FRICTION`).
+
+The projection's parameter c_t (:data:`NODAL_CT`). The solution of
+g = P(g − c_t ZRΔu) does not depend on c_t > 0, the Newton iterates do
+(Alart & Curnier 1991's r; Christensen, Klarbring, Pang & Strömberg,
+IJNME 42 (1998) 145-173; Hüeber, Stadler & Wohlmuth 2008's c): |w| =
+|g − c_t Δu_t| against b is a return mapping, the trial traction of a
+node held where the iterate has it slide by Δu_t, and decides which
+nodes a Newton step treats as stuck. A node held against a slip δ
+carries a force between δ/C_ii (the rest of Γc free: the local
+flexibility, the Delassus diagonal of nonsmooth contact dynamics, Jourdan,
+Alart & Jean, CMAME 155 (1998) 31-47) and T_ii δ (the rest held), both
+bounds of the Schur complements of T (C = T⁻¹); in traction units, per
+node i (its free tangents j averaged, so that c_t commutes with the
+per-node blocks ∂P/∂w)
+
+.. math:: c_{t,i} = \operatorname{mean}_j \sqrt{T_{jj}/C_{jj}}\,/\,D_j,
+
+the geometric mean of the two bounds, the one mean that is the same read
+from the primal side (stiffness T) or the dual side (flexibility C). It
+has no constant fitted to a mesh and follows the mesh's grading node by
+node. The scalar k̄/D̄ of :class:`~.system.FrictionSystem` (the mean of
+K's diagonal, which bounds T's from above, over the mean area) took 6
+Jacobians in load steps of a mesh graded toward the contact where this
+c_t takes 5 (benchmarks/README.md, "3D friction: c_t per node from
+the condensed stiffness"). Where T is only semidefinite (no C) the
+scalar stays."""
 
 import warnings
 
@@ -69,7 +95,8 @@ from ...linalg.dense import symmetric_from_upper
 from ...linalg.threads import blas_threads_for
 from .projection import ProjectionSystem, block_diagonal, disc_derivative
 
-__all__ = ["DiscSystem", "DiscJacobian", "REDUCED", "FORM"]
+__all__ = ["DiscSystem", "DiscJacobian", "REDUCED", "FORM", "NODAL_CT",
+           "nodal_parameter"]
 
 #: Solve the Newton systems reduced to the primal or dual unknowns
 #: (module docstring); False: the LU of the whole n×n system (the
@@ -79,6 +106,24 @@ REDUCED = True
 #: Which reduced system: "smaller" (the primal or the dual, whichever is),
 #: or always "primal" or "dual" (tests).
 FORM = "smaller"
+
+#: c_t per contact node from the condensed stiffness, √(T_jj/C_jj)/D_j
+#: (module docstring); False: the scalar k̄/D̄ of
+#: :class:`~.system.FrictionSystem` (the path before, the tests'
+#: reference).
+NODAL_CT = True
+
+
+def nodal_parameter(T_diagonal, C_diagonal, lumped_t, t_free, k, default):
+    """c_t of every tangential unknown (node by node, ``k`` per node):
+    the mean over a node's free tangents of √(T_jj/C_jj)/D_j (module
+    docstring), ``default`` at a node without a free tangent."""
+    value = np.sqrt(T_diagonal / C_diagonal) / lumped_t
+    free = np.reshape(t_free, (-1, k))
+    count = free.sum(axis=1)
+    total = np.where(free, np.reshape(value, (-1, k)), 0.0).sum(axis=1)
+    node = np.where(count > 0, total / np.maximum(count, 1), default)
+    return np.repeat(node, k)
 
 
 class DiscSystem(ProjectionSystem):
@@ -102,6 +147,20 @@ class DiscSystem(ProjectionSystem):
             self._factor = None  # (kind, matrix, solve) of the last one
             self._flexibility = None  # T⁻¹, made when first needed
             self._rotated = None  # T = R S Rᵀ, made when first needed
+            if NODAL_CT and self.m:
+                self.c_t = self._nodal_ct()
+
+    def _nodal_ct(self):
+        """c_t per node (:func:`nodal_parameter`), or the scalar where T
+        is not positive definite (no flexibility C)."""
+        try:
+            C = self.flexibility()
+        except np.linalg.LinAlgError:
+            return self.c_t
+        rows = np.where(self.t_free, self.t_rows, 0)  # e_c: not read
+        return nodal_parameter(np.diagonal(self.T)[rows],
+                               np.diagonal(C)[rows], self.lumped_t,
+                               self.t_free, self.dim - 1, self.c_t)
 
     @property
     def shares_flexibility(self):

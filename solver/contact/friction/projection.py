@@ -175,7 +175,9 @@ class ProjectionSystem(FrictionSystem):
             self._slide(g, du).reshape(m, k), b,
             self.t_free if self.rollers else None)
         blocks = block_diagonal(P)
-        rows_du = blocks @ (self.c_t * self._Rt)
+        # c_t a scalar or one value per tangential unknown (DiscSystem's)
+        rows_du = blocks @ (sp.diags(np.broadcast_to(self.c_t, (self.mt,)))
+                            @ self._Rt)
         if db is not None:  # −∂P/∂b db = −ŵ db at slip nodes
             rows_du = rows_du - sp.diags(slip_hat.ravel()) @ sp.csr_matrix(
                 db[np.repeat(np.arange(m), k)])
