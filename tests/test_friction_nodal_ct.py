@@ -19,6 +19,7 @@ import numpy as np
 
 # the a/h = 4 quarter Hertz sphere (a module fixture)
 from test_friction_start import sphere_4  # noqa: F401
+from test_friction_extrapolated import same_answer
 from solver import solve_friction
 from solver.contact.friction import disc
 
@@ -80,14 +81,6 @@ def test_same_answer_no_more_jacobians(sphere_4, monkeypatch):
     relative) and the same stick, slip and contact sets in every step as
     the run with the scalar c_t, verified on every node, and no more
     Jacobians (measured: 27 against 30, at most 4 in a step)."""
-    ours = solve_friction(sphere_4, 0.3, steps=10)
-    monkeypatch.setattr(disc, "NODAL_CT", False)
-    before = solve_friction(sphere_4, 0.3, steps=10)
-    for run in (ours, before):
-        assert run.success and run.verification["passed"]
-    assert np.abs(ours.u - before.u).max() <= 1e-8 * np.abs(before.u).max()
-    for key in ("stick", "slip", "in_contact"):
-        assert np.array_equal(getattr(ours, key), getattr(before, key))
-    assert ours.stick[-1].any() and ours.slip[-1].any()
+    ours, before = same_answer(sphere_4, monkeypatch, disc, "NODAL_CT")
     assert ours.njev <= before.njev
     assert max(r["njev"] for r in ours.records) <= 4
