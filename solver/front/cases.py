@@ -144,11 +144,6 @@ def _amg(where, reason, applies):
 #: What the iterative path (backend="amg": the active set method, its
 #: Newton systems by AMG-preconditioned CG) does not do yet.
 AMG_REFUSALS = (
-    ("friction with coulomb='implicit'", "the implicit bound f_c p(u) "
-     "ties a slip node's tangential rows to its normal reaction, a "
-     "nonsymmetric Newton system that projected CG does not take (GMRES "
-     "on it is not built yet); use coulomb='lagged' or a factorisation",
-     lambda c, s, g: c.contact == "friction" and s["coulomb"] == "implicit"),
     ("friction with formulation='thesis'", "the active set method solves "
      "the projection formulation; use formulation='projection' (the "
      "default) or a factorisation",
