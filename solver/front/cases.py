@@ -149,10 +149,6 @@ AMG_REFUSALS = (
      "default) or a factorisation",
      lambda c, s, g: c.contact == "friction"
      and s["formulation"] == "thesis"),
-    ("two bodies with friction", "the active set method's friction "
-     "eliminates the tractions of nodes against a rigid obstacle; the "
-     "mortar's friction on it is not built yet; use a factorisation",
-     lambda c, s, g: c.contact == "friction" and c.bodies == "two-body"),
     ("discrete problems", "its near-null space is the rigid-body modes "
      "of meshed bodies (no mesh here)",
      lambda c, s, g: c.bodies not in ("rigid", "two-body")),
