@@ -23,19 +23,10 @@ import scipy.sparse.linalg as sla
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 from test_amg import hertz_sphere  # noqa: E402
-from test_amg_friction import same_answer  # noqa: E402
-from test_friction3d import dragged_block, friction_vector  # noqa: E402
+from test_amg_friction import (block_454, full_slip,  # noqa: E402,F401
+                               pytestmark, same_answer)
 from solver import solve  # noqa: E402
 from solver.linalg import amg  # noqa: E402
-from solver.problem import load_problem  # noqa: E402
-
-pytestmark = pytest.mark.skipif(not amg.available(),
-                                reason="pyamg not installed (.[amg])")
-
-
-@pytest.fixture(scope="module")
-def block_454(exported):
-    return load_problem(exported(454)[0])
 
 
 def test_projected_gmres_equals_the_direct_solve():
@@ -95,26 +86,6 @@ def test_full_slip_friction_is_fc_times_the_current_normal_force(theta):
     bound is f_c times the normal force of this step's answer (not the
     last step's), and Σ D g_t = f_c × Σ D λ to 1e-8 against the drag;
     the factorisation's u to 1e-7."""
-    angle = np.radians(theta)
-    problem, geometry, _, _ = dragged_block(angle, 0.05)
-    fc = 0.3
-    result = solve(problem, friction=fc, geometry=geometry, backend="amg",
-                   coulomb="implicit", tol=1e-12)
-    assert result.success, result.message
-    assert result.verification["passed"]
-    contact = result.in_contact[-1]
-    assert contact.sum() >= 0.8 * len(geometry.index)
-    assert np.array_equal(result.slip[-1], contact)
-    lumped = np.asarray(problem.M.sum(axis=1)).ravel()
-    normal_total = (lumped * result.friction_bound[-1]).sum()
-    assert normal_total == pytest.approx(
-        fc * result.contact_force[-1].sum(), rel=1e-10)
-    vector = friction_vector(problem, geometry, result)
-    size = np.linalg.norm(vector)
-    assert abs(size / normal_total - 1) <= 1e-8
-    drag = np.array([np.cos(angle), np.sin(angle), 0.0])
-    assert vector @ drag / size <= -(1 - 1e-6)
-    direct = solve(problem, friction=fc, geometry=geometry, tol=1e-12,
-                   coulomb="implicit")
-    assert np.linalg.norm(result.u - direct.u) \
-        <= 1e-7 * np.linalg.norm(direct.u)
+    result, _, normal = full_slip(theta, "implicit")
+    assert normal == pytest.approx(result.contact_force[-1].sum(),
+                                   rel=1e-10)
