@@ -89,3 +89,24 @@ def test_full_slip_friction_is_fc_times_the_current_normal_force(theta):
     result, _, normal = full_slip(theta, "implicit")
     assert normal == pytest.approx(result.contact_force[-1].sum(),
                                    rel=1e-10)
+
+
+def test_projected_path_equals_the_eliminated(block_454, monkeypatch):
+    """Where R is not orthogonal the implicit bound's systems are solved
+    by projected GMRES with K's own V-cycle (forced here by declaring R
+    not orthogonal): the same u to 1e-8 and the same sets as the
+    eliminated systems, f_c = 0.3, 10 steps."""
+    from solver.contact.friction import active_set
+
+    eliminated = solve(block_454, friction=0.3, steps=10,
+                       coulomb="implicit", backend="amg")
+    monkeypatch.setattr(active_set, "is_orthogonal", lambda R: False)
+    projected = solve(block_454, friction=0.3, steps=10, coulomb="implicit",
+                      backend="amg")
+    for result in (eliminated, projected):
+        assert result.success and result.verification["passed"]
+    for a, b in zip(eliminated.displacement, projected.displacement):
+        assert np.linalg.norm(a - b) <= 1e-8 * np.linalg.norm(b)
+    for key in ("in_contact", "stick", "slip"):
+        for a, b in zip(getattr(eliminated, key), getattr(projected, key)):
+            assert np.array_equal(a, b), key
