@@ -1,12 +1,13 @@
 """3D friction on the iterative path (issue 33: "3D friction, 10 load steps
 at a/h 48: ≤ 30× one AMG-PCG solve of K u = f to 1e-8 in the same run"):
-the Hertz sphere, f_c = 0.3, lagged bound, ``backend="amg"``.
+the Hertz sphere, f_c = 0.3, lagged bound (``--coulomb implicit``: the
+implicit bound, each Newton system by GMRES), ``backend="amg"``.
 
 Usage::
 
     python benchmarks/amg_friction.py [--a-over-h 16,32] [--steps 10]
                                       [--direct 16] [--workdir DIR]
-                                      [--log FILE]
+                                      [--coulomb implicit] [--log FILE]
 
 One row per a/h (the exports of ``run3d.py``: ``hsN.npz`` in
 ``--workdir``, made if missing). Every measurement runs in a fresh process
@@ -41,30 +42,30 @@ from run3d import sizes_table  # noqa: E402
 
 COLUMNS = ("a/h", "DOFs", "AMG-PCG K u = f [s] (CPU; CG)",
            "amg friction [s] (CPU)", "wall ratio", "CPU ratio",
-           "Newton systems per step", "CG per step", "stick / slip (last)",
+           "Newton systems per step", "Krylov per step", "stick / slip (last)",
            "RSS amg [MB]", "direct [s] (CPU)",
            "‖u − u_direct‖ / ‖u_direct‖", "load average")
 
 
-def measure_case(n, npz, steps, direct):
+def measure_case(n, npz, steps, direct, coulomb="lagged"):
     cells = {"a/h": n}
     load = [f"{os.getloadavg()[0]:.1f}"]
     if direct:
-        r = measure(npz, "friction3d", "auto", steps, "reduced")
+        r = measure(npz, "friction3d", "auto", steps, "reduced", coulomb)
         cells["direct [s] (CPU)"] = f"{r['time']:.3g} ({r['cpu']:.3g})"
     r = measure(npz, "amg_floor")
     cells["DOFs"] = f"{r['dofs']:,}"
     pcg, pcg_cpu = r["time"], r["cpu"]
     cells["AMG-PCG K u = f [s] (CPU; CG)"] = \
         f"{pcg:.3g} ({pcg_cpu:.3g}; {r['krylov']})"
-    r = measure(npz, "amg_friction", "auto", steps)
+    r = measure(npz, "amg_friction", "auto", steps, coulomb)
     load.append(f"{os.getloadavg()[0]:.1f}")
     cells["amg friction [s] (CPU)"] = f"{r['time']:.3g} ({r['cpu']:.3g})"
     cells["wall ratio"] = f"{r['time'] / pcg:.1f}"
     cells["CPU ratio"] = f"{r['cpu'] / pcg_cpu:.1f}"
     cells["Newton systems per step"] = \
         f"{r['J']} ({'/'.join(map(str, r['J_steps']))})"
-    cells["CG per step"] = \
+    cells["Krylov per step"] = \
         f"{sum(r['krylov_steps'])} ({'/'.join(map(str, r['krylov_steps']))})"
     cells["stick / slip (last)"] = f"{r['stick'][-1]} / {r['slip'][-1]}"
     cells["RSS amg [MB]"] = f"{r['peak_rss_mb']:.0f}"
@@ -84,6 +85,9 @@ def main(argv=None):
     parser.add_argument("--direct", default="16",
                         help="comma-separated a/h also run factorised")
     parser.add_argument("--workdir", help="keep and reuse exports here")
+    parser.add_argument("--coulomb", choices=("lagged", "implicit"),
+                        default="lagged", help="the bound (implicit: "
+                        "GMRES per Newton system)")
     parser.add_argument("--log")
     args = parser.parse_args(argv)
     if args.log:
@@ -91,7 +95,8 @@ def main(argv=None):
     direct = {int(n) for n in args.direct.split(",") if n}
     folder = args.workdir or tempfile.mkdtemp(prefix="amg-friction-")
     sizes_table((int(x) for x in args.a_over_h.split(",")), folder, COLUMNS,
-                lambda n, npz: measure_case(n, npz, args.steps, n in direct))
+                lambda n, npz: measure_case(n, npz, args.steps, n in direct,
+                                            args.coulomb))
     return 0
 
 

@@ -136,15 +136,17 @@ def friction(problem, backend, steps, coulomb="lagged", method="min",
             "enlarged": screening.get("enlarged"), "message": r.message}
 
 
-def friction3d(problem, backend, steps, newton, path):
+def friction3d(problem, backend, steps, newton, path, coulomb="lagged"):
     from solver.contact.friction import disc
 
     disc.REDUCED = newton == "reduced"
     get_backend(resolve(backend))
     with Clock() as clock:
-        r = solve(problem, friction=0.3, steps=steps, backend=backend)
-    np.save(f"{path}.friction.{newton}.npy", r.u)
-    other = Path(f"{path}.friction."
+        r = solve(problem, friction=0.3, steps=steps, backend=backend,
+                  coulomb=coulomb)
+    tag = "" if coulomb == "lagged" else f".{coulomb}"
+    np.save(f"{path}.friction{tag}.{newton}.npy", r.u)
+    other = Path(f"{path}.friction{tag}."
                  f"{'whole' if newton == 'reduced' else 'reduced'}.npy")
     out = {**clock.times, "J": r.njev, "F": r.nfev,
            "converged": bool(r.success),
@@ -186,10 +188,12 @@ def iterative(problem, path, reference):
     return out
 
 
-def iterative_friction(problem, steps, path):
+def iterative_friction(problem, steps, path, coulomb="lagged"):
     with Clock() as clock:
-        r = solve(problem, friction=0.3, steps=steps, backend="amg")
-    np.save(f"{path}.friction.amg.npy", r.u)
+        r = solve(problem, friction=0.3, steps=steps, backend="amg",
+                  coulomb=coulomb)
+    tag = "" if coulomb == "lagged" else f".{coulomb}"
+    np.save(f"{path}.friction{tag}.amg.npy", r.u)
     out = {**clock.times, "J": r.njev, "converged": bool(r.success),
            "verified": bool(r.verification["passed"]),
            "J_steps": [x["njev"] for x in r.records],
@@ -198,7 +202,7 @@ def iterative_friction(problem, steps, path):
            "stick": [x["n_stick"] for x in r.records],
            "slip": [x["n_slip"] for x in r.records], "amg": r.engine,
            "message": r.message}
-    direct = Path(f"{path}.friction.reduced.npy")
+    direct = Path(f"{path}.friction{tag}.reduced.npy")
     if direct.exists():  # the friction3d stage's (factorisation) answer
         u = np.load(direct)
         out["agreement"] = float(np.linalg.norm(r.u - u)
@@ -253,11 +257,13 @@ def main(argv):
         out.update(friction(problem, backend, int(argv[3]), *argv[4:6],
                             read=stage == "friction_read"))
     elif stage == "friction3d":
-        out.update(friction3d(problem, backend, int(argv[3]), argv[4], path))
+        out.update(friction3d(problem, backend, int(argv[3]), argv[4], path,
+                              *argv[5:6]))
     elif stage == "amg":
         out.update(iterative(problem, path, f"{path}.min.{backend}.npy"))
     elif stage == "amg_friction":
-        out.update(iterative_friction(problem, int(argv[3]), path))
+        out.update(iterative_friction(problem, int(argv[3]), path,
+                                      *argv[4:5]))
     elif stage == "amg_floor":
         out.update(iterative_floor(problem))
     elif stage in ("clarabel", "sfepy"):

@@ -125,7 +125,6 @@ def test_amg_equals_the_factorisation(name, request):
 
 
 @pytest.mark.parametrize("options, reason", [
-    (dict(friction=0.3, coulomb="implicit"), "implicit bound"),
     (dict(friction=0.3, formulation="thesis"), "projection formulation"),
     (dict(method="fb"), "φ_min"),
     (dict(system="condensed"), "condensing onto Γc factorises K"),

@@ -94,16 +94,17 @@ def test_sphere_3d_equals_the_factorisation(sphere_4, monkeypatch):
     assert max(r["njev"] for r in iterative.records) <= 10
 
 
-@pytest.mark.parametrize("theta", [30.0, 120.0])
-def test_full_slip_friction_is_fc_times_normal_force(theta):
-    """A block pressed, then dragged along (cos θ, sin θ, 0): every node
-    in contact slips and Σ D g_t = f_c × the bound's normal force to 1e-8,
-    opposite to the drag; the factorisation's u to 1e-7."""
+def full_slip(theta, coulomb="lagged"):
+    """A block pressed, then dragged along (cos θ, sin θ, 0) on the AMG
+    path with ``coulomb``: every node in contact slips, Σ D g_t = f_c ×
+    the bound's normal force to 1e-8, opposite to the drag; the
+    factorisation's u to 1e-7. Returns (the result, f_c, the bound's
+    total normal force Σ D b / f_c)."""
     angle = np.radians(theta)
     problem, geometry, _, _ = dragged_block(angle, 0.05)
     fc = 0.3
     result = solve(problem, friction=fc, geometry=geometry, backend="amg",
-                   tol=1e-12)
+                   coulomb=coulomb, tol=1e-12)
     assert result.success, result.message
     assert result.verification["passed"]
     contact = result.in_contact[-1]
@@ -116,9 +117,19 @@ def test_full_slip_friction_is_fc_times_normal_force(theta):
     assert abs(size / normal_total - 1) <= 1e-8
     drag = np.array([np.cos(angle), np.sin(angle), 0.0])
     assert vector @ drag / size <= -(1 - 1e-6)
-    direct = solve(problem, friction=fc, geometry=geometry, tol=1e-12)
+    direct = solve(problem, friction=fc, geometry=geometry, tol=1e-12,
+                   coulomb=coulomb)
     assert np.linalg.norm(result.u - direct.u) \
         <= 1e-7 * np.linalg.norm(direct.u)
+    return result, fc, normal_total / fc
+
+
+@pytest.mark.parametrize("theta", [30.0, 120.0])
+def test_full_slip_friction_is_fc_times_normal_force(theta):
+    """A block pressed, then dragged along (cos θ, sin θ, 0): every node
+    in contact slips and Σ D g_t = f_c × the bound's normal force to 1e-8,
+    opposite to the drag; the factorisation's u to 1e-7."""
+    full_slip(theta)
 
 
 def test_full_stick_balances_the_drag():

@@ -144,20 +144,11 @@ def _amg(where, reason, applies):
 #: What the iterative path (backend="amg": the active set method, its
 #: Newton systems by AMG-preconditioned CG) does not do yet.
 AMG_REFUSALS = (
-    ("friction with coulomb='implicit'", "the implicit bound f_c p(u) "
-     "ties a slip node's tangential rows to its normal reaction, a "
-     "nonsymmetric Newton system that projected CG does not take (GMRES "
-     "on it is not built yet); use coulomb='lagged' or a factorisation",
-     lambda c, s, g: c.contact == "friction" and s["coulomb"] == "implicit"),
     ("friction with formulation='thesis'", "the active set method solves "
      "the projection formulation; use formulation='projection' (the "
      "default) or a factorisation",
      lambda c, s, g: c.contact == "friction"
      and s["formulation"] == "thesis"),
-    ("two bodies with friction", "the active set method's friction "
-     "eliminates the tractions of nodes against a rigid obstacle; the "
-     "mortar's friction on it is not built yet; use a factorisation",
-     lambda c, s, g: c.contact == "friction" and c.bodies == "two-body"),
     ("discrete problems", "its near-null space is the rigid-body modes "
      "of meshed bodies (no mesh here)",
      lambda c, s, g: c.bodies not in ("rigid", "two-body")),

@@ -48,7 +48,8 @@ import numpy as np
 import scipy.sparse as sp
 
 __all__ = ["NAME", "EXTRA", "REQUIRES", "LICENCE", "available",
-           "rigid_body_modes", "Multigrid", "projected_cg", "KrylovResult",
+           "rigid_body_modes", "Multigrid", "projected_cg", "projected_gmres",
+           "KrylovResult", "GMRES_RESTART",
            "factor_memory", "available_memory", "direct_fits",
            "FACTOR_OVERHEAD", "MEMORY_SHARE", "SMOOTHER"]
 
@@ -201,7 +202,8 @@ class Multigrid:
 
 
 class KrylovResult:
-    """What :func:`projected_cg` did: ``x``, ``iterations``,
+    """What :func:`projected_cg` (``method`` "CG") or
+    :func:`projected_gmres` ("GMRES") did: ``x``, ``iterations``,
     ``converged``, ``residual`` ‖P(f − Kx)‖₂ at the end and ``initial``
     at the start (their ratio: the reduction this solve achieved);
     ``setup``: the seconds of a preconditioner built for this solve alone
@@ -212,6 +214,7 @@ class KrylovResult:
         self.converged, self.residual = converged, residual
         self.initial = residual if initial is None else initial
         self.setup = 0.0
+        self.method = "CG"
 
 
 def projected_cg(K, f, precondition, x0, C=None, atol=0.0, maxiter=None):
@@ -254,6 +257,82 @@ def projected_cg(K, f, precondition, x0, C=None, atol=0.0, maxiter=None):
         p *= rz / rz_old
         p += z
     return KrylovResult(x, maxiter, False, norm, initial)
+
+
+#: The Krylov basis of :func:`projected_gmres` before it restarts.
+GMRES_RESTART = 60
+
+
+def _projector(C):
+    """v ↦ P v, P = I − Cᵀ(CCᵀ)⁻¹C for sparse rows C with disjoint
+    supports (CCᵀ diagonal); the identity for None or no rows."""
+    if C is None or not C.shape[0]:
+        return lambda v: v
+    C = sp.csr_matrix(C)
+    d_inv = 1.0 / np.asarray(C.multiply(C).sum(axis=1)).ravel()
+    return lambda v: v - C.T @ (d_inv * (C @ v))
+
+
+def projected_gmres(A, f, precondition, x0, C=None, atol=0.0, maxiter=None,
+                    restart=GMRES_RESTART):
+    r"""Solve P A x = P f on {x : C x = C x0} for a nonsymmetric A (an
+    operator with ``@``) by right-preconditioned restarted GMRES (Saad &
+    Schultz, SISSC 7, 1986; Saad, *Iterative methods for sparse linear
+    systems*, 2nd ed., SIAM 2003, Alg. 9.5): the iterate is x0 + Z y with
+    the columns of Z = P M P V (M ``precondition``, the V-cycle of A's
+    symmetric part), so every iterate keeps the constraints and the
+    residual GMRES minimises is the true one, ‖P(f − Ax)‖₂; that is the
+    norm of ``atol``, as :func:`projected_cg`'s. ``C`` as there (None: no
+    constraint). Stops when the residual is ≤ ``atol`` or after
+    ``maxiter`` iterations (default n), restarting every ``restart``."""
+    project = _projector(C)
+    x = np.array(x0, float)
+    n = len(x)
+    maxiter = n if maxiter is None else int(maxiter)
+    r = project(f - A @ x)
+    norm = initial = float(np.linalg.norm(r))
+    iterations = 0
+    while norm > atol and iterations < maxiter:
+        size = min(restart, maxiter - iterations)
+        V = np.zeros((size + 1, n))
+        Z = np.zeros((size, n))
+        H = np.zeros((size + 1, size))
+        cs, sn = np.zeros(size), np.zeros(size)
+        e = np.zeros(size + 1)
+        e[0] = norm
+        V[0] = r / norm
+        j = 0
+        for j in range(size):
+            Z[j] = project(precondition(V[j]))
+            w = project(A @ Z[j])
+            for i in range(j + 1):  # modified Gram–Schmidt
+                H[i, j] = w @ V[i]
+                w -= H[i, j] * V[i]
+            H[j + 1, j] = np.linalg.norm(w)
+            if H[j + 1, j] > 0:
+                V[j + 1] = w / H[j + 1, j]
+            for i in range(j):  # the earlier Givens rotations
+                H[i, j], H[i + 1, j] = (cs[i] * H[i, j] + sn[i] * H[i + 1, j],
+                                        -sn[i] * H[i, j] + cs[i] * H[i + 1, j])
+            rho = np.hypot(H[j, j], H[j + 1, j])
+            cs[j], sn[j] = (H[j, j] / rho, H[j + 1, j] / rho) if rho > 0 \
+                else (1.0, 0.0)
+            H[j, j], H[j + 1, j] = rho, 0.0
+            e[j + 1], e[j] = -sn[j] * e[j], cs[j] * e[j]
+            iterations += 1
+            if abs(e[j + 1]) <= atol or rho == 0:
+                break
+        j += 1
+        y = np.linalg.solve(np.triu(H[:j, :j]), e[:j]) if H[j - 1, j - 1] \
+            else np.linalg.lstsq(np.triu(H[:j, :j]), e[:j], rcond=None)[0]
+        x += y @ Z[:j]
+        r = project(f - A @ x)
+        last, norm = norm, float(np.linalg.norm(r))
+        if not norm < last:  # no progress (breakdown): give up
+            break
+    out = KrylovResult(x, iterations, norm <= atol, norm, initial)
+    out.method = "GMRES"
+    return out
 
 
 def factor_memory(K):

@@ -1,9 +1,9 @@
 r"""Coulomb friction on the iterative path (``backend="amg"``): each load
-step of the projection formulation (:mod:`.projection`, lagged bound) by
-the primal–dual active set method of Hüeber, Stadler & Wohlmuth (SISC 30,
-2008), its Newton systems by AMG-preconditioned CG on the primal system
-with the constrained DOFs eliminated (or projected); nothing mesh-sized
-is factorised.
+step of the projection formulation (:mod:`.projection`, lagged or
+implicit bound) by the primal–dual active set method of Hüeber, Stadler
+& Wohlmuth (SISC 30, 2008), its Newton systems by AMG-preconditioned CG
+(GMRES for the implicit bound) on the primal system with the constrained
+DOFs eliminated (or projected); nothing mesh-sized is factorised.
 
 The step's unknowns are u = u_{κ−1} + Δu and the tractions g; the
 tangential equilibrium rows r_t(u) = D g (r = R(Ku − f_κ), D the lumped
@@ -26,15 +26,41 @@ method (semismooth Newton with φ_min on the projection rows g = P(w)):
   direction carries the bound as a load, and the direction across it a
   spring k_e = D c_t q/(1 − q) ≥ 0. In 2D the slip rows are pure loads.
   A zero radius (b = 0: no contact at step κ−1) leaves the node free.
+  In 2D, a slip node whose direction turned against the last iterate's
+  (ŵ = −ŵ_prev) twice in a row is put in the stick set for the next
+  system: there ŵ is a sign, and a node whose answer sticks can
+  otherwise alternate between the two slip directions for ever (seen on
+  the Hertz cylinders between two bodies: 40 systems without progress).
+  Like the spring, this shapes only the Newton path; the stopping test
+  is the formulation's.
+
+Two bodies (dual mortar) come as their nodewise equivalent in v = T u
+(:mod:`solver.contact.two_body`): the slave node's v is its displacement
+relative to the master's, so the same sets, rows and eliminations apply
+to the weighted slip, with K̃ = T⁻ᵀKT⁻¹ and each body's rigid modes
+through T as the hierarchy's near-null space.
 
 The "nonsymmetric" linearised slip term of Hüeber, Stadler & Wohlmuth is
 symmetric here because g has been eliminated with the lagged radius: the
 Newton system is the SPD K + Σ k_e v vᵀ (v = R_tᵀe, one rank-one spring
 per 3D slip node) on the affine set of the normal and stick constraints.
 The spring only shapes the Newton path: at a fixed point g·e = 0, so the
-answer is that of the factorisation path. The implicit bound f_c p(u)
-would tie the slip rows to the normal reaction, which is not symmetric;
-it is refused (front/cases.py).
+answer is that of the factorisation path.
+
+The implicit bound b = f_c p(u) (``coulomb="implicit"``): p = −r_n/D is
+linear in u, so the slip rows g·ŵ = b are the linear rows
+r_t·ŵ + f_c r_n = 0, the normal reaction's row added f_c ŵ times to the
+node's tangential rows (N of :func:`_bound_rows`): the Newton matrix is
+K + S + Rᵀ N R K, nonsymmetric, and is solved by right-preconditioned
+GMRES (:func:`~solver.linalg.amg.projected_gmres`) with the V-cycle of
+its symmetric part K + S, the same hierarchy as the lagged bound's. The
+sets are decided with the bound measured as the active set is,
+b = f_c max(λ − c(s − u_n), 0)/D (the quantity of the normal sets, as
+in Hüeber, Stadler & Wohlmuth's bound), which equals f_c p at a fixed
+point; a node leaving the
+active set thus carries no friction, and a node entering it has a bound
+from its first Newton system on (with f_c λ/D the pressing step of a
+dragged block cycled between two sets).
 
 Where R is orthogonal (:func:`~..frictionless.active_set.is_orthogonal`)
 the constraints fix DOFs of y = R u, the active normals and the stick
@@ -69,7 +95,7 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.optimize import OptimizeResult
 
-from ...linalg.amg import projected_cg
+from ...linalg.amg import projected_cg, projected_gmres
 from ...linalg.threads import single_blas_thread
 from ...ncp import MESSAGES
 from ..frictionless.active_set import (ETA_GAMMA, ETA_MAX, ETA_MIN,
@@ -170,8 +196,9 @@ class IterativeSpace(FullSystem):
 def solve_step(system, multigrid, x0, load, tol, max_iter, hertz=False,
                K_hat=None):
     """One load step of ``system`` (a :class:`~.projection.
-    ProjectionSystem` on the full K, lagged bound, its step set) by the
-    active set method of the module, each Newton system by projected CG
+    ProjectionSystem` on the full K, lagged or implicit bound, its step
+    set) by the active set method of the module, each Newton system by
+    projected CG (GMRES for the implicit bound)
     preconditioned by ``multigrid``, from x0 = [Δu; ĝ] (only Δu is used:
     g follows from u). ``hertz``: the first system may give the free
     solution, and then the next set is :func:`~..frictionless.active_set.
@@ -201,6 +228,33 @@ class _Springs:
         return out
 
 
+class _Coupled:
+    """A + Rᵀ N R K as an operator for :func:`projected_gmres`: the
+    springs' ``A`` (:class:`_Springs`) with the implicit bound's rows N
+    (in rotated coordinates) applied to the rotated K u."""
+
+    def __init__(self, A, R, N, K):
+        self.A, self.R, self.N, self.K = A, R, N, K
+        self.shape = K.shape
+
+    def __matmul__(self, x):
+        return self.A @ x + self.R.T @ (self.N @ (self.R @ (self.K @ x)))
+
+
+def _bound_rows(system, slip, hat, n):
+    """N (n, n) sparse in rotated coordinates: f_c ŵ_j in the row of each
+    free tangent j of a slip node and the column of its normal, so that
+    the rows r_t + N r (r = R(Ku − f)) say D g·ŵ = r_t·ŵ = −f_c r_n, the
+    implicit bound D b = f_c λ (module docstring)."""
+    m, k = hat.shape
+    rows = system.t_rows.reshape(m, k)
+    use = slip[:, None] & system.t_free.reshape(m, k)
+    columns = np.broadcast_to(system.n_rows[:, None], (m, k))
+    return sp.csr_matrix((system.friction * hat[use], (rows[use],
+                                                        columns[use])),
+                         shape=(n, n))
+
+
 def _iterate(system, multigrid, x0, load, tol, max_iter, hertz, K_hat):
     clock = time.perf_counter()
     n, m, k = system.n, system.m, system.dim - 1
@@ -216,6 +270,7 @@ def _iterate(system, multigrid, x0, load, tol, max_iter, hertz, K_hat):
     C_n = R[n_rows].tocsr()
     R_t = R[free_rows].tocsr()  # the free tangential rows
     mask = t_free.reshape(m, k).astype(float)
+    implicit = system.coulomb == "implicit"
     b, _ = system.bound(np.zeros(n), derivative=False)  # lagged: f_c p_{κ−1}
     u = u_previous + np.asarray(x0[:n], float)
     history = {key: [] for key in ("residual", "error", "merit", "alpha",
@@ -223,6 +278,7 @@ def _iterate(system, multigrid, x0, load, tol, max_iter, hertz, K_hat):
                                    "krylov", "forcing", "krylov_decades",
                                    "setup")}
     previous_sets, previous_error, eta = None, None, ETA_MAX
+    previous_hat = previous_slip = previous_turned = None
     free_solve = False
     status, detail, njev, nfev = 1, "", 0, 0
     x = None
@@ -246,6 +302,9 @@ def _iterate(system, multigrid, x0, load, tol, max_iter, hertz, K_hat):
         lam = -r[n_rows]
         un = C_n @ u
         active = lam - c * (s - un) > 0
+        if implicit:  # f_c p at the iterate, by the active set's measure
+            b = system.friction * np.maximum(lam - c * (s - un), 0.0) \
+                / lumped
         if free_solve:  # the free solution was just solved: Hertz's set
             free_solve, first = False, hertz_start(un - s)
             if first is not None:
@@ -258,6 +317,15 @@ def _iterate(system, multigrid, x0, load, tol, max_iter, hertz, K_hat):
         slip = ~stick & (b > 0)
         hat = np.divide(w, size[:, None], out=np.zeros_like(w),
                         where=size[:, None] > 0)
+        turned = np.zeros(m, bool)
+        if previous_hat is not None and k == 1:  # the slip turned back
+            turned = slip & previous_slip & (
+                np.einsum("ij,ij->i", hat, previous_hat) < 0)
+        previous_hat, previous_slip = hat, slip
+        if previous_turned is not None:  # twice in a row: stick
+            flipping = turned & previous_turned
+            stick, slip = stick | flipping, slip & ~flipping
+        previous_turned = turned
         sets = (active, stick, slip)
         final = previous_sets is not None and all(
             np.array_equal(a, p) for a, p in zip(sets, previous_sets))
@@ -284,9 +352,14 @@ def _iterate(system, multigrid, x0, load, tol, max_iter, hertz, K_hat):
             and not stick.any()
         # the loads and springs of the slip nodes (module docstring)
         force = np.zeros(system.mt)
-        force[slip.repeat(k)] = ((lumped * b)[slip, None]
-                                 * hat[slip]).ravel()
-        rhs = f + R[t_rows[t_free]].T @ force[t_free]
+        N = None
+        if implicit:  # D g·ŵ = −f_c r_n: rows N of the Newton system
+            N = _bound_rows(system, slip, hat, n)
+            rhs = f.copy()
+        else:
+            force[slip.repeat(k)] = ((lumped * b)[slip, None]
+                                     * hat[slip]).ravel()
+            rhs = f + R[t_rows[t_free]].T @ force[t_free]
         V, spring, W, S = None, None, None, None
         if k == 2 and slip.any():
             across = np.column_stack([-hat[:, 1], hat[:, 0]]) * mask
@@ -323,9 +396,22 @@ def _iterate(system, multigrid, x0, load, tol, max_iter, hertz, K_hat):
             int(active.sum()):]])
         row_norm = np.asarray(C.multiply(C).sum(axis=1)).ravel()
         start = u + C.T @ ((target - C @ u) / row_norm)
-        if K_hat is not None and (len(constrained) or S is not None):
-            krylov, u_next = eliminated_step(K_hat, R @ rhs, R, multigrid,
-                                             constrained, start, atol, S)
+        if K_hat is not None and (len(constrained) or S is not None
+                                  or N is not None):
+            f_hat = R @ rhs
+            coupling = None
+            if N is not None:
+                f_hat = f_hat + N @ Rf
+                coupling = (N @ K_hat).tocsr()
+            krylov, u_next = eliminated_step(K_hat, f_hat, R, multigrid,
+                                             constrained, start, atol, S,
+                                             coupling)
+        elif N is not None:
+            krylov = projected_gmres(
+                _Coupled(_Springs(K, V, spring), R, N, K),
+                rhs + R.T @ (N @ Rf), multigrid, start, C, atol=atol,
+                maxiter=KRYLOV_MAX)
+            u_next = krylov.x
         else:
             krylov = projected_cg(_Springs(K, V, spring), rhs, multigrid,
                                   start, C, atol=atol, maxiter=KRYLOV_MAX)

@@ -66,7 +66,7 @@ import time
 import numpy as np
 import scipy.sparse as sp
 
-from ...linalg.amg import projected_cg
+from ...linalg.amg import projected_cg, projected_gmres
 from ...linalg.threads import single_blas_thread
 from ...ncp import MESSAGES, stable_norm
 from ..geometry import rotate_stiffness, rotation
@@ -130,22 +130,33 @@ def is_orthogonal(R):
 
 
 def eliminated_step(K_hat, f_hat, R, multigrid, fixed, start, atol,
-                    spring=None):
+                    spring=None, coupling=None):
     """One Newton system on the eliminated K̂_FF (module docstring): the
     DOFs ``fixed`` of y = R ``start`` keep their values, the others solve
     K̂_FF y_F = (f̂ − K̂ y_fixed)_F by CG preconditioned with
     ``multigrid.eliminated`` to ‖·‖ ≤ ``atol`` (the norm of P_A(f − Ku),
     R being orthogonal). ``spring``: S (n, n) in y, zero on the fixed rows
-    and columns, added to K̂ (friction's slip springs). Returns (the
-    KrylovResult, with ``setup`` the seconds of the hierarchy, and u =
-    Rᵀ y)."""
+    and columns, added to K̂ (friction's slip springs). ``coupling``: a
+    nonsymmetric sparse N (n, n) in y added to K̂ + S (friction's implicit
+    bound, :mod:`..friction.active_set`): the system is then solved by
+    right-preconditioned GMRES with the same V-cycle, that of the
+    symmetric K̂ + S. Returns (the KrylovResult, with ``setup`` the
+    seconds of the hierarchy, and u = Rᵀ y)."""
     keep = np.ones(len(f_hat), bool)
     keep[fixed] = False
     y = R @ start
-    b = (f_hat - K_hat @ np.where(keep, 0.0, y))[keep]
+    y_fixed = np.where(keep, 0.0, y)
+    b = (f_hat - K_hat @ y_fixed)[keep]
     preconditioner = multigrid.eliminated(K_hat, R, keep, spring)
-    krylov = projected_cg(preconditioner.matrix, b, preconditioner,
-                          y[keep], atol=atol, maxiter=KRYLOV_MAX)
+    if coupling is None:
+        krylov = projected_cg(preconditioner.matrix, b, preconditioner,
+                              y[keep], atol=atol, maxiter=KRYLOV_MAX)
+    else:
+        coupling = sp.csr_matrix(coupling)
+        b = b - (coupling @ y_fixed)[keep]
+        A = (preconditioner.matrix + coupling[keep][:, keep]).tocsr()
+        krylov = projected_gmres(A, b, preconditioner, y[keep], atol=atol,
+                                 maxiter=KRYLOV_MAX)
     krylov.setup = preconditioner.setup_time
     y[keep] = krylov.x
     return krylov, R.T @ y
@@ -164,8 +175,8 @@ def record_krylov(history, krylov, atol, err):
     history["setup"].append(krylov.setup)
     if krylov.converged:
         return None
-    return (f"CG did not reach its tolerance in {krylov.iterations} "
-            "iterations")
+    return (f"{krylov.method} did not reach its tolerance in "
+            f"{krylov.iterations} iterations")
 
 
 def _iterate(problem, geometry, multigrid, tol, max_iter, x0, gap_scale,
