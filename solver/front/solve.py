@@ -68,11 +68,13 @@ def solve(problem, *, friction=None, method=None, system="auto", start=None,
     backend, engine, ksp
         The serial engine's sparse solver ("auto", "superlu", "pardiso",
         "cholmod"), or "amg": no factorisation, the active set method on
-        the full system with AMG-preconditioned CG (one body against a
-        rigid obstacle, frictionless or with friction by the projection
-        formulation and the lagged bound; "auto" takes it when CHOLMOD's estimate
-        of the factor exceeds the memory, and ``linear_solver_reason``
-        says why); "petsc" for the PETSc engine under ``mpiexec`` (inside
+        the full system with AMG-preconditioned Krylov (CG; GMRES for the
+        nonsymmetric systems of the implicit friction bound), against a
+        rigid obstacle or between two bodies by the dual mortar,
+        frictionless or with friction by the projection formulation (a
+        body held by contact only is refused; "What works where"); "auto"
+        takes it when CHOLMOD's estimate of the factor exceeds the memory,
+        and ``linear_solver_reason`` says why; "petsc" for the PETSc engine under ``mpiexec`` (inside
         :func:`solver.mpi.engine.spmd`; docs/mpi.md) or an engine object; its
         full system's Newton systems by "mumps" or CG + "gamg".
     tol, max_iter : float, int
