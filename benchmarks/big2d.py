@@ -167,7 +167,7 @@ def main(argv=None):
                     row["|Δu|/|u| vs first"] = float(
                         np.max(np.abs(u - first)) / np.max(np.abs(first)))
                 rows.append(row)
-                print(f"{row['path']}: {row['reason']}", flush=True)
+                print(f"{row['path']}: {row['reason'] or '–'}", flush=True)
         except StageError as error:
             print(f"big2d.py: error: {error}", file=sys.stderr)
             return 1
