@@ -13,8 +13,8 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
 
-__all__ = ["StageError", "run_process", "run_measured", "measure", "output_stage", "export",
-           "THREADS", "LOG"]
+__all__ = ["StageError", "run_process", "run_measured", "measure",
+           "output_stage", "export", "THREADS", "LOG"]
 
 #: Environment variables set in every measured process (``--threads``).
 THREADS = {}

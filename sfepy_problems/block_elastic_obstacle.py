@@ -38,7 +38,10 @@ order.
 
 Parameters (``-d``): ``mesh``, ``output``, ``E`` (2e5), ``nu`` (0.3),
 ``E_ratio`` (1e4), ``nu_obstacle`` (0.3), ``plane`` ('strain'), ``F``
-((4000, 0)), ``x_far`` (10, must be the mesh's), ``verbose``.
+((4000, 0)), ``x_far`` (10, must be the mesh's), ``verbose``,
+``solve`` (True: SfePy also solves the unconstrained problem and writes
+its ``.vtk``, a check; False: export only, ``_export.NO_SOLVE``, see
+``block_obstacle.py``).
 """
 import importlib.util
 import os.path as op

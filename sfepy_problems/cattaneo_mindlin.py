@@ -49,8 +49,10 @@ SfePy's solution without contact goes in the same folder as ``.vtk``, named
 after the mesh, so ``hertz.vtk`` as for ``hertz_cylinder.py``), ``E``,
 ``nu``, ``plane``, ``d`` (0.016), ``delta`` (the sideways motion of the top,
 default 7e-3, which gives Q/(f_c P) ≈ 0.5 for f_c = 0.5), ``R``,
-``gamma_c_y``, ``steps_normal`` (10), ``steps_shear`` (20), ``order`` and
-``verbose``.
+``gamma_c_y``, ``steps_normal`` (10), ``steps_shear`` (20), ``order``,
+``verbose`` and ``solve`` (True: SfePy also solves the unconstrained problem and writes
+its ``.vtk``, a check; False: export only, ``_export.NO_SOLVE``, see
+``block_obstacle.py``).
 """
 import importlib.util
 import os.path as op

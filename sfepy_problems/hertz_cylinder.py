@@ -85,7 +85,10 @@ as ``.vtk``, named after the mesh), ``E``, ``nu``, ``plane`` ('strain' or
 ``R`` (the radius of the mesh), ``gamma_c_y`` (Γc is the arc below y =
 gamma_c_y * R), ``obstacle_x``, ``obstacle_y``, ``order``, ``load``
 ('displacement' or 'force'), ``P`` (the force per unit length of
-``load='force'``) and ``verbose``.
+``load='force'``), ``verbose`` and ``solve`` (True: SfePy also solves the unconstrained problem and writes
+its ``.vtk``, a check; False: export only, ``_export.NO_SOLVE``, see
+``block_obstacle.py``);
+with ``load='force'`` SfePy never solves.
 """
 import importlib.util
 import os.path as op
@@ -176,7 +179,8 @@ def define(mesh='meshes/hertz.mesh', output='output/hertz.npz',
         'output_dir': output_dir,
         'output_format': 'vtk',
         'post_process_hook_final': export_contact_problem,
-        'save_results': load == 'displacement' and bool(solve),  # SfePy solves nothing
+        # without SfePy's solve (force load, or solve=False): no .vtk
+        'save_results': load == 'displacement' and bool(solve),
         'nls': 'newton',
         'ls': 'ls',
         # Read by the hook:
