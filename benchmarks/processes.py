@@ -13,8 +13,8 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
 
-__all__ = ["StageError", "run_process", "measure", "output_stage", "export",
-           "THREADS", "LOG"]
+__all__ = ["StageError", "run_process", "run_measured", "measure",
+           "output_stage", "export", "THREADS", "LOG"]
 
 #: Environment variables set in every measured process (``--threads``).
 THREADS = {}
@@ -26,9 +26,11 @@ class StageError(RuntimeError):
     """A measured process failed."""
 
 
-def run_process(command, cwd=ROOT):
-    """Run ``command``; (stdout, wall time [s], peak RSS [MB] of the
-    child). StageError with the tail of its stderr if it fails."""
+def run_measured(command, cwd=ROOT):
+    """Run ``command``; a dict of its ``stdout``, ``wall`` time [s],
+    ``cpu`` time (user + system of the child, all threads) [s] and ``rss``,
+    the child's peak resident memory [MB]. StageError with the tail of its
+    stderr if it fails."""
     env = dict(os.environ, PYTHONWARNINGS="ignore", **THREADS)
     with tempfile.TemporaryFile() as errors:
         start = time.perf_counter()
@@ -46,7 +48,16 @@ def run_process(command, cwd=ROOT):
             raise StageError(f"{Path(str(command[1])).name} "
                              f"{' '.join(map(str, command[2:4]))} failed "
                              f"(exit {code}): {tail}")
-    return stdout, elapsed, usage.ru_maxrss / 1024
+    return dict(stdout=stdout, wall=elapsed,
+                cpu=usage.ru_utime + usage.ru_stime,
+                rss=usage.ru_maxrss / 1024)
+
+
+def run_process(command, cwd=ROOT):
+    """Run ``command``; (stdout, wall time [s], peak RSS [MB] of the
+    child). StageError with the tail of its stderr if it fails."""
+    run = run_measured(command, cwd)
+    return run["stdout"], run["wall"], run["rss"]
 
 
 def measure(npz, stage, backend="auto", steps=100, *extra):

@@ -38,7 +38,10 @@ order.
 
 Parameters (``-d``): ``mesh``, ``output``, ``E`` (2e5), ``nu`` (0.3),
 ``E_ratio`` (1e4), ``nu_obstacle`` (0.3), ``plane`` ('strain'), ``F``
-((4000, 0)), ``x_far`` (10, must be the mesh's), ``verbose``.
+((4000, 0)), ``x_far`` (10, must be the mesh's), ``verbose``,
+``solve`` (True: SfePy also solves the unconstrained problem and writes
+its ``.vtk``, a check; False: export only, ``_export.NO_SOLVE``, see
+``block_obstacle.py``).
 """
 import importlib.util
 import os.path as op
@@ -79,8 +82,9 @@ def export_contact_problem(pb, variables):
 def define(mesh='meshes/two_body_block_454.mesh',
            output='output/block_elastic.npz', E=2e5, nu=0.3, E_ratio=1e4,
            nu_obstacle=0.3, plane='strain', F=(4000.0, 0.0), x_far=10.0,
-           verbose=None):
-    _load_export().set_verbosity(verbose)  # before SfePy's 'left over:'
+           solve=True, verbose=None):
+    export = _load_export()
+    export.set_verbosity(verbose)  # before SfePy's 'left over:'
     filename_mesh = op.abspath(mesh)
     output_dir = op.dirname(op.abspath(output))
     load_point = (-5.0, 10.0)
@@ -107,6 +111,7 @@ def define(mesh='meshes/two_body_block_454.mesh',
     options = {
         'output_dir': output_dir,
         'output_format': 'vtk',
+        'save_results': bool(solve),  # no solve: no .vtk of a zero field
         'post_process_hook_final': export_contact_problem,
         'nls': 'newton',
         'ls': 'ls',
@@ -170,7 +175,8 @@ def define(mesh='meshes/two_body_block_454.mesh',
     solvers = {
         'ls': ('ls.scipy_direct', {}),
         'newton': ('nls.newton', {'i_max': 1, 'eps_a': 1e-6,
-                                  'eps_r': 1e-12}),
+                                  'eps_r': 1e-12} if solve
+                   else dict(export.NO_SOLVE)),
     }
 
     return locals()

@@ -71,7 +71,14 @@ as ``.vtk``, named after the mesh), ``E``, ``nu``, ``plane`` ('strain' or
 'stress'), ``F`` (the force vector), the obstacle (``obstacle_x``,
 ``obstacle_y``, or ``obstacle_points``, a list of (x, y) vertices of a
 polyline obstacle, e.g. ``-d "obstacle_points=[(5.5, -10), (5.1, 0), (5.5,
-10)]"``) and ``verbose``.
+10)]"``), ``solve`` and ``verbose``.
+
+``solve=False`` exports without SfePy's own solve of the unconstrained
+problem (``_export.NO_SOLVE``, as the 3D files do; no ``.vtk`` is
+written): K, f and M do not depend on it, and at 10⁶–10⁷ DOFs that direct
+solve is most of the export's time and memory (benchmarks/README.md, "2D
+at 10⁷ DOFs"). The default keeps it, as a check of the exported K at the
+thesis's sizes.
 """
 import importlib.util
 import os.path as op
@@ -126,8 +133,9 @@ def export_contact_problem(pb, variables):
 def define(mesh='meshes/block_454.mesh', output='output/block_454.npz',
            E=2e5, nu=0.3, plane='strain', F=(4000.0, 0.0),
            obstacle_x='5.05 + 0.005*t**2', obstacle_y='t', order=1,
-           obstacle_points=None, verbose=None):
-    _load_export().set_verbosity(verbose)  # before SfePy's 'left over:'
+           obstacle_points=None, solve=True, verbose=None):
+    export = _load_export()
+    export.set_verbosity(verbose)  # before SfePy's 'left over:'
     from solver.geometry.curves.parametric import ParametricCurve
     from solver.geometry.curves.polyline import PolylineCurve
 
@@ -139,6 +147,7 @@ def define(mesh='meshes/block_454.mesh', output='output/block_454.npz',
     options = {
         'output_dir': output_dir,
         'output_format': 'vtk',
+        'save_results': bool(solve),  # no solve: no .vtk of a zero field
         'post_process_hook_final': export_contact_problem,
         'nls': 'newton',
         'ls': 'ls',
@@ -194,7 +203,8 @@ def define(mesh='meshes/block_454.mesh', output='output/block_454.npz',
     solvers = {
         'ls': ('ls.scipy_direct', {}),
         'newton': ('nls.newton', {'i_max': 1, 'eps_a': 1e-6,
-                                  'eps_r': 1e-12}),
+                                  'eps_r': 1e-12} if solve
+                   else dict(export.NO_SOLVE)),
     }
 
     return locals()

@@ -49,8 +49,10 @@ SfePy's solution without contact goes in the same folder as ``.vtk``, named
 after the mesh, so ``hertz.vtk`` as for ``hertz_cylinder.py``), ``E``,
 ``nu``, ``plane``, ``d`` (0.016), ``delta`` (the sideways motion of the top,
 default 7e-3, which gives Q/(f_c P) ≈ 0.5 for f_c = 0.5), ``R``,
-``gamma_c_y``, ``steps_normal`` (10), ``steps_shear`` (20), ``order`` and
-``verbose``.
+``gamma_c_y``, ``steps_normal`` (10), ``steps_shear`` (20), ``order``,
+``verbose`` and ``solve`` (True: SfePy also solves the unconstrained problem and writes
+its ``.vtk``, a check; False: export only, ``_export.NO_SOLVE``, see
+``block_obstacle.py``).
 """
 import importlib.util
 import os.path as op
@@ -101,8 +103,10 @@ def export_contact_problem(pb, variables):
 
 def define(mesh='meshes/hertz.mesh', output='output/cm.npz', E=2e5, nu=0.3,
            plane='strain', d=0.016, delta=7e-3, R=1.0, gamma_c_y=-0.8,
-           steps_normal=10, steps_shear=20, order=1, verbose=None):
-    _load('_contact_ssn_sfepy_export', '_export.py').set_verbosity(verbose)
+           steps_normal=10, steps_shear=20, order=1, solve=True,
+           verbose=None):
+    export = _load('_contact_ssn_sfepy_export', '_export.py')
+    export.set_verbosity(verbose)
     from solver.geometry.curves.parametric import ParametricCurve
 
     filename_mesh = op.abspath(mesh)
@@ -114,6 +118,7 @@ def define(mesh='meshes/hertz.mesh', output='output/cm.npz', E=2e5, nu=0.3,
     options = {
         'output_dir': output_dir,
         'output_format': 'vtk',
+        'save_results': bool(solve),  # no solve: no .vtk of a zero field
         'post_process_hook_final': export_contact_problem,
         'nls': 'newton',
         'ls': 'ls',
@@ -156,7 +161,8 @@ def define(mesh='meshes/hertz.mesh', output='output/cm.npz', E=2e5, nu=0.3,
     solvers = {
         'ls': ('ls.scipy_direct', {}),
         'newton': ('nls.newton', {'i_max': 1, 'eps_a': 1e-6,
-                                  'eps_r': 1e-12}),
+                                  'eps_r': 1e-12} if solve
+                   else dict(export.NO_SOLVE)),
     }
     return locals()
 

@@ -85,7 +85,10 @@ as ``.vtk``, named after the mesh), ``E``, ``nu``, ``plane`` ('strain' or
 ``R`` (the radius of the mesh), ``gamma_c_y`` (Γc is the arc below y =
 gamma_c_y * R), ``obstacle_x``, ``obstacle_y``, ``order``, ``load``
 ('displacement' or 'force'), ``P`` (the force per unit length of
-``load='force'``) and ``verbose``.
+``load='force'``), ``verbose`` and ``solve`` (True: SfePy also solves the unconstrained problem and writes
+its ``.vtk``, a check; False: export only, ``_export.NO_SOLVE``, see
+``block_obstacle.py``);
+with ``load='force'`` SfePy never solves.
 """
 import importlib.util
 import os.path as op
@@ -156,7 +159,7 @@ def export_contact_problem(pb, variables):
 def define(mesh='meshes/hertz.mesh', output='output/hertz.npz',
            E=2e5, nu=0.3, plane='strain', d=0.016, R=1.0, gamma_c_y=-0.8,
            obstacle_x='t', obstacle_y=None, order=1, load='displacement',
-           P=1739.6, verbose=None):
+           P=1739.6, solve=True, verbose=None):
     if load not in ('displacement', 'force'):
         raise ValueError(f"load must be 'displacement' or 'force', got "
                          f"{load!r}")
@@ -176,7 +179,8 @@ def define(mesh='meshes/hertz.mesh', output='output/hertz.npz',
         'output_dir': output_dir,
         'output_format': 'vtk',
         'post_process_hook_final': export_contact_problem,
-        'save_results': load == 'displacement',  # SfePy solves nothing
+        # without SfePy's solve (force load, or solve=False): no .vtk
+        'save_results': load == 'displacement' and bool(solve),
         'nls': 'newton',
         'ls': 'ls',
         # Read by the hook:
@@ -242,7 +246,8 @@ def define(mesh='meshes/hertz.mesh', output='output/hertz.npz',
         'ls': ('ls.scipy_direct', {}),
         # K is singular under a force (no support in y): SfePy solves nothing
         'newton': ('nls.newton', {'i_max': 1, 'eps_a': 1e-6, 'eps_r': 1e-12}
-                   if load == 'displacement' else dict(export.NO_SOLVE)),
+                   if load == 'displacement' and solve
+                   else dict(export.NO_SOLVE)),
     }
 
     return locals()
