@@ -34,7 +34,10 @@ def partitioned_job(args, plan, open_folder, emit, write_summary):
     from ..output.vtk import write_pvd
     from .jobs import Progress
 
-    outdir = args.outdir or os.path.normpath(args.problem) + "-result"
+    name = os.path.normpath(args.problem)
+    if plan.friction is not None:  # beside the frictionless run's
+        name += f"-fc{plan.friction:g}-{args.steps or 100}steps"
+    outdir = args.outdir or name + "-result"
     folder = open_folder(outdir)
     if plan.friction is None:
         result = plan.run()

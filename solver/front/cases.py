@@ -183,9 +183,9 @@ def _partitioned(option, reason, applies, label=None):
                 label)
 
 
-_CONVERTED = ("the distributed solve runs from the free start on the "
-              "system condensed onto Γc, with the gaps and nodes of the "
-              "conversion; run the .npz for it")
+_CONVERTED = ("the distributed solve runs on the system condensed onto "
+              "Γc (frictionless from the free start), with the gaps and "
+              "nodes of the conversion; run the .npz for it")
 
 #: What the distributed solve of a partitioned problem does not do
 #: (:mod:`solver.mpi.distributed`, :mod:`solver.mpi.partitioned_friction`):
