@@ -22,17 +22,19 @@ def _one_line(text):
     return " ".join(str(text).split())
 
 
-def partitioned_job(args, plan, open_folder, emit, write_summary):
+def partitioned_job(args, plan, open_folder, emit, write_summary,
+                    progress_bar=None):
     """Solve the checked ``plan`` on the ranks; write, each under a
     temporary name renamed when complete, the pieces ``result-RANK.vtu``
     (every rank its own), ``contact.npz``, ``result.pvtu`` and last
     ``summary.json``; with friction also each step's pieces
     (``steps/step_KKKK-RANK.vtu``, ``steps/step_KKKK.pvtu``, written as the
-    steps complete) and ``result.pvd``; print the summary line."""
+    steps complete) and ``result.pvd``, the steps' progress shown by
+    ``progress_bar(total)`` (:class:`solver.cli.jobs.Progress`); print
+    the summary line."""
     from ..mpi.distributed import write_pvtu
     from ..output.folder import atomic_path
     from ..output.vtk import write_pvd
-    from .jobs import Progress
 
     name = os.path.normpath(args.problem)
     if plan.friction is not None:  # beside the frictionless run's
@@ -42,7 +44,7 @@ def partitioned_job(args, plan, open_folder, emit, write_summary):
     if plan.friction is None:
         result = plan.run()
     else:
-        progress = Progress(plan.problem.n_load_steps(args.steps))
+        progress = progress_bar(plan.problem.n_load_steps(args.steps))
         try:
             result = plan.run(outdir=folder.path, progress=progress)
         finally:

@@ -266,8 +266,11 @@ def solve_partitioned_friction(svc, folder, friction, steps=None,
                           max_iter=max_iter, progress=progress,
                           condense=True, on_step=recorder, keep_steps=False,
                           candidates=False)
+    if not condensation.checks:  # no step completed: the pieces show u = 0
+        m = len(condensation.dofs)
+        condensation.displacement(np.zeros(m), np.zeros(m + 1))
     verification = dict(result["verification"])
-    if condensation.checks:  # the last step's rows off Γc (K u − f there)
+    if result["steps_completed"]:  # the last step's rows off Γc: K u − f
         _, rest, finite = condensation.checks[-1]
         t = float(condensation.factor(condensation.tokens[:, -1]))
         interior = rest / max(abs(t) * load_norm, 1e-300)
@@ -285,8 +288,7 @@ def solve_partitioned_friction(svc, folder, friction, steps=None,
     summary = dict(
         problem=os.fspath(folder), kind="partitioned",
         status="converged" if converged else "not_converged",
-        converged=converged, message=result.message
-        if result.success or not converged else result.message,
+        converged=converged, message=result.message,
         friction=float(friction), steps=int(result["steps"]),
         steps_completed=n, failed_step=result["failed_step"],
         formulation=formulation, coulomb=coulomb, method=method,
