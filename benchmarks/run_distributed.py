@@ -2,21 +2,21 @@
 peak memory per rank at 1 and 2 ranks.
 
 ``python benchmarks/run_distributed.py DIR [--npz X.npz] [--ranks 1,2]
-[--friction F --steps K] [--log FILE]`` runs ``mpiexec -n N python -m solver DIR --engine petsc``
-(the partitioned problem of ``python -m solver convert X.npz DIR``) for
-each N, in fresh processes, and with ``--npz`` also the PETSc engine on
-the ``.npz`` (rank 0 reads the whole problem and scatters K), for the
-before/after. Each run prints one JSON line: wall time of the mpiexec
-(process start to exit), each rank's peak RSS (MB, ``ru_maxrss``), its
-ratio to the 1-rank run's peak, its CPU time, rows and MUMPS's memory
-(INFO(22), MB), its peak so far after each collective step
-(``peak_after_mb``: where the peak is reached), Newton counts, and
-the load average when it ended; then a table. With ``--friction``, Coulomb
-friction in ``--steps`` load steps (each step's pieces written, as the
-command line does), with Jacobians per step and the Coulomb bound's
-verification in the line. The issue's target: at
-≥ 10⁶ DOFs every rank's peak at 2 ranks ≤ 0.6× the 1-rank run's.
-Imports nothing of the solver: it reads the runs' summary.json."""
+[--friction F --steps K] [--log FILE]`` runs ``mpiexec -n N python -m
+solver DIR --engine petsc`` (the partitioned problem of ``python -m
+solver convert X.npz DIR``) for each N, in fresh processes, and with
+``--npz`` also the PETSc engine on the ``.npz`` (rank 0 reads the
+whole problem and scatters K), for the before/after. Each run prints
+one JSON line: wall time of the mpiexec (process start to exit), each
+rank's peak RSS (MB, ``ru_maxrss``), its ratio to the 1-rank run's
+peak, its CPU time, rows and MUMPS's memory (INFO(22), MB), its peak
+so far after each collective step (``peak_after_mb``: where the peak is
+reached), Newton counts, and the load average when it ended; then a
+table. With ``--friction``, Coulomb friction in ``--steps`` load steps
+(each step's pieces written, as the command line does), with Jacobians
+per step and the Coulomb bound's verification in the line. The issue's
+target: at ≥ 10⁶ DOFs every rank's peak at 2 ranks ≤ 0.6× the 1-rank
+run's. Imports nothing of the solver: it reads the runs' summary.json."""
 
 import argparse
 import json

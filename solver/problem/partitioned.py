@@ -33,10 +33,11 @@ import numpy as np
 
 from ..errors import ProblemError
 
-__all__ = ["PARTITIONED_VERSION", "FILES", "MASS_FILE", "load_mass", "CONTACT_KEYS", "META_KEYS",
-           "MAT_CLASSID", "VEC_CLASSID", "write_petsc_matrix",
-           "write_petsc_vector", "petsc_header", "read_partitioned_meta",
-           "load_contact", "is_partitioned", "PartitionedProblem"]
+__all__ = ["PARTITIONED_VERSION", "FILES", "MASS_FILE", "load_mass",
+           "CONTACT_KEYS", "META_KEYS", "MAT_CLASSID", "VEC_CLASSID",
+           "write_petsc_matrix", "write_petsc_vector", "petsc_header",
+           "read_partitioned_meta", "load_contact", "is_partitioned",
+           "PartitionedProblem"]
 
 #: Version of the folder's layout (``problem.json``'s ``"partitioned"``).
 PARTITIONED_VERSION = 1
