@@ -47,10 +47,13 @@ def partitioned_job(args, plan, open_folder, emit, write_summary,
         progress = progress_bar(plan.problem.n_load_steps(args.steps))
         try:
             result = plan.run(outdir=folder.path, progress=progress)
-        finally:
+        finally:  # the steps' pieces listed also when a signal ends the run
             progress.close()
-        for name in result["files"]:
-            folder.file(name)
+            steps = os.path.join(folder.path, "steps")
+            for name in sorted(os.listdir(steps)) if os.path.isdir(
+                    steps) else ():
+                if name.startswith("step_"):
+                    folder.file(os.path.join("steps", name))
     for name in result.piece_names():  # listed if interrupted once written
         folder.file(name)
     pieces = result.write_pieces(folder.path)
