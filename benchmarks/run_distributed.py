@@ -2,18 +2,21 @@
 peak memory per rank at 1 and 2 ranks.
 
 ``python benchmarks/run_distributed.py DIR [--npz X.npz] [--ranks 1,2]
-[--log FILE]`` runs ``mpiexec -n N python -m solver DIR --engine petsc``
-(the partitioned problem of ``python -m solver convert X.npz DIR``) for
-each N, in fresh processes, and with ``--npz`` also the PETSc engine on
-the ``.npz`` (rank 0 reads the whole problem and scatters K), for the
-before/after. Each run prints one JSON line: wall time of the mpiexec
-(process start to exit), each rank's peak RSS (MB, ``ru_maxrss``), its
-ratio to the 1-rank run's peak, its CPU time, rows and MUMPS's memory
-(INFO(22), MB), its peak so far after each collective step
-(``peak_after_mb``: where the peak is reached), Newton counts, and
-the load average when it ended; then a table. The issue's target: at
-≥ 10⁶ DOFs every rank's peak at 2 ranks ≤ 0.6× the 1-rank run's.
-Imports nothing of the solver: it reads the runs' summary.json."""
+[--friction F --steps K] [--log FILE]`` runs ``mpiexec -n N python -m
+solver DIR --engine petsc`` (the partitioned problem of ``python -m
+solver convert X.npz DIR``) for each N, in fresh processes, and with
+``--npz`` also the PETSc engine on the ``.npz`` (rank 0 reads the
+whole problem and scatters K), for the before/after. Each run prints
+one JSON line: wall time of the mpiexec (process start to exit), each
+rank's peak RSS (MB, ``ru_maxrss``), its ratio to the 1-rank run's
+peak, its CPU time, rows and MUMPS's memory (INFO(22), MB), its peak
+so far after each collective step (``peak_after_mb``: where the peak is
+reached), Newton counts, and the load average when it ended; then a
+table. With ``--friction``, Coulomb friction in ``--steps`` load steps
+(each step's pieces written, as the command line does), with Jacobians
+per step and the Coulomb bound's verification in the line. The issue's
+target: at ≥ 10⁶ DOFs every rank's peak at 2 ranks ≤ 0.6× the 1-rank
+run's. Imports nothing of the solver: it reads the runs' summary.json."""
 
 import argparse
 import json
@@ -24,14 +27,16 @@ import tempfile
 import time
 
 
-def run(ranks, problem, outdir):
-    """One mpiexec run; (wall s, summary dict)."""
+def run(ranks, problem, outdir, extra=()):
+    """One mpiexec run (``extra``: more command-line options); (wall s,
+    summary dict)."""
     env = dict(os.environ, OMP_NUM_THREADS="1")
     clock = time.perf_counter()
     done = subprocess.run(
         ["mpiexec", "--allow-run-as-root", "--oversubscribe", "-n",
          str(ranks), sys.executable, "-m", "solver", problem, "--engine",
-         "petsc", "-o", outdir], capture_output=True, text=True, env=env)
+         "petsc", "-o", outdir, *extra], capture_output=True, text=True,
+        env=env)
     wall = time.perf_counter() - clock
     if done.returncode:
         raise SystemExit(f"{problem} on {ranks} ranks: exit "
@@ -47,15 +52,21 @@ def main(argv=None):
                                       "engine's run on it (before)")
     parser.add_argument("--ranks", default="1,2")
     parser.add_argument("--log", help="append the JSON lines to this file")
+    parser.add_argument("--friction", type=float, help="f_c: friction runs")
+    parser.add_argument("--steps", type=int, default=5,
+                        help="load steps of a friction run (default 5)")
     args = parser.parse_args(argv)
     inputs = [("partitioned", args.folder)] + (
         [("npz", args.npz)] if args.npz else [])
     rows = []
+    extra = [] if args.friction is None else [
+        "--friction", str(args.friction), "--steps", str(args.steps)]
     for name, problem in inputs:
         base = None
         for ranks in [int(r) for r in args.ranks.split(",")]:
             with tempfile.TemporaryDirectory() as tmp:
-                wall, summary = run(ranks, problem, os.path.join(tmp, "o"))
+                wall, summary = run(ranks, problem, os.path.join(tmp, "o"),
+                                    extra)
             per_rank = summary["engine"]["per_rank"]
             peaks = [s["peak_rss_mb"] for s in per_rank]
             if base is None:
@@ -70,7 +81,13 @@ def main(argv=None):
                                        for s in per_rank],
                         peak_after_mb=[{k: v[1] for k, v in s.get(
                             "memory_mb", {}).items()} for s in per_rank],
-                        nit=summary.get("nit"),
+                        nit=summary.get("nit"), njev=summary.get("njev"),
+                        njev_per_step=[r["njev"] for r in summary.get(
+                            "records", [])],
+                        friction_bound_violation=summary[
+                            "verification"].get("friction_bound_violation"),
+                        status=summary.get("status"),
+                        time_s=summary.get("time"),
                         n_dofs=summary.get("n_dofs") or summary.get(
                             "n_dofs_reduced"),
                         load=os.getloadavg())

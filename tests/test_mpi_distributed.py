@@ -188,7 +188,7 @@ def test_3d_quarter_sphere_with_rollers(tmp_path_factory, tmp_path):
 
 def test_options_that_do_not_apply_are_refused(converted, capsys,
                                               tmp_path):
-    """--friction (or --system full, ...) on a partitioned problem: the
+    """The thesis's split (or --system full, ...) on a partitioned problem: the
     front's rules refuse it (solver.solve raises SolverError; the command
     line exits 2 with one line), before any collective step or output (so
     in process: every rank then exits with rank 0's code,
@@ -199,7 +199,9 @@ def test_options_that_do_not_apply_are_refused(converted, capsys,
 
     problem = load_problem(converted[1])
     assert problem.kind == "partitioned"
-    for options, text in ((dict(friction=0.3), "friction=0.3"),
+    for options, text in ((dict(friction=0.3, formulation="thesis"),
+                           "formulation='thesis'"),
+                          (dict(on_step=print), "on_step"),
                           (dict(system="full"), "system='full'"),
                           (dict(gap="body"), "gap='body'"),
                           (dict(), "engine='serial'")):
@@ -210,7 +212,8 @@ def test_options_that_do_not_apply_are_refused(converted, capsys,
     with pytest.raises(SolverError, match="engine='serial' is not"):
         solve(problem)  # the default engine
     out = tmp_path / "out"
-    for options in (["--friction", "0.3"], ["--system", "full"],
+    for options in (["--formulation", "thesis", "--friction", "0.3"],
+                    ["--system", "full"],
                     ["--start", "free"], ["--plots"]):
         args = build_parser().parse_args([str(converted[1]), "--engine",
                                           "petsc", "-o", str(out),

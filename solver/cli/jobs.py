@@ -136,7 +136,8 @@ def solve_job(args, problem, open_folder, emit, write_summary):
     if plan.case.bodies == "partitioned":
         from .partitioned import partitioned_job
 
-        return partitioned_job(args, plan, open_folder, emit, write_summary)
+        return partitioned_job(args, plan, open_folder, emit, write_summary,
+                               Progress)
     folder = open_folder(args.outdir or default_outdir(args, plan))
     result = None
     if plan.friction is None:

@@ -22,17 +22,38 @@ def _one_line(text):
     return " ".join(str(text).split())
 
 
-def partitioned_job(args, plan, open_folder, emit, write_summary):
+def partitioned_job(args, plan, open_folder, emit, write_summary,
+                    progress_bar=None):
     """Solve the checked ``plan`` on the ranks; write, each under a
     temporary name renamed when complete, the pieces ``result-RANK.vtu``
     (every rank its own), ``contact.npz``, ``result.pvtu`` and last
-    ``summary.json``; print the summary line."""
+    ``summary.json``; with friction also each step's pieces
+    (``steps/step_KKKK-RANK.vtu``, ``steps/step_KKKK.pvtu``, written as the
+    steps complete) and ``result.pvd``, the steps' progress shown by
+    ``progress_bar(total)`` (:class:`solver.cli.jobs.Progress`); print
+    the summary line."""
     from ..mpi.distributed import write_pvtu
     from ..output.folder import atomic_path
+    from ..output.vtk import write_pvd
 
-    outdir = args.outdir or os.path.normpath(args.problem) + "-result"
+    name = os.path.normpath(args.problem)
+    if plan.friction is not None:  # beside the frictionless run's
+        name += f"-fc{plan.friction:g}-{args.steps or 100}steps"
+    outdir = args.outdir or name + "-result"
     folder = open_folder(outdir)
-    result = plan.run()
+    if plan.friction is None:
+        result = plan.run()
+    else:
+        progress = progress_bar(plan.problem.n_load_steps(args.steps))
+        try:
+            result = plan.run(outdir=folder.path, progress=progress)
+        finally:  # the steps' pieces listed also when a signal ends the run
+            progress.close()
+            steps = os.path.join(folder.path, "steps")
+            for name in sorted(os.listdir(steps)) if os.path.isdir(
+                    steps) else ():
+                if name.startswith("step_"):
+                    folder.file(os.path.join("steps", name))
     for name in result.piece_names():  # listed if interrupted once written
         folder.file(name)
     pieces = result.write_pieces(folder.path)
@@ -40,15 +61,32 @@ def partitioned_job(args, plan, open_folder, emit, write_summary):
         np.savez(tmp, **result.contact)
     with atomic_path(folder.file("result.pvtu")) as tmp:
         write_pvtu(tmp, pieces)
+    if plan.friction is not None and result.timesteps:
+        with atomic_path(folder.file("result.pvd")) as tmp:
+            write_pvd(tmp, result.timesteps)
     summary = dict(result)
     write_summary(summary)
     v = summary["verification"]
-    emit(f"{summary['status']}: {summary['nit']} Newton iterations on "
-         f"{summary['n_contact_dofs']} contact DOFs of "
-         f"{summary['n_dofs']} ({summary['engine']['ranks']} ranks), "
-         f"{summary['n_in_contact']} nodes in contact, max penetration "
-         f"{v['max_penetration']:.1e}, interior equilibrium "
-         f"{v['interior_equilibrium']:.1e}; {folder.path}/result.pvtu")
+    if plan.friction is None:
+        emit(f"{summary['status']}: {summary['nit']} Newton iterations on "
+             f"{summary['n_contact_dofs']} contact DOFs of "
+             f"{summary['n_dofs']} ({summary['engine']['ranks']} ranks), "
+             f"{summary['n_in_contact']} nodes in contact, max penetration "
+             f"{v['max_penetration']:.1e}, interior equilibrium "
+             f"{v['interior_equilibrium']:.1e}; {folder.path}/result.pvtu")
+    else:
+        emit(f"{summary['status']}: {summary['steps_completed']} of "
+             f"{summary['steps']} load steps, f_c {summary['friction']:g}, "
+             f"{summary['njev']} Jacobians on {summary['n_contact_dofs']} "
+             f"contact DOFs of {summary['n_dofs']} "
+             f"({summary['engine']['ranks']} ranks); last step "
+             f"{summary['n_in_contact']} in contact, {summary['n_stick']} "
+             f"stick, {summary['n_slip']} slip; max penetration "
+             f"{v.get('max_penetration', float('nan')):.1e}, friction bound "
+             f"violation {v.get('friction_bound_violation', float('nan')):.1e}"
+             f", interior equilibrium "
+             f"{v.get('interior_equilibrium', float('nan')):.1e}; "
+             f"{folder.path}/result.pvd")
     if not result.success:
         print(f"error: not converged: {_one_line(summary['message'])}",
               file=sys.stderr)

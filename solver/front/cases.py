@@ -174,20 +174,27 @@ def _partitioned(option, reason, applies, label=None):
                 label)
 
 
-_CONVERTED = ("the distributed solve runs from the free start on the "
-              "system condensed onto Γc, with the gaps and nodes of the "
-              "conversion; run the .npz for it")
+_CONVERTED = ("the distributed solve runs on the system condensed onto "
+              "Γc (frictionless from the free start), with the gaps and "
+              "nodes of the conversion; run the .npz for it")
 
 #: What the distributed solve of a partitioned problem does not do
-#: (:mod:`solver.mpi.distributed`): it is frictionless, on the petsc
-#: engine, condensed, from the free start, with the conversion's gaps.
+#: (:mod:`solver.mpi.distributed`, :mod:`solver.mpi.partitioned_friction`):
+#: it runs on the petsc engine, condensed, from the free start (friction:
+#: the projection formulation on all of Γc), with the conversion's gaps.
 PARTITIONED_RULES = (
     _partitioned("engine", "its K is read in parts by the ranks of "
                  "mpiexec: engine='petsc', under mpiexec -n N",
                  lambda c, s, g: c.engine != "petsc", "engine='serial'"),
-    _partitioned("friction", "the distributed solve is frictionless; run "
-                 "the .npz for friction",
-                 lambda c, s, g: c.contact == "friction"),
+    _partitioned("formulation", "the distributed friction runs the "
+                 "projection formulation on Γc's Schur complement; the "
+                 "thesis's split runs on the full system: run the .npz",
+                 lambda c, s, g: c.contact == "friction"
+                 and s["formulation"] == "thesis", "formulation='thesis'"),
+    _partitioned("on_step", "the steps' u stay on the ranks; each step's "
+                 "pieces are written to DIR/steps/ by the command line "
+                 "(PartitionedPlan.run(outdir=DIR))",
+                 lambda c, s, g: "on_step" in g),
     _partitioned("system", "the distributed solve runs on the system "
                  "condensed onto Γc (MUMPS's Schur complement)",
                  lambda c, s, g: s["system"] == "full", "system='full'"),

@@ -187,28 +187,41 @@ class Plan:
 
 class PartitionedPlan:
     """A checked call of :func:`solve` on a partitioned problem (a folder
-    of ``python -m solver convert``; :mod:`solver.mpi.distributed`): run
-    it on rank 0 under ``mpiexec`` (inside :func:`solver.mpi.engine.spmd`,
-    or the command line's service); the result's ``write_pieces`` writes u
-    one piece per rank."""
+    of ``python -m solver convert``; :mod:`solver.mpi.distributed`,
+    with friction :mod:`solver.mpi.partitioned_friction`): run it on rank
+    0 under ``mpiexec`` (inside :func:`solver.mpi.engine.spmd`, or the
+    command line's service); the result's ``write_pieces`` writes u one
+    piece per rank."""
 
-    friction = None
-
-    def __init__(self, problem, case, settings):
+    def __init__(self, problem, case, settings, friction=None):
         from .. import mpi
 
         reason = mpi.missing()
         if reason:
             raise SolverError(reason)
         self.problem, self.case, self.settings = problem, case, settings
+        self.friction = friction
+        if friction is not None:  # before any rank works: one line
+            check_friction(problem, friction, settings["steps"])
+            problem.check_friction()
 
-    def run(self):
+    def run(self, outdir=None, progress=None):
         """Solve on the ranks; a :class:`~solver.mpi.distributed.
-        PartitionedResult`."""
-        from ..mpi.distributed import solve_partitioned
+        PartitionedResult`. With friction and ``outdir``, each load step's
+        pieces are written to ``outdir/steps/`` as it completes."""
         from ..mpi.engine import service
 
         s = self.settings
+        if self.friction is not None:
+            from ..mpi.partitioned_friction import solve_partitioned_friction
+
+            return solve_partitioned_friction(
+                service(), self.problem.path, self.friction, s["steps"],
+                s["formulation"], s["coulomb"], s["method"], s["tol"],
+                s["max_iter"], outdir=outdir,
+                progress=progress or s["progress"])
+        from ..mpi.distributed import solve_partitioned
+
         return solve_partitioned(service(), self.problem.path, s["method"],
                                  s["tol"], s["max_iter"])
 
@@ -229,7 +242,7 @@ def prepare(problem, **options):
     case = case_of(problem, friction, given["engine"])
     settings = resolve(case, given)
     if case.bodies == "partitioned":
-        return PartitionedPlan(problem, case, settings)
+        return PartitionedPlan(problem, case, settings, friction)
     if auto_eligible(case, given) and problem.kind == "mesh":
         settings = _choose_path(problem, case, given, settings)
     if settings["backend"] == "amg":

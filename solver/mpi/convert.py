@@ -14,13 +14,14 @@ import json
 import os
 
 import numpy as np
+import scipy.sparse as sp
 
 from ..contact.geometry import contact_geometry, contact_stiffness
 from ..errors import ProblemError
 from ..ncp import stable_norm
 from ..problem import load_problem
-from ..problem.partitioned import (PARTITIONED_VERSION, write_petsc_matrix,
-                                   write_petsc_vector)
+from ..problem.partitioned import (MASS_FILE, PARTITIONED_VERSION,
+                                   write_petsc_matrix, write_petsc_vector)
 from .layout import Layout
 
 __all__ = ["convert", "CELL_KINDS"]
@@ -77,6 +78,9 @@ def convert(source, folder, gap="obstacle"):
              normal=np.asarray(geometry.normal, float),
              tangents=np.asarray(geometry.tangents, float),
              oblique=np.asarray(geometry.oblique, bool))
+    # Γc's boundary mass matrix (n_contact², sparse): friction's lumped D
+    # and M⁻¹λ (solver.mpi.partitioned_friction)
+    sp.save_npz(os.path.join(folder, MASS_FILE), sp.csr_matrix(problem.M))
     meta = dict(
         partitioned=PARTITIONED_VERSION, dim=int(problem.dim),
         n_nodes=int(len(problem.nodes)), n=int(layout.n),
@@ -86,6 +90,7 @@ def convert(source, folder, gap="obstacle"):
         stiffness=float(contact_stiffness(K, geometry)), gap_mode=gap,
         n_contact=int(problem.n_contact),
         excluded=int(len(geometry.excluded["index"])),
+        load_path=problem.load_path is not None,
         meta=problem.meta, source=str(problem.source))
     with open(os.path.join(folder, "problem.json"), "w") as stream:
         json.dump(meta, stream, indent=1, sort_keys=True)

@@ -46,7 +46,7 @@ from .schur import interior
 from .service import command
 
 __all__ = ["Ledger", "PartitionedResult", "solve_partitioned", "write_pvtu",
-           "KEY"]
+           "KEY", "open_partitioned", "gather_rows", "node_ranges"]
 
 #: The service's name of the loaded problem (its objects and MUMPS
 #: options prefix ``d_``).
@@ -209,15 +209,30 @@ class PartitionedResult(dict):
         return pieces
 
 
-def solve_partitioned(svc, folder, method="min", tol=1e-10, max_iter=100):
-    """(rank 0, inside :func:`~solver.mpi.engine.spmd`) Solve the
-    partitioned problem ``folder`` on every rank; return its
-    :class:`PartitionedResult` (u kept on the ranks, written by
-    :meth:`PartitionedResult.write_pieces`). Module docstring."""
-    clock = time.perf_counter()
+class Opened:
+    """What :func:`open_partitioned` gives rank 0: ``meta``, the contact
+    ``arrays`` and ``geometry`` (padded rows), the Schur set ``rows``, the
+    pivot test's ``scale``, Γc's condensed load ``g`` and (until
+    :meth:`pop_schur`) its Schur complement S."""
+
+    def __init__(self, **items):
+        self.__dict__.update(items)
+
+    def pop_schur(self):
+        """S, handed over: this object keeps no reference to it."""
+        S, self.S = self.S, None
+        return S
+
+
+def open_partitioned(svc, folder, ledger):
+    """(rank 0) The steps every solve of the partitioned problem
+    ``folder`` starts with (module docstring, 1-2): read its meta and
+    contact geometry, have every rank load its rows of K and f, factorise
+    K with Γc's free DOFs as MUMPS's Schur set and make g̃ by one interior
+    solve. Returns an :class:`Opened`; ``ledger`` records what rank 0
+    holds."""
     meta = read_partitioned_meta(folder)
     dim = int(meta["dim"])
-    ledger = Ledger()
     arrays = load_contact(folder, dim)
     for name, array in arrays.items():
         ledger.hold(f"contact.{name}", array)
@@ -234,9 +249,23 @@ def solve_partitioned(svc, folder, method="min", tol=1e-10, max_iter=100):
     svc.mark("start")
     scale = svc.call("load_partitioned", dict(folder=os.fspath(folder),
                                               ranges=ranges, dim=dim))
-    work = dict(S=ledger.hold("S", svc.call("factor", dict(
-        key=KEY, schur=rows))))
+    S = ledger.hold("S", svc.call("factor", dict(key=KEY, schur=rows)))
     g = ledger.hold("g", svc.call("partitioned_rhs", dict(rows=rows)))
+    return Opened(meta=meta, arrays=arrays, geometry=geometry, rows=rows,
+                  scale=scale, S=S, g=g)
+
+
+def solve_partitioned(svc, folder, method="min", tol=1e-10, max_iter=100):
+    """(rank 0, inside :func:`~solver.mpi.engine.spmd`) Solve the
+    partitioned problem ``folder`` on every rank; return its
+    :class:`PartitionedResult` (u kept on the ranks, written by
+    :meth:`PartitionedResult.write_pieces`). Module docstring."""
+    clock = time.perf_counter()
+    ledger = Ledger()
+    opened = open_partitioned(svc, folder, ledger)
+    meta, arrays, geometry = opened.meta, opened.arrays, opened.geometry
+    rows, scale, g = opened.rows, opened.scale, opened.g
+    work = dict(S=opened.pop_schur())
     stiffness, load_norm = float(meta["stiffness"]), float(meta["load_norm"])
     local = compact_geometry(geometry)
     # rank 0 keeps only the normal rows' system from here on
@@ -416,6 +445,10 @@ def _gather_rows(service, vec, rows):
     return out
 
 
+#: :func:`_gather_rows` for the other modules of the partitioned solve.
+gather_rows = _gather_rows
+
+
 @command("partitioned_rhs")
 def _rhs(service, payload, local):
     """g̃ = f_c − K_ci K_ii⁻¹ f_i on rank 0 (thesis (66)'s condensed load)
@@ -514,10 +547,11 @@ def _write(service, payload, local):
     data["contact_force"][at[mine]] = contact["force"][mine]
     data["in_contact"][at[mine]] = contact["in_contact"][mine]
     data["initial_gap"][at[mine]] = contact["gap"][mine]
-    path = os.path.join(payload["outdir"], f"result-{service.rank}.vtu")
+    name = payload.get("name", "result")  # a friction step's: step_KKKK
+    path = os.path.join(payload["outdir"], f"{name}-{service.rank}.vtu")
     # a temporary name until complete (swept by the output folder if cut
     # short), so that no piece looks complete before it is
-    tmp = os.path.join(payload["outdir"], f".tmp-result-{service.rank}.vtu")
+    tmp = os.path.join(payload["outdir"], f".tmp-{name}-{service.rank}.vtu")
     try:
         meshio.write(tmp, meshio.Mesh(
             np.c_[coordinates, np.zeros((n, 3 - dim))],

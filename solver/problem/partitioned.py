@@ -16,7 +16,11 @@ A rigid-obstacle mesh problem is written once, by
   share of them, whose nodes lie close together).
 * ``contact.npz``: what lives on Γc: the contact nodes that take part,
   their padded rows (frame rows and own rows), gaps, normals, tangents.
-* ``problem.json``: sizes, the Dirichlet scale, ‖f‖, k̄, meta, source.
+* ``problem.json``: sizes, the Dirichlet scale, ‖f‖, k̄, meta, source
+  (``load_path``: whether the ``.npz`` had one).
+* ``mass.npz`` (optional: folders converted before friction ran on them
+  lack it): Γc's boundary mass matrix M (SciPy's ``save_npz``), for
+  friction's lumped D and M⁻¹λ.
 
 This module defines the layout, writes and checks PETSc's binary headers
 with NumPy alone (no petsc4py), and validates a folder before any rank
@@ -29,10 +33,11 @@ import numpy as np
 
 from ..errors import ProblemError
 
-__all__ = ["PARTITIONED_VERSION", "FILES", "CONTACT_KEYS", "META_KEYS",
-           "MAT_CLASSID", "VEC_CLASSID", "write_petsc_matrix",
-           "write_petsc_vector", "petsc_header", "read_partitioned_meta",
-           "load_contact", "is_partitioned", "PartitionedProblem"]
+__all__ = ["PARTITIONED_VERSION", "FILES", "MASS_FILE", "load_mass",
+           "CONTACT_KEYS", "META_KEYS", "MAT_CLASSID", "VEC_CLASSID",
+           "write_petsc_matrix", "write_petsc_vector", "petsc_header",
+           "read_partitioned_meta", "load_contact", "is_partitioned",
+           "PartitionedProblem"]
 
 #: Version of the folder's layout (``problem.json``'s ``"partitioned"``).
 PARTITIONED_VERSION = 1
@@ -44,6 +49,9 @@ MAT_CLASSID, VEC_CLASSID = 1211216, 1211214
 #: The folder's files.
 FILES = ("problem.json", "K.petsc", "f.petsc", "nodes.npy", "cells.npy",
          "contact.npz")
+
+#: Γc's boundary mass matrix (optional, friction only).
+MASS_FILE = "mass.npz"
 
 #: ``contact.npz``: name -> (dtype kind, meaning).
 CONTACT_KEYS = {
@@ -205,6 +213,28 @@ def load_contact(folder, dim):
     return arrays
 
 
+def load_mass(folder, n_contact):
+    """Γc's boundary mass matrix of ``folder`` (CSR, n_contact²);
+    ProblemError, one line, if the folder has none (converted before
+    friction ran on partitioned problems) or it is not that size."""
+    import scipy.sparse as sp
+
+    path = os.path.join(os.fspath(folder), MASS_FILE)
+    if not os.path.isfile(path):
+        raise ProblemError(f"{folder}: no {MASS_FILE} (Γc's mass matrix, "
+                           "which friction needs): convert the .npz again "
+                           "with this version")
+    try:
+        M = sp.load_npz(path).tocsr()
+    except (OSError, ValueError, KeyError) as exc:
+        raise ProblemError(f"{path}: unreadable: "
+                           f"{' '.join(str(exc).split())}") from None
+    if M.shape != (n_contact, n_contact):
+        raise ProblemError(f"{path}: shape {M.shape}, expected "
+                           f"({n_contact}, {n_contact})")
+    return M
+
+
 class PartitionedProblem:
     """A handle on a partitioned problem folder for :func:`solver.solve`
     (``load_problem(DIR)``): its ``problem.json`` validated, nothing of K
@@ -219,6 +249,23 @@ class PartitionedProblem:
         self.meta = read_partitioned_meta(self.path)
         self.dim = int(self.meta["dim"])
         self.source = self.path
+        #: the friction steps are κ/κc · f (a load path is refused)
+        self.load_path = None
+
+    def check_friction(self):
+        """ProblemError (one line) if friction cannot run on this folder:
+        no Γc mass matrix (converted by an earlier version), or the
+        ``.npz`` had a load path, which the folder does not keep."""
+        if self.meta.get("load_path"):
+            raise ProblemError(f"{self.path}: the problem file has a load "
+                               "path, which the partitioned folder does not "
+                               "keep; run the .npz for it")
+        load_mass(self.path, int(self.meta.get("n_contact", -1)))
+
+    def n_load_steps(self, steps=None):
+        """Number of friction load steps: ``steps`` (default 100, as a
+        problem file without a load path)."""
+        return 100 if steps is None else int(steps)
 
     def __repr__(self):
         return (f"PartitionedProblem({self.path!r}: {self.dim}D, "
