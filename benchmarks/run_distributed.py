@@ -13,6 +13,10 @@ ratio to the 1-rank run's peak, its CPU time, rows and MUMPS's memory
 (``peak_after_mb``: where the peak is reached), Newton counts, and
 the load average when it ended; then a table. The issue's target: at
 ≥ 10⁶ DOFs every rank's peak at 2 ranks ≤ 0.6× the 1-rank run's.
+``--krylov gamg`` (or ``hypre``) runs the folder's full system by Krylov
+instead (``--system full --ksp gamg``, no rank holding all of Γc) and
+adds the CG iterations per Newton system (``krylov``: mean, max) to each
+line, the issue's "Krylov counts independent of the rank count ±10 %".
 Imports nothing of the solver: it reads the runs' summary.json."""
 
 import argparse
@@ -24,14 +28,16 @@ import tempfile
 import time
 
 
-def run(ranks, problem, outdir):
+def run(ranks, problem, outdir, krylov=None):
     """One mpiexec run; (wall s, summary dict)."""
+    extra = ["--system", "full", "--ksp", krylov] if krylov else []
     env = dict(os.environ, OMP_NUM_THREADS="1")
     clock = time.perf_counter()
     done = subprocess.run(
         ["mpiexec", "--allow-run-as-root", "--oversubscribe", "-n",
          str(ranks), sys.executable, "-m", "solver", problem, "--engine",
-         "petsc", "-o", outdir], capture_output=True, text=True, env=env)
+         "petsc", "-o", outdir, *extra], capture_output=True, text=True,
+        env=env)
     wall = time.perf_counter() - clock
     if done.returncode:
         raise SystemExit(f"{problem} on {ranks} ranks: exit "
@@ -47,6 +53,9 @@ def main(argv=None):
                                       "engine's run on it (before)")
     parser.add_argument("--ranks", default="1,2")
     parser.add_argument("--log", help="append the JSON lines to this file")
+    parser.add_argument("--krylov", choices=("gamg", "hypre"),
+                        help="the folder's full system by CG + this "
+                             "preconditioner")
     args = parser.parse_args(argv)
     inputs = [("partitioned", args.folder)] + (
         [("npz", args.npz)] if args.npz else [])
@@ -55,7 +64,9 @@ def main(argv=None):
         base = None
         for ranks in [int(r) for r in args.ranks.split(",")]:
             with tempfile.TemporaryDirectory() as tmp:
-                wall, summary = run(ranks, problem, os.path.join(tmp, "o"))
+                wall, summary = run(ranks, problem, os.path.join(tmp, "o"),
+                                    args.krylov if name == "partitioned"
+                                    else None)
             per_rank = summary["engine"]["per_rank"]
             peaks = [s["peak_rss_mb"] for s in per_rank]
             if base is None:
@@ -74,6 +85,9 @@ def main(argv=None):
                         n_dofs=summary.get("n_dofs") or summary.get(
                             "n_dofs_reduced"),
                         load=os.getloadavg())
+            its = summary["engine"].get("ksp_iterations")
+            if its:
+                line["krylov"] = [round(sum(its) / len(its), 2), max(its)]
             print(json.dumps(line), flush=True)
             if args.log:
                 with open(args.log, "a") as stream:

@@ -203,10 +203,16 @@ class PartitionedPlan:
     def run(self):
         """Solve on the ranks; a :class:`~solver.mpi.distributed.
         PartitionedResult`."""
-        from ..mpi.distributed import solve_partitioned
         from ..mpi.engine import service
 
         s = self.settings
+        if s["system"] == "full":  # Krylov: no rank holds all of Γc
+            from ..mpi.partitioned_full import solve_partitioned_full
+
+            return solve_partitioned_full(service(), self.problem.path,
+                                          s["ksp"], s["tol"], s["max_iter"])
+        from ..mpi.distributed import solve_partitioned
+
         return solve_partitioned(service(), self.problem.path, s["method"],
                                  s["tol"], s["max_iter"])
 
