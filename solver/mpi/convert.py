@@ -42,9 +42,9 @@ from .layout import Layout
 
 __all__ = ["convert", "CELL_KINDS", "stored_members", "BLOCK_NNZ"]
 
-#: K's entries per block of rows of the streamed conversion (≈ 100 MB of
-#: indices and values in flight).
-BLOCK_NNZ = 1 << 23
+#: K's entries per block of rows of the streamed conversion: ≈ 28 bytes
+#: each in flight (read, renumbered, byte-swapped), ≈ 60 MB a block.
+BLOCK_NNZ = 1 << 21
 
 #: (dimension, nodes per cell) -> VTK cell name (meshio's).
 CELL_KINDS = {(2, 3): "triangle", (2, 4): "quad", (3, 4): "tetra",
@@ -183,6 +183,7 @@ def stored_members(path):
             if name not in MAPPED:
                 array = np.array(array)
             arrays[name] = array
+    mapped.madvise(mmap.MADV_DONTNEED)  # the pages read for the copies
     return arrays, mapped
 
 
