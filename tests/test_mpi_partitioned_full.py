@@ -114,22 +114,24 @@ def test_block_1_2_4_ranks_same_u_and_krylov_counts(block, tmp_path):
         krylov
 
 
-def test_sphere_with_rollers_1_2_4_ranks(sphere, tmp_path):
+def test_sphere_with_rollers_2_4_ranks(sphere, tmp_path):
     """3D with rollers on the symmetry planes (a roller's frame has one
-    tangent in its free components): u to 1e-8 on 1, 2 and 4 ranks."""
+    tangent in its free components): u to 1e-8 on 2 and 4 ranks (1 rank
+    ran the sphere before the CI budget cut it: the block covers 1)."""
     problem, result, folder = sphere
-    for ranks in (1, 2, 4):
+    for ranks in (2, 4):
         out = tmp_path / f"n{ranks}"
         summary = run_full(folder, out, ranks)
         check_answer(problem, result, out, summary, ranks)
 
 
 def test_hypre_boomeramg(block, tmp_path):
-    """--ksp hypre (BoomerAMG, no near-null space): the same u."""
+    """--ksp hypre (BoomerAMG, no near-null space): the same u (one
+    rank: the ranks' reductions are the GAMG tests')."""
     problem, result, folder = block
     out = tmp_path / "hypre"
-    summary = run_full(folder, out, 2, "hypre")
-    check_answer(problem, result, out, summary, 2)
+    summary = run_full(folder, out, 1, "hypre")
+    check_answer(problem, result, out, summary, 1)
     assert summary["engine"]["ksp"] == "hypre"
 
 

@@ -49,6 +49,12 @@ __all__ = ["solve_partitioned_full", "Reduction", "LocalSystem",
 #: The Krylov preconditioners of this path (``ksp=``).
 KRYLOV = ("gamg", "hypre")
 
+#: PETSc's algorithm of the distributed products PᵀAP (K̂ and GAMG's
+#: Galerkin coarse operators) on more than one rank: "allatonce" keeps no
+#: intermediate AP, which the default builds on every rank
+#: (benchmarks/README.md, "The full system on the partitioned folder").
+PTAP_VIA = "allatonce"
+
 
 def solve_partitioned_full(svc, folder, ksp="gamg", tol=1e-10, max_iter=100):
     """(rank 0, inside :func:`~solver.mpi.engine.spmd`) Solve the
@@ -330,6 +336,9 @@ def _setup(service, payload, local):
              (RT.indices + lo).astype(PETSc.IntType), RT.data),
         comm=A.getComm())
     P.assemble()
+    options = PETSc.Options()
+    if service.size > 1 and not options.hasName("matptap_via"):
+        options.setValue("matptap_via", PTAP_VIA)  # also GAMG's products
     K_hat = A.ptap(P)  # Pᵀ K P = R K Rᵀ
     P.destroy()
     if K_hat.getBlockSize() != dim:
