@@ -2,21 +2,26 @@
 peak memory per rank at 1 and 2 ranks.
 
 ``python benchmarks/run_distributed.py DIR [--npz X.npz] [--ranks 1,2]
-[--friction F --steps K] [--log FILE]`` runs ``mpiexec -n N python -m
-solver DIR --engine petsc`` (the partitioned problem of ``python -m
-solver convert X.npz DIR``) for each N, in fresh processes, and with
-``--npz`` also the PETSc engine on the ``.npz`` (rank 0 reads the
-whole problem and scatters K), for the before/after. Each run prints
-one JSON line: wall time of the mpiexec (process start to exit), each
-rank's peak RSS (MB, ``ru_maxrss``), its ratio to the 1-rank run's
-peak, its CPU time, rows and MUMPS's memory (INFO(22), MB), its peak
-so far after each collective step (``peak_after_mb``: where the peak is
-reached), Newton counts, and the load average when it ended; then a
-table. With ``--friction``, Coulomb friction in ``--steps`` load steps
-(each step's pieces written, as the command line does), with Jacobians
-per step and the Coulomb bound's verification in the line. The issue's
-target: at ≥ 10⁶ DOFs every rank's peak at 2 ranks ≤ 0.6× the 1-rank
-run's. Imports nothing of the solver: it reads the runs' summary.json."""
+[--friction F --steps K] [--krylov gamg|hypre] [--log FILE]`` runs
+``mpiexec -n N python -m solver DIR --engine petsc`` (the partitioned
+problem of ``python -m solver convert X.npz DIR``) for each N, in fresh
+processes, and with ``--npz`` also the PETSc engine on the ``.npz``
+(rank 0 reads the whole problem and scatters K), for the before/after.
+Each run prints one JSON line: wall time of the mpiexec (process start
+to exit), each rank's peak RSS (MB, ``ru_maxrss``), its ratio to the
+1-rank run's peak, its CPU time, rows and MUMPS's memory (INFO(22), MB),
+its peak so far after each collective step (``peak_after_mb``: where the
+peak is reached), Newton counts, and the load average when it ended;
+then a table. With ``--friction``, Coulomb friction in ``--steps`` load
+steps (each step's pieces written, as the command line does), with
+Jacobians per step and the Coulomb bound's verification in the line.
+``--krylov gamg`` (or ``hypre``) runs the folder's full system by Krylov
+instead (``--system full --ksp gamg``, no rank holding all of Γc) and
+adds the CG iterations per Newton system (``krylov``: mean, max) to each
+line, the issue's "Krylov counts independent of the rank count ±10 %".
+The issue's target: at ≥ 10⁶ DOFs every rank's peak at 2 ranks ≤ 0.6×
+the 1-rank run's. Imports nothing of the solver: it reads the runs'
+summary.json."""
 
 import argparse
 import json
@@ -55,18 +60,24 @@ def main(argv=None):
     parser.add_argument("--friction", type=float, help="f_c: friction runs")
     parser.add_argument("--steps", type=int, default=5,
                         help="load steps of a friction run (default 5)")
+    parser.add_argument("--krylov", choices=("gamg", "hypre"),
+                        help="the folder's full system by CG + this "
+                             "preconditioner")
     args = parser.parse_args(argv)
     inputs = [("partitioned", args.folder)] + (
         [("npz", args.npz)] if args.npz else [])
     rows = []
     extra = [] if args.friction is None else [
         "--friction", str(args.friction), "--steps", str(args.steps)]
+    krylov = ["--system", "full", "--ksp", args.krylov] if args.krylov \
+        else []
     for name, problem in inputs:
         base = None
         for ranks in [int(r) for r in args.ranks.split(",")]:
             with tempfile.TemporaryDirectory() as tmp:
                 wall, summary = run(ranks, problem, os.path.join(tmp, "o"),
-                                    extra)
+                                    extra + krylov if name == "partitioned"
+                                    else extra)
             per_rank = summary["engine"]["per_rank"]
             peaks = [s["peak_rss_mb"] for s in per_rank]
             if base is None:
@@ -91,6 +102,9 @@ def main(argv=None):
                         n_dofs=summary.get("n_dofs") or summary.get(
                             "n_dofs_reduced"),
                         load=os.getloadavg())
+            its = summary["engine"].get("ksp_iterations")
+            if its:
+                line["krylov"] = [round(sum(its) / len(its), 2), max(its)]
             print(json.dumps(line), flush=True)
             if args.log:
                 with open(args.log, "a") as stream:

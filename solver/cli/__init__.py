@@ -152,10 +152,12 @@ def build_parser():
                         help="petsc: the same solves with PETSc (MUMPS, "
                              "KSP) on the MPI ranks of mpiexec -n N; "
                              "default serial")
-    engine.add_argument("--ksp", choices=("mumps", "gamg"), default=None,
+    engine.add_argument("--ksp", choices=("mumps", "gamg", "hypre"), default=None,
                         help="with --engine petsc --system full: each Newton "
-                             "system by MUMPS or by CG + GAMG (rigid-body "
-                             "near-null space); default mumps")
+                             "system by MUMPS, by CG + GAMG (rigid-body "
+                             "near-null space) or by CG + hypre's "
+                             "BoomerAMG; default mumps (a partitioned "
+                             "folder: gamg or hypre)")
     parser.add_argument("--plots", action="store_true",
                         help="also write PNG figures (deformed body, "
                              "displacements, convergence, contact "

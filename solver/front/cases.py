@@ -29,7 +29,7 @@ METHODS = ("min", "fb")
 SYSTEMS = ("auto", "condensed", "full")
 STARTS = ("nested", "free")
 ENGINES = ("serial", "petsc")
-KSPS = ("mumps", "gamg")
+KSPS = ("mumps", "gamg", "hypre")
 VARIANTS = ("mortar", "node-to-segment")
 
 #: Every option of :func:`solver.solve` and its default. An option counts
@@ -174,14 +174,16 @@ def _partitioned(option, reason, applies, label=None):
                 label)
 
 
-_CONVERTED = ("the distributed solve runs on the system condensed onto "
-              "Γc (frictionless from the free start), with the gaps and "
-              "nodes of the conversion; run the .npz for it")
+_CONVERTED = ("the distributed solve runs with the gaps, nodes and "
+              "rollers of the conversion, from the free start (friction: "
+              "each load step from the previous one); run the .npz for it")
 
 #: What the distributed solve of a partitioned problem does not do
-#: (:mod:`solver.mpi.distributed`, :mod:`solver.mpi.partitioned_friction`):
-#: it runs on the petsc engine, condensed, from the free start (friction:
-#: the projection formulation on all of Γc), with the conversion's gaps.
+#: (:mod:`solver.mpi.distributed`, :mod:`solver.mpi.partitioned_friction`;
+#: the full system by Krylov, :mod:`solver.mpi.partitioned_full`): it runs
+#: on the petsc engine, condensed, from the free start (friction: the
+#: projection formulation on all of Γc), or frictionless on the full system
+#: with ksp='gamg' / 'hypre' (φ_min), with the conversion's gaps.
 PARTITIONED_RULES = (
     _partitioned("engine", "its K is read in parts by the ranks of "
                  "mpiexec: engine='petsc', under mpiexec -n N",
@@ -195,13 +197,29 @@ PARTITIONED_RULES = (
                  "pieces are written to DIR/steps/ by the command line "
                  "(PartitionedPlan.run(outdir=DIR))",
                  lambda c, s, g: "on_step" in g),
-    _partitioned("system", "the distributed solve runs on the system "
-                 "condensed onto Γc (MUMPS's Schur complement)",
-                 lambda c, s, g: s["system"] == "full", "system='full'"),
+    _partitioned("friction", "the full system of a folder by Krylov "
+                 "(system='full') is frictionless; run the .npz for "
+                 "friction", lambda c, s, g: c.contact == "friction"
+                 and s["system"] == "full", "friction with system='full'"),
+    _partitioned("system", "on a folder the full system runs by Krylov, "
+                 "ksp='gamg' or 'hypre' (no rank factorises the whole K); "
+                 "without system='full' the system condensed onto Γc "
+                 "(MUMPS's Schur complement)",
+                 lambda c, s, g: s["system"] == "full"
+                 and s["ksp"] not in ("gamg", "hypre"),
+                 "system='full' without ksp='gamg' or 'hypre'"),
+    _partitioned("ksp", "it chooses the Krylov preconditioner of the full "
+                 "system (system='full'); the condensed system factorises "
+                 "with MUMPS", lambda c, s, g: "ksp" in g
+                 and s["system"] != "full", "ksp without system='full'"),
+    _partitioned("method", "the full system of a folder runs φ_min (its "
+                 "Newton decisions reduced over the ranks)",
+                 lambda c, s, g: s["system"] == "full"
+                 and s["method"] != "min", "method='fb' with system='full'"),
 ) + tuple(
     _partitioned(name, _CONVERTED, lambda c, s, g, name=name: name in g)
     for name in ("start", "gap", "search_interval", "gap_scale",
-                 "candidates", "margin", "rollers", "x0", "ksp",
+                 "candidates", "margin", "rollers", "x0",
                  "options", "geometry", "variant")) + (
     _partitioned("backend", "the distributed solve factorises with "
                  "MUMPS", lambda c, s, g: s["backend"] != "auto",

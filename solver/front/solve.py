@@ -220,6 +220,11 @@ class PartitionedPlan:
                 s["formulation"], s["coulomb"], s["method"], s["tol"],
                 s["max_iter"], outdir=outdir,
                 progress=progress or s["progress"])
+        if s["system"] == "full":  # Krylov: no rank holds all of Γc
+            from ..mpi.partitioned_full import solve_partitioned_full
+
+            return solve_partitioned_full(service(), self.problem.path,
+                                          s["ksp"], s["tol"], s["max_iter"])
         from ..mpi.distributed import solve_partitioned
 
         return solve_partitioned(service(), self.problem.path, s["method"],

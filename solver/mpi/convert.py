@@ -8,10 +8,24 @@ The conversion runs once, serially, on a machine that holds the ``.npz``
 numbering of :class:`~solver.mpi.layout.Layout`, writes them in PETSc's
 binary format with NumPy, sorts the cells by their smallest node, and
 computes the contact geometry (gaps, normals, frames: thesis §2.1) of the
-nodes that take part, which is all the distributed solve needs on Γc."""
+nodes that take part, which is all the distributed solve needs on Γc.
+
+An uncompressed ``.npz`` (``np.savez``: a zip whose members are stored)
+is converted without K in memory (:func:`stored_members`): every member
+is memory-mapped at its offset (the zip's local header, then NumPy's
+``.npy`` header), the mesh-sized vectors are read, and K's CSR is
+checked, padded and written in blocks of rows, its mapped pages given
+back after each block (``madvise``), so the conversion's peak memory is
+O(n) vectors plus one block, not K. A compressed file (``save_problem``
+and SfePy's export write ``np.savez_compressed``) is loaded whole, with
+one line saying so."""
 
 import json
+import mmap
 import os
+import struct
+import sys
+import zipfile
 
 import numpy as np
 import scipy.sparse as sp
@@ -20,11 +34,18 @@ from ..contact.geometry import contact_geometry, contact_stiffness
 from ..errors import ProblemError
 from ..ncp import stable_norm
 from ..problem import load_problem
-from ..problem.partitioned import (MASS_FILE, PARTITIONED_VERSION,
-                                   write_petsc_matrix, write_petsc_vector)
+from ..problem.core import validate_arrays
+from ..problem.partitioned import (MASS_FILE, MAT_CLASSID,
+                                   PARTITIONED_VERSION,
+                                   write_contact_by_node, write_petsc_matrix,
+                                   write_petsc_vector)
 from .layout import Layout
 
-__all__ = ["convert", "CELL_KINDS"]
+__all__ = ["convert", "CELL_KINDS", "stored_members", "BLOCK_NNZ"]
+
+#: K's entries per block of rows of the streamed conversion: ≈ 28 bytes
+#: each in flight (read, renumbered, byte-swapped), ≈ 60 MB a block.
+BLOCK_NNZ = 1 << 21
 
 #: (dimension, nodes per cell) -> VTK cell name (meshio's).
 CELL_KINDS = {(2, 3): "triangle", (2, 4): "quad", (3, 4): "tetra",
@@ -42,9 +63,29 @@ def convert(source, folder, gap="obstacle"):
     ``source`` (a path or a loaded problem); returns ``problem.json``'s
     contents. One rigid body against a rigid obstacle only (ProblemError
     otherwise); the nodes with a Dirichlet DOF take part as rollers, as
-    :func:`solver.solve`'s default."""
-    problem = load_problem(source) if isinstance(source, (str, os.PathLike)) \
-        else source
+    :func:`solver.solve`'s default. A path to an uncompressed ``.npz`` is
+    streamed (module docstring; ``meta``'s ``"streamed"`` says which)."""
+    stream = None
+    if isinstance(source, (str, os.PathLike)):
+        stream = _StreamedK.open(source)
+        if stream is None:
+            print(f"{os.fspath(source)}: compressed members (np.savez_"
+                  f"compressed): reading the whole problem into memory; "
+                  f"np.savez writes a file converted by blocks of rows",
+                  file=sys.stderr)
+            problem = load_problem(source)
+        else:
+            problem = stream.problem
+    else:
+        problem = source
+    try:
+        return _convert(problem, folder, gap, stream)
+    finally:
+        if stream is not None:
+            stream.close()
+
+
+def _convert(problem, folder, gap, stream):
     if problem.kind != "mesh" or problem.n_bodies != 1 or problem.is_mortar:
         raise ProblemError("convert: the partitioned problem holds one "
                            "elastic body against a rigid obstacle (a mesh "
@@ -52,12 +93,16 @@ def convert(source, folder, gap="obstacle"):
     geometry = contact_geometry(problem, gap, rollers=True)
     layout = Layout(problem, 1)
     os.makedirs(folder, exist_ok=True)
-    K = problem.K
+    K = problem.K  # streamed: diag(K), which is all that is read of it here
     scale = float(np.mean(K.diagonal())) if K.shape[0] else 1.0
-    K_pad = layout.matrix(K)
-    nnz = int(K_pad.nnz)
-    write_petsc_matrix(os.path.join(folder, "K.petsc"), K_pad)
-    del K_pad
+    if stream is None:
+        K_pad = layout.matrix(K)
+        nnz = int(K_pad.nnz)
+        write_petsc_matrix(os.path.join(folder, "K.petsc"), K_pad)
+        del K_pad
+    else:
+        nnz = stream.write_padded(os.path.join(folder, "K.petsc"), layout,
+                                  scale)
     f_pad = layout.pad(problem.f)  # Dirichlet rows: scale · ū (module doc)
     f_pad[layout.dirichlet] = scale * np.asarray(
         problem.u_prescribed, float).ravel()[layout.dirichlet]
@@ -69,15 +114,17 @@ def convert(source, folder, gap="obstacle"):
                                                           float))
     np.save(os.path.join(folder, "cells.npy"), cells[order])
     pad = layout.red_to_pad
-    np.savez(os.path.join(folder, "contact.npz"),
-             node=np.asarray(problem.contact_nodes, np.int64)[geometry.index],
-             index=np.asarray(geometry.index, np.int64),
-             dofs=_padded_rows(geometry.dofs, pad),
-             node_dofs=_padded_rows(geometry.node_dofs, pad),
-             gap=np.asarray(geometry.gap, float),
-             normal=np.asarray(geometry.normal, float),
-             tangents=np.asarray(geometry.tangents, float),
-             oblique=np.asarray(geometry.oblique, bool))
+    contact = dict(
+        node=np.asarray(problem.contact_nodes, np.int64)[geometry.index],
+        index=np.asarray(geometry.index, np.int64),
+        dofs=_padded_rows(geometry.dofs, pad),
+        node_dofs=_padded_rows(geometry.node_dofs, pad),
+        gap=np.asarray(geometry.gap, float),
+        normal=np.asarray(geometry.normal, float),
+        tangents=np.asarray(geometry.tangents, float),
+        oblique=np.asarray(geometry.oblique, bool))
+    np.savez(os.path.join(folder, "contact.npz"), **contact)
+    write_contact_by_node(folder, contact)
     # Γc's boundary mass matrix (n_contact², sparse): friction's lumped D
     # and M⁻¹λ (solver.mpi.partitioned_friction)
     sp.save_npz(os.path.join(folder, MASS_FILE), sp.csr_matrix(problem.M))
@@ -91,7 +138,185 @@ def convert(source, folder, gap="obstacle"):
         n_contact=int(problem.n_contact),
         excluded=int(len(geometry.excluded["index"])),
         load_path=problem.load_path is not None,
-        meta=problem.meta, source=str(problem.source))
-    with open(os.path.join(folder, "problem.json"), "w") as stream:
-        json.dump(meta, stream, indent=1, sort_keys=True)
+        meta=problem.meta, source=str(problem.source),
+        streamed=stream is not None)
+    with open(os.path.join(folder, "problem.json"), "w") as stream_:
+        json.dump(meta, stream_, indent=1, sort_keys=True)
     return meta
+
+
+#: The members that stay mapped (every other one is read: O(n) vectors).
+MAPPED = ("K_indices", "K_data")
+
+
+def stored_members(path):
+    """{name: array} of the ``.npz`` at ``path`` if every member is stored
+    uncompressed (``np.savez``), each a read-only view into one ``mmap``
+    of the file at its offset (after the zip's local header and the
+    ``.npy`` header) for :data:`MAPPED`, the others read.
+    Returns (arrays, the mmap), or None if a member is compressed."""
+    path = os.fspath(path)
+    try:
+        with zipfile.ZipFile(path) as archive:
+            infos = archive.infolist()
+    except (OSError, zipfile.BadZipFile) as exc:
+        raise ProblemError(f"{path}: not a readable .npz ({exc})") from None
+    if any(info.compress_type != zipfile.ZIP_STORED for info in infos):
+        return None
+    arrays = {}
+    with open(path, "rb") as stream:
+        mapped = mmap.mmap(stream.fileno(), 0, access=mmap.ACCESS_READ)
+        for info in infos:
+            if not info.filename.endswith(".npy"):
+                raise ProblemError(f"{path}: member {info.filename!r} is "
+                                   "not an .npy array")
+            stream.seek(info.header_offset)
+            head = stream.read(30)  # the zip's local file header
+            names, extra = struct.unpack("<HH", head[26:30])
+            stream.seek(info.header_offset + 30 + names + extra)
+            version = np.lib.format.read_magic(stream)
+            shape, fortran, dtype = (
+                np.lib.format.read_array_header_1_0 if version == (1, 0)
+                else np.lib.format.read_array_header_2_0)(stream)
+            if dtype.hasobject:
+                raise ProblemError(f"{path}: member {info.filename!r} "
+                                   "holds pickled objects")
+            count = int(np.prod(shape))
+            array = np.frombuffer(mapped, dtype, count, stream.tell()) \
+                .reshape(shape, order="F" if fortran else "C")
+            name = info.filename[:-4]
+            if name not in MAPPED:
+                array = np.array(array)
+            arrays[name] = array
+    mapped.madvise(mmap.MADV_DONTNEED)  # the pages read for the copies
+    return arrays, mapped
+
+
+class _StreamedK:
+    """An uncompressed problem file with K memory-mapped: ``problem`` is
+    the validated problem with diag(K) in K's place (every check of the
+    file's other arrays runs as on a whole load; max|K| is on the
+    diagonal of an SPD K, so the load limit is K's); K itself is checked
+    and written by blocks of rows (:meth:`write_padded`)."""
+
+    def __init__(self, path, arrays, mapped):
+        self.path, self.mapped = os.fspath(path), mapped
+        n = int(np.asarray(arrays.get("K_shape", [0]))[0])
+        try:
+            self.indptr = np.array(arrays["K_indptr"], np.int64)
+            self.indices, self.data = arrays["K_indices"], arrays["K_data"]
+        except KeyError as exc:
+            raise ProblemError(f"{path}: missing {exc.args[0]}") from None
+        if len(self.indptr) != n + 1 or self.indptr[0] != 0 or \
+                self.indptr[-1] != len(self.data) or \
+                len(self.indices) != len(self.data) or \
+                (np.diff(self.indptr) < 0).any():
+            raise ProblemError(f"{path}: K_indptr is not a valid CSR row "
+                               f"pointer of K_shape and K_data")
+        self.n = n
+        diagonal = np.zeros(n)
+        for r0, r1, cols, vals in self._blocks(0, n):
+            rows = np.repeat(np.arange(r0, r1), np.diff(self.indptr[r0:r1 + 1]))
+            on = cols == rows
+            diagonal[rows[on]] = vals[on]
+        if (diagonal <= 0).any():
+            i = int(np.argmax(diagonal <= 0))
+            raise ProblemError(f"{path}: K_data: diagonal entry {i} is "
+                               f"{diagonal[i]:.3g}: the matrix is not "
+                               f"positive definite")
+        stand_in = dict(arrays, K_data=diagonal, K_indices=np.arange(
+            n, dtype=np.int64), K_indptr=np.arange(n + 1, dtype=np.int64))
+        self.problem = validate_arrays(stand_in)
+        self.problem.source = self.path
+
+    @classmethod
+    def open(cls, path):
+        """The streamed file, or None if compressed (or not a mesh
+        problem's K in CSR)."""
+        found = stored_members(path)
+        if found is None:
+            return None
+        return cls(path, *found)
+
+    def close(self):
+        self.indices = self.data = None
+        try:
+            self.mapped.close()
+        except BufferError:  # a view still held: freed with it
+            pass
+
+    def _blocks(self, r0, r1):
+        """(first row, end row, column indices, values) of K's rows r0:r1
+        in blocks of about :data:`BLOCK_NNZ` entries, each checked
+        (indices in range and increasing in every row, values finite);
+        the mapped pages are given back after each block."""
+        ptr = self.indptr
+        while r0 < r1:
+            end = int(np.searchsorted(ptr, ptr[r0] + BLOCK_NNZ, "right")) - 1
+            end = min(max(end, r0 + 1), r1)
+            a, b = int(ptr[r0]), int(ptr[end])
+            cols = np.array(self.indices[a:b], np.int64)
+            vals = np.array(self.data[a:b], float)
+            self.mapped.madvise(mmap.MADV_DONTNEED)
+            if len(cols) and (cols.min() < 0 or cols.max() >= self.n):
+                raise ProblemError(f"{self.path}: K_indices: an index "
+                                   f"outside 0..{self.n - 1}")
+            if not np.isfinite(vals).all():
+                raise ProblemError(f"{self.path}: K_data: a value is not "
+                                   "finite")
+            step = np.diff(cols)
+            starts = ptr[r0 + 1:end] - a  # a row's first entry: no order
+            step[starts[(starts > 0) & (starts <= len(step))] - 1] = 1
+            if (step <= 0).any():
+                raise ProblemError(f"{self.path}: K's column indices are not "
+                                   "sorted and unique in every row (write it "
+                                   "with np.savez of a canonical CSR, or "
+                                   "compress it to convert it whole)")
+            yield r0, end, cols, vals
+            r0 = end
+
+    def write_padded(self, path, layout, scale):
+        """K in the padded numbering as PETSc's binary AIJ at ``path``,
+        block by block (Layout.matrix's rows: K's rows renumbered, an
+        identity row scaled by ``scale`` at each Dirichlet DOF); returns
+        its number of entries."""
+        r = layout.red_to_pad
+        if len(r) > 1 and not np.all(r[1:] > r[:-1]):
+            raise ProblemError(f"{self.path}: the nodes' order is not kept "
+                               "in dof_map; compress the file to convert it "
+                               "whole")
+        lengths = np.ones(layout.n, np.int64)
+        lengths[r] = np.diff(self.indptr)
+        nnz = int(lengths.sum())
+        header = np.dtype(">i4")
+        with open(path, "wb") as stream:
+            np.array([MAT_CLASSID, layout.n, layout.n, nnz],
+                     header).tofile(stream)
+            lengths.astype(header).tofile(stream)
+            base_i = stream.tell()
+            base_v = base_i + 4 * nnz
+            row_ptr = np.r_[0, np.cumsum(lengths)]
+            done = 0  # padded rows written
+            for r0, r1, cols, vals in self._blocks(0, self.n):
+                stop = layout.n if r1 == self.n else int(r[r1])
+                rows = np.arange(done, stop)
+                block = np.ones(len(rows), np.int64)
+                mine = r[r0:r1] - done
+                block[mine] = np.diff(self.indptr[r0:r1 + 1])
+                ptr = np.r_[0, np.cumsum(block)]
+                out_i, out_v = np.empty(ptr[-1], np.int64), \
+                    np.empty(ptr[-1])
+                copied = np.ones(ptr[-1], bool)
+                dirichlet = np.ones(len(rows), bool)
+                dirichlet[mine] = False
+                at = ptr[:-1][dirichlet]
+                copied[at] = False
+                out_i[copied], out_v[copied] = r[cols], vals
+                out_i[at], out_v[at] = rows[dirichlet], scale
+                offset = int(row_ptr[done])
+                stream.seek(base_i + 4 * offset)
+                out_i.astype(header).tofile(stream)
+                stream.seek(base_v + 8 * offset)
+                out_v.astype(">f8").tofile(stream)
+                done = stop
+        return nnz

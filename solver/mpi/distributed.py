@@ -186,6 +186,9 @@ class PartitionedResult(dict):
         super().__init__(summary)
         self.svc, self.folder, self.meta = svc, folder, meta
         self.contact = contact
+        #: ``partitioned_write``'s further payload (``fields``: the contact
+        #: fields are on the ranks, :mod:`.partitioned_full`)
+        self.write_options = {}
 
     @property
     def success(self):
@@ -203,8 +206,8 @@ class PartitionedResult(dict):
         that each rank's peak includes writing its piece."""
         pieces = self.svc.call("partitioned_write", dict(
             folder=os.fspath(self.folder), outdir=os.fspath(outdir),
-            kind=self.meta["cell_kind"], dim=int(self.meta["dim"])),
-            self.contact)
+            kind=self.meta["cell_kind"], dim=int(self.meta["dim"]),
+            **self.write_options), self.contact)
         self["engine"]["per_rank"] = self.svc.call("stats")
         return pieces
 
@@ -535,10 +538,18 @@ def _write(service, payload, local):
     folder, dim = payload["folder"], payload["dim"]
     points, cells, coordinates = _local_mesh(folder, service.rank,
                                              service.size)
-    u = _values_at(service, service.objects[KEY]["u"], (
-        points[:, None] * dim + np.arange(dim)).ravel()).reshape(-1, dim)
-    contact = service.comm.bcast(local, root=0)
+    rows = (points[:, None] * dim + np.arange(dim)).ravel()
+    u = _values_at(service, service.objects[KEY]["u"], rows).reshape(-1, dim)
     n = len(points)
+    if payload.get("fields"):  # on the ranks: (λ, s) at a node's 1st rows
+        values = _values_at(service, service.objects[KEY]["fields"],
+                            rows).reshape(-1, dim)
+        touched = ~np.isnan(values[:, 1])
+        contact = dict(node=points[touched], force=values[touched, 0],
+                       gap=values[touched, 1], in_contact=values[
+                           touched, 0] > payload["threshold"])
+    else:
+        contact = service.comm.bcast(local, root=0)
     at = np.searchsorted(points, contact["node"])
     mine = (at < n) & (points[np.minimum(at, n - 1)] == contact["node"])
     data = dict(u=np.c_[u, np.zeros((n, 3 - dim))], node=points.astype(

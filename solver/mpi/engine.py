@@ -11,7 +11,7 @@ __all__ = ["PetscEngine", "KSPS", "service", "spmd", "engine_summary",
            "check_problem", "restore_malloc"]
 
 #: Solvers of the full system's Newton systems (``ksp=``).
-KSPS = ("mumps", "gamg")
+KSPS = ("mumps", "gamg", "hypre")
 
 _SERVICE = []
 
@@ -36,7 +36,8 @@ def service():
 
         restore_malloc()
         from . import (distributed, factor, full,  # noqa: F401
-                       partitioned_friction, schur, snesvi)
+                       partitioned_friction, partitioned_full, schur,
+                       snesvi)
         from .service import Service
 
         PETSc.Options().setValue("k_mat_mumps_icntl_14", 50)  # workspace +%

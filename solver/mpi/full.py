@@ -22,7 +22,8 @@ from ..linalg.base import PIVOT_RTOL
 from .layout import gather_vector, scatter_matrix, scatter_vector
 from .service import EngineError, command
 
-__all__ = ["full_jacobian", "ksp_statistics", "rigid_modes", "CG_RTOL"]
+__all__ = ["full_jacobian", "ksp_statistics", "rigid_modes", "CG_RTOL",
+           "newton_rows", "newton_ksp", "solve_newton_system"]
 
 #: Relative residual of a CG + GAMG Newton solve.
 CG_RTOL = 1e-12
@@ -33,6 +34,13 @@ CG_RTOL = 1e-12
 #: (counted in ``ksp_fallbacks``, iteration count 0).
 GAMG_OPTIONS = {"mg_levels_ksp_chebyshev_esteig": "0,0.2,0,1.5",
                 "mg_levels_esteig_ksp_type": "cg"}
+
+#: hypre's BoomerAMG on elasticity (``--ksp hypre``): the nodal
+#: (unknown-blocked) coarsening and interpolation for systems (hypre's
+#: manual, "BoomerAMG", systems of PDEs); no near-null space of PETSc's.
+HYPRE_OPTIONS = {"pc_hypre_boomeramg_nodal_coarsen": "6",
+                 "pc_hypre_boomeramg_vec_interp_variant": "3",
+                 "pc_hypre_boomeramg_strong_threshold": "0.5"}
 
 
 def rigid_modes(problem, layout, R):
@@ -74,22 +82,35 @@ class _Combined:
 
     def direction(self, F):
         o, s = self.owner, self.owner.system
-        ne, c = len(s.x_rows), s.gap_scale
-        FE, FC = F[:ne], F[ne:]
-        mixed = self.wa != 0.0
-        if np.any(~mixed & (self.wb == 0.0)):
-            return None
         rhs = np.zeros(o.layout.n)
-        rhs[o.layout.red_to_pad[s.x_rows]] = -FE
         rows = o.layout.red_to_pad[s.y_rows]
-        rhs[rows[mixed]] = FC[mixed] / self.wa[mixed]
-        fixed = ~mixed
-        dv = o.service.call("newton_solve", dict(
-            shift_rows=rows[mixed], shift=c * self.wb[mixed] / self.wa[mixed],
-            fixed_rows=rows[fixed], fixed=FC[fixed] / (c * self.wb[fixed])),
-            rhs)
+        parts = newton_rows(rhs, o.layout.red_to_pad[s.x_rows], rows, F,
+                            self.wa, self.wb, s.gap_scale)
+        if parts is None:
+            return None
+        dv = o.service.call("newton_solve", parts, rhs)
         d = s.R.T @ o.layout.unpad(dv)
         return d if np.all(np.isfinite(d)) else None
+
+
+def newton_rows(rhs, x_rows, y_rows, F, wa, wb, c):
+    r"""The Newton system J d = −F of (67) in the node frames, v = R d
+    (module docstring): fills ``rhs`` (K̂ v = rhs at the rows ``x_rows`` of
+    the equations and ``y_rows`` of the normal rows with w_a ≠ 0, there
+    divided by −w_a) and returns the rows' changes as ``newton_solve``
+    takes them: ``shift_rows``, ``shift`` (c w_b/w_a added to the
+    diagonal) and ``fixed_rows``, ``fixed`` (v = Φ_i/(c w_b) where
+    w_a = 0); None where a row has w_a = w_b = 0 (J singular)."""
+    ne = len(x_rows)
+    FE, FC = F[:ne], F[ne:]
+    mixed = wa != 0.0
+    if np.any(~mixed & (wb == 0.0)):
+        return None
+    rhs[x_rows] = -FE
+    rhs[y_rows[mixed]] = FC[mixed] / wa[mixed]
+    fixed = ~mixed
+    return dict(shift_rows=y_rows[mixed], shift=c * wb[mixed] / wa[mixed],
+                fixed_rows=y_rows[fixed], fixed=FC[fixed] / (c * wb[fixed]))
 
 
 class _Owner:
@@ -128,27 +149,38 @@ def ksp_statistics(service, ksp):
 
 @command("newton_setup")
 def _setup(service, payload, local):
-    from petsc4py import PETSc
-
     A_pad, modes = local if service.root else (None, None)
     A = scatter_matrix(service, A_pad, payload["bsize"])
-    M = A.duplicate(copy=True)
-    ksp = PETSc.KSP().create(comm=A.getComm())
-    pc = ksp.getPC()
+    vecs = []
     if payload["ksp"] == "gamg":
-        vecs = []
         k = service.comm.bcast(None if modes is None else modes.shape[1])
         for j in range(k):
-            v = M.createVecLeft()
+            v = A.createVecLeft()
             scatter_vector(service, None if modes is None else
                            np.ascontiguousarray(modes[:, j]), v)
             vecs.append(v)
-        M.setNearNullSpace(PETSc.NullSpace().create(vectors=vecs,
-                                                    comm=A.getComm()))
+    newton_ksp(service, A, payload["ksp"], payload["scale"], vecs)
+
+
+def newton_ksp(service, A, ksp_type, scale, modes=()):
+    """(every rank) The Newton systems' KSP on the distributed K̂ ``A``
+    (kept as ``objects["newton"]``): CG + GAMG with the near-null space
+    ``modes`` (PETSc vectors), CG + hypre's BoomerAMG, or MUMPS's
+    Cholesky; options prefix ``newton_`` ($PETSC_OPTIONS wins)."""
+    from petsc4py import PETSc
+
+    M = A.duplicate(copy=True)
+    ksp = PETSc.KSP().create(comm=A.getComm())
+    pc = ksp.getPC()
+    if ksp_type in ("gamg", "hypre"):
+        if modes:
+            M.setNearNullSpace(PETSc.NullSpace().create(vectors=list(modes),
+                                                        comm=A.getComm()))
         ksp.setType("cg")
-        pc.setType("gamg")
+        pc.setType(ksp_type)
         options = PETSc.Options()
-        for name, value in GAMG_OPTIONS.items():
+        for name, value in (GAMG_OPTIONS if ksp_type == "gamg" else
+                            HYPRE_OPTIONS).items():
             if not options.hasName(f"newton_{name}"):  # $PETSC_OPTIONS wins
                 options.setValue(f"newton_{name}", value)
         ksp.setTolerances(rtol=CG_RTOL, atol=0.0, max_it=5000)
@@ -160,43 +192,54 @@ def _setup(service, payload, local):
     ksp.setFromOptions()
     x, b = M.createVecs()
     service.objects["newton"] = dict(A=A, M=M, ksp=ksp, x=x, b=b, its=[],
-                                     scale=payload["scale"])
+                                     scale=scale, krylov=ksp_type != "mumps")
 
 
 @command("newton_solve")
 def _newton_solve(service, payload, local):
+    obj = service.objects["newton"]
+    scatter_vector(service, local, obj["b"])
+    solve_newton_system(obj, payload)
+    return gather_vector(service, obj["x"])
+
+
+def solve_newton_system(obj, rows):
+    """(every rank) K̂ with the diagonal shifts and fixed rows of
+    :func:`newton_rows` (``rows``: global row numbers, each rank keeps
+    those it owns) solved for ``obj["b"]`` into ``obj["x"]`` (``obj`` of
+    :func:`newton_ksp`): the fixed rows eliminated symmetrically, so the
+    system stays SPD; a failed CG falls back to MUMPS (iteration count
+    0, module docstring). Records the Krylov iterations."""
     from petsc4py import PETSc
 
-    obj = service.objects["newton"]
     A, M, ksp, x, b = (obj[k] for k in ("A", "M", "ksp", "x", "b"))
     A.copy(M, structure=PETSc.Mat.Structure.SAME_NONZERO_PATTERN)
     lo, hi = M.getOwnershipRange()
     shift = M.createVecLeft()
     shift.set(0.0)
-    rows, vals = payload["shift_rows"], payload["shift"]
-    own = (rows >= lo) & (rows < hi)
-    shift.setValues(rows[own].astype(PETSc.IntType), vals[own])
+    index, vals = np.asarray(rows["shift_rows"]), rows["shift"]
+    own = (index >= lo) & (index < hi)
+    shift.setValues(index[own].astype(PETSc.IntType), vals[own])
     shift.assemble()
     M.setDiagonal(shift, addv=PETSc.InsertMode.ADD_VALUES)
-    scatter_vector(service, local, b)
-    rows, vals = payload["fixed_rows"], payload["fixed"]
-    own = (rows >= lo) & (rows < hi)
+    shift.destroy()
+    index, vals = np.asarray(rows["fixed_rows"]), rows["fixed"]
+    own = (index >= lo) & (index < hi)
     x.set(0.0)
-    x.setValues(rows[own].astype(PETSc.IntType), vals[own])
+    x.setValues(index[own].astype(PETSc.IntType), vals[own])
     x.assemble()
-    M.zeroRowsColumns(rows[own].astype(PETSc.IntType), diag=obj["scale"],
+    M.zeroRowsColumns(index[own].astype(PETSc.IntType), diag=obj["scale"],
                       x=x, b=b)
     ksp.setOperators(M)
     x.set(0.0)
     ksp.solve(b, x)
     its = ksp.getIterationNumber()
-    if ksp.getConvergedReason() < 0 and ksp.getType() == "cg":
+    if ksp.getConvergedReason() < 0 and obj.get("krylov"):
         ksp, its = _direct_solve(obj, M, b, x), 0  # CG failed: counted
     if ksp.getConvergedReason() < 0:
         raise EngineError(f"KSP failed on a Newton system (reason "
                           f"{ksp.getConvergedReason()})")
     obj["its"].append(its)
-    return gather_vector(service, x)
 
 
 def _direct(obj, M):

@@ -62,7 +62,8 @@ from .direction import newton_direction
 from .evaluation import Counted
 from .functions import NCP_FUNCTIONS
 
-__all__ = ["solve_ncp", "MESSAGES", "DEFAULT_OPTIONS", "stable_norm"]
+__all__ = ["solve_ncp", "MESSAGES", "DEFAULT_OPTIONS", "stable_norm",
+           "LocalReduction"]
 
 #: Termination messages keyed by ``status`` (4 and 5 get the detail of the
 #: case appended; 6 is set by the contact solvers, which verify answers).
@@ -131,7 +132,8 @@ def stable_norm(v):
 
 
 def solve_ncp(fun, jac, x0, method="min", tol=1e-10, max_iter=100,
-              options=None, callback=None, error=None, scale=None):
+              options=None, callback=None, error=None, scale=None,
+              reduction=None):
     r"""Solve a mixed NCP by a semismooth Newton method.
 
     Parameters
@@ -161,6 +163,13 @@ def solve_ncp(fun, jac, x0, method="min", tol=1e-10, max_iter=100,
         ``error(E, A, B)``, the stopping measure, for rows of Φ in different
         units (the iteration itself still works with Φ); ``scale(E, A, B)``,
         the problem's own size at x in the units of ``error``.
+    reduction : object, optional
+        For x, Φ distributed over the ranks of MPI (each rank calls
+        ``solve_ncp`` on its own rows at once, ``fun`` and ``jac``
+        collective): ``norm(v)``, ‖v‖₂ over all ranks, and ``all(flag)``,
+        whether ``flag`` holds on every rank, so that every decision
+        (stopping test, line search, stall) is the same on every rank
+        (:class:`LocalReduction` by default; ``method="min"`` only).
 
     Returns
     -------
@@ -182,13 +191,29 @@ def solve_ncp(fun, jac, x0, method="min", tol=1e-10, max_iter=100,
         raise ValueError(f"unknown options for method {method!r}: "
                          f"{sorted(unknown)}")
     opts.update(options or {})
+    if reduction is not None and method != "min":
+        raise ValueError("a distributed solve_ncp (reduction=) runs "
+                         "method='min' only")
     with single_blas_thread():  # dense algebra of Γc's size
         return _iterate(fun, jac, x0, method, tol, max_iter, opts,
-                        callback, error, scale)
+                        callback, error, scale,
+                        reduction or LocalReduction())
+
+
+class LocalReduction:
+    """:func:`solve_ncp`'s reductions on one process: x and Φ whole."""
+
+    @staticmethod
+    def norm(v):
+        return stable_norm(v)
+
+    @staticmethod
+    def all(flag):
+        return bool(flag)
 
 
 def _iterate(fun, jac, x0, method, tol, max_iter, opts, callback, error,
-             scale):
+             scale, reduction):
     """The iterations of :func:`solve_ncp` (arguments checked)."""
     start = time.perf_counter()
     counted = Counted(fun, jac, method)
@@ -196,7 +221,7 @@ def _iterate(fun, jac, x0, method, tol, max_iter, opts, callback, error,
                                "active", "line_search_failed")}
 
     def measure(F, parts):
-        norm = stable_norm(F)
+        norm = reduction.norm(F)
         err = norm if error is None else float(error(*parts))
         size = 1.0 if scale is None else float(scale(*parts))
         return norm, err, size
@@ -209,7 +234,7 @@ def _iterate(fun, jac, x0, method, tol, max_iter, opts, callback, error,
     while True:
         norm, err, size = measure(F, parts)
         if not (np.isfinite(norm) and np.isfinite(err) and np.isfinite(size)
-                and np.all(np.isfinite(x))):
+                and reduction.all(np.all(np.isfinite(x)))):
             status, detail = 4, _nonfinite(x, norm, err, size)
             break
         if err <= tol * size:
@@ -230,13 +255,13 @@ def _iterate(fun, jac, x0, method, tol, max_iter, opts, callback, error,
         J, active = counted.jacobian(x, parts, opts.get("z"))
         previous = x
         if method == "min":
-            step = _min_step(counted, x, F, parts, J, opts)
+            step = _min_step(counted, x, F, parts, J, opts, reduction)
             if step[3].get("status") == 3:  # singular: break round-off ties
                 E_, A_, B_ = parts
                 ties = TIE_RTOL * max(np.abs(A_).max(initial=0.0),
                                       np.abs(B_).max(initial=0.0))
                 J, active = counted.jacobian(x, parts, opts.get("z"), ties)
-                step = _min_step(counted, x, F, parts, J, opts)
+                step = _min_step(counted, x, F, parts, J, opts, reduction)
             x, F, parts, record = step
         else:
             x, F, parts, record, watch = _fb_step(counted, x, F, parts, J,
@@ -252,7 +277,7 @@ def _iterate(fun, jac, x0, method, tol, max_iter, opts, callback, error,
         if record.get("status"):
             status, detail = record["status"], record.get("detail", "")
             break
-        if np.array_equal(x, previous):
+        if reduction.all(np.array_equal(x, previous)):
             norm, err, size = measure(F, parts)
             status, detail = 5, _stalled(err, size, tol, "the Newton step "
                                          "no longer changes x")
@@ -294,17 +319,18 @@ def _stalled(err, size, tol, what):
             f"tol = {tol:.1e}")
 
 
-def _min_step(counted, x, F, parts, J, opts):
-    """One damped Newton iteration with φ_min (thesis §2.2.1, steps 2-4)."""
+def _min_step(counted, x, F, parts, J, opts, reduction):
+    """One damped Newton iteration with φ_min (thesis §2.2.1, steps 2-4);
+    ``reduction``'s norm over the ranks (:func:`solve_ncp`)."""
     d = newton_direction(J, F)
     if d is None:
         return x, F, parts, dict(alpha=0.0, step="newton",
                                  line_search_failed=False, status=3)
-    norm, alpha = stable_norm(F), 1.0
+    norm, alpha = reduction.norm(F), 1.0
     while True:
         trial = x + alpha * d
         F_trial, trial_parts = counted.residual(trial)
-        if stable_norm(F_trial) < norm:
+        if reduction.norm(F_trial) < norm:
             return trial, F_trial, trial_parts, dict(
                 alpha=alpha, step="newton", line_search_failed=False)
         if alpha / 2 < opts["alpha_min"]:

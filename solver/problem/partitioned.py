@@ -16,6 +16,11 @@ A rigid-obstacle mesh problem is written once, by
   share of them, whose nodes lie close together).
 * ``contact.npz``: what lives on Γc: the contact nodes that take part,
   their padded rows (frame rows and own rows), gaps, normals, tangents.
+* ``contact/``: the same arrays, one ``.npy`` each, sorted by node: the
+  contact nodes of a rank's node range are one slice of them, which the
+  rank finds by a binary search of the memory-mapped ``node.npy`` and
+  reads alone (:func:`load_contact_slice`; the full system on Krylov,
+  :mod:`solver.mpi.partitioned_full`, where no rank holds all of Γc).
 * ``problem.json``: sizes, the Dirichlet scale, ‖f‖, k̄, meta, source
   (``load_path``: whether the ``.npz`` had one).
 * ``mass.npz`` (optional: folders converted before friction ran on them
@@ -37,7 +42,8 @@ __all__ = ["PARTITIONED_VERSION", "FILES", "MASS_FILE", "load_mass",
            "CONTACT_KEYS", "META_KEYS", "MAT_CLASSID", "VEC_CLASSID",
            "write_petsc_matrix", "write_petsc_vector", "petsc_header",
            "read_partitioned_meta", "load_contact", "is_partitioned",
-           "PartitionedProblem"]
+           "PartitionedProblem", "write_contact_by_node",
+           "load_contact_slice", "CONTACT_DIR"]
 
 #: Version of the folder's layout (``problem.json``'s ``"partitioned"``).
 PARTITIONED_VERSION = 1
@@ -233,6 +239,54 @@ def load_mass(folder, n_contact):
         raise ProblemError(f"{path}: shape {M.shape}, expected "
                            f"({n_contact}, {n_contact})")
     return M
+
+
+#: The folder's per-array copy of ``contact.npz``, sorted by node.
+CONTACT_DIR = "contact"
+
+
+def write_contact_by_node(folder, arrays):
+    """Write the arrays of ``contact.npz`` (:data:`CONTACT_KEYS`) as
+    ``folder/contact/NAME.npy``, their rows sorted by ``node``."""
+    order = np.argsort(arrays["node"], kind="stable")
+    path = os.path.join(os.fspath(folder), CONTACT_DIR)
+    os.makedirs(path, exist_ok=True)
+    for key in CONTACT_KEYS:
+        np.save(os.path.join(path, f"{key}.npy"),
+                np.asarray(arrays[key])[order])
+
+
+def load_contact_slice(folder, dim, first, last):
+    """The arrays of ``contact/`` (:func:`write_contact_by_node`) at the
+    contact nodes ``first`` ≤ node < ``last``: each array memory-mapped
+    and only that slice read. ProblemError (one line) if the folder has
+    no ``contact/`` (converted before it was written: convert again)."""
+    path = os.path.join(os.fspath(folder), CONTACT_DIR)
+    arrays = {}
+    try:
+        node = np.load(os.path.join(path, "node.npy"), mmap_mode="r")
+        lo, hi = np.searchsorted(node, [first, last])
+        for key in CONTACT_KEYS:
+            array = np.load(os.path.join(path, f"{key}.npy"), mmap_mode="r")
+            if len(array) != len(node):
+                raise ValueError(f"{key}.npy has {len(array)} rows, "
+                                 f"node.npy {len(node)}")
+            arrays[key] = np.array(array[lo:hi])
+    except (OSError, ValueError) as exc:
+        raise ProblemError(f"{path}: unreadable ({' '.join(str(exc).split())}"
+                           f"); the full system on Krylov reads each rank's "
+                           f"contact nodes from it: convert the .npz again")\
+            from None
+    for key, (kind, _) in CONTACT_KEYS.items():
+        if arrays[key].dtype.kind != kind:
+            raise ProblemError(f"{path}: {key}.npy must be of kind {kind!r}")
+    if arrays["normal"].shape[1:] != (dim,) or \
+            arrays["dofs"].shape[1:] != (dim,):
+        raise ProblemError(f"{path}: normal and dofs must have {dim} "
+                           f"columns")
+    if not np.isfinite(arrays["gap"]).all():
+        raise ProblemError(f"{path}: a gap is not finite")
+    return arrays
 
 
 class PartitionedProblem:

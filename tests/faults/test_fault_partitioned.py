@@ -81,6 +81,27 @@ def test_truncated_matrix_exit_2_on_every_rank(folder, tmp_path):
     assert "truncated" in lines[0] and "Traceback" not in done.stderr
 
 
+@pytest.mark.skipif(shutil.which("mpiexec") is None,
+                    reason="mpiexec not found")
+def test_full_system_without_contact_slices_exit_2(folder, tmp_path):
+    """A folder converted before ``contact/`` existed, run on the full
+    system by Krylov (solver/mpi/partitioned_full.py, each rank reads its
+    contact nodes from there): exit 2, one line saying to convert again."""
+    pytest.importorskip("petsc4py")
+    copy = damaged(folder, tmp_path, "contact", shutil.rmtree)
+    done = subprocess.run(
+        ["mpiexec", "--allow-run-as-root", "--oversubscribe", "-n", "2",
+         sys.executable, "-m", "solver", str(copy), "--engine", "petsc",
+         "--system", "full", "--ksp", "gamg", "-o", str(tmp_path / "out")],
+        capture_output=True, text=True, timeout=300,
+        env=dict(os.environ, OMP_NUM_THREADS="1"))
+    lines = [ln for ln in done.stderr.splitlines()
+             if ln.startswith("error")]
+    assert done.returncode == 2 and len(lines) == 1, done.stderr
+    assert "convert the .npz again" in lines[0]
+    assert "Traceback" not in done.stderr
+
+
 def test_folder_on_the_serial_engine_says_how_to_run_it(folder, capsys):
     from conftest import run_cli
 

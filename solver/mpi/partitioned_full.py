@@ -1,0 +1,412 @@
+r"""The full system (67) of a partitioned problem on Krylov (``mpiexec -n N
+python -m solver DIR --engine petsc --system full --ksp gamg|hypre``): no
+rank holds the whole problem, nor all of Γc.
+
+Every rank reads its rows of K and f (``MatLoad`` / ``VecLoad``, as
+:mod:`.distributed`) and, from the folder's ``contact/`` (sorted by node,
+:func:`~solver.problem.partitioned.load_contact_slice`), the contact
+geometry of the contact nodes in its own node range; rows are blocked by
+nodes, so a node's frame, its normal row and its NCP row live on one
+rank. Each rank makes its block of R (thesis (58)-(60)) and K̂ = R K Rᵀ
+is one PETSc ``PtAP``; the rigid-body modes, rotated into the frames and
+orthonormalised by a 6 × 6 Gram matrix summed over the ranks, are GAMG's
+near-null space (from each rank's own nodes).
+
+The semismooth Newton is the project's :func:`solver.ncp.solve_ncp`,
+called on every rank at once on its own rows (φ_min, from u = 0 as the
+serial full system; c = k̄, unit-free as the active set path): Φ's
+pieces and the iterates are the rank's, the norms of the stopping test,
+the line search and every other decision are summed over the ranks
+(:class:`Reduction`), and each Newton system is
+:mod:`.full`'s (:func:`~.full.newton_rows`: the Jacobian's rows in the
+node frames, :func:`~.full.solve_newton_system`: the shifted, eliminated
+K̂ by CG + GAMG or BoomerAMG). The answer is verified on every node of
+every rank, the measures reduced by MPI (:func:`verify_on_ranks`); each
+rank writes its piece of ``result.pvtu`` with the contact fields read
+from the ranks (:mod:`.distributed`'s writer)."""
+
+import os
+import time
+
+import numpy as np
+import scipy.sparse as sp
+
+from ..contact.geometry import ContactGeometry, rotation
+from ..contact.verify import (contact_scale, contact_weight,
+                              describe_failure, force_scale,
+                              verification_tolerance)
+from ..errors import ProblemError
+from ..ncp import MESSAGES, solve_ncp, stable_norm
+from ..problem.partitioned import load_contact_slice, read_partitioned_meta
+from .distributed import KEY, PartitionedResult, shares
+from .full import (ksp_statistics, newton_ksp, newton_rows,
+                   solve_newton_system)
+from .service import command
+
+__all__ = ["solve_partitioned_full", "Reduction", "LocalSystem",
+           "verify_on_ranks", "KRYLOV"]
+
+#: The Krylov preconditioners of this path (``ksp=``).
+KRYLOV = ("gamg", "hypre")
+
+#: PETSc's algorithm of the distributed products PᵀAP (K̂ and GAMG's
+#: Galerkin coarse operators) on more than one rank: "allatonce" keeps no
+#: intermediate AP, which the default builds on every rank
+#: (benchmarks/README.md, "The full system on the partitioned folder").
+PTAP_VIA = "allatonce"
+
+
+def solve_partitioned_full(svc, folder, ksp="gamg", tol=1e-10, max_iter=100):
+    """(rank 0, inside :func:`~solver.mpi.engine.spmd`) Solve the
+    partitioned problem ``folder`` on the full system by Krylov (module
+    docstring); return its :class:`~.distributed.PartitionedResult` (u and
+    the contact fields kept on the ranks until ``write_pieces``)."""
+    clock = time.perf_counter()
+    meta = read_partitioned_meta(folder)
+    dim, n_nodes = int(meta["dim"]), int(meta["n_nodes"])
+    starts = shares(n_nodes, svc.size, 1.0) * dim  # no rank holds more
+    ranges = [(int(a), int(b)) for a, b in zip(starts[:-1], starts[1:])]
+    svc.mark("start")
+    svc.call("load_partitioned", dict(folder=os.fspath(folder),
+                                      ranges=ranges, dim=dim))
+    svc.call("partitioned_full_setup", dict(
+        folder=os.fspath(folder), dim=dim, ksp=ksp,
+        gap_mode=meta["gap_mode"]))
+    svc.call("check_spd_cg", dict(key="newton"))  # K̂ SPD? (full.py)
+    out = svc.call("partitioned_full_newton", dict(
+        tol=tol, max_iter=max_iter, stiffness=float(meta["stiffness"]),
+        load_norm=float(meta["load_norm"])))
+    krylov = ksp_statistics(svc, "gamg")
+    verification = out.pop("verification")
+    converged = bool(out["success"] and verification["passed"])
+    message = out["message"] if verification["passed"] else \
+        f"{MESSAGES[6]}: {describe_failure(verification)}"
+    contact = out.pop("contact")
+    summary = dict(
+        problem=os.fspath(folder), kind="partitioned", status="converged"
+        if converged else "not_converged", converged=converged,
+        message=message, method="min", nit=out["nit"], njev=out["njev"],
+        nfev=out["nfev"], n_dofs=int(meta["n_free"]),
+        n_contact_dofs=out["n_contact_dofs"],
+        n_in_contact=out["n_in_contact"],
+        max_contact_force=out["max_contact_force"],
+        verification=verification, time=None)
+    stats = svc.call("stats")
+    summary["time"] = round(time.perf_counter() - clock, 4)
+    its = krylov["ksp_iterations"]
+    summary["engine"] = dict(
+        name="petsc", ranks=svc.size, system="full", ksp=ksp,
+        input="partitioned", per_rank=stats, n=int(meta["n"]),
+        krylov_per_newton=float(np.mean(its)) if its else 0.0, **krylov)
+    result = PartitionedResult(summary, svc, folder, meta, contact)
+    result.write_options = dict(fields=True, threshold=out["threshold"])
+    return result
+
+
+class Reduction:
+    """:func:`solve_ncp`'s reductions over the ranks of ``comm`` (its
+    ``reduction``): ‖v‖₂ of the rows of every rank, and a flag true on
+    every rank."""
+
+    def __init__(self, comm):
+        self.comm = comm
+
+    def norm(self, v):
+        return float(np.sqrt(self.comm.allreduce(stable_norm(v) ** 2)))
+
+    def all(self, flag):
+        from mpi4py import MPI
+
+        return bool(self.comm.allreduce(bool(flag), op=MPI.LAND))
+
+    def max(self, value):
+        from mpi4py import MPI
+
+        return float(self.comm.allreduce(float(value), op=MPI.MAX))
+
+    def min(self, value):
+        from mpi4py import MPI
+
+        return float(self.comm.allreduce(float(value), op=MPI.MIN))
+
+    def sum(self, value):
+        return self.comm.allreduce(value)
+
+
+class LocalSystem:
+    r"""This rank's rows of the frictionless system (67) in the padded
+    numbering (as :class:`~solver.contact.frictionless.system.
+    FrictionlessSystem`, which holds the whole K): E = X(RKu − Rf),
+    A = −Y(RKu − Rf), B = c(s − YRu) on the rank's rows, K u by PETSc's
+    distributed product; its Jacobian solves the Newton systems on every
+    rank (:func:`~.full.solve_newton_system`). Every call is collective."""
+
+    def __init__(self, service, A, f, R, geometry, gap_scale, stiffness,
+                 load_norm, reduction):
+        self.service, self.A, self.R = service, A, R
+        self.geometry, self.gap_scale = geometry, float(gap_scale)
+        self.stiffness, self.load_norm = float(stiffness), float(load_norm)
+        self.reduction = reduction
+        self.lo = A.getOwnershipRange()[0]
+        n = R.shape[0]
+        _, _, _, self.y_rows = rotation(n, geometry)
+        keep = np.ones(n, bool)
+        keep[self.y_rows] = False
+        self.x_rows = np.flatnonzero(keep)
+        self.f = f.getArray().copy()
+        self.Rf = R @ self.f
+        self.u_vec, self.Ku_vec = A.createVecRight(), A.createVecLeft()
+
+    def Ku(self, u):
+        """(K u) on this rank's rows (collective)."""
+        self.u_vec.setArray(u)
+        self.A.mult(self.u_vec, self.Ku_vec)
+        return self.Ku_vec.getArray().copy()
+
+    def residual(self, u):
+        r = self.R @ self.Ku(u) - self.Rf
+        gap = self.geometry.gap - (self.R @ u)[self.y_rows]
+        return r[self.x_rows], -r[self.y_rows], self.gap_scale * gap
+
+    def jacobian(self, u):
+        return _Jacobian(self)
+
+    def lambda_plus(self, A):
+        """‖λ⁺‖₂ over all ranks, as a one-entry array for the scales of
+        :mod:`solver.contact.verify` (which read λ only through it)."""
+        return np.array([self.reduction.norm(np.maximum(A, 0.0))])
+
+    def error(self, E, A, B):
+        """:meth:`FrictionlessSystem.error` over all ranks."""
+        w = contact_weight(self.load_norm, self.lambda_plus(A))
+        return float(np.hypot(self.reduction.norm(E), w * self.reduction.norm(
+            np.minimum(A, self.stiffness / self.gap_scale * B))))
+
+    def scale(self, E, A, B):
+        return force_scale(self.load_norm, self.lambda_plus(A))
+
+
+class _Jacobian:
+    def __init__(self, system):
+        self.system = system
+
+    def combine(self, wa, wb):
+        return _Combined(self.system, np.asarray(wa, float),
+                         np.asarray(wb, float))
+
+
+class _Combined:
+    def __init__(self, system, wa, wb):
+        self.system, self.wa, self.wb = system, wa, wb
+
+    def direction(self, F):
+        s = self.system
+        rhs = np.zeros(s.R.shape[0])
+        rows = newton_rows(rhs, s.x_rows, s.y_rows, F, self.wa, self.wb,
+                           s.gap_scale)
+        if not s.reduction.all(rows is not None):
+            return None  # singular on some rank: on every rank
+        for key in ("shift_rows", "fixed_rows"):
+            rows[key] = rows[key] + s.lo  # global rows
+        obj = s.service.objects["newton"]
+        obj["b"].setArray(rhs)
+        solve_newton_system(obj, rows)
+        d = s.R.T @ obj["x"].getArray()
+        return d if s.reduction.all(np.all(np.isfinite(d))) else None
+
+
+def verify_on_ranks(system, u, lam, tol):
+    """The answer checked on every node of every rank, the measures of
+    :func:`solver.contact.verify.verify_contact` (the same names and
+    scales) with their maxima, minima and norms reduced over the ranks:
+    penetration, sign of λ, complementarity, and the equilibrium
+    ‖K u − f − f_c‖/(‖f‖ + ‖f_c‖) on every row (f_c = −λν at Γc), and as
+    the direct path's ``interior_equilibrium`` ‖K u − f‖/‖f‖ off Γc."""
+    red, g = system.reduction, system.geometry
+    finite = red.all(np.all(np.isfinite(u)) and np.all(np.isfinite(lam)))
+    F = contact_scale(system.load_norm, system.lambda_plus(lam)) \
+        if finite else np.inf
+    L = F / system.stiffness
+    padded = np.append(u, 0.0)  # −1 (a roller's Dirichlet component): 0
+    dofs = g.node_dofs
+    un = (g.normal * padded[dofs]).sum(axis=1) if len(dofs) \
+        else np.zeros(0)
+    remaining = g.gap - un
+    contact = np.zeros(len(u) + 1)
+    if len(dofs):
+        contact[dofs] = -lam[:, None] * g.normal
+    r = system.Ku(u) - system.f - contact[:-1]
+    off = r.copy()  # the rows off Γc: ‖·‖/‖f‖ as the direct path's
+    off[dofs[dofs >= 0]] = 0.0
+    tol_v = verification_tolerance(tol)
+
+    def relative(value, size):
+        return max(value, 0.0) if value <= 0.0 else (
+            value / size if size > 0 else np.inf)
+
+    with np.errstate(all="ignore"):
+        checks = dict(
+            max_penetration=relative(red.max(np.max(-remaining,
+                                                    initial=0.0)), L),
+            min_multiplier=-relative(-red.min(np.min(lam, initial=0.0)), F),
+            complementarity=relative(red.max(np.max(np.abs(np.minimum(
+                lam, system.stiffness * remaining)), initial=0.0)), F),
+            equilibrium=relative(red.norm(r), system.load_norm
+                                 + red.norm(contact[:-1])),
+            interior_equilibrium=relative(red.norm(off), system.load_norm))
+    failed = [] if finite else ["finite"]
+    for name, value in checks.items():
+        if (value < -tol_v) if name == "min_multiplier" else \
+                not value <= tol_v:
+            failed.append(name)
+    tolerances = {name: tol_v for name in checks}
+    tolerances["min_multiplier"] = -tol_v
+    out = dict(passed=not failed, finite=bool(finite))
+    out.update({k: float(v) for k, v in checks.items()})
+    out.update(force_scale=float(F), length_scale=float(L),
+               tolerances=tolerances, failed=failed, reduced_over_ranks=True)
+    return out
+
+
+def _local_geometry(arrays, lo, mode):
+    """The slice's geometry in this rank's row numbering (−1 kept)."""
+    def local(rows):
+        rows = np.asarray(rows, np.int64)
+        return np.where(rows >= 0, rows - lo, -1)
+
+    return ContactGeometry(
+        arrays["index"], local(arrays["dofs"]), arrays["gap"],
+        arrays["normal"], mode=mode, tangents=arrays["tangents"],
+        node_dofs=local(arrays["node_dofs"]), oblique=arrays["oblique"])
+
+
+def _rigid_modes(folder, lo, hi, dim, R, comm):
+    """The rigid-body modes on this rank's rows (2D: 3, 3D: 6), from its
+    own nodes, rotated into the node frames (R) and orthonormal over all
+    ranks (their Gram matrix summed, then its Cholesky factor)."""
+    x = np.array(np.load(os.path.join(folder, "nodes.npy"),
+                         mmap_mode="r")[lo // dim:hi // dim], float)[:, :dim]
+    total = comm.allreduce(x.sum(axis=0))
+    count = comm.allreduce(len(x))
+    x = x - total / max(count, 1)
+    n = len(x)
+    modes = [np.eye(dim)[k][None, :].repeat(n, 0) for k in range(dim)]
+    for a, b in ([(0, 1)] if dim == 2 else [(0, 1), (1, 2), (2, 0)]):
+        m = np.zeros((n, dim))
+        m[:, a], m[:, b] = -x[:, b], x[:, a]
+        modes.append(m)
+    Z = R @ np.column_stack([m.ravel() for m in modes])
+    gram = comm.allreduce(Z.T @ Z)
+    return np.linalg.solve(np.linalg.cholesky(gram), Z.T).T
+
+
+@command("partitioned_full_setup")
+def _setup(service, payload, local):
+    """Every rank: its contact nodes' geometry, its block of R, K̂ = R K Rᵀ
+    (``PtAP``), the near-null space and the Newton systems' KSP
+    (:func:`~.full.newton_ksp`)."""
+    from petsc4py import PETSc
+
+    obj = service.objects[KEY]
+    A, dim = obj["A"], payload["dim"]
+    lo, hi = A.getOwnershipRange()
+    arrays = load_contact_slice(payload["folder"], dim, lo // dim,
+                                hi // dim)
+    red = Reduction(service.comm)
+    if not red.all(not arrays["oblique"].any()):
+        raise ProblemError("a roller whose normal is not in its free "
+                           "components (oblique): the full system on the "
+                           "petsc engine needs orthogonal node frames; run "
+                           "without --system full")
+    if red.sum(len(arrays["gap"])) == 0:
+        raise ProblemError(f"{payload['folder']}: no contact node takes "
+                           "part (every node of Γc is a support): nothing "
+                           "to solve on Γc; run the .npz")
+    geometry = _local_geometry(arrays, lo, payload["gap_mode"])
+    R = rotation(hi - lo, geometry)[0].tocsr()
+    defect = abs(sp.linalg.norm(R @ R.T - sp.identity(hi - lo)))
+    if red.max(defect) > 1e-12:
+        raise ProblemError("the full system on the petsc engine needs "
+                           "orthogonal node frames")
+    n = A.getSize()[0]
+    RT = R.T.tocsr()
+    P = PETSc.Mat().createAIJ(
+        size=((hi - lo, n), (hi - lo, n)), bsize=dim,
+        csr=(RT.indptr.astype(PETSc.IntType),
+             (RT.indices + lo).astype(PETSc.IntType), RT.data),
+        comm=A.getComm())
+    P.assemble()
+    options = PETSc.Options()
+    if service.size > 1 and not options.hasName("matptap_via"):
+        options.setValue("matptap_via", PTAP_VIA)  # also GAMG's products
+    K_hat = A.ptap(P)  # Pᵀ K P = R K Rᵀ
+    P.destroy()
+    if K_hat.getBlockSize() != dim:
+        K_hat.setBlockSize(dim)
+    diagonal = K_hat.getDiagonal()
+    scale = diagonal.sum() / n
+    diagonal.destroy()
+    vecs = []
+    if payload["ksp"] == "gamg":
+        Z = _rigid_modes(payload["folder"], lo, hi, dim, R, service.comm)
+        for j in range(Z.shape[1]):
+            v = K_hat.createVecLeft()
+            v.setArray(np.ascontiguousarray(Z[:, j]))
+            vecs.append(v)
+    newton_ksp(service, K_hat, payload["ksp"], float(scale), vecs)
+    obj.update(R=R, geometry=geometry, arrays=arrays)
+    service.objects.setdefault("counts", {}).update(
+        contact_nodes=int(len(arrays["gap"])))
+
+
+@command("partitioned_full_newton")
+def _newton(service, payload, local):
+    """Every rank: :func:`solve_ncp` on its rows (module docstring), u and
+    the contact fields kept on the ranks; rank 0 returns the counts, the
+    verification and Γc's fields gathered for ``contact.npz``."""
+    obj = service.objects[KEY]
+    red = Reduction(service.comm)
+    k = payload["stiffness"]
+    system = LocalSystem(service, obj["A"], obj["f"], obj["R"],
+                         obj["geometry"], k, k, payload["load_norm"], red)
+    result = solve_ncp(system.residual, system.jacobian,
+                       np.zeros(obj["R"].shape[0]), method="min",
+                       tol=payload["tol"], max_iter=payload["max_iter"],
+                       error=system.error, scale=system.scale,
+                       reduction=red)
+    u = result.x
+    _, lam, _ = system.residual(u)
+    threshold = 1e-9 * force_scale(system.load_norm,
+                                   system.lambda_plus(lam))
+    verification = verify_on_ranks(system, u, lam, payload["tol"])
+    if "u" in obj:
+        obj.pop("u").destroy()
+    obj["u"] = obj["A"].createVecRight()
+    obj["u"].setArray(u)
+    # (λ, s) at each contact node's first row, NaN elsewhere: the writer's
+    g, dim = obj["geometry"], obj["A"].getBlockSize()
+    fields = np.full(len(u), np.nan)
+    first = (obj["arrays"]["node"] * dim - system.lo).astype(np.int64)
+    fields[first] = lam
+    fields[first + 1] = g.gap
+    if "fields" in obj:
+        obj.pop("fields").destroy()
+    obj["fields"] = obj["A"].createVecRight()
+    obj["fields"].setArray(fields)
+    u_n = (system.R @ u)[system.y_rows]
+    touching = lam > threshold
+    pieces = service.comm.gather((obj["arrays"]["node"], lam, u_n, g.gap,
+                                  touching), root=0)
+    count = red.sum(int(np.count_nonzero(touching)))
+    m = red.sum(int(np.count_nonzero(g.free_dofs() >= 0)))
+    top = red.max(np.max(lam, initial=0.0))
+    if not service.root:
+        return None
+    contact = {key: np.concatenate([p[i] for p in pieces]) for i, key in
+               enumerate(("node", "force", "u_n", "gap", "in_contact"))}
+    return dict(success=bool(result.success), message=result.message,
+                nit=int(result.nit), njev=int(result.njev),
+                nfev=int(result.nfev), verification=verification,
+                contact=contact, threshold=float(threshold),
+                n_in_contact=int(count), n_contact_dofs=int(m),
+                max_contact_force=float(top))

@@ -1,0 +1,103 @@
+"""The converter without the whole problem in memory (issue 33, point 4;
+solver/mpi/convert.py): an uncompressed ``.npz`` (np.savez) is memory-
+mapped member by member and K is checked, padded and written by blocks
+of rows; a compressed one is loaded whole with one line saying so.
+
+Reference: the whole-load conversion of the same problem (Layout.matrix,
+another code path), whose files must come out byte for byte the same;
+NumPy's own np.load for the mapped members. No PETSc here."""
+
+import json
+
+import numpy as np
+import pytest
+import scipy.sparse as sp
+
+from solver import load_problem, save_problem
+from solver.errors import ProblemError
+from solver.mpi import convert as conversion
+from solver.problem.partitioned import CONTACT_KEYS, load_contact_slice
+
+FILES = ("K.petsc", "f.petsc", "nodes.npy", "cells.npy", "contact.npz")
+
+
+@pytest.fixture(scope="module")
+def files(exported, tmp_path_factory):
+    """(compressed .npz, the same arrays by np.savez) of the 454 block."""
+    root = tmp_path_factory.mktemp("streamed")
+    compressed = root / "b454.npz"
+    save_problem(compressed, load_problem(exported(454)[0]))
+    plain = root / "plain.npz"
+    with np.load(compressed) as data:
+        np.savez(plain, **data)
+    return compressed, plain
+
+
+def test_members_mapped_as_numpy_reads_them(files):
+    compressed, plain = files
+    assert conversion.stored_members(compressed) is None
+    arrays, mapped = conversion.stored_members(plain)
+    with np.load(plain) as data:
+        assert sorted(arrays) == sorted(data.files)
+        for key in data.files:
+            assert np.array_equal(arrays[key], data[key]), key
+    # K's entries stay in the file's mapping; the O(n) members are read
+    assert not arrays["K_data"].flags.owndata
+    assert not arrays["K_indices"].flags.owndata
+    assert arrays["f"].flags.owndata
+
+
+@pytest.mark.parametrize("block", [1 << 23, 97])
+def test_streamed_files_equal_the_whole_load(files, tmp_path, monkeypatch,
+                                             capsys, block):
+    """Byte for byte the files of the whole load, in one block and in
+    blocks of 97 entries (rows cut anywhere, Dirichlet rows between)."""
+    compressed, plain = files
+    monkeypatch.setattr(conversion, "BLOCK_NNZ", block)
+    whole = conversion.convert(str(compressed), tmp_path / "whole")
+    assert "compressed members" in capsys.readouterr().err
+    streamed = conversion.convert(str(plain), tmp_path / "streamed")
+    assert capsys.readouterr().err == ""
+    assert streamed.pop("streamed") and not whole.pop("streamed")
+    whole.pop("source"), streamed.pop("source")
+    assert whole == streamed
+    for name in FILES:
+        assert (tmp_path / "whole" / name).read_bytes() == \
+            (tmp_path / "streamed" / name).read_bytes(), name
+    assert json.loads((tmp_path / "streamed" / "problem.json").read_text(
+    ))["streamed"] is True
+
+
+def test_contact_slices_by_node(files, tmp_path):
+    """``contact/`` sorted by node: the slices of two node ranges are the
+    rows of contact.npz in those ranges."""
+    conversion.convert(str(files[1]), tmp_path / "c")
+    with np.load(tmp_path / "c" / "contact.npz") as data:
+        whole = {k: data[k] for k in data.files}
+    n = int(json.loads((tmp_path / "c" / "problem.json").read_text())[
+        "n_nodes"])
+    cut = int(np.median(whole["node"]))
+    for lo, hi in ((0, cut), (cut, n)):
+        part = load_contact_slice(tmp_path / "c", 2, lo, hi)
+        inside = (whole["node"] >= lo) & (whole["node"] < hi)
+        order = np.argsort(whole["node"][inside])
+        for key in CONTACT_KEYS:
+            assert np.array_equal(part[key], whole[key][inside][order]), key
+    with pytest.raises(ProblemError, match="convert the .npz again"):
+        load_contact_slice(tmp_path, 2, 0, n)
+
+
+def test_unsorted_rows_are_refused_in_one_line(files, tmp_path):
+    """A K whose rows' column indices are not sorted: one ProblemError
+    (the streamed writer copies rows as they are)."""
+    with np.load(files[1]) as data:
+        arrays = {k: data[k] for k in data.files}
+    K = sp.csr_matrix((arrays["K_data"], arrays["K_indices"],
+                       arrays["K_indptr"]), shape=tuple(arrays["K_shape"]))
+    a, b = K.indptr[5], K.indptr[6]
+    arrays["K_indices"][a:b] = arrays["K_indices"][a:b][::-1].copy()
+    arrays["K_data"][a:b] = arrays["K_data"][a:b][::-1].copy()
+    np.savez(tmp_path / "bad.npz", **arrays)
+    with pytest.raises(ProblemError, match="not sorted") as info:
+        conversion.convert(str(tmp_path / "bad.npz"), tmp_path / "out")
+    assert "\n" not in str(info.value)
