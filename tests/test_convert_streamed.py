@@ -1,11 +1,14 @@
 """The converter without the whole problem in memory (issue 33, point 4;
-solver/mpi/convert.py): an uncompressed ``.npz`` (np.savez) is memory-
-mapped member by member and K is checked, padded and written by blocks
-of rows; a compressed one is loaded whole with one line saying so.
+solver/mpi/convert.py): K is checked, padded and written by blocks of
+rows, memory-mapped from an uncompressed ``.npz`` (np.savez) and
+decompressed in order from a compressed one (np.savez_compressed, what
+save_problem and the SfePy export write); a K whose rows the blocks cannot
+copy as they are is converted from the whole load, with one line saying so.
 
 Reference: the whole-load conversion of the same problem (Layout.matrix,
 another code path), whose files must come out byte for byte the same;
-NumPy's own np.load for the mapped members. No PETSc here."""
+NumPy's own np.load for the mapped and decompressed members. No PETSc
+here."""
 
 import json
 
@@ -47,25 +50,45 @@ def test_members_mapped_as_numpy_reads_them(files):
     assert arrays["f"].flags.owndata
 
 
+def test_compressed_members_read_in_order_as_numpy_reads_them(files):
+    """K's members of a compressed file come out by slices, forwards and
+    after a restart (a slice behind what was read); the others whole."""
+    compressed, _ = files
+    arrays, mapped = conversion.compressed_members(compressed)
+    assert mapped is None
+    with np.load(compressed) as data:
+        for key in ("f", "K_indptr", "nodes"):
+            assert np.array_equal(arrays[key], data[key]), key
+        for key in ("K_indices", "K_data"):
+            member, whole = arrays[key], data[key]
+            assert len(member) == len(whole)
+            for a, b in ((0, 5), (5, 900), (1000, len(whole)), (3, 40)):
+                assert np.array_equal(member[a:b], whole[a:b]), (key, a, b)
+            member.close()
+
+
 @pytest.mark.parametrize("block", [1 << 23, 97])
 def test_streamed_files_equal_the_whole_load(files, tmp_path, monkeypatch,
                                              capsys, block):
-    """Byte for byte the files of the whole load, in one block and in
-    blocks of 97 entries (rows cut anywhere, Dirichlet rows between)."""
+    """Byte for byte the files of the whole load, from the uncompressed
+    and the compressed file, in one block and in blocks of 97 entries
+    (rows cut anywhere, Dirichlet rows between)."""
     compressed, plain = files
     monkeypatch.setattr(conversion, "BLOCK_NNZ", block)
-    whole = conversion.convert(str(compressed), tmp_path / "whole")
-    assert "compressed members" in capsys.readouterr().err
-    streamed = conversion.convert(str(plain), tmp_path / "streamed")
-    assert capsys.readouterr().err == ""
-    assert streamed.pop("streamed") and not whole.pop("streamed")
-    whole.pop("source"), streamed.pop("source")
-    assert whole == streamed
-    for name in FILES:
-        assert (tmp_path / "whole" / name).read_bytes() == \
-            (tmp_path / "streamed" / name).read_bytes(), name
-    assert json.loads((tmp_path / "streamed" / "problem.json").read_text(
-    ))["streamed"] is True
+    whole = conversion.convert(load_problem(compressed), tmp_path / "whole")
+    assert not whole.pop("streamed")
+    whole.pop("source")
+    for name, source in (("plain", plain), ("deflated", compressed)):
+        streamed = conversion.convert(str(source), tmp_path / name)
+        assert capsys.readouterr().err == ""
+        assert streamed.pop("streamed")
+        streamed.pop("source")
+        assert whole == streamed
+        for file in FILES:
+            assert (tmp_path / "whole" / file).read_bytes() == \
+                (tmp_path / name / file).read_bytes(), (name, file)
+        assert json.loads((tmp_path / name / "problem.json").read_text(
+        ))["streamed"] is True
 
 
 def test_contact_slices_by_node(files, tmp_path):
@@ -87,9 +110,11 @@ def test_contact_slices_by_node(files, tmp_path):
         load_contact_slice(tmp_path, 2, 0, n)
 
 
-def test_unsorted_rows_are_refused_in_one_line(files, tmp_path):
-    """A K whose rows' column indices are not sorted: one ProblemError
-    (the streamed writer copies rows as they are)."""
+@pytest.mark.parametrize("save", [np.savez, np.savez_compressed])
+def test_unsorted_rows_are_converted_whole(files, tmp_path, capsys, save):
+    """A K whose rows' column indices are not sorted (the same matrix):
+    the blocks cannot copy its rows as they are, so it is converted from
+    the whole load, with one line on stderr, to the sorted file's K."""
     with np.load(files[1]) as data:
         arrays = {k: data[k] for k in data.files}
     K = sp.csr_matrix((arrays["K_data"], arrays["K_indices"],
@@ -97,7 +122,11 @@ def test_unsorted_rows_are_refused_in_one_line(files, tmp_path):
     a, b = K.indptr[5], K.indptr[6]
     arrays["K_indices"][a:b] = arrays["K_indices"][a:b][::-1].copy()
     arrays["K_data"][a:b] = arrays["K_data"][a:b][::-1].copy()
-    np.savez(tmp_path / "bad.npz", **arrays)
-    with pytest.raises(ProblemError, match="not sorted") as info:
-        conversion.convert(str(tmp_path / "bad.npz"), tmp_path / "out")
-    assert "\n" not in str(info.value)
+    save(tmp_path / "bad.npz", **arrays)
+    meta = conversion.convert(str(tmp_path / "bad.npz"), tmp_path / "out")
+    err = capsys.readouterr().err.strip()
+    assert "not sorted" in err and "whole" in err and "\n" not in err
+    assert meta["streamed"] is False
+    conversion.convert(str(files[1]), tmp_path / "sorted")
+    assert (tmp_path / "out" / "K.petsc").read_bytes() == \
+        (tmp_path / "sorted" / "K.petsc").read_bytes()

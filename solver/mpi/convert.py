@@ -10,15 +10,18 @@ binary format with NumPy, sorts the cells by their smallest node, and
 computes the contact geometry (gaps, normals, frames: thesis §2.1) of the
 nodes that take part, which is all the distributed solve needs on Γc.
 
-An uncompressed ``.npz`` (``np.savez``: a zip whose members are stored)
-is converted without K in memory (:func:`stored_members`): every member
-is memory-mapped at its offset (the zip's local header, then NumPy's
-``.npy`` header), the mesh-sized vectors are read, and K's CSR is
-checked, padded and written in blocks of rows, its mapped pages given
-back after each block (``madvise``), so the conversion's peak memory is
-O(n) vectors plus one block, not K. A compressed file (``save_problem``
-and SfePy's export write ``np.savez_compressed``) is loaded whole, with
-one line saying so."""
+A ``.npz`` is converted without K in memory: the mesh-sized vectors are
+read, and K's CSR is checked, padded and written in blocks of rows, so
+the conversion's peak memory is O(n) vectors plus one block, not K. In
+an uncompressed file (``np.savez``: a zip whose members are stored) K's
+members are memory-mapped at their offsets (the zip's local header, then
+NumPy's ``.npy`` header; :func:`stored_members`), their pages given back
+after each block (``madvise``); in a compressed one (``save_problem``
+and SfePy's export write ``np.savez_compressed``) they are decompressed
+in order, block by block (:func:`compressed_members`). A K the blocks
+cannot copy as they are (column indices not sorted in a row, or nodes
+renumbered in ``dof_map``) is converted from the whole load instead,
+with one line saying so."""
 
 import json
 import mmap
@@ -34,14 +37,17 @@ from ..contact.geometry import contact_geometry, contact_stiffness
 from ..errors import ProblemError
 from ..ncp import stable_norm
 from ..problem import load_problem
+from ..problem.archive import Archive
 from ..problem.core import validate_arrays
+from ..problem.format import KEYS
 from ..problem.partitioned import (MASS_FILE, MAT_CLASSID,
                                    PARTITIONED_VERSION,
                                    write_contact_by_node, write_petsc_matrix,
                                    write_petsc_vector)
 from .layout import Layout
 
-__all__ = ["convert", "CELL_KINDS", "stored_members", "BLOCK_NNZ"]
+__all__ = ["convert", "CELL_KINDS", "stored_members", "compressed_members",
+           "BLOCK_NNZ"]
 
 #: K's entries per block of rows of the streamed conversion: ≈ 28 bytes
 #: each in flight (read, renumbered, byte-swapped), ≈ 60 MB a block.
@@ -63,26 +69,20 @@ def convert(source, folder, gap="obstacle"):
     ``source`` (a path or a loaded problem); returns ``problem.json``'s
     contents. One rigid body against a rigid obstacle only (ProblemError
     otherwise); the nodes with a Dirichlet DOF take part as rollers, as
-    :func:`solver.solve`'s default. A path to an uncompressed ``.npz`` is
-    streamed (module docstring; ``meta``'s ``"streamed"`` says which)."""
-    stream = None
-    if isinstance(source, (str, os.PathLike)):
-        stream = _StreamedK.open(source)
-        if stream is None:
-            print(f"{os.fspath(source)}: compressed members (np.savez_"
-                  f"compressed): reading the whole problem into memory; "
-                  f"np.savez writes a file converted by blocks of rows",
-                  file=sys.stderr)
-            problem = load_problem(source)
-        else:
-            problem = stream.problem
-    else:
-        problem = source
+    :func:`solver.solve`'s default. A path to a ``.npz`` is streamed
+    (module docstring; ``meta``'s ``"streamed"`` says whether it was)."""
+    if not isinstance(source, (str, os.PathLike)):
+        return _convert(source, folder, gap, None)
     try:
-        return _convert(problem, folder, gap, stream)
-    finally:
-        if stream is not None:
+        stream = _StreamedK.open(source)
+        try:
+            return _convert(stream.problem, folder, gap, stream)
+        finally:
             stream.close()
+    except _WholeLoad as exc:
+        print(f"{os.fspath(source)}: {exc}: converting it from the whole "
+              f"problem in memory", file=sys.stderr)
+    return _convert(load_problem(source), folder, gap, None)
 
 
 def _convert(problem, folder, gap, stream):
@@ -149,6 +149,11 @@ def _convert(problem, folder, gap, stream):
 MAPPED = ("K_indices", "K_data")
 
 
+class _WholeLoad(ProblemError):
+    """K's blocks cannot be copied as they are: :func:`convert` converts
+    from the whole load, which puts K's CSR in canonical form."""
+
+
 def stored_members(path):
     """{name: array} of the ``.npz`` at ``path`` if every member is stored
     uncompressed (``np.savez``), each a read-only view into one ``mmap``
@@ -192,6 +197,90 @@ def stored_members(path):
     return arrays, mapped
 
 
+def _npy_header(stream):
+    """(shape, Fortran order, dtype) of the ``.npy`` at ``stream``."""
+    version = np.lib.format.read_magic(stream)
+    return (np.lib.format.read_array_header_1_0 if version == (1, 0)
+            else np.lib.format.read_array_header_2_0)(stream)
+
+
+class _MemberStream:
+    """One member of a compressed ``.npz`` (a 1-D array) read in order:
+    ``self[a:b]`` decompresses entries a to b, restarting the member when
+    a lies behind what was read, so K's arrays pass by blocks of rows and
+    are never held whole."""
+
+    def __init__(self, path, name):
+        self.path, self.name = path, name
+        self._open()
+        if len(self.shape) != 1 or self.dtype.hasobject:
+            self.close()
+            raise ProblemError(f"{path}: member {name!r} is not a 1-D "
+                               "array of numbers")
+
+    def _open(self):
+        self.archive = zipfile.ZipFile(self.path)
+        self.stream = self.archive.open(self.name)
+        self.shape, _, self.dtype = _npy_header(self.stream)
+        self.at = 0  # entries read
+
+    def __len__(self):
+        return int(self.shape[0])
+
+    def _read(self, count):
+        size = count * self.dtype.itemsize
+        data = self.stream.read(size)
+        if len(data) != size:
+            raise ProblemError(f"{self.path}: member {self.name!r} ends "
+                               "before its header's length")
+        self.at += count
+        return data
+
+    def __getitem__(self, key):
+        a, b = key.start or 0, min(key.stop, len(self))
+        if a < self.at:
+            self.close()
+            self._open()
+        while self.at < a:  # the entries before a, in pieces of 8 MB
+            self._read(min(a - self.at, (8 << 20) // self.dtype.itemsize))
+        return np.frombuffer(self._read(max(b - a, 0)), self.dtype)
+
+    def close(self):
+        self.stream.close()
+        self.archive.close()
+
+
+def compressed_members(path):
+    """(arrays, None) of the compressed ``.npz`` at ``path``:
+    :data:`MAPPED` as :class:`_MemberStream` (decompressed in order, by
+    blocks), every other member of the format read through the loader's
+    bounded reader (:class:`~solver.problem.archive.Archive`: headers
+    checked against the declared sizes before decompressing)."""
+    path = os.fspath(path)
+    arrays = {}
+    try:
+        with open(path, "rb") as raw, Archive(raw, path) as archive:
+            for name in archive:
+                if name in MAPPED:
+                    arrays[name] = _MemberStream(path, f"{name}.npy")
+                elif name in KEYS:
+                    arrays[name] = archive[name]
+    except (OSError, ValueError, EOFError, zipfile.BadZipFile) as exc:
+        _close_members(arrays)
+        raise ProblemError(f"{path}: not a readable .npz "
+                           f"({' '.join(str(exc).split())})") from None
+    except ProblemError:
+        _close_members(arrays)
+        raise
+    return arrays, None
+
+
+def _close_members(arrays):
+    for array in arrays.values():
+        if isinstance(array, _MemberStream):
+            array.close()
+
+
 class _StreamedK:
     """An uncompressed problem file with K memory-mapped: ``problem`` is
     the validated problem with diag(K) in K's place (every check of the
@@ -210,7 +299,8 @@ class _StreamedK:
         if len(self.indptr) != n + 1 or self.indptr[0] != 0 or \
                 self.indptr[-1] != len(self.data) or \
                 len(self.indices) != len(self.data) or \
-                (np.diff(self.indptr) < 0).any():
+                (np.diff(self.indptr) < 0).any() or \
+                (n and np.diff(self.indptr).max() > n):
             raise ProblemError(f"{path}: K_indptr is not a valid CSR row "
                                f"pointer of K_shape and K_data")
         self.n = n
@@ -231,15 +321,26 @@ class _StreamedK:
 
     @classmethod
     def open(cls, path):
-        """The streamed file, or None if compressed (or not a mesh
-        problem's K in CSR)."""
-        found = stored_members(path)
-        if found is None:
-            return None
-        return cls(path, *found)
+        """The streamed file: K's members mapped (uncompressed) or
+        decompressed in order (compressed)."""
+        arrays, mapped = stored_members(path) or compressed_members(path)
+        try:
+            return cls(path, arrays, mapped)
+        except ProblemError:
+            _close_members(arrays)
+            if mapped is not None:
+                arrays.clear()
+                try:
+                    mapped.close()
+                except BufferError:  # a view still held: freed with it
+                    pass
+            raise
 
     def close(self):
+        _close_members({0: self.indices, 1: self.data})
         self.indices = self.data = None
+        if self.mapped is None:
+            return
         try:
             self.mapped.close()
         except BufferError:  # a view still held: freed with it
@@ -257,7 +358,8 @@ class _StreamedK:
             a, b = int(ptr[r0]), int(ptr[end])
             cols = np.array(self.indices[a:b], np.int64)
             vals = np.array(self.data[a:b], float)
-            self.mapped.madvise(mmap.MADV_DONTNEED)
+            if self.mapped is not None:
+                self.mapped.madvise(mmap.MADV_DONTNEED)
             if len(cols) and (cols.min() < 0 or cols.max() >= self.n):
                 raise ProblemError(f"{self.path}: K_indices: an index "
                                    f"outside 0..{self.n - 1}")
@@ -268,10 +370,8 @@ class _StreamedK:
             starts = ptr[r0 + 1:end] - a  # a row's first entry: no order
             step[starts[(starts > 0) & (starts <= len(step))] - 1] = 1
             if (step <= 0).any():
-                raise ProblemError(f"{self.path}: K's column indices are not "
-                                   "sorted and unique in every row (write it "
-                                   "with np.savez of a canonical CSR, or "
-                                   "compress it to convert it whole)")
+                raise _WholeLoad("K's column indices are not sorted and "
+                                 "unique in every row")
             yield r0, end, cols, vals
             r0 = end
 
@@ -282,9 +382,7 @@ class _StreamedK:
         its number of entries."""
         r = layout.red_to_pad
         if len(r) > 1 and not np.all(r[1:] > r[:-1]):
-            raise ProblemError(f"{self.path}: the nodes' order is not kept "
-                               "in dof_map; compress the file to convert it "
-                               "whole")
+            raise _WholeLoad("the nodes' order is not kept in dof_map")
         lengths = np.ones(layout.n, np.int64)
         lengths[r] = np.diff(self.indptr)
         nnz = int(lengths.sum())
