@@ -130,3 +130,38 @@ def test_unsorted_rows_are_converted_whole(files, tmp_path, capsys, save):
     conversion.convert(str(files[1]), tmp_path / "sorted")
     assert (tmp_path / "out" / "K.petsc").read_bytes() == \
         (tmp_path / "sorted" / "K.petsc").read_bytes()
+
+
+def _flipped(path, target):
+    """``path`` with one byte of K_data's compressed bytes inverted (its
+    CRC no longer matches: found only once the member is decompressed)."""
+    import zipfile
+
+    raw = bytearray(path.read_bytes())
+    with zipfile.ZipFile(path) as archive:
+        info = archive.getinfo("K_data.npy")
+    head = raw[info.header_offset:info.header_offset + 30]
+    start = info.header_offset + 30 + int.from_bytes(head[26:28], "little") \
+        + int.from_bytes(head[28:30], "little")
+    raw[start + info.compress_size // 2] ^= 0xFF
+    target.write_bytes(bytes(raw))
+    return target
+
+
+@pytest.mark.parametrize("fault", ["flipped", "float indices"])
+def test_damaged_files_refused_in_one_line(files, tmp_path, fault):
+    """A damaged compressed member, or column indices that are not
+    integers: one ProblemError line, and no folder written (K is read
+    through once before anything is written)."""
+    if fault == "flipped":
+        bad = _flipped(files[0], tmp_path / "bad.npz")
+    else:
+        with np.load(files[0]) as data:
+            arrays = {k: data[k] for k in data.files}
+        arrays["K_indices"] = arrays["K_indices"].astype(float)
+        bad = tmp_path / "bad.npz"
+        np.savez_compressed(bad, **arrays)
+    with pytest.raises(ProblemError) as info:
+        conversion.convert(str(bad), tmp_path / "out")
+    assert "\n" not in str(info.value) and "bad.npz" in str(info.value)
+    assert not (tmp_path / "out").exists()

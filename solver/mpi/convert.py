@@ -29,6 +29,7 @@ import os
 import struct
 import sys
 import zipfile
+import zlib
 
 import numpy as np
 import scipy.sparse as sp
@@ -220,8 +221,15 @@ class _MemberStream:
 
     def _open(self):
         self.archive = zipfile.ZipFile(self.path)
-        self.stream = self.archive.open(self.name)
-        self.shape, _, self.dtype = _npy_header(self.stream)
+        try:
+            self.stream = self.archive.open(self.name)
+            self.shape, _, self.dtype = _npy_header(self.stream)
+        except (OSError, ValueError, EOFError, zipfile.BadZipFile,
+                zlib.error) as exc:
+            self.archive.close()
+            raise ProblemError(f"{self.path}: member {self.name!r} cannot "
+                               f"be read ({' '.join(str(exc).split())})") \
+                from None
         self.at = 0  # entries read
 
     def __len__(self):
@@ -229,7 +237,12 @@ class _MemberStream:
 
     def _read(self, count):
         size = count * self.dtype.itemsize
-        data = self.stream.read(size)
+        try:
+            data = self.stream.read(size)
+        except (OSError, EOFError, zipfile.BadZipFile, zlib.error) as exc:
+            raise ProblemError(f"{self.path}: member {self.name!r} cannot "
+                               f"be read, the file is damaged "
+                               f"({' '.join(str(exc).split())})") from None
         if len(data) != size:
             raise ProblemError(f"{self.path}: member {self.name!r} ends "
                                "before its header's length")
@@ -265,13 +278,14 @@ def compressed_members(path):
                     arrays[name] = _MemberStream(path, f"{name}.npy")
                 elif name in KEYS:
                     arrays[name] = archive[name]
-    except (OSError, ValueError, EOFError, zipfile.BadZipFile) as exc:
-        _close_members(arrays)
-        raise ProblemError(f"{path}: not a readable .npz "
-                           f"({' '.join(str(exc).split())})") from None
     except ProblemError:
         _close_members(arrays)
         raise
+    except (OSError, ValueError, EOFError, zipfile.BadZipFile,
+            zlib.error) as exc:
+        _close_members(arrays)
+        raise ProblemError(f"{path}: not a readable .npz "
+                           f"({' '.join(str(exc).split())})") from None
     return arrays, None
 
 
@@ -296,6 +310,10 @@ class _StreamedK:
             self.indices, self.data = arrays["K_indices"], arrays["K_data"]
         except KeyError as exc:
             raise ProblemError(f"{path}: missing {exc.args[0]}") from None
+        if self.indices.dtype.kind not in "iu" or \
+                self.data.dtype.kind not in "fiu":
+            raise ProblemError(f"{path}: K_indices must be integers and "
+                               f"K_data numbers (the .npz format)")
         if len(self.indptr) != n + 1 or self.indptr[0] != 0 or \
                 self.indptr[-1] != len(self.data) or \
                 len(self.indices) != len(self.data) or \
