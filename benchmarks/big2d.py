@@ -4,8 +4,8 @@ Usage::
 
     python benchmarks/big2d.py --dofs 1e6 [--workdir DIR]
                                [--linear-solvers auto,amg,pardiso]
-    flock /tmp/bigrun.lock python benchmarks/big2d.py --dofs 1e7 \\
-        --workdir DIR --linear-solvers auto
+    python benchmarks/big2d.py --dofs 1e7 --workdir DIR \\
+        --linear-solvers auto   # ≈ 12 GB peak: nothing else big beside it
 
 Each stage runs in a fresh process (``processes.run_measured``: wall and
 CPU time, the child's own peak RSS from ``wait4``):
