@@ -152,10 +152,9 @@ def test_full_stick_balances_the_drag():
 
 def test_auto_takes_amg_for_friction_when_the_factor_does_not_fit(
         block_454, monkeypatch):
-    """``backend="auto"`` with friction (lagged): with (pretend) 100 kB
-    available the iterative path runs and says why, with the
-    factorisation's answer; the implicit bound, which that path refuses,
-    keeps the factorisation."""
+    """``backend="auto"`` with friction, both bounds: with (pretend)
+    100 kB available the iterative path runs and says why, with the
+    factorisation's answer (the implicit bound by GMRES)."""
     default = solve(block_454, friction=0.3, steps=5)
     assert default.linear_solver != "amg"
     monkeypatch.setattr(amg, "available_memory", lambda: 1e5)
@@ -164,5 +163,11 @@ def test_auto_takes_amg_for_friction_when_the_factor_does_not_fit(
     assert "AMG" in chosen.linear_solver_reason
     assert np.linalg.norm(chosen.u - default.u) < \
         1e-7 * np.linalg.norm(default.u)
+    monkeypatch.undo()
     implicit = solve(block_454, friction=0.3, steps=5, coulomb="implicit")
     assert implicit.linear_solver != "amg" and implicit.success
+    monkeypatch.setattr(amg, "available_memory", lambda: 1e5)
+    chosen = solve(block_454, friction=0.3, steps=5, coulomb="implicit")
+    assert chosen.linear_solver == "amg" and chosen.success
+    assert np.linalg.norm(chosen.u - implicit.u) < \
+        1e-7 * np.linalg.norm(implicit.u)

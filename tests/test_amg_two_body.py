@@ -58,6 +58,22 @@ def test_two_bodies_amg_equals_the_factorisation(make):
     assert np.array_equal(iterative.in_contact, direct.in_contact)
 
 
+def test_auto_takes_amg_for_two_bodies_when_the_factor_does_not_fit(
+        monkeypatch):
+    """``backend="auto"`` on two bodies: with the machine's memory it
+    factorises; with (pretend) 100 kB available the AMG path runs, says
+    why, and gives the factorisation's u (1e-7, relative)."""
+    problem = patch2d()
+    direct = solve(problem)
+    assert direct.linear_solver != "amg"
+    monkeypatch.setattr(amg, "available_memory", lambda: 1e5)
+    chosen = solve(problem)
+    assert chosen.linear_solver == "amg" and chosen.success
+    assert "AMG" in chosen.linear_solver_reason
+    error = np.linalg.norm(chosen.u - direct.u) / np.linalg.norm(direct.u)
+    assert error < 1e-7
+
+
 def test_near_null_space_is_the_kernel_of_the_glued_stiffness():
     """K̃ (T B) = T⁻ᵀ K B: zero on the rows of nodes away from the
     supports (a rigid motion of one body has no strain), for the 6 modes

@@ -412,14 +412,15 @@ def resolve(case, options):
 
 def auto_eligible(case, given):
     """Whether ``backend="auto"`` may choose the iterative path for this
-    call: a rigid-obstacle problem of a supported body on the serial
-    engine, frictionless or with friction by the projection formulation
-    and the lagged bound, with none of the options that path refuses
-    (:data:`AMG_REFUSALS`) or that need the condensed system."""
-    lagged = given["coulomb"] in (None, "lagged") \
-        and given["formulation"] in (None, "projection")
-    return ((case.contact == "frictionless" or lagged)
-            and case.bodies == "rigid" and case.support == "supported"
+    call: a meshed body against a rigid obstacle or two bodies by the dual
+    mortar, supported, on the serial engine, frictionless or with friction
+    by the projection formulation (either bound), with none of the options
+    that path refuses (:data:`AMG_REFUSALS`) or that need the condensed
+    system."""
+    projection = given["formulation"] in (None, "projection")
+    return ((case.contact == "frictionless" or projection)
+            and case.bodies in ("rigid", "two-body")
+            and case.support == "supported"
             and case.engine == "serial" and given["backend"] == "auto"
             and given["method"] in (None, "min")
             and given["system"] == "auto"
