@@ -215,16 +215,23 @@ class _Combined:
         return d if s.reduction.all(np.all(np.isfinite(d))) else None
 
 
-def verify_on_ranks(system, u, lam, tol):
+def verify_on_ranks(system, u, lam, tol, friction=None):
     """The answer checked on every node of every rank, the measures of
     :func:`solver.contact.verify.verify_contact` (the same names and
     scales) with their maxima, minima and norms reduced over the ranks:
     penetration, sign of λ, complementarity, and the equilibrium
     ‖K u − f − f_c‖/(‖f‖ + ‖f_c‖) on every row (f_c = −λν at Γc), and as
-    the direct path's ``interior_equilibrium`` ‖K u − f‖/‖f‖ off Γc."""
+    the direct path's ``interior_equilibrium`` ‖K u − f‖/‖f‖ off Γc.
+    ``friction``: (f, t, bound) of a friction step, its load f_κ, the
+    nodal friction forces t (m, d − 1) along the geometry's tangents and
+    the bound D f_c p: f_c then adds Σ t_k τ_k, F counts ‖t‖ and
+    ``friction_bound_violation`` is max(|t| − bound, 0)/F
+    (:mod:`.krylov_friction`)."""
     red, g = system.reduction, system.geometry
+    f, t, bound = (system.f, None, None) if friction is None else friction
     finite = red.all(np.all(np.isfinite(u)) and np.all(np.isfinite(lam)))
-    F = contact_scale(system.load_norm, system.lambda_plus(lam)) \
+    F = contact_scale(system.load_norm, system.lambda_plus(lam),
+                      None if t is None else [red.norm(t)]) \
         if finite else np.inf
     L = F / system.stiffness
     padded = np.append(u, 0.0)  # −1 (a roller's Dirichlet component): 0
@@ -235,10 +242,13 @@ def verify_on_ranks(system, u, lam, tol):
     contact = np.zeros(len(u) + 1)
     if len(dofs):
         contact[dofs] = -lam[:, None] * g.normal
-    r = system.Ku(u) - system.f - contact[:-1]
+        if t is not None:
+            contact[dofs] += (t[:, :, None] * g.tangents).sum(axis=1)
+    r = system.Ku(u) - f - contact[:-1]
     off = r.copy()  # the rows off Γc: ‖·‖/‖f‖ as the direct path's
     off[dofs[dofs >= 0]] = 0.0
     tol_v = verification_tolerance(tol)
+    f_norm = system.load_norm if friction is None else red.norm(f)
 
     def relative(value, size):
         return max(value, 0.0) if value <= 0.0 else (
@@ -251,9 +261,13 @@ def verify_on_ranks(system, u, lam, tol):
             min_multiplier=-relative(-red.min(np.min(lam, initial=0.0)), F),
             complementarity=relative(red.max(np.max(np.abs(np.minimum(
                 lam, system.stiffness * remaining)), initial=0.0)), F),
-            equilibrium=relative(red.norm(r), system.load_norm
+            equilibrium=relative(red.norm(r), f_norm
                                  + red.norm(contact[:-1])),
-            interior_equilibrium=relative(red.norm(off), system.load_norm))
+            interior_equilibrium=relative(red.norm(off), f_norm))
+        if t is not None:
+            size = np.linalg.norm(t, axis=1) if len(t) else np.zeros(0)
+            checks["friction_bound_violation"] = relative(red.max(np.max(
+                size - bound, initial=0.0)), F)
     failed = [] if finite else ["finite"]
     for name, value in checks.items():
         if (value < -tol_v) if name == "min_multiplier" else \
