@@ -22,12 +22,12 @@ import pytest
 
 from solver import save_problem, solve
 from test_mpi import REASON, mpirun
-from test_mpi_distributed import read_pvtu
+from test_mpi_distributed_friction import assert_steps_as_serial
 
 pytestmark = pytest.mark.skipif(REASON is not None, reason=str(REASON))
 
 RTOL = 1e-8
-FRICTION, STEPS = 0.3, 3
+FRICTION, STEPS = 0.3, 3  # as test_mpi_distributed_friction's
 
 
 def run_krylov_friction(folder, out, ranks, ksp="gamg", *options):
@@ -44,36 +44,11 @@ def run_krylov_friction(folder, out, ranks, ksp="gamg", *options):
 
 def assert_same_steps(problem, reference, out, summary, stdout):
     """Every step of the run ``out`` against the serial ``reference``
-    (module docstring)."""
+    (module docstring; u, forces and sets by test_mpi_distributed_friction.
+    assert_steps_as_serial); returns the run's ``step_*`` fields."""
     assert summary["converged"] and summary["steps_completed"] == STEPS
     assert summary["engine"]["system"] == "full"
-    n_nodes, dim = problem.nodes.shape
-    ref = np.asarray(reference["displacement"])
-    for k in range(STEPS):
-        u, cells = read_pvtu(out / "steps" / f"step_{k + 1:04d}.pvtu",
-                             n_nodes, dim)
-        assert np.abs(u - ref[k]).max() <= RTOL * np.abs(ref[k]).max()
-        assert cells == len(problem.cells)
-    u, _ = read_pvtu(out / "result.pvtu", n_nodes, dim)
-    assert np.abs(u - ref[-1]).max() <= RTOL * np.abs(ref[-1]).max()
-    assert (out / "result.pvd").read_text().count("<DataSet ") == STEPS
-    with np.load(out / "contact.npz") as contact:
-        order = np.argsort(problem.contact_nodes)
-        position = order[np.searchsorted(problem.contact_nodes,
-                                         contact["node"], sorter=order)]
-        assert np.array_equal(problem.contact_nodes[position],
-                              contact["node"])
-        for key in ("friction_traction", "contact_force",
-                    "contact_pressure_consistent"):
-            mine = contact[f"step_{key}"]
-            theirs = np.asarray(reference[key])[:, position]
-            assert np.abs(mine - theirs).max() <= RTOL * np.abs(
-                theirs).max(), key
-        for key in ("stick", "slip", "in_contact"):
-            assert np.array_equal(contact[f"step_{key}"], np.asarray(
-                reference[key])[:, position]), key
-        steps = {key: contact[key] for key in contact.files
-                 if key.startswith("step_")}
+    assert_steps_as_serial(problem, reference, out)
     v = summary["verification"]
     assert v["passed"] and v["reduced_over_ranks"]
     assert v["friction_bound_violation"] <= 1e-8
@@ -81,7 +56,9 @@ def assert_same_steps(problem, reference, out, summary, stdout):
     assert "friction bound violation" in stdout
     assert [r["step"] for r in summary["records"]] == [1, 2, 3]
     assert all(r["krylov"] > 0 for r in summary["records"])
-    return steps
+    with np.load(out / "contact.npz") as contact:
+        return {key: contact[key] for key in contact.files
+                if key.startswith("step_")}
 
 
 @pytest.fixture(scope="module")

@@ -217,7 +217,8 @@ def solve_newton_system(obj, rows, added=None):
     A, M, ksp, x, b = (obj[k] for k in ("A", "M", "ksp", "x", "b"))
     A.copy(M, structure=PETSc.Mat.Structure.SAME_NONZERO_PATTERN)
     if added is not None:
-        M.axpy(1.0, added, structure=PETSc.Mat.Structure.SUBSET_NONZERO_PATTERN)
+        M.axpy(1.0, added,
+               structure=PETSc.Mat.Structure.SUBSET_NONZERO_PATTERN)
     lo, hi = M.getOwnershipRange()
     shift = M.createVecLeft()
     shift.set(0.0)

@@ -51,17 +51,18 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as sla
 
 from ..contact.friction.active_set import (LaggedProjection, SlipRule,
-                                           constrained_rows, slip_loads,
-                                           slip_springs)
+                                           constrained_rows,
+                                           iterate_measure, slip_loads,
+                                           slip_springs, stopping)
 from ..contact.friction.steps import FIELDS, STOPPING_TEST, step_fields
 from ..contact.verify import (describe_failure, verification_tolerance,
                               worst_verification)
 from ..ncp import MESSAGES
-from ..problem.partitioned import load_mass, read_partitioned_meta
-from .distributed import KEY, PartitionedResult, shares, write_pvtu
+from ..problem.partitioned import load_mass
+from .distributed import KEY, PartitionedResult, write_pvtu
 from .full import ksp_statistics, solve_newton_system
 from .partitioned_friction import STEP_FIELDS_SAVED
-from .partitioned_full import Reduction, verify_on_ranks
+from .partitioned_full import Reduction, set_up_ranks, verify_on_ranks
 from .service import command
 
 __all__ = ["solve_partitioned_krylov_friction", "RankProjection"]
@@ -122,18 +123,9 @@ def solve_partitioned_krylov_friction(svc, folder, friction, steps=None,
     with ``outdir`` each step's pieces go to ``outdir/steps/`` as it
     completes. Returns a :class:`~.distributed.PartitionedResult`."""
     clock = time.perf_counter()
-    meta = read_partitioned_meta(folder)
-    dim, n_nodes = int(meta["dim"]), int(meta["n_nodes"])
     steps = 100 if steps is None else int(steps)
-    starts = shares(n_nodes, svc.size, 1.0) * dim
-    ranges = [(int(a), int(b)) for a, b in zip(starts[:-1], starts[1:])]
-    svc.mark("start")
-    svc.call("load_partitioned", dict(folder=os.fspath(folder),
-                                      ranges=ranges, dim=dim))
-    svc.call("partitioned_full_setup", dict(
-        folder=os.fspath(folder), dim=dim, ksp=ksp,
-        gap_mode=meta["gap_mode"]))
-    svc.call("check_spd_cg", dict(key="newton"))  # K̂ SPD? (full.py)
+    meta = set_up_ranks(svc, folder, ksp)
+    dim = int(meta["dim"])
     n_contact = int(meta["n_contact"])
     M = load_mass(folder, n_contact)  # checked by the front
     mass = sla.splu(M.tocsc())  # Γc's: M⁻¹λ of (87)
@@ -337,7 +329,7 @@ def _iterate(system, newton, A, tol, max_iter):
     R, lo = system.R, A.getOwnershipRange()[0]
     t_rows, n_rows, t_free = system.t_rows, system.n_rows, system.t_free
     free_rows = t_rows[t_free]
-    lumped_t, c_t = system.lumped_t, system.c_t
+    c_t = system.c_t
     s, c = system.geometry.gap, system.stiffness
     u_previous = system.u_previous
     y_previous = R @ u_previous
@@ -350,20 +342,12 @@ def _iterate(system, newton, A, tol, max_iter):
     while True:
         du = u - u_previous
         r = system._force(du)
-        g = np.zeros(system.mt)
-        g[t_free] = r[free_rows] / lumped_t[t_free]
-        x = np.concatenate([du, g / c_t])
-        parts = system.residual(x)
-        err = system.error(*parts)
-        scale = system.scale(*parts)
+        g, _, err, scale = iterate_measure(system, u, r)
         nfev += 1
-        if not red.all(np.isfinite(err) and np.all(np.isfinite(u))):
-            status, detail = 4, "the iterate is not finite"
-            break
-        if err <= tol * scale:
-            status = 0
-            break
-        if njev >= max_iter:
+        end = stopping(err, scale, tol, red.all(
+            np.isfinite(err) and np.all(np.isfinite(u))), njev, max_iter)
+        if end is not None:
+            status, detail = end
             break
         lam = -r[n_rows]
         y = R @ u

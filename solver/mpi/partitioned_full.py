@@ -44,7 +44,7 @@ from .full import (ksp_statistics, newton_ksp, newton_rows,
 from .service import command
 
 __all__ = ["solve_partitioned_full", "Reduction", "LocalSystem",
-           "verify_on_ranks", "KRYLOV"]
+           "verify_on_ranks", "set_up_ranks", "KRYLOV"]
 
 #: The Krylov preconditioners of this path (``ksp=``).
 KRYLOV = ("gamg", "hypre")
@@ -62,17 +62,7 @@ def solve_partitioned_full(svc, folder, ksp="gamg", tol=1e-10, max_iter=100):
     docstring); return its :class:`~.distributed.PartitionedResult` (u and
     the contact fields kept on the ranks until ``write_pieces``)."""
     clock = time.perf_counter()
-    meta = read_partitioned_meta(folder)
-    dim, n_nodes = int(meta["dim"]), int(meta["n_nodes"])
-    starts = shares(n_nodes, svc.size, 1.0) * dim  # no rank holds more
-    ranges = [(int(a), int(b)) for a, b in zip(starts[:-1], starts[1:])]
-    svc.mark("start")
-    svc.call("load_partitioned", dict(folder=os.fspath(folder),
-                                      ranges=ranges, dim=dim))
-    svc.call("partitioned_full_setup", dict(
-        folder=os.fspath(folder), dim=dim, ksp=ksp,
-        gap_mode=meta["gap_mode"]))
-    svc.call("check_spd_cg", dict(key="newton"))  # K̂ SPD? (full.py)
+    meta = set_up_ranks(svc, folder, ksp)
     out = svc.call("partitioned_full_newton", dict(
         tol=tol, max_iter=max_iter, stiffness=float(meta["stiffness"]),
         load_norm=float(meta["load_norm"])))
@@ -101,6 +91,26 @@ def solve_partitioned_full(svc, folder, ksp="gamg", tol=1e-10, max_iter=100):
     result = PartitionedResult(summary, svc, folder, meta, contact)
     result.write_options = dict(fields=True, threshold=out["threshold"])
     return result
+
+
+def set_up_ranks(svc, folder, ksp):
+    """(rank 0) Every rank reads its rows of ``folder``'s K and f and its
+    contact nodes, and sets up R, K̂ and the Newton systems' KSP
+    (``partitioned_full_setup``); K̂ is tested by CG (``check_spd_cg``).
+    Returns the folder's meta. Shared by friction on this system
+    (:mod:`.krylov_friction`)."""
+    meta = read_partitioned_meta(folder)
+    dim, n_nodes = int(meta["dim"]), int(meta["n_nodes"])
+    starts = shares(n_nodes, svc.size, 1.0) * dim  # no rank holds more
+    ranges = [(int(a), int(b)) for a, b in zip(starts[:-1], starts[1:])]
+    svc.mark("start")
+    svc.call("load_partitioned", dict(folder=os.fspath(folder),
+                                      ranges=ranges, dim=dim))
+    svc.call("partitioned_full_setup", dict(
+        folder=os.fspath(folder), dim=dim, ksp=ksp,
+        gap_mode=meta["gap_mode"]))
+    svc.call("check_spd_cg", dict(key="newton"))  # K̂ SPD? (full.py)
+    return meta
 
 
 class Reduction:

@@ -109,7 +109,7 @@ from .projection import ProjectionSystem
 
 __all__ = ["IterativeSpace", "LaggedProjection", "solve_step",
            "SPRING_CAP", "SlipRule", "slip_loads", "slip_springs",
-           "constrained_rows"]
+           "constrained_rows", "iterate_measure", "stopping"]
 
 #: A slip node whose spring q/(1 − q)·D c_t would exceed this multiple of
 #: D c_t (≈ the diagonal of K; q → 1 at the edge of the stick set) gets
@@ -289,6 +289,31 @@ def constrained_rows(system, active, stick):
             system.t_free.reshape(m, k)[stick]]])
 
 
+def iterate_measure(system, u, r):
+    """At the iterate u, r = R(K u − f_κ): g = r_t/D on the free tangents
+    (eliminated exactly, module docstring), x = [Δu; g/c_t] and the
+    formulation's stopping measure and scale, (g, x, error, scale)."""
+    g = np.zeros(system.mt)
+    free = system.t_free
+    g[free] = r[system.t_rows[free]] / system.lumped_t[free]
+    x = np.concatenate([u - system.u_previous, g / system.c_t])
+    parts = system.residual(x)
+    return g, x, system.error(*parts), system.scale(*parts)
+
+
+def stopping(err, scale, tol, finite, njev, max_iter):
+    """(status, detail) of :data:`solver.ncp.MESSAGES` where the iteration
+    ends at this iterate (4: not ``finite``, 0: error ≤ tol·scale, 1:
+    ``max_iter`` Newton systems solved), or None: go on."""
+    if not finite:
+        return 4, "the iterate is not finite"
+    if err <= tol * scale:
+        return 0, ""
+    if njev >= max_iter:
+        return 1, ""
+    return None
+
+
 class _Springs:
     """K + V diag(k) Vᵀ as an operator for :func:`projected_cg`."""
 
@@ -358,20 +383,12 @@ def _iterate(system, multigrid, x0, load, tol, max_iter, hertz, K_hat):
     x = None
     while True:
         r = R @ (K @ u) - Rf
-        g = np.zeros(system.mt)
-        g[t_free] = r[free_rows] / lumped_t[t_free]
-        x = np.concatenate([u - u_previous, g / c_t])
-        parts = system.residual(x)
-        err = system.error(*parts)
-        scale = system.scale(*parts)
+        g, x, err, scale = iterate_measure(system, u, r)
         nfev += 1
-        if not np.isfinite(err) or not np.all(np.isfinite(u)):
-            status, detail = 4, "the iterate is not finite"
-            break
-        if err <= tol * scale:
-            status = 0
-            break
-        if njev >= max_iter:
+        end = stopping(err, scale, tol, np.isfinite(err)
+                       and np.all(np.isfinite(u)), njev, max_iter)
+        if end is not None:
+            status, detail = end
             break
         lam = -r[n_rows]
         un = C_n @ u
