@@ -28,9 +28,10 @@ test is reduced. Each Newton system is the eliminated SPD one of the
 serial path's ``K_hat`` branch: K̂ plus the 3D slip springs (a 2 × 2 block
 per slip node, inside K̂'s pattern), the active normal and stick tangent
 rows of y = R u fixed symmetrically (``MatZeroRowsColumns``), solved by
-:func:`~.full.solve_newton_system` to its relative tolerance (no forcing
-term: the Newton path may differ from the serial one, the answer of each
-step does not).
+:func:`~.full.solve_newton_system` for the correction from the iterate,
+to its relative tolerance of the residual there (no forcing term: the
+Newton path may differ from the serial one, the answer of each step does
+not).
 
 Every converged step is verified on every node of every rank
 (:func:`~.partitioned_full.verify_on_ranks`, the Coulomb bound
@@ -375,14 +376,21 @@ def _iterate(system, newton, A, tol, max_iter):
         fixed = constrained_rows(system, active, stick)
         values = np.concatenate([s[active],
                                  y_previous[fixed[int(active.sum()):]]])
+        # the correction dy from y = R u: its residual (K̂ + S)y − rhs,
+        # K̂ y = R K u = r + R f_κ, so CG's relative tolerance applies to
+        # what is left at the iterate, not to the whole right-hand side
+        # (a floor ~1e-12 ‖rhs‖ stalled the stopping test on 4 ranks)
+        rhs -= r + Rf
+        if springs is not None:
+            rhs -= S @ y
         newton["b"].setArray(rhs)
         solve_newton_system(newton, dict(
             shift_rows=np.zeros(0, np.int64), shift=np.zeros(0),
-            fixed_rows=fixed + lo, fixed=values), springs)
+            fixed_rows=fixed + lo, fixed=values - y[fixed]), springs)
         if springs is not None:
             springs.destroy()
         krylov += its[-1]
-        u = R.T @ newton["x"].getArray()
+        u = R.T @ (y + newton["x"].getArray())
         njev += 1
     message = MESSAGES[status] + (f": {detail}" if detail else "")
     return dict(du=u - u_previous, g=g, success=status == 0,
