@@ -44,6 +44,22 @@ def assert_same_as_serial(problem, reference, out, summary, stdout):
     assert summary["steps_completed"] == STEPS
     assert [r["njev"] for r in summary["records"]] == \
         [r["njev"] for r in reference.records]
+    assert_steps_as_serial(problem, reference, out)
+    v = summary["verification"]
+    assert v["passed"] and v["friction_bound_violation"] <= 1e-8
+    assert v["interior_equilibrium"] <= 1e-8 and v["equilibrium"] <= 1e-8
+    assert "friction bound violation" in stdout
+    # rank 0 held nothing larger than Γc's Schur complement
+    m = summary["n_contact_dofs"]
+    assert summary["engine"]["rank0_arrays"]["largest_entries"] <= m * m
+    assert m < summary["engine"]["n"] // 4
+
+
+def assert_steps_as_serial(problem, reference, out):
+    """Every step's u of the partitioned run ``out`` (VTK's reader of the
+    pieces), its friction and contact forces to 1e-8 and its stick, slip
+    and contact sets against the serial ``reference``; also used by the
+    Krylov path's tests (test_mpi_krylov_friction.py)."""
     n_nodes, dim = problem.nodes.shape
     ref = np.asarray(reference["displacement"])
     for k in range(STEPS):
@@ -71,14 +87,6 @@ def assert_same_as_serial(problem, reference, out, summary, stdout):
         # the nodes not taking part (supports) are in neither set
         assert not np.asarray(reference["in_contact"])[:, np.setdiff1d(
             np.arange(problem.n_contact), position)].any()
-    v = summary["verification"]
-    assert v["passed"] and v["friction_bound_violation"] <= 1e-8
-    assert v["interior_equilibrium"] <= 1e-8 and v["equilibrium"] <= 1e-8
-    assert "friction bound violation" in stdout
-    # rank 0 held nothing larger than Γc's Schur complement
-    m = summary["n_contact_dofs"]
-    assert summary["engine"]["rank0_arrays"]["largest_entries"] <= m * m
-    assert m < summary["engine"]["n"] // 4
 
 
 @pytest.fixture(scope="module")

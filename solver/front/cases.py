@@ -197,10 +197,13 @@ PARTITIONED_RULES = (
                  "pieces are written to DIR/steps/ by the command line "
                  "(PartitionedPlan.run(outdir=DIR))",
                  lambda c, s, g: "on_step" in g),
-    _partitioned("friction", "the full system of a folder by Krylov "
-                 "(system='full') is frictionless; run the .npz for "
-                 "friction", lambda c, s, g: c.contact == "friction"
-                 and s["system"] == "full", "friction with system='full'"),
+    _partitioned("coulomb", "friction on the full system of a folder by "
+                 "Krylov (system='full') runs the lagged bound (its Newton "
+                 "systems SPD, by CG); the implicit bound runs condensed "
+                 "(without system='full')", lambda c, s, g:
+                 c.contact == "friction" and s["system"] == "full"
+                 and s["coulomb"] == "implicit",
+                 "coulomb='implicit' with system='full'"),
     _partitioned("system", "on a folder the full system runs by Krylov, "
                  "ksp='gamg' or 'hypre' (no rank factorises the whole K); "
                  "without system='full' the system condensed onto Γc "
@@ -325,12 +328,15 @@ RULES = tuple(
              "its modes' amplitudes are condensed with every DOF of Γc",
              lambda c, s, g: c.support == "floating" and s["candidates"],
              "candidates=True"),
-        Rule("system", "friction on the petsc engine",
-             "friction on the full system (the thesis's formulation runs "
-             "there) has no distributed Newton solve: use the condensed "
-             "projection formulation or the serial engine",
+        Rule("system", "friction on the petsc engine from a .npz",
+             "friction on the full system of a .npz (the thesis's "
+             "formulation runs there) has no distributed Newton solve: use "
+             "the condensed projection formulation, the serial engine, or "
+             "convert it (python -m solver convert) and run the folder with "
+             "system='full'",
              lambda c, s, g: c.engine == "petsc" and c.contact == "friction"
-             and not s["condense"], "system='full'"),
+             and not s["condense"] and c.bodies != "partitioned",
+             "system='full'"),
     ])
 
 

@@ -212,6 +212,14 @@ class PartitionedPlan:
         from ..mpi.engine import service
 
         s = self.settings
+        if self.friction is not None and s["system"] == "full":
+            from ..mpi.krylov_friction import \
+                solve_partitioned_krylov_friction
+
+            return solve_partitioned_krylov_friction(
+                service(), self.problem.path, self.friction, s["steps"],
+                s["ksp"], s["tol"], s["max_iter"], outdir=outdir,
+                progress=progress or s["progress"])
         if self.friction is not None:
             from ..mpi.partitioned_friction import solve_partitioned_friction
 

@@ -36,8 +36,8 @@ def service():
 
         restore_malloc()
         from . import (distributed, factor, full,  # noqa: F401
-                       partitioned_friction, partitioned_full, schur,
-                       snesvi)
+                       krylov_friction, partitioned_friction,
+                       partitioned_full, schur, snesvi)
         from .service import Service
 
         PETSc.Options().setValue("k_mat_mumps_icntl_14", 50)  # workspace +%

@@ -203,17 +203,22 @@ def _newton_solve(service, payload, local):
     return gather_vector(service, obj["x"])
 
 
-def solve_newton_system(obj, rows):
+def solve_newton_system(obj, rows, added=None):
     """(every rank) K̂ with the diagonal shifts and fixed rows of
     :func:`newton_rows` (``rows``: global row numbers, each rank keeps
     those it owns) solved for ``obj["b"]`` into ``obj["x"]`` (``obj`` of
     :func:`newton_ksp`): the fixed rows eliminated symmetrically, so the
     system stays SPD; a failed CG falls back to MUMPS (iteration count
-    0, module docstring). Records the Krylov iterations."""
+    0, module docstring). Records the Krylov iterations. ``added``: a
+    distributed matrix inside K̂'s pattern added to it first (friction's
+    slip springs, :mod:`.krylov_friction`)."""
     from petsc4py import PETSc
 
     A, M, ksp, x, b = (obj[k] for k in ("A", "M", "ksp", "x", "b"))
     A.copy(M, structure=PETSc.Mat.Structure.SAME_NONZERO_PATTERN)
+    if added is not None:
+        M.axpy(1.0, added,
+               structure=PETSc.Mat.Structure.SUBSET_NONZERO_PATTERN)
     lo, hi = M.getOwnershipRange()
     shift = M.createVecLeft()
     shift.set(0.0)

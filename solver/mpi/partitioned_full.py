@@ -44,7 +44,7 @@ from .full import (ksp_statistics, newton_ksp, newton_rows,
 from .service import command
 
 __all__ = ["solve_partitioned_full", "Reduction", "LocalSystem",
-           "verify_on_ranks", "KRYLOV"]
+           "verify_on_ranks", "set_up_ranks", "KRYLOV"]
 
 #: The Krylov preconditioners of this path (``ksp=``).
 KRYLOV = ("gamg", "hypre")
@@ -62,17 +62,7 @@ def solve_partitioned_full(svc, folder, ksp="gamg", tol=1e-10, max_iter=100):
     docstring); return its :class:`~.distributed.PartitionedResult` (u and
     the contact fields kept on the ranks until ``write_pieces``)."""
     clock = time.perf_counter()
-    meta = read_partitioned_meta(folder)
-    dim, n_nodes = int(meta["dim"]), int(meta["n_nodes"])
-    starts = shares(n_nodes, svc.size, 1.0) * dim  # no rank holds more
-    ranges = [(int(a), int(b)) for a, b in zip(starts[:-1], starts[1:])]
-    svc.mark("start")
-    svc.call("load_partitioned", dict(folder=os.fspath(folder),
-                                      ranges=ranges, dim=dim))
-    svc.call("partitioned_full_setup", dict(
-        folder=os.fspath(folder), dim=dim, ksp=ksp,
-        gap_mode=meta["gap_mode"]))
-    svc.call("check_spd_cg", dict(key="newton"))  # K̂ SPD? (full.py)
+    meta = set_up_ranks(svc, folder, ksp)
     out = svc.call("partitioned_full_newton", dict(
         tol=tol, max_iter=max_iter, stiffness=float(meta["stiffness"]),
         load_norm=float(meta["load_norm"])))
@@ -101,6 +91,26 @@ def solve_partitioned_full(svc, folder, ksp="gamg", tol=1e-10, max_iter=100):
     result = PartitionedResult(summary, svc, folder, meta, contact)
     result.write_options = dict(fields=True, threshold=out["threshold"])
     return result
+
+
+def set_up_ranks(svc, folder, ksp):
+    """(rank 0) Every rank reads its rows of ``folder``'s K and f and its
+    contact nodes, and sets up R, K̂ and the Newton systems' KSP
+    (``partitioned_full_setup``); K̂ is tested by CG (``check_spd_cg``).
+    Returns the folder's meta. Shared by friction on this system
+    (:mod:`.krylov_friction`)."""
+    meta = read_partitioned_meta(folder)
+    dim, n_nodes = int(meta["dim"]), int(meta["n_nodes"])
+    starts = shares(n_nodes, svc.size, 1.0) * dim  # no rank holds more
+    ranges = [(int(a), int(b)) for a, b in zip(starts[:-1], starts[1:])]
+    svc.mark("start")
+    svc.call("load_partitioned", dict(folder=os.fspath(folder),
+                                      ranges=ranges, dim=dim))
+    svc.call("partitioned_full_setup", dict(
+        folder=os.fspath(folder), dim=dim, ksp=ksp,
+        gap_mode=meta["gap_mode"]))
+    svc.call("check_spd_cg", dict(key="newton"))  # K̂ SPD? (full.py)
+    return meta
 
 
 class Reduction:
@@ -215,16 +225,23 @@ class _Combined:
         return d if s.reduction.all(np.all(np.isfinite(d))) else None
 
 
-def verify_on_ranks(system, u, lam, tol):
+def verify_on_ranks(system, u, lam, tol, friction=None):
     """The answer checked on every node of every rank, the measures of
     :func:`solver.contact.verify.verify_contact` (the same names and
     scales) with their maxima, minima and norms reduced over the ranks:
     penetration, sign of λ, complementarity, and the equilibrium
     ‖K u − f − f_c‖/(‖f‖ + ‖f_c‖) on every row (f_c = −λν at Γc), and as
-    the direct path's ``interior_equilibrium`` ‖K u − f‖/‖f‖ off Γc."""
+    the direct path's ``interior_equilibrium`` ‖K u − f‖/‖f‖ off Γc.
+    ``friction``: (f, t, bound) of a friction step, its load f_κ, the
+    nodal friction forces t (m, d − 1) along the geometry's tangents and
+    the bound D f_c p: f_c then adds Σ t_k τ_k, F counts ‖t‖ and
+    ``friction_bound_violation`` is max(|t| − bound, 0)/F
+    (:mod:`.krylov_friction`)."""
     red, g = system.reduction, system.geometry
+    f, t, bound = (system.f, None, None) if friction is None else friction
     finite = red.all(np.all(np.isfinite(u)) and np.all(np.isfinite(lam)))
-    F = contact_scale(system.load_norm, system.lambda_plus(lam)) \
+    F = contact_scale(system.load_norm, system.lambda_plus(lam),
+                      None if t is None else [red.norm(t)]) \
         if finite else np.inf
     L = F / system.stiffness
     padded = np.append(u, 0.0)  # −1 (a roller's Dirichlet component): 0
@@ -235,10 +252,13 @@ def verify_on_ranks(system, u, lam, tol):
     contact = np.zeros(len(u) + 1)
     if len(dofs):
         contact[dofs] = -lam[:, None] * g.normal
-    r = system.Ku(u) - system.f - contact[:-1]
+        if t is not None:
+            contact[dofs] += (t[:, :, None] * g.tangents).sum(axis=1)
+    r = system.Ku(u) - f - contact[:-1]
     off = r.copy()  # the rows off Γc: ‖·‖/‖f‖ as the direct path's
     off[dofs[dofs >= 0]] = 0.0
     tol_v = verification_tolerance(tol)
+    f_norm = system.load_norm if friction is None else red.norm(f)
 
     def relative(value, size):
         return max(value, 0.0) if value <= 0.0 else (
@@ -251,9 +271,13 @@ def verify_on_ranks(system, u, lam, tol):
             min_multiplier=-relative(-red.min(np.min(lam, initial=0.0)), F),
             complementarity=relative(red.max(np.max(np.abs(np.minimum(
                 lam, system.stiffness * remaining)), initial=0.0)), F),
-            equilibrium=relative(red.norm(r), system.load_norm
+            equilibrium=relative(red.norm(r), f_norm
                                  + red.norm(contact[:-1])),
-            interior_equilibrium=relative(red.norm(off), system.load_norm))
+            interior_equilibrium=relative(red.norm(off), f_norm))
+        if t is not None:
+            size = np.linalg.norm(t, axis=1) if len(t) else np.zeros(0)
+            checks["friction_bound_violation"] = relative(red.max(np.max(
+                size - bound, initial=0.0)), F)
     failed = [] if finite else ["finite"]
     for name, value in checks.items():
         if (value < -tol_v) if name == "min_multiplier" else \

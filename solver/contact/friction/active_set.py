@@ -108,7 +108,8 @@ from ..verify import contact_weight
 from .projection import ProjectionSystem
 
 __all__ = ["IterativeSpace", "LaggedProjection", "solve_step",
-           "SPRING_CAP"]
+           "SPRING_CAP", "SlipRule", "slip_loads", "slip_springs",
+           "constrained_rows", "iterate_measure", "stopping"]
 
 #: A slip node whose spring q/(1 − q)·D c_t would exceed this multiple of
 #: D c_t (≈ the diagonal of K; q → 1 at the edge of the stick set) gets
@@ -214,6 +215,105 @@ def solve_step(system, multigrid, x0, load, tol, max_iter, hertz=False,
                         K_hat)
 
 
+class SlipRule:
+    """The stick and slip sets of the method from w = g − c_t Δu_t (m, k)
+    and the radii b (m,) (module docstring): stick |w| < b, slip |w| ≥ b
+    where b > 0, with ŵ = w/|w|; in 2D a node whose slip turned back twice
+    in a row is put in the stick set. One per load step: it remembers the
+    last iterates' directions. Nodewise, so the ranks of a distributed run
+    each call it on their own nodes and take the same decisions
+    (:mod:`solver.mpi.krylov_friction`)."""
+
+    def __init__(self, k):
+        self.k = k
+        self.hat = self.slip = self.turned = None
+
+    def __call__(self, w, b):
+        """(stick, slip, ŵ, |w|) of the iterate."""
+        size = np.linalg.norm(w, axis=1)
+        stick = size < b
+        slip = ~stick & (b > 0)
+        hat = np.divide(w, size[:, None], out=np.zeros_like(w),
+                        where=size[:, None] > 0)
+        turned = np.zeros(len(b), bool)
+        if self.hat is not None and self.k == 1:  # the slip turned back
+            turned = slip & self.slip & (
+                np.einsum("ij,ij->i", hat, self.hat) < 0)
+        self.hat, self.slip = hat, slip
+        if self.turned is not None:  # twice in a row: stick
+            flipping = turned & self.turned
+            stick, slip = stick | flipping, slip & ~flipping
+        self.turned = turned
+        return stick, slip, hat, size
+
+
+def slip_loads(lumped, b, hat, slip):
+    """The lagged bound's loads D b ŵ on the slip nodes' tangent rows
+    (mt,), node by node (module docstring)."""
+    m, k = hat.shape
+    force = np.zeros(m * k)
+    force[slip.repeat(k)] = ((lumped * b)[slip, None] * hat[slip]).ravel()
+    return force
+
+
+def slip_springs(system, b, slip, hat, size, capped):
+    """The springs across the slip of the 3D slip nodes (module docstring):
+    (E, k_e, soft) with E (p, n) the rows e·y_t of y = R u (in ``system``'s
+    row numbering), k_e = D c_t q/(1 − q) and ``soft`` k_e within
+    :data:`SPRING_CAP` (the others are constraints on the projected path);
+    ``capped``: k_e at most the cap's (the eliminated path, all soft)."""
+    m, k = hat.shape
+    mask = system.t_free.reshape(m, k).astype(float)
+    across = np.column_stack([-hat[:, 1], hat[:, 0]]) * mask
+    nodes = np.flatnonzero(slip & (np.linalg.norm(across, axis=1) > 0.5))
+    q = np.minimum(b[nodes] / size[nodes], 1.0)
+    ratio = q / np.maximum(1.0 - q, 1e-300)
+    if capped:
+        ratio = np.minimum(ratio, SPRING_CAP)
+    # v = R_tᵀ e: the tangent rows of the node weighted by e
+    rows = system.t_rows.reshape(m, k)[nodes]
+    used = rows >= 0
+    E = sp.csr_matrix((across[nodes][used], (np.nonzero(used)[0],
+                                             rows[used])),
+                      shape=(len(nodes), system.n))
+    return E, system.lumped[nodes] * system.c_t * ratio, \
+        ratio <= SPRING_CAP
+
+
+def constrained_rows(system, active, stick):
+    """The rows of y = R u the Newton system fixes: the active normals,
+    then the stick nodes' free tangents."""
+    m, k = system.m, system.dim - 1
+    return np.concatenate([
+        system.n_rows[active], system.t_rows.reshape(m, k)[stick][
+            system.t_free.reshape(m, k)[stick]]])
+
+
+def iterate_measure(system, u, r):
+    """At the iterate u, r = R(K u − f_κ): g = r_t/D on the free tangents
+    (eliminated exactly, module docstring), x = [Δu; g/c_t] and the
+    formulation's stopping measure and scale, (g, x, error, scale)."""
+    g = np.zeros(system.mt)
+    free = system.t_free
+    g[free] = r[system.t_rows[free]] / system.lumped_t[free]
+    x = np.concatenate([u - system.u_previous, g / system.c_t])
+    parts = system.residual(x)
+    return g, x, system.error(*parts), system.scale(*parts)
+
+
+def stopping(err, scale, tol, finite, njev, max_iter):
+    """(status, detail) of :data:`solver.ncp.MESSAGES` where the iteration
+    ends at this iterate (4: not ``finite``, 0: error ≤ tol·scale, 1:
+    ``max_iter`` Newton systems solved), or None: go on."""
+    if not finite:
+        return 4, "the iterate is not finite"
+    if err <= tol * scale:
+        return 0, ""
+    if njev >= max_iter:
+        return 1, ""
+    return None
+
+
 class _Springs:
     """K + V diag(k) Vᵀ as an operator for :func:`projected_cg`."""
 
@@ -269,7 +369,6 @@ def _iterate(system, multigrid, x0, load, tol, max_iter, hertz, K_hat):
     u_previous = system.u_previous
     C_n = R[n_rows].tocsr()
     R_t = R[free_rows].tocsr()  # the free tangential rows
-    mask = t_free.reshape(m, k).astype(float)
     implicit = system.coulomb == "implicit"
     b, _ = system.bound(np.zeros(n), derivative=False)  # lagged: f_c p_{κ−1}
     u = u_previous + np.asarray(x0[:n], float)
@@ -278,26 +377,18 @@ def _iterate(system, multigrid, x0, load, tol, max_iter, hertz, K_hat):
                                    "krylov", "forcing", "krylov_decades",
                                    "setup")}
     previous_sets, previous_error, eta = None, None, ETA_MAX
-    previous_hat = previous_slip = previous_turned = None
+    rule = SlipRule(k)
     free_solve = False
     status, detail, njev, nfev = 1, "", 0, 0
     x = None
     while True:
         r = R @ (K @ u) - Rf
-        g = np.zeros(system.mt)
-        g[t_free] = r[free_rows] / lumped_t[t_free]
-        x = np.concatenate([u - u_previous, g / c_t])
-        parts = system.residual(x)
-        err = system.error(*parts)
-        scale = system.scale(*parts)
+        g, x, err, scale = iterate_measure(system, u, r)
         nfev += 1
-        if not np.isfinite(err) or not np.all(np.isfinite(u)):
-            status, detail = 4, "the iterate is not finite"
-            break
-        if err <= tol * scale:
-            status = 0
-            break
-        if njev >= max_iter:
+        end = stopping(err, scale, tol, np.isfinite(err)
+                       and np.all(np.isfinite(u)), njev, max_iter)
+        if end is not None:
+            status, detail = end
             break
         lam = -r[n_rows]
         un = C_n @ u
@@ -312,20 +403,7 @@ def _iterate(system, multigrid, x0, load, tol, max_iter, hertz, K_hat):
         slide = np.zeros(system.mt)
         slide[t_free] = R_t @ (u - u_previous)
         w = ((g - c_t * slide) * t_free).reshape(m, k)
-        size = np.linalg.norm(w, axis=1)
-        stick = size < b
-        slip = ~stick & (b > 0)
-        hat = np.divide(w, size[:, None], out=np.zeros_like(w),
-                        where=size[:, None] > 0)
-        turned = np.zeros(m, bool)
-        if previous_hat is not None and k == 1:  # the slip turned back
-            turned = slip & previous_slip & (
-                np.einsum("ij,ij->i", hat, previous_hat) < 0)
-        previous_hat, previous_slip = hat, slip
-        if previous_turned is not None:  # twice in a row: stick
-            flipping = turned & previous_turned
-            stick, slip = stick | flipping, slip & ~flipping
-        previous_turned = turned
+        stick, slip, hat, size = rule(w, b)
         sets = (active, stick, slip)
         final = previous_sets is not None and all(
             np.array_equal(a, p) for a, p in zip(sets, previous_sets))
@@ -357,38 +435,24 @@ def _iterate(system, multigrid, x0, load, tol, max_iter, hertz, K_hat):
             N = _bound_rows(system, slip, hat, n)
             rhs = f.copy()
         else:
-            force[slip.repeat(k)] = ((lumped * b)[slip, None]
-                                     * hat[slip]).ravel()
+            force = slip_loads(lumped, b, hat, slip)
             rhs = f + R[t_rows[t_free]].T @ force[t_free]
         V, spring, W, S = None, None, None, None
         if k == 2 and slip.any():
-            across = np.column_stack([-hat[:, 1], hat[:, 0]]) * mask
-            nodes = np.flatnonzero(slip & (np.linalg.norm(across, axis=1)
-                                           > 0.5))
-            q = np.minimum(b[nodes] / size[nodes], 1.0)
-            ratio = q / np.maximum(1.0 - q, 1e-300)
-            if K_hat is not None:  # no constraint across: the cap's spring
-                ratio = np.minimum(ratio, SPRING_CAP)
-            # v = R_tᵀ e: the tangent rows of the node weighted by e
-            rows = t_rows.reshape(m, k)[nodes]
-            used = rows >= 0
-            E = sp.csr_matrix((across[nodes][used], (np.nonzero(used)[0],
-                                                     rows[used])),
-                              shape=(len(nodes), n))
+            # no constraint across where eliminated: the cap's spring
+            E, stiff, soft = slip_springs(system, b, slip, hat, size,
+                                          capped=K_hat is not None)
             across_rows = (E @ R).tocsr()
-            soft = ratio <= SPRING_CAP
             if soft.any():
                 V = across_rows[soft].T.tocsr()
-                spring = lumped[nodes[soft]] * c_t * ratio[soft]
+                spring = stiff[soft]
                 rhs = rhs + V @ (spring * (V.T @ u_previous))
                 if K_hat is not None:  # in y = R u: R V = Eᵀ
                     E_soft = E[soft]
                     S = (E_soft.T @ sp.diags(spring) @ E_soft).tocsr()
             if not soft.all():  # stiffer than SPRING_CAP: e·Δu_t = 0
                 W = across_rows[~soft]
-        constrained = np.concatenate([
-            n_rows[active], t_rows.reshape(m, k)[stick][
-                t_free.reshape(m, k)[stick]]])
+        constrained = constrained_rows(system, active, stick)
         C = R[constrained].tocsr()
         if W is not None:
             C = sp.vstack([C, W], format="csr")

@@ -16,7 +16,6 @@ import scipy.linalg as sla_dense
 import scipy.sparse as sp
 
 from ...linalg.dense import factorize
-from ...ncp import stable_norm
 from .newton import ReducedJacobian
 from .system import FrictionSystem
 from ..verify import contact_weight
@@ -194,12 +193,14 @@ class ProjectionSystem(FrictionSystem):
         (:func:`~solver.contact.verify.contact_weight`; w = 1 if not
         ``weighted``)."""
         k, c = self.stiffness, self.gap_scale
-        w = contact_weight(self.load_norm, A, self.last_friction_force) \
+        w = contact_weight(self.load_norm,
+                           self.gathered(np.maximum(A, 0.0)),
+                           self.gathered(self.last_friction_force)) \
             if weighted else 1.0
         head = len(self.x_rows) + int(self.t_free.sum())  # equilibrium rows
         E = np.concatenate([E[:head], w * self.lumped_t * E[head:]])
         pairs = np.minimum(A, k / c * B)
-        return float(np.hypot(stable_norm(E), w * stable_norm(pairs)))
+        return float(np.hypot(self.norm(E), w * self.norm(pairs)))
 
     def _reduced_solve(self, A, h, symmetric, kind):
         """A⁻¹h for the reduced Newton matrix A of ``kind`` ("primal" or

@@ -26,7 +26,7 @@ from ..verify import (accept_at_roundoff, describe_failure, force_scale,
                      verify_excluded, worst_verification)
 
 __all__ = ["GAP_WEIGHT", "STOPPING_TEST", "setup", "load_step",
-           "make_result"]
+           "make_result", "step_fields", "FIELDS"]
 
 #: c = GAP_WEIGHT·k̄ on the condensed system. Any c ∝ k̄ makes the
 #: iterates independent of the units; c = k̄ (as frictionless) weighs the
@@ -202,7 +202,7 @@ def load_step(shared, state, run, stream, kappa, steps, load,
     state.g_last, state.du_last, state.free_last = state.g, du, free
     state.u, state.g = state.u + du, g
     lam = -system._force(du)[system.n_rows]
-    fields = _step_fields(shared, lam, g, step_friction, state.p, step_norm)
+    fields = step_fields(shared, lam, g, step_friction, state.p, step_norm)
     fields["tangential_displacement"] = system.tangential(system.R @ state.u)
     run.last = (kappa, state.u.copy(), w, f_step, lam,
                 _nodal(shared.lumped, g),
@@ -234,15 +234,21 @@ def _unheld(run, kappa, steps, reason):
     return False
 
 
-def _step_fields(shared, lam, g, step_friction, p_previous, step_norm):
+def step_fields(shared, lam, g, step_friction, p_previous, step_norm,
+                system=None):
     """A converged step's fields on the free contact nodes: pressure
     p = λ⁺/D, the bound f_c p used (p_{κ−1} if lagged), contact (λ above
     a force-scaled threshold), slip (traction at the bound: a node in
-    contact with a zero bound slides freely) and stick (strictly inside)."""
+    contact with a zero bound slides freely) and stick (strictly inside).
+    ``shared``: ``lumped``, ``coulomb`` and ``geometry`` of :func:`setup`;
+    ``system``: the step's, whose :meth:`~.system.FrictionSystem.gathered`
+    gives the scale's ‖λ⁺‖ over the ranks of a distributed run."""
     pressure = np.maximum(lam, 0.0) / shared.lumped
     bound = step_friction * (p_previous if shared.coulomb == "lagged"
                              else pressure)
-    scale = force_scale(step_norm, lam)  # as the stopping test's
+    plus = np.maximum(lam, 0.0)
+    scale = force_scale(step_norm, plus if system is None
+                        else system.gathered(plus))  # the stopping test's
     contact = lam > 1e-9 * scale
     k = shared.geometry.dim - 1
     size = np.abs(g) if k == 1 else np.linalg.norm(g.reshape(-1, k), axis=1)

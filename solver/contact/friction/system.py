@@ -35,6 +35,10 @@ class FrictionSystem:
     formulation = None
     #: Newton systems reduced to the free components (:mod:`.newton`)
     reduced = False
+    #: The norms of the stopping test over the ranks of a distributed run
+    #: (:class:`solver.mpi.partitioned_full.Reduction`), or None: this
+    #: process holds every row.
+    reduction = None
 
     def __init__(self, K, f, geometry, lumped, friction, coulomb="lagged",
                  gap_scale=1.0, stiffness=None):
@@ -156,7 +160,21 @@ class FrictionSystem:
         """Force scale F = max(‖f‖₂, ‖λ⁺‖₂) of the stopping test error ≤
         tol·F (A[:m] = λ in both formulations;
         :mod:`solver.contact.verify`)."""
-        return force_scale(self.load_norm, A[:self.m])
+        return force_scale(self.load_norm,
+                           self.gathered(np.maximum(A[:self.m], 0.0)))
+
+    def norm(self, v):
+        """‖v‖₂ of the rows of every rank (:attr:`reduction`)."""
+        return stable_norm(v) if self.reduction is None else \
+            self.reduction.norm(v)
+
+    def gathered(self, v):
+        """v as the scales of :mod:`solver.contact.verify` read it, only
+        through ‖v‖₂: v itself, or over the ranks (:attr:`reduction`) a
+        one-entry array holding the norm of every rank's v."""
+        if v is None or self.reduction is None:
+            return v
+        return np.array([self.reduction.norm(np.ravel(v))])
 
     def initial_guess(self, g_previous, du=None):
         """Each step starts from the previous solution: the same g_t and
