@@ -99,16 +99,23 @@ class Multigrid:
     """One smoothed-aggregation hierarchy of the SPD K (module docstring)
     with the near-null space ``modes`` (:func:`rigid_body_modes`):
     ``levels``, ``operator_complexity``, ``setup_time``; calling it applies
-    one V-cycle (the preconditioner M ≈ K⁻¹)."""
+    one V-cycle (the preconditioner M ≈ K⁻¹). ``singular``: K is only
+    positive semidefinite (a body held by contact only, whose kernel is
+    its rigid-body modes): the coarsest level, which inherits that kernel
+    (the modes are in the span of the near-null space, hence of every
+    prolongator), is solved by its pseudo-inverse instead of a sparse LU,
+    here and in every :meth:`eliminated` hierarchy, whose K̂_FF keeps the
+    modes that no active constraint fixes."""
 
-    def __init__(self, K, modes):
+    def __init__(self, K, modes, singular=False):
         import pyamg
 
         clock = time.perf_counter()
         K = sp.csr_matrix(K)
+        self._coarse = "pinv" if singular else "splu"
         self._ml = pyamg.smoothed_aggregation_solver(
             K, B=np.ascontiguousarray(modes), symmetry="hermitian",
-            max_coarse=300, coarse_solver="splu", presmoother=SMOOTHER,
+            max_coarse=300, coarse_solver=self._coarse, presmoother=SMOOTHER,
             postsmoother=SMOOTHER)
         self._finish(clock, K.shape[0])
         self._rotated = None  # (Q, Q P_0) of the last eliminated()
@@ -193,9 +200,9 @@ class Multigrid:
         coarsest.A = sp.csr_matrix(coarse) if levels else A
         levels.append(coarsest)
         out = Multigrid.__new__(Multigrid)
-        out._ml = MultilevelSolver(levels, coarse_solver="splu")
+        out._ml = MultilevelSolver(levels, coarse_solver=self._coarse)
         change_smoothers(out._ml, SMOOTHER, SMOOTHER)
-        out._rotated = None
+        out._rotated, out._coarse = None, self._coarse
         out.matrix = A
         out._finish(clock, A.shape[0])
         return out

@@ -80,6 +80,12 @@ DOF of y). Otherwise the system is solved by
 :func:`~solver.linalg.amg.projected_cg` with K's own V-cycle, the springs
 left to CG.
 
+A body held by contact only (K singular, its kernel the rigid-body
+modes; :class:`FloatingIterativeSpace`): the hierarchy's coarsest level
+is solved by a pseudo-inverse, the first contact starts from the rigid
+placement, and each Newton system is held along the modes its
+constraints leave free.
+
 Warm starts: each step starts from u_{κ−1} (the sets of the new load at
 the old answer) and each Newton system from the last iterate moved onto
 its constraints. Inexact Newton with Eisenstat & Walker's forcing term as
@@ -107,8 +113,8 @@ from ..strategies.reduction import FullSystem
 from ..verify import contact_weight
 from .projection import ProjectionSystem
 
-__all__ = ["IterativeSpace", "LaggedProjection", "solve_step",
-           "SPRING_CAP"]
+__all__ = ["IterativeSpace", "FloatingIterativeSpace", "LaggedProjection",
+           "solve_step", "SPRING_CAP"]
 
 #: A slip node whose spring q/(1 − q)·D c_t would exceed this multiple of
 #: D c_t (≈ the diagonal of K; q → 1 at the edge of the stick set) gets
@@ -137,6 +143,8 @@ class IterativeSpace(FullSystem):
 
     system_kind = LaggedProjection
 
+    floating = None  # a body held by contact only: FloatingIterativeSpace
+
     def __init__(self, problem, geometry, engine):  # no factorisation
         self.problem, self.geometry, self.engine = problem, geometry, engine
         self.K = problem.K
@@ -163,6 +171,11 @@ class IterativeSpace(FullSystem):
             load = float(load) * system.f
         x0 = np.array(x0, float)
         x0[:system.n] = self.predictor(load, system.u_previous)
+        touching = None
+        if self.floating is not None and not np.any(system.u_previous):
+            placed_u, touching = self.floating.place(load)  # first contact
+            if placed_u is not None:
+                x0[:system.n], first = placed_u, False
         if self._rotated is None or self._rotated[0] is not system.R:
             K_hat = None
             if is_orthogonal(system.R):
@@ -170,7 +183,8 @@ class IterativeSpace(FullSystem):
                                          system.geometry.free_dofs())
             self._rotated = (system.R, K_hat)
         result = solve_step(system, self._multigrid, x0, load, tol,
-                            max_iter, hertz=first, K_hat=self._rotated[1])
+                            max_iter, hertz=first, K_hat=self._rotated[1],
+                            floating=self.floating, touching=touching)
         u = system.u_previous + result.x[:system.n]
         if self._last is not None:
             self._increment = (load - self._last[0], u - self._last[1])
@@ -194,7 +208,7 @@ class IterativeSpace(FullSystem):
 
 
 def solve_step(system, multigrid, x0, load, tol, max_iter, hertz=False,
-               K_hat=None):
+               K_hat=None, floating=None, touching=None):
     """One load step of ``system`` (a :class:`~.projection.
     ProjectionSystem` on the full K, lagged or implicit bound, its step
     set) by the active set method of the module, each Newton system by
@@ -208,10 +222,21 @@ def solve_step(system, multigrid, x0, load, tol, max_iter, hertz=False,
     ``history`` with ``krylov`` and ``setup`` per system) plus ``krylov``
     in total.
     ``K_hat``: K̂ = R K Rᵀ (R = ``system.R`` orthogonal) to solve each
-    Newton system eliminated (module docstring), None: projected CG."""
+    Newton system eliminated (module docstring), None: projected CG.
+    ``floating``: a body held by contact only, its :class:`~..strategies.
+    floating.RigidPlacement` (:class:`FloatingIterativeSpace`), with
+    ``touching`` the first system's active set (the placement's nodes) or
+    None."""
+    if floating is not None and K_hat is None:
+        from ...errors import SolverError
+
+        raise SolverError(
+            "backend='amg' needs an orthogonal rotation of the contact "
+            "frames for a body held by contact only (a roller's normal "
+            "leaves its free plane here): use a factorisation")
     with single_blas_thread():  # vectors: BLAS threads only spin
         return _iterate(system, multigrid, x0, load, tol, max_iter, hertz,
-                        K_hat)
+                        K_hat, floating, touching)
 
 
 class _Springs:
@@ -255,7 +280,8 @@ def _bound_rows(system, slip, hat, n):
                          shape=(n, n))
 
 
-def _iterate(system, multigrid, x0, load, tol, max_iter, hertz, K_hat):
+def _iterate(system, multigrid, x0, load, tol, max_iter, hertz, K_hat,
+             floating, touching):
     clock = time.perf_counter()
     n, m, k = system.n, system.m, system.dim - 1
     K, R = system.K, system.R
@@ -309,6 +335,10 @@ def _iterate(system, multigrid, x0, load, tol, max_iter, hertz, K_hat):
             free_solve, first = False, hertz_start(un - s)
             if first is not None:
                 active = first
+        if floating is not None:  # the placement's nodes, then held
+            if njev == 0 and touching is not None:
+                active = touching
+            active = floating.hold(active, lam - c * (s - un))
         slide = np.zeros(system.mt)
         slide[t_free] = R_t @ (u - u_previous)
         w = ((g - c_t * slide) * t_free).reshape(m, k)
@@ -317,6 +347,9 @@ def _iterate(system, multigrid, x0, load, tol, max_iter, hertz, K_hat):
         slip = ~stick & (b > 0)
         hat = np.divide(w, size[:, None], out=np.zeros_like(w),
                         where=size[:, None] > 0)
+        if floating is not None and njev == 0 and touching is not None \
+                and implicit and system.friction > 0:  # stuck: class doc
+            stick, slip = touching.copy(), np.zeros(m, bool)
         turned = np.zeros(m, bool)
         if previous_hat is not None and k == 1:  # the slip turned back
             turned = slip & previous_slip & (
@@ -396,6 +429,10 @@ def _iterate(system, multigrid, x0, load, tol, max_iter, hertz, K_hat):
             int(active.sum()):]])
         row_norm = np.asarray(C.multiply(C).sum(axis=1)).ravel()
         start = u + C.T @ ((target - C @ u) / row_norm)
+        unheld = None
+        if floating is not None:  # modes no constraint or spring sees
+            seen = C if S is None else sp.vstack([C, E_soft @ R])
+            unheld = floating.unheld(seen)
         if K_hat is not None and (len(constrained) or S is not None
                                   or N is not None):
             f_hat = R @ rhs
@@ -405,7 +442,7 @@ def _iterate(system, multigrid, x0, load, tol, max_iter, hertz, K_hat):
                 coupling = (N @ K_hat).tocsr()
             krylov, u_next = eliminated_step(K_hat, f_hat, R, multigrid,
                                              constrained, start, atol, S,
-                                             coupling)
+                                             coupling, hold=unheld)
         elif N is not None:
             krylov = projected_gmres(
                 _Coupled(_Springs(K, V, spring), R, N, K),
@@ -434,3 +471,54 @@ def _iterate(system, multigrid, x0, load, tol, max_iter, hertz, K_hat):
                       scale=float(scale), absolute=float(err),
                       relative=float(err / scale) if scale > 0 else 0.0),
         time=time.perf_counter() - clock)
+
+
+class FloatingIterativeSpace(IterativeSpace):
+    r"""The iterative path's friction steps of a body held by contact only
+    (K singular, its kernel the rigid-body modes): the first step with
+    contact starts from the rigid body put onto the obstacle by the step's
+    load with its touching nodes active (:class:`~..strategies.floating.
+    RigidPlacement`; with the implicit bound and friction in the step also
+    stuck, as the full system's factorisation path starts, :meth:`~..
+    strategies.floating_full.FloatingFullSystem.step_start`: they hold
+    every mode, tangential ones included, and their forces balance the
+    step's load), every active set is kept holding the modes the normals
+    hold (:meth:`~..strategies.floating.RigidPlacement.hold`), and each
+    Newton system keeps the amplitudes α_V = Z u of the modes V that none
+    of its constraints (active normals, stick tangents) or springs sees
+    at their start (:meth:`~..strategies.floating.RigidPlacement.unheld`,
+    :func:`~..frictionless.active_set.eliminated_step`'s ``hold``): where
+    no node has a friction bound (the lagged first step, a frictionless
+    stage) those are the sliding modes, along which the step's load has
+    no share (checked before the run), and the body does not slide, as on
+    the factorisation path (Δα_V = 0, :meth:`~..strategies.floating.
+    FloatingSystem._friction_jacobian`), so both give the same answer of
+    that non-unique step; later, a Newton system whose slip nodes carry
+    the tangential load as loads alone gets the direction without
+    sliding, which shapes only the Newton path (the stopping test is the
+    step's).
+    Before each lagged step the load is checked against the previous
+    step's bounds (:func:`~..strategies.floating.lagged_unheld`)."""
+
+    def __init__(self, problem, geometry, engine, friction):
+        from ..strategies.floating import RigidPlacement
+
+        super().__init__(problem, geometry, engine)
+        self.floating = RigidPlacement(problem, geometry, friction)
+        self.weakly_held = self.floating.weakly_held
+
+    def begin_step(self, system, load, step_friction, state, lumped,
+                   coulomb):
+        """None, or why the lagged step's load cannot be held."""
+        from ..strategies.floating import lagged_unheld
+
+        return lagged_unheld(self.problem, self.floating.N, self.floating.T,
+                             load, step_friction, state, lumped, coulomb)
+
+    def step_start(self, system, du, u_previous, load):
+        """None: :meth:`newton` places the body (before any contact)."""
+        return None
+
+    def alpha(self, x):
+        """The rigid-body amplitudes Rᵀu of the displacement x."""
+        return self.floating.modes.T @ np.asarray(x, float)

@@ -1,0 +1,77 @@
+"""Coulomb friction on a body held by contact only, on the iterative path
+(``backend='amg'``, issue 33 point 1): the active set method's load steps
+(projection formulation, lagged and implicit bound) with K singular, the
+first contact from the rigid placement, each Newton system on the modes
+that its constraints hold (solver/contact/friction/active_set.py
+FloatingIterativeSpace).
+
+Independent reference: the factorisation path (condensed with K⁺ and the
+modes' amplitudes, or system='full' with them as unknowns; semismooth
+Newton on the whole NCP with LAPACK or SuperLU, another algorithm and
+another linear solver) on the floating blocks of tests/
+test_floating_friction.py; statics (the normal forces balance the
+weight); the same one-line refusal of a load the lagged bound cannot
+hold."""
+
+import numpy as np
+import pytest
+
+import solver
+from solver.linalg import amg
+from test_floating_friction import FC, _block3
+from tri_elasticity import floor_block, floor_block_beyond_lagged
+
+pytestmark = pytest.mark.skipif(not amg.available(),
+                                reason="pyamg not installed (.[amg])")
+
+
+@pytest.mark.parametrize("make, options, system, weight", [
+    (lambda: floor_block(n=(40, 20)), dict(steps=3), "condensed", 2.0),
+    (lambda: floor_block(n=(40, 20), load=(0.2, -1.0)),
+     dict(coulomb="implicit", steps=3), "condensed", 2.0),
+    (lambda: _block3((0.1, 0.05, -1.0)), dict(coulomb="implicit", steps=3),
+     "condensed", 1.0),
+    (lambda: _block3((0.1, 0.05, -1.0), n=(8, 8, 3)),
+     dict(coulomb="implicit", steps=3), "condensed", 1.0),
+], ids=["2d weight lagged", "2d sideways implicit", "3d sideways implicit",
+        "3d sideways implicit, 8x8x3"])
+def test_floating_block_with_friction(make, options, system, weight):
+    """The floating block under its weight (lagged: the first step
+    frictionless, its slide left to none as the factorisation path
+    leaves it, Δα = 0 along it) or pushed sideways within the friction
+    cone (implicit): every step converged and verified, the last step's u
+    equal to the factorisation's to 1e-8 (measured 5.8e-12, 6.9e-12,
+    1.4e-11, 5.6e-11), the
+    same contact and stick sets in every step, and the normal forces
+    summing to the weight to 1e-10; the larger meshes (2D 40 × 20, 3D
+    8 × 8 × 3) on hierarchies of two levels."""
+    problem = make()
+    direct = solver.solve(problem, friction=FC, system=system, **options)
+    iterative = solver.solve(problem, friction=FC, backend="amg", **options)
+    for r in (direct, iterative):
+        assert r.success, r.message
+    assert iterative.linear_solver == "amg"
+    assert iterative.engine["levels"] >= (2 if problem.n_dofs > 900 else 1)
+    u, v = iterative.u[-1], direct.u[-1]
+    assert np.abs(u - v).max() <= 1e-8 * np.abs(v).max(), \
+        np.abs(u - v).max() / np.abs(v).max()
+    for a, b in zip(iterative.in_contact, direct.in_contact):
+        np.testing.assert_array_equal(a, b)
+    for a, b in zip(iterative.stick, direct.stick):
+        np.testing.assert_array_equal(a, b)
+    assert abs(iterative.contact_force[-1].sum() - weight) <= 1e-10
+
+
+def test_load_beyond_the_lagged_bound_same_line():
+    """A load path whose third step pulls harder sideways than the second
+    step's pressure can hold under the lagged bound: the run stops there
+    with the same one-line reason as the factorisation path (the motion
+    named), two steps completed."""
+    problem = floor_block_beyond_lagged()
+    runs = [solver.solve(problem, friction=FC, coulomb="lagged",
+                         backend=backend) for backend in ("auto", "amg")]
+    for r in runs:
+        assert not r.success and r.failed_step == 3
+        assert r.steps_completed == 2
+    assert "translation (" in runs[1].message and "\n" not in runs[1].message
+    assert runs[1].message == runs[0].message
