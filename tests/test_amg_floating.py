@@ -170,3 +170,26 @@ def test_auto_takes_amg_when_the_factor_does_not_fit(monkeypatch):
     assert chosen.linear_solver == "amg" and chosen.success, chosen.message
     assert "AMG" in chosen.linear_solver_reason
     _same(direct, chosen)
+
+
+def test_hold_keeps_the_active_normals_seeing_every_held_mode():
+    """RigidPlacement.hold: on the floor block (three modes; the normals
+    see two, the vertical translation and the rotation) one active node
+    sees only one combination, so the node of largest score is added
+    (a second one, and no more); a set that already sees both is kept."""
+    from solver.contact import contact_geometry
+    from solver.contact.strategies.floating import RigidPlacement
+
+    problem = floor_block()
+    geometry = contact_geometry(problem, "obstacle")
+    placement = RigidPlacement(problem, geometry)
+    assert placement.free.shape[1] == 1  # the horizontal slide
+    m = len(geometry.gap)
+    one = np.zeros(m, bool)
+    one[0] = True
+    score = np.arange(m, dtype=float)  # the last node scores highest
+    held = placement.hold(one, score)
+    assert held.sum() == 2 and held[0] and held[-1]
+    both = one.copy()
+    both[3] = True
+    np.testing.assert_array_equal(placement.hold(both, score), both)
