@@ -17,7 +17,6 @@ sets agree; then the load average.
 """
 
 import argparse
-import importlib.util
 import os
 import pathlib
 import sys
@@ -30,15 +29,7 @@ ROOT = pathlib.Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
 import solver  # noqa: E402
-
-
-def _module(name, path):
-    if name not in sys.modules:
-        spec = importlib.util.spec_from_file_location(name, path)
-        module = importlib.util.module_from_spec(spec)
-        sys.modules[name] = module
-        spec.loader.exec_module(module)
-    return sys.modules[name]
+from floating import export_cylinder  # noqa: E402 (benchmarks/floating.py)
 
 
 def timed(path, repeat, **options):
@@ -63,10 +54,6 @@ def main(argv=None):
     parser.add_argument("--P", type=float, default=1739.6)
     parser.add_argument("--repeat", type=int, default=1)
     args = parser.parse_args(argv)
-    hertz = _module("_contact_ssn_meshes_hertz", ROOT / "meshes" / "hertz.py")
-    export = _module("_contact_ssn_sfepy_export",
-                     ROOT / "sfepy_problems" / "_export.py")
-    problem_file = ROOT / "sfepy_problems" / "hertz_cylinder.py"
     print("| DOFs | in contact | J direct | J AMG | CG / system (max) "
           "| direct wall [s] | AMG wall [s] | direct CPU [s] | AMG CPU [s] "
           "| wall AMG / direct | CPU AMG / direct | max Δu / max u "
@@ -75,11 +62,8 @@ def main(argv=None):
     with tempfile.TemporaryDirectory() as folder:
         folder = pathlib.Path(folder)
         for h in args.h_contact:
-            mesh = folder / f"hertz_{h}.mesh"
-            hertz.write_mesh(mesh, *hertz.hertz_mesh(h, args.h_far))
-            path = folder / f"f_{h}.npz"
-            export.export_only(problem_file, mesh=str(mesh), output=str(path),
-                               load="force", P=args.P)
+            path = export_cylinder(folder, h, args.h_far, f"f_{h}",
+                                   load="force", P=args.P)
             w_d, c_d, r_d = timed(path, args.repeat)
             w_a, c_a, r_a = timed(path, args.repeat, backend="amg")
             krylov = np.asarray(r_a.history["krylov"])
