@@ -19,7 +19,8 @@ import pytest
 import solver
 from solver.linalg import amg
 from test_floating_friction import FC, _block3
-from tri_elasticity import floor_block, floor_block_beyond_lagged
+from tri_elasticity import (floor_block, floor_block_beyond_lagged,
+                            two_cylinders)
 
 pytestmark = pytest.mark.skipif(not amg.available(),
                                 reason="pyamg not installed (.[amg])")
@@ -95,3 +96,35 @@ def test_3d_boxes_upper_floating_with_friction():
         np.testing.assert_array_equal(a, b)
     for a, b in zip(iterative.in_contact, direct.in_contact):
         np.testing.assert_array_equal(a, b)
+
+
+@pytest.mark.filterwarnings(
+    "ignore:the rigid-body motion .* is held by the contact only weakly:"
+    "solver.errors.WeaklyHeldWarning")
+@pytest.mark.parametrize("load_path", [True, False],
+                         ids=["frictionless stage", "lagged first step"])
+def test_weakly_held_spin_in_a_step_without_friction_refused(load_path):
+    """The two Hertz cylinders of tests/test_floating_two_body.py, the
+    upper one's spin seen by the normals at 4.3e-4 of its motion: P in
+    frictionless steps then Q with friction, or P with friction under the
+    lagged bound (its first step has f_c p_0 = 0): refused before any
+    step in one line naming the motion and the way out. Unrefused they
+    stalled at relative errors 4.9e-8 (load path, step 2) and 4.0e-8
+    (lagged, step 1, 100 Newton systems) above tol = 1e-10, where the
+    factorisation path converges (9.9e-13 in 23 Jacobians;
+    benchmarks/README.md)."""
+    from solver.errors import SolverError
+    from test_floating_two_body import (CM_FRICTION, MATERIALS, P, R,
+                                        cattaneo_mindlin_cylinders)
+
+    if load_path:
+        problem, steps = cattaneo_mindlin_cylinders(), None
+    else:
+        problem, _, _ = two_cylinders(R, MATERIALS, force=P)
+        steps = 2
+    with pytest.raises(SolverError, match="only weakly") as refused:
+        solver.solve(problem, friction=CM_FRICTION, steps=steps,
+                     backend="amg")
+    message = str(refused.value)
+    assert "\n" not in message and "rotation" in message
+    assert "backend='auto'" in message

@@ -498,14 +498,48 @@ class FloatingIterativeSpace(IterativeSpace):
     sliding, which shapes only the Newton path (the stopping test is the
     step's).
     Before each lagged step the load is checked against the previous
-    step's bounds (:func:`~..strategies.floating.lagged_unheld`)."""
+    step's bounds (:func:`~..strategies.floating.lagged_unheld`).
 
-    def __init__(self, problem, geometry, engine, friction):
+    Refused (SolverError, one line): a run with a step without friction
+    (a frictionless stage of the load path, or the lagged bound's first
+    step, f_c p_0 = 0) in which the contact normals hold a rigid motion
+    only weakly
+    (:func:`~..strategies.floating.warn_weakly_held`: a spin that only a
+    round surface's facets see, ratio ≤ WEAK_RTOL of
+    :mod:`solver.problem.rigid`). The eliminated K̂_FF of such a step is
+    nearly singular along the motion, which only the facets' lever arms
+    hold, so a CG solve to its tolerance leaves the motion's amplitude
+    inexact by far more than the residual, the nodes at the contact edge
+    change sides with it, and the step's error stalls above tol (the
+    factorisation solves those systems to round-off)."""
+
+    def __init__(self, problem, geometry, engine, friction,
+                 coulomb="lagged"):
         from ..strategies.floating import RigidPlacement
 
         super().__init__(problem, geometry, engine)
         self.floating = RigidPlacement(problem, geometry, friction)
         self.weakly_held = self.floating.weakly_held
+        refused = self.weakly_held
+        if not refused and coulomb != "implicit":  # f_c p_0 = 0 in step 1
+            from ...problem.rigid import weakly_held
+
+            refused = weakly_held(problem, self.floating.N,
+                                  self.floating.modes[geometry.free_dofs()])
+            refused = [dict(motion=t, ratio=r) for t, r in refused]
+        if refused:  # the class docstring's last part
+            from ...errors import SolverError
+
+            raise SolverError(
+                "backend='amg' is not supported for friction on a body "
+                "held by contact only whose rigid-body motion "
+                f"{refused[0]['motion']} the contact normals hold only "
+                f"weakly (ratio {refused[0]['ratio']:.2g}) in a step "
+                "without friction (a frictionless stage, or the lagged "
+                "bound's first step): its Newton systems are nearly "
+                "singular along it and the step stalls above tol; hold "
+                "it by a support, use coulomb='implicit' with friction "
+                "in every stage, or a factorisation (backend='auto')")
 
     def begin_step(self, system, load, step_friction, state, lumped,
                    coulomb):

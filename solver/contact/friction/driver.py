@@ -114,8 +114,9 @@ def run_friction(problem, geometry, engine, friction, steps=None,
     if getattr(engine, "iterative", False):  # AMG: the active set method
         from .active_set import FloatingIterativeSpace, IterativeSpace
 
-        space = FloatingIterativeSpace(problem, geometry, engine, friction) \
-            if problem.floating else IterativeSpace(problem, geometry, engine)
+        space = FloatingIterativeSpace(problem, geometry, engine, friction,
+                                       coulomb) if problem.floating \
+            else IterativeSpace(problem, geometry, engine)
     else:
         space = reduction(problem, geometry, engine, condense, friction)
     shared = setup(problem, geometry, space, friction, formulation, coulomb,
