@@ -59,9 +59,9 @@ def test_hierarchy_is_the_same_under_any_global_random_state():
     ids=["frictionless", "implicit friction"])
 def test_floating_block_same_iterates_run_to_run(load, friction, options):
     """The floating block (held by contact only, K singular) under its
-    weight, or pushed sideways within the cone with friction, on AMG, solved twice after different
-    global seeds: the same u, contact and stick sets and the same CG
-    iteration counts, bit for bit."""
+    weight, or pushed sideways within the cone with friction, on AMG,
+    solved twice after different global seeds: the same u, contact and
+    stick sets and the same CG iteration counts, bit for bit."""
     problem = floor_block(n=(40, 20), load=load)
     runs = []
     for seed in (1, 2):
