@@ -38,6 +38,23 @@ def _module(name, path):
     return sys.modules[name]
 
 
+def export_cylinder(folder, h, h_far, name, **options):
+    """The Hertz half-cylinder's mesh of contact size ``h`` written to
+    ``folder`` and exported by SfePy (``sfepy_problems/hertz_cylinder.py``
+    with ``options``, e.g. load='force', P=...) to ``folder/name.npz``;
+    returns that path (also of benchmarks/floating_amg.py)."""
+    hertz = _module("_contact_ssn_meshes_hertz", ROOT / "meshes" / "hertz.py")
+    export = _module("_contact_ssn_sfepy_export",
+                     ROOT / "sfepy_problems" / "_export.py")
+    mesh = folder / f"hertz_{h}.mesh"
+    if not mesh.exists():
+        hertz.write_mesh(mesh, *hertz.hertz_mesh(h, h_far))
+    path = folder / f"{name}.npz"
+    export.export_only(ROOT / "sfepy_problems" / "hertz_cylinder.py",
+                       mesh=str(mesh), output=str(path), **options)
+    return path
+
+
 def timed(path, repeat):
     best, result = np.inf, None
     for _ in range(repeat + 1):  # the first run warms up
@@ -56,10 +73,6 @@ def main(argv=None):
     parser.add_argument("--h-far", type=float, default=0.02)
     parser.add_argument("--repeat", type=int, default=3)
     args = parser.parse_args(argv)
-    hertz = _module("_contact_ssn_meshes_hertz", ROOT / "meshes" / "hertz.py")
-    export = _module("_contact_ssn_sfepy_export",
-                     ROOT / "sfepy_problems" / "_export.py")
-    problem_file = ROOT / "sfepy_problems" / "hertz_cylinder.py"
     print("| DOFs | contact nodes | in contact | J displacement | J force "
           "| displacement [s] | force [s] | force / displacement "
           "| max Δp / p0 |")
@@ -67,16 +80,11 @@ def main(argv=None):
     with tempfile.TemporaryDirectory() as folder:
         folder = pathlib.Path(folder)
         for h in args.h_contact:
-            mesh = folder / f"hertz_{h}.mesh"
-            hertz.write_mesh(mesh, *hertz.hertz_mesh(h, args.h_far))
-            moved = folder / f"d_{h}.npz"
-            export.export_only(problem_file, mesh=str(mesh),
-                               output=str(moved))
+            moved = export_cylinder(folder, h, args.h_far, f"d_{h}")
             t_d, r_d, p_d = timed(moved, args.repeat)
             P = float(r_d.total_contact_force[1])
-            loaded = folder / f"f_{h}.npz"
-            export.export_only(problem_file, mesh=str(mesh),
-                               output=str(loaded), load="force", P=P)
+            loaded = export_cylinder(folder, h, args.h_far, f"f_{h}",
+                                     load="force", P=P)
             t_f, r_f, p_f = timed(loaded, args.repeat)
             p0 = r_d.contact_pressure.max()
             dp = np.abs(r_f.contact_pressure - r_d.contact_pressure).max()

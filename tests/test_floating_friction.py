@@ -174,15 +174,15 @@ def test_frictionless_stage_leaves_the_sliding_free():
     assert abs(r.contact_force[-1].sum() - 2.0) <= 1e-10
 
 
-def _block3(load):
-    """A 1 × 1 × 0.5 tetrahedral block on the plane z = 0, no Dirichlet
-    condition (six rigid modes), ``load`` spread over its top nodes."""
+def _block3(load, n=(4, 4, 2)):
+    """A 1 × 1 × 0.5 tetrahedral block of ``n`` cells on the plane z = 0,
+    no Dirichlet condition (six rigid modes), ``load`` spread over its top
+    nodes."""
     from solver.geometry.surfaces import surface_from_spec
     from test_friction3d import bottom_faces
 
-    n = (4, 4, 2)
     nodes, tets = box(n, (1.0, 1.0, 0.5))
-    ids = np.arange(len(nodes)).reshape(5, 5, 3)
+    ids = np.arange(len(nodes)).reshape(*(k + 1 for k in n))
     problem = mesh_problem(nodes, tets, stiffness(nodes, tets, 100.0, 0.3),
                            np.full(nodes.shape, np.nan),
                            ids[:, :, 0].ravel(), bottom_faces(ids))

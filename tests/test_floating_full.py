@@ -87,17 +87,25 @@ def test_3d_block_full():
     assert abs(full.total_contact_force[2] - 1.0) <= 1e-10
 
 
+def sphere_under_a_force(folder, P=36.63):
+    """The quarter sphere (a/h 4, committed mesh) exported by SfePy under
+    P (load='force': one rigid mode, the vertical translation, held by
+    contact only), loaded (also of tests/test_amg_floating.py)."""
+    path = folder / "sphere_force.npz"
+    export_module().export_only(
+        ROOT / "sfepy_problems" / "hertz_sphere.py",
+        mesh=str(ROOT / "meshes" / "hertz_sphere_4.mesh"), output=str(path),
+        load="force", P=P)
+    problem = solver.load_problem(path)
+    assert problem.rigid_modes()[0].shape[1] == 1
+    return problem
+
+
 def test_3d_hertz_sphere_under_a_force_full(tmp_path):
     """The quarter sphere (a/h 4, committed mesh) under P (load='force',
     the vertical translation held by contact only) against the sphere
     surface's rollers on the symmetry planes: the same u as condensed."""
-    path = tmp_path / "sphere_force.npz"
-    export_module().export_only(
-        ROOT / "sfepy_problems" / "hertz_sphere.py",
-        mesh=str(ROOT / "meshes" / "hertz_sphere_4.mesh"), output=str(path),
-        load="force", P=36.63)
-    problem = solver.load_problem(path)
-    assert problem.rigid_modes()[0].shape[1] == 1
+    problem = sphere_under_a_force(tmp_path)
     condensed, full = _both(problem)
     _same_u(full, condensed)
     assert abs(4 * full.total_contact_force[2] - 36.63) <= 1e-10 * 36.63

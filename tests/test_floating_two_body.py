@@ -145,6 +145,33 @@ def test_upper_body_pulled_away_is_refused():
         "translation (0, 0.982)" in message
 
 
+CM_FRICTION = 0.3
+
+
+def cattaneo_mindlin_cylinders():
+    """Two identical cylinders, the upper floating, pressed by P in 5
+    frictionless steps, then Q = ½ f_c P (f_c = ``CM_FRICTION``) with the
+    couple ±Q/2 at its flat edge's ends in 10 steps with friction."""
+    problem, _, _ = two_cylinders((1.0, 1.0), ((1.0, 0.3), (1.0, 0.3)),
+                                  force=P)
+    nodes = problem.nodes
+    flat = np.flatnonzero((problem.body == 0) & np.isclose(nodes[:, 1], 1))
+    top = flat[np.argsort(nodes[flat, 0])]
+    share = np.zeros(len(top))
+    share[:-1] += 0.5 * np.diff(nodes[top, 0])
+    share[1:] += 0.5 * np.diff(nodes[top, 0])
+    Q = 0.5 * CM_FRICTION * P
+    F = np.zeros(nodes.shape)
+    F[top, 0] = Q * share / share.sum()
+    F[top[-1], 1] += Q / 2
+    F[top[0], 1] -= Q / 2
+    shear = problem.f + F[problem.dof_map[:, 0], problem.dof_map[:, 1]]
+    return dataclasses.replace(
+        problem, f=shear, load_path=np.stack([problem.f, shear]),
+        load_path_steps=np.array([5, 10]),
+        load_path_friction=np.array([0.0, 1.0]))
+
+
 @SPIN
 def test_cattaneo_mindlin_upper_cylinder_floating():
     """Two identical cylinders (Dundurs β = 0), the upper floating: P,
@@ -157,24 +184,9 @@ def test_cattaneo_mindlin_upper_cylinder_floating():
     about its centre held only by its polygon's normals, which the solver
     says before solving (WeaklyHeldWarning). Measured: 15 steps, stick
     zone half-length +0.2 % from c."""
-    fc, materials = 0.3, ((1.0, 0.3), (1.0, 0.3))
-    problem, _, _ = two_cylinders((1.0, 1.0), materials, force=P)
+    fc, Q = CM_FRICTION, 0.5 * CM_FRICTION * P
+    problem = cattaneo_mindlin_cylinders()
     nodes = problem.nodes
-    flat = np.flatnonzero((problem.body == 0) & np.isclose(nodes[:, 1], 1))
-    top = flat[np.argsort(nodes[flat, 0])]
-    share = np.zeros(len(top))
-    share[:-1] += 0.5 * np.diff(nodes[top, 0])
-    share[1:] += 0.5 * np.diff(nodes[top, 0])
-    Q = 0.5 * fc * P
-    F = np.zeros(nodes.shape)
-    F[top, 0] = Q * share / share.sum()
-    F[top[-1], 1] += Q / 2
-    F[top[0], 1] -= Q / 2
-    shear = problem.f + F[problem.dof_map[:, 0], problem.dof_map[:, 1]]
-    problem = dataclasses.replace(
-        problem, f=shear, load_path=np.stack([problem.f, shear]),
-        load_path_steps=np.array([5, 10]),
-        load_path_friction=np.array([0.0, 1.0]))
     with pytest.warns(WeaklyHeldWarning, match="rotation"):
         result = solver.solve(problem, friction=fc)
     assert result.success, result.message

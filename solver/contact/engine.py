@@ -98,7 +98,8 @@ class IterativeEngine:
         """The AMG hierarchy of ``problem.K`` with its rigid-body modes
         (a two-body problem's nodewise equivalent gives its own,
         ``near_null_space``: :func:`~.two_body.near_null_space`; built
-        once per K)."""
+        once per K; a body held by contact only, K singular: its coarsest
+        level by a pseudo-inverse, :class:`~solver.linalg.amg.Multigrid`)."""
         from ..linalg.amg import Multigrid, rigid_body_modes
         from ..linalg.threads import single_blas_thread
 
@@ -107,7 +108,9 @@ class IterativeEngine:
             modes = near() if near is not None else rigid_body_modes(
                 problem.nodes[problem.dof_map[:, 0]], problem.dof_map[:, 1])
             with single_blas_thread():  # its dense parts are small
-                self._built = (problem.K, Multigrid(problem.K, modes))
+                self._built = (problem.K, Multigrid(
+                    problem.K, modes,
+                    singular=bool(getattr(problem, "floating", False))))
         return self._built[1]
 
     def summary(self):

@@ -152,11 +152,6 @@ AMG_REFUSALS = (
     ("discrete problems", "its near-null space is the rigid-body modes "
      "of meshed bodies (no mesh here)",
      lambda c, s, g: c.bodies not in ("rigid", "two-body")),
-    ("a body held by contact only", "its K is singular (rigid-body "
-     "modes), which AMG-preconditioned CG does not take; such a body is "
-     "solved by a factorisation (condensed with K⁺, or system='full' with "
-     "the modes' amplitudes as unknowns)",
-     lambda c, s, g: c.support == "floating"),
     ("system='condensed'", "it iterates on the full primal system; "
      "condensing onto Γc factorises K",
      lambda c, s, g: s["system"] == "condensed"),
@@ -419,14 +414,13 @@ def resolve(case, options):
 def auto_eligible(case, given):
     """Whether ``backend="auto"`` may choose the iterative path for this
     call: a meshed body against a rigid obstacle or two bodies by the dual
-    mortar, supported, on the serial engine, frictionless or with friction
-    by the projection formulation (either bound), with none of the options
-    that path refuses (:data:`AMG_REFUSALS`) or that need the condensed
-    system."""
+    mortar, supported or held by contact only, on the serial engine,
+    frictionless or with friction by the projection formulation (either
+    bound), with none of the options that path refuses
+    (:data:`AMG_REFUSALS`) or that need the condensed system."""
     projection = given["formulation"] in (None, "projection")
     return ((case.contact == "frictionless" or projection)
             and case.bodies in ("rigid", "two-body")
-            and case.support == "supported"
             and case.engine == "serial" and given["backend"] == "auto"
             and given["method"] in (None, "min")
             and given["system"] == "auto"

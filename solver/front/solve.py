@@ -71,8 +71,10 @@ def solve(problem, *, friction=None, method=None, system="auto", start=None,
         the full system with AMG-preconditioned Krylov (CG; GMRES for the
         nonsymmetric systems of the implicit friction bound), against a
         rigid obstacle or between two bodies by the dual mortar,
-        frictionless or with friction by the projection formulation (a
-        body held by contact only is refused; "What works where"); "auto"
+        frictionless or with friction by the projection formulation, a
+        body held by contact only too (K singular: from its rigid
+        placement, the modes no constraint holds projected out, the
+        coarsest level by a pseudo-inverse; "What works where"); "auto"
         takes it when CHOLMOD's estimate of the factor exceeds the memory,
         and ``linear_solver_reason`` says why; "petsc" for the PETSc engine under ``mpiexec`` (inside
         :func:`solver.mpi.engine.spmd`; docs/mpi.md) or an engine object; its

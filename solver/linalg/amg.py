@@ -42,6 +42,7 @@ fill-reducing ordering and the supernodal column counts), so that
 ``backend="auto"`` can choose this path when a factorisation would not fit
 the memory."""
 
+import contextlib
 import time
 
 import numpy as np
@@ -51,7 +52,7 @@ __all__ = ["NAME", "EXTRA", "REQUIRES", "LICENCE", "available",
            "rigid_body_modes", "Multigrid", "projected_cg", "projected_gmres",
            "KrylovResult", "GMRES_RESTART",
            "factor_memory", "available_memory", "direct_fits",
-           "FACTOR_OVERHEAD", "MEMORY_SHARE", "SMOOTHER"]
+           "FACTOR_OVERHEAD", "MEMORY_SHARE", "SMOOTHER", "SEED", "seeded"]
 
 NAME, EXTRA, REQUIRES = "amg", "amg", "pyamg>=5.2"
 LICENCE = "MIT (pyamg)"
@@ -88,6 +89,29 @@ def rigid_body_modes(points, components):
     return np.column_stack(modes)
 
 
+#: The seed of the random start vector of pyamg's spectral radius
+#: estimate (:func:`seeded`).
+SEED = 0
+
+
+@contextlib.contextmanager
+def seeded(seed=SEED):
+    """Run the body with NumPy's global generator seeded by ``seed`` and
+    restore its state after: pyamg estimates ρ(D⁻¹A) for the Jacobi
+    smoothing of the tentative prolongator (ω = 4/(3ρ); Vaněk, Mandel &
+    Brezina 1996) by Lanczos/Arnoldi from ``np.random.rand``, so an
+    unseeded build gives a hierarchy, hence CG iterates, that differ in
+    the last bits from run to run; seeded, the same K gives the same
+    hierarchy bit for bit, and the caller's random stream is left as it
+    was."""
+    state = np.random.get_state()
+    np.random.seed(seed)
+    try:
+        yield
+    finally:
+        np.random.set_state(state)
+
+
 #: The pre- and post-smoother of every level: one symmetric (block)
 #: Gauss–Seidel sweep, pyamg's default for smoothed aggregation (more
 #: sweeps, Chebyshev or energy-minimising prolongators did not change the
@@ -99,17 +123,25 @@ class Multigrid:
     """One smoothed-aggregation hierarchy of the SPD K (module docstring)
     with the near-null space ``modes`` (:func:`rigid_body_modes`):
     ``levels``, ``operator_complexity``, ``setup_time``; calling it applies
-    one V-cycle (the preconditioner M ≈ K⁻¹)."""
+    one V-cycle (the preconditioner M ≈ K⁻¹). ``singular``: K is only
+    positive semidefinite (a body held by contact only, whose kernel is
+    its rigid-body modes): the coarsest level, which inherits that kernel
+    (the modes are in the span of the near-null space, hence of every
+    prolongator), is solved by its pseudo-inverse instead of a sparse LU,
+    here and in every :meth:`eliminated` hierarchy, whose K̂_FF keeps the
+    modes that no active constraint fixes."""
 
-    def __init__(self, K, modes):
+    def __init__(self, K, modes, singular=False):
         import pyamg
 
         clock = time.perf_counter()
         K = sp.csr_matrix(K)
-        self._ml = pyamg.smoothed_aggregation_solver(
-            K, B=np.ascontiguousarray(modes), symmetry="hermitian",
-            max_coarse=300, coarse_solver="splu", presmoother=SMOOTHER,
-            postsmoother=SMOOTHER)
+        self._coarse = "pinv" if singular else "splu"
+        with seeded():  # the prolongator's ω: a Lanczos from a random start
+            self._ml = pyamg.smoothed_aggregation_solver(
+                K, B=np.ascontiguousarray(modes), symmetry="hermitian",
+                max_coarse=300, coarse_solver=self._coarse,
+                presmoother=SMOOTHER, postsmoother=SMOOTHER)
         self._finish(clock, K.shape[0])
         self._rotated = None  # (Q, Q P_0) of the last eliminated()
 
@@ -193,9 +225,9 @@ class Multigrid:
         coarsest.A = sp.csr_matrix(coarse) if levels else A
         levels.append(coarsest)
         out = Multigrid.__new__(Multigrid)
-        out._ml = MultilevelSolver(levels, coarse_solver="splu")
+        out._ml = MultilevelSolver(levels, coarse_solver=self._coarse)
         change_smoothers(out._ml, SMOOTHER, SMOOTHER)
-        out._rotated = None
+        out._rotated, out._coarse = None, self._coarse
         out.matrix = A
         out._finish(clock, A.shape[0])
         return out

@@ -80,6 +80,12 @@ DOF of y). Otherwise the system is solved by
 :func:`~solver.linalg.amg.projected_cg` with K's own V-cycle, the springs
 left to CG.
 
+A body held by contact only (K singular, its kernel the rigid-body
+modes; :class:`FloatingIterativeSpace`): the hierarchy's coarsest level
+is solved by a pseudo-inverse, the first contact starts from the rigid
+placement, and each Newton system is held along the modes its
+constraints leave free.
+
 Warm starts: each step starts from u_{κ−1} (the sets of the new load at
 the old answer) and each Newton system from the last iterate moved onto
 its constraints. Inexact Newton with Eisenstat & Walker's forcing term as
@@ -107,9 +113,9 @@ from ..strategies.reduction import FullSystem
 from ..verify import contact_weight
 from .projection import ProjectionSystem
 
-__all__ = ["IterativeSpace", "LaggedProjection", "solve_step",
-           "SPRING_CAP", "SlipRule", "slip_loads", "slip_springs",
-           "constrained_rows", "iterate_measure", "stopping"]
+__all__ = ["IterativeSpace", "FloatingIterativeSpace", "LaggedProjection",
+           "solve_step", "SPRING_CAP", "SlipRule", "slip_loads",
+           "slip_springs", "constrained_rows", "iterate_measure", "stopping"]
 
 #: A slip node whose spring q/(1 − q)·D c_t would exceed this multiple of
 #: D c_t (≈ the diagonal of K; q → 1 at the edge of the stick set) gets
@@ -138,6 +144,8 @@ class IterativeSpace(FullSystem):
 
     system_kind = LaggedProjection
 
+    floating = None  # a body held by contact only: FloatingIterativeSpace
+
     def __init__(self, problem, geometry, engine):  # no factorisation
         self.problem, self.geometry, self.engine = problem, geometry, engine
         self.K = problem.K
@@ -164,6 +172,11 @@ class IterativeSpace(FullSystem):
             load = float(load) * system.f
         x0 = np.array(x0, float)
         x0[:system.n] = self.predictor(load, system.u_previous)
+        touching = None
+        if self.floating is not None and not np.any(system.u_previous):
+            placed_u, touching = self.floating.place(load)  # first contact
+            if placed_u is not None:
+                x0[:system.n], first = placed_u, False
         if self._rotated is None or self._rotated[0] is not system.R:
             K_hat = None
             if is_orthogonal(system.R):
@@ -171,7 +184,8 @@ class IterativeSpace(FullSystem):
                                          system.geometry.free_dofs())
             self._rotated = (system.R, K_hat)
         result = solve_step(system, self._multigrid, x0, load, tol,
-                            max_iter, hertz=first, K_hat=self._rotated[1])
+                            max_iter, hertz=first, K_hat=self._rotated[1],
+                            floating=self.floating, touching=touching)
         u = system.u_previous + result.x[:system.n]
         if self._last is not None:
             self._increment = (load - self._last[0], u - self._last[1])
@@ -195,7 +209,7 @@ class IterativeSpace(FullSystem):
 
 
 def solve_step(system, multigrid, x0, load, tol, max_iter, hertz=False,
-               K_hat=None):
+               K_hat=None, floating=None, touching=None):
     """One load step of ``system`` (a :class:`~.projection.
     ProjectionSystem` on the full K, lagged or implicit bound, its step
     set) by the active set method of the module, each Newton system by
@@ -209,10 +223,21 @@ def solve_step(system, multigrid, x0, load, tol, max_iter, hertz=False,
     ``history`` with ``krylov`` and ``setup`` per system) plus ``krylov``
     in total.
     ``K_hat``: K̂ = R K Rᵀ (R = ``system.R`` orthogonal) to solve each
-    Newton system eliminated (module docstring), None: projected CG."""
+    Newton system eliminated (module docstring), None: projected CG.
+    ``floating``: a body held by contact only, its :class:`~..strategies.
+    floating.RigidPlacement` (:class:`FloatingIterativeSpace`), with
+    ``touching`` the first system's active set (the placement's nodes) or
+    None."""
+    if floating is not None and K_hat is None:
+        from ...errors import SolverError
+
+        raise SolverError(
+            "backend='amg' needs an orthogonal rotation of the contact "
+            "frames for a body held by contact only (a roller's normal "
+            "leaves its free plane here): use a factorisation")
     with single_blas_thread():  # vectors: BLAS threads only spin
         return _iterate(system, multigrid, x0, load, tol, max_iter, hertz,
-                        K_hat)
+                        K_hat, floating, touching)
 
 
 class SlipRule:
@@ -228,11 +253,15 @@ class SlipRule:
         self.k = k
         self.hat = self.slip = self.turned = None
 
-    def __call__(self, w, b):
-        """(stick, slip, ŵ, |w|) of the iterate."""
+    def __call__(self, w, b, stuck=None):
+        """(stick, slip, ŵ, |w|) of the iterate; ``stuck`` (m,) bool, if
+        given, is the stick set instead, with no slip (a body held by
+        contact only starts stuck on its placement's nodes)."""
         size = np.linalg.norm(w, axis=1)
         stick = size < b
         slip = ~stick & (b > 0)
+        if stuck is not None:
+            stick, slip = stuck.copy(), np.zeros(len(b), bool)
         hat = np.divide(w, size[:, None], out=np.zeros_like(w),
                         where=size[:, None] > 0)
         turned = np.zeros(len(b), bool)
@@ -355,7 +384,8 @@ def _bound_rows(system, slip, hat, n):
                          shape=(n, n))
 
 
-def _iterate(system, multigrid, x0, load, tol, max_iter, hertz, K_hat):
+def _iterate(system, multigrid, x0, load, tol, max_iter, hertz, K_hat,
+             floating, touching):
     clock = time.perf_counter()
     n, m, k = system.n, system.m, system.dim - 1
     K, R = system.K, system.R
@@ -400,10 +430,17 @@ def _iterate(system, multigrid, x0, load, tol, max_iter, hertz, K_hat):
             free_solve, first = False, hertz_start(un - s)
             if first is not None:
                 active = first
+        if floating is not None:  # the placement's nodes, then held
+            if njev == 0 and touching is not None:
+                active = touching
+            active = floating.hold(active, lam - c * (s - un))
         slide = np.zeros(system.mt)
         slide[t_free] = R_t @ (u - u_previous)
         w = ((g - c_t * slide) * t_free).reshape(m, k)
-        stick, slip, hat, size = rule(w, b)
+        stuck = touching if floating is not None and njev == 0 \
+            and touching is not None and implicit \
+            and system.friction > 0 else None  # stuck: class doc
+        stick, slip, hat, size = rule(w, b, stuck)
         sets = (active, stick, slip)
         final = previous_sets is not None and all(
             np.array_equal(a, p) for a, p in zip(sets, previous_sets))
@@ -460,6 +497,10 @@ def _iterate(system, multigrid, x0, load, tol, max_iter, hertz, K_hat):
             int(active.sum()):]])
         row_norm = np.asarray(C.multiply(C).sum(axis=1)).ravel()
         start = u + C.T @ ((target - C @ u) / row_norm)
+        unheld = None
+        if floating is not None:  # modes no constraint or spring sees
+            seen = C if S is None else sp.vstack([C, E_soft @ R])
+            unheld = floating.unheld(seen)
         if K_hat is not None and (len(constrained) or S is not None
                                   or N is not None):
             f_hat = R @ rhs
@@ -469,7 +510,7 @@ def _iterate(system, multigrid, x0, load, tol, max_iter, hertz, K_hat):
                 coupling = (N @ K_hat).tocsr()
             krylov, u_next = eliminated_step(K_hat, f_hat, R, multigrid,
                                              constrained, start, atol, S,
-                                             coupling)
+                                             coupling, hold=unheld)
         elif N is not None:
             krylov = projected_gmres(
                 _Coupled(_Springs(K, V, spring), R, N, K),
@@ -498,3 +539,88 @@ def _iterate(system, multigrid, x0, load, tol, max_iter, hertz, K_hat):
                       scale=float(scale), absolute=float(err),
                       relative=float(err / scale) if scale > 0 else 0.0),
         time=time.perf_counter() - clock)
+
+
+class FloatingIterativeSpace(IterativeSpace):
+    r"""The iterative path's friction steps of a body held by contact only
+    (K singular, its kernel the rigid-body modes): the first step with
+    contact starts from the rigid body put onto the obstacle by the step's
+    load with its touching nodes active (:class:`~..strategies.floating.
+    RigidPlacement`; with the implicit bound and friction in the step also
+    stuck, as the full system's factorisation path starts, :meth:`~..
+    strategies.floating_full.FloatingFullSystem.step_start`: they hold
+    every mode, tangential ones included, and their forces balance the
+    step's load), every active set is kept holding the modes the normals
+    hold (:meth:`~..strategies.floating.RigidPlacement.hold`), and each
+    Newton system keeps the amplitudes α_V = Z u of the modes V that none
+    of its constraints (active normals, stick tangents) or springs sees
+    at their start (:meth:`~..strategies.floating.RigidPlacement.unheld`,
+    :func:`~..frictionless.active_set.eliminated_step`'s ``hold``): where
+    no node has a friction bound (the lagged first step, a frictionless
+    stage) those are the sliding modes, along which the step's load has
+    no share (checked before the run), and the body does not slide, as on
+    the factorisation path (Δα_V = 0, :meth:`~..strategies.floating.
+    FloatingSystem._friction_jacobian`), so both give the same answer of
+    that non-unique step; later, a Newton system whose slip nodes carry
+    the tangential load as loads alone gets the direction without
+    sliding, which shapes only the Newton path (the stopping test is the
+    step's).
+    Before each lagged step the load is checked against the previous
+    step's bounds (:func:`~..strategies.floating.lagged_unheld`).
+
+    Refused (SolverError, one line): a run with a step without friction
+    (a frictionless stage of the load path, or the lagged bound's first
+    step, f_c p_0 = 0) in which the contact normals hold a rigid motion
+    only weakly
+    (:func:`~..strategies.floating.warn_weakly_held`: a spin that only a
+    round surface's facets see, ratio ≤ WEAK_RTOL of
+    :mod:`solver.problem.rigid`). The eliminated K̂_FF of such a step is
+    nearly singular along the motion, which only the facets' lever arms
+    hold, so a CG solve to its tolerance leaves the motion's amplitude
+    inexact by far more than the residual, the nodes at the contact edge
+    change sides with it, and the step's error stalls above tol (the
+    factorisation solves those systems to round-off)."""
+
+    def __init__(self, problem, geometry, engine, friction,
+                 coulomb="lagged"):
+        from ..strategies.floating import RigidPlacement
+
+        super().__init__(problem, geometry, engine)
+        self.floating = RigidPlacement(problem, geometry, friction)
+        self.weakly_held = self.floating.weakly_held
+        refused = self.weakly_held
+        if not refused and coulomb != "implicit":  # f_c p_0 = 0 in step 1
+            from ...problem.rigid import weakly_held
+
+            refused = weakly_held(problem, self.floating.N,
+                                  self.floating.modes[geometry.free_dofs()])
+            refused = [dict(motion=t, ratio=r) for t, r in refused]
+        if refused:  # the class docstring's last part
+            from ...errors import SolverError
+
+            raise SolverError(
+                "backend='amg' is not supported for friction on a body "
+                "held by contact only whose rigid-body motion "
+                f"{refused[0]['motion']} the contact normals hold only "
+                f"weakly (ratio {refused[0]['ratio']:.2g}) in a step "
+                "without friction (a frictionless stage, or the lagged "
+                "bound's first step): its Newton systems are nearly "
+                "singular along it and the step stalls above tol; hold "
+                "it by a support, use coulomb='implicit' with friction "
+                "in every stage, or a factorisation (backend='auto')")
+
+    def begin_step(self, system, load, step_friction, state, lumped,
+                   coulomb):
+        """None, or why the lagged step's load cannot be held."""
+        from ..strategies.floating import lagged_unheld
+
+        return lagged_unheld(self.problem, self.floating.N, self.floating.T,
+                             load, step_friction, state, lumped, coulomb)
+
+    def step_start(self, system, du, u_previous, load):
+        """None: :meth:`newton` places the body (before any contact)."""
+        return None
+
+    def alpha(self, x):
+        """The rigid-body amplitudes Rᵀu of the displacement x."""
+        return self.floating.modes.T @ np.asarray(x, float)

@@ -112,9 +112,11 @@ def run_friction(problem, geometry, engine, friction, steps=None,
         raise SolverError(f"{steps} load steps: at most {MAX_LOAD_STEPS} are "
                           "supported")
     if getattr(engine, "iterative", False):  # AMG: the active set method
-        from .active_set import IterativeSpace
+        from .active_set import FloatingIterativeSpace, IterativeSpace
 
-        space = IterativeSpace(problem, geometry, engine)
+        space = FloatingIterativeSpace(problem, geometry, engine, friction,
+                                       coulomb) if problem.floating \
+            else IterativeSpace(problem, geometry, engine)
     else:
         space = reduction(problem, geometry, engine, condense, friction)
     shared = setup(problem, geometry, space, friction, formulation, coulomb,

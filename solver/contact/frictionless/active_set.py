@@ -48,6 +48,23 @@ contact is not Hertzian it is a start that the method corrects. The free solutio
 :data:`ETA_MAX` (its bulk is a rigid translation, which the near-null
 space carries: a few CG iterations).
 
+A body held by contact only (issue 33; K singular, its kernel the
+rigid-body modes R that no support stops): there is no free solution.
+The first iterate is the rigid body put onto the obstacle by the load (a
+linear programme, :class:`~solver.contact.strategies.floating.
+RigidPlacement`), the first active set its touching nodes, which hold
+every mode the contact can hold (the factorisation paths' start,
+:mod:`~solver.contact.strategies.floating`); every later set is kept
+holding them (nodes of largest λ − c(s − u_n) added while the active
+normals see fewer modes than all normals do), so each K̂_FF is regular
+except along the modes V that no contact normal sees (a flat on a flat
+pushed along itself), which lie in its kernel and carry no load (checked
+before the solve, the factorisation paths' one-line refusal otherwise):
+CG runs on their orthogonal complement and the answer has no share along
+them, as the factorisation path removes it. The V-cycles' coarsest
+level inherits the kernel and is solved by its pseudo-inverse
+(:class:`~solver.linalg.amg.Multigrid`, ``singular``).
+
 Inexact Newton: while the active set changes, the system is solved to
 ‖P_A(f − Ku)‖ ≤ η_k·err_k with Eisenstat & Walker's (SISC 17, 1996)
 choice 2, η_k = γ (err_k / err_{k−1})², safeguarded by γη_{k−1}² when that
@@ -109,7 +126,7 @@ def hertz_start(interference):
 
 
 def solve_active_set(problem, geometry, multigrid, tol, max_iter, x0,
-                     gap_scale, stiffness, load_norm):
+                     gap_scale, stiffness, load_norm, floating=None):
     """Solve (67) for ``problem`` (its reduced K, f) and the contact
     ``geometry`` by the active set method of the module, with the
     preconditioner ``multigrid`` (a V-cycle of K), from ``x0`` (None: u =
@@ -117,10 +134,12 @@ def solve_active_set(problem, geometry, multigrid, tol, max_iter, x0,
     fields (``x``, ``success``, ``status``, ``message``, ``nit``, ``njev``
     = Newton systems solved, ``nfev``, ``history`` with ``krylov`` per
     system, ``krylov`` in total, ``stopping``) and the answer's normal
-    forces and displacements at the nodes of ``geometry``."""
+    forces and displacements at the nodes of ``geometry``. ``floating``:
+    a body held by contact only, its :class:`~solver.contact.strategies.
+    floating.RigidPlacement` (module docstring)."""
     with single_blas_thread():  # vectors: BLAS threads only spin
         return _iterate(problem, geometry, multigrid, tol, max_iter, x0,
-                        gap_scale, stiffness, load_norm)
+                        gap_scale, stiffness, load_norm, floating)
 
 
 def is_orthogonal(R):
@@ -130,7 +149,7 @@ def is_orthogonal(R):
 
 
 def eliminated_step(K_hat, f_hat, R, multigrid, fixed, start, atol,
-                    spring=None, coupling=None):
+                    spring=None, coupling=None, free=None, hold=None):
     """One Newton system on the eliminated K̂_FF (module docstring): the
     DOFs ``fixed`` of y = R ``start`` keep their values, the others solve
     K̂_FF y_F = (f̂ − K̂ y_fixed)_F by CG preconditioned with
@@ -140,22 +159,41 @@ def eliminated_step(K_hat, f_hat, R, multigrid, fixed, start, atol,
     nonsymmetric sparse N (n, n) in y added to K̂ + S (friction's implicit
     bound, :mod:`..friction.active_set`): the system is then solved by
     right-preconditioned GMRES with the same V-cycle, that of the
-    symmetric K̂ + S. Returns (the KrylovResult, with ``setup`` the
-    seconds of the hierarchy, and u = Rᵀ y)."""
+    symmetric K̂ + S. ``free``: the rigid-body modes (n, k) in u that no
+    fixed DOF sees (a body held by contact only, :class:`~solver.contact.
+    strategies.floating.RigidPlacement`), in the kernel of K̂_FF: the
+    Krylov method runs on their orthogonal complement (the projection C
+    = W_Fᵀ, W = R ``free`` orthonormalised; the load has no share along
+    them, checked before the solve), so the answer has none. ``hold``:
+    sparse rows Z (k, n) on u instead, Z u = Z ``start`` kept (friction's
+    modes that no constraint sees, :meth:`~solver.contact.strategies.
+    floating.RigidPlacement.unheld`; Z on DOFs that R does not rotate),
+    by the orthogonal projection onto the null space of Z Rᵀ's rows
+    orthonormalised. Returns (the
+    KrylovResult, with ``setup`` the seconds of the hierarchy, and u =
+    Rᵀ y)."""
     keep = np.ones(len(f_hat), bool)
     keep[fixed] = False
     y = R @ start
     y_fixed = np.where(keep, 0.0, y)
     b = (f_hat - K_hat @ y_fixed)[keep]
     preconditioner = multigrid.eliminated(K_hat, R, keep, spring)
+    C, x0 = None, y[keep]
+    if free is not None and free.shape[1]:
+        W, _ = np.linalg.qr(np.asarray(R @ free)[keep])
+        C = sp.csr_matrix(W.T)
+        x0 = x0 - W @ (W.T @ x0)
+    elif hold is not None and hold.shape[0]:
+        W, _ = np.linalg.qr((hold @ R.T)[:, keep].toarray().T)
+        C = sp.csr_matrix(W.T)
     if coupling is None:
         krylov = projected_cg(preconditioner.matrix, b, preconditioner,
-                              y[keep], atol=atol, maxiter=KRYLOV_MAX)
+                              x0, C, atol=atol, maxiter=KRYLOV_MAX)
     else:
         coupling = sp.csr_matrix(coupling)
         b = b - (coupling @ y_fixed)[keep]
         A = (preconditioner.matrix + coupling[keep][:, keep]).tocsr()
-        krylov = projected_gmres(A, b, preconditioner, y[keep], atol=atol,
+        krylov = projected_gmres(A, b, preconditioner, x0, C, atol=atol,
                                  maxiter=KRYLOV_MAX)
     krylov.setup = preconditioner.setup_time
     y[keep] = krylov.x
@@ -180,7 +218,7 @@ def record_krylov(history, krylov, atol, err):
 
 
 def _iterate(problem, geometry, multigrid, tol, max_iter, x0, gap_scale,
-             stiffness, load_norm):
+             stiffness, load_norm, floating):
     clock = time.perf_counter()
     K, f, s = problem.K, problem.f, geometry.gap
     n = problem.n_dofs
@@ -193,7 +231,16 @@ def _iterate(problem, geometry, multigrid, tol, max_iter, x0, gap_scale,
     if eliminate:
         K_hat = rotate_stiffness(K, R, geometry.free_dofs())
         f_hat = R @ f
+    if floating is not None and not eliminate:
+        from ...errors import SolverError
+
+        raise SolverError(
+            "backend='amg' needs an orthogonal rotation of the contact "
+            "frames for a body held by contact only (a roller's normal "
+            "leaves its free plane here): use a factorisation")
     u = np.zeros(n) if x0 is None else np.array(x0, float)
+    if floating is not None and x0 is None:  # the rigid placement
+        u = floating.u.copy()
     history = {k: [] for k in ("residual", "error", "merit", "alpha",
                                "step", "active", "line_search_failed",
                                "krylov", "forcing", "krylov_decades",
@@ -219,11 +266,16 @@ def _iterate(problem, geometry, multigrid, tol, max_iter, x0, gap_scale,
             break
         if njev >= max_iter:
             break
-        active = lam - gap_scale * (s - un) > 0
+        score = lam - gap_scale * (s - un)
+        active = score > 0
         if free:  # the free solution was just solved: Hertz's set
             free, first = False, hertz_start(un - s)
             if first is not None:
                 active = first
+        if floating is not None:  # the placement's nodes, then held
+            if njev == 0 and x0 is None:
+                active = floating.touching
+            active = floating.hold(active, score)
         history["residual"].append(residual)  # before each Newton step
         history["error"].append(err)
         history["merit"].append(0.5 * residual ** 2)
@@ -237,13 +289,15 @@ def _iterate(problem, geometry, multigrid, tol, max_iter, x0, gap_scale,
             eta = min(max(eta_new, ETA_MIN), ETA_MAX)
         floor = FINAL_FRACTION * tol * scale
         atol = floor if final else max(eta * err, floor)
-        free = x0 is None and njev == 0 and not active.any()
+        free = x0 is None and njev == 0 and not active.any() \
+            and floating is None
         rows = np.flatnonzero(active)
         CA = C[rows]
         start = u + CA.T @ ((s[rows] - un[rows]) / row_norm[rows])
         if eliminate and rows.size:
-            krylov, x = eliminated_step(K_hat, f_hat, R, multigrid,
-                                        normal_rows[rows], start, atol)
+            krylov, x = eliminated_step(
+                K_hat, f_hat, R, multigrid, normal_rows[rows], start, atol,
+                free=None if floating is None else floating.free)
         else:
             krylov = projected_cg(K, f, multigrid, start, CA, atol=atol,
                                   maxiter=KRYLOV_MAX)

@@ -12,7 +12,9 @@ semismooth Newton, its answer verified and reported over every node of Γc
 * ``condense=False``: the thesis's system in all Ñ unknowns.
 * An iterative engine (``backend="amg"``): the active set method on the
   full primal system, its Newton systems by AMG-preconditioned CG
-  (:mod:`.active_set`), nothing factorised."""
+  (:mod:`.active_set`), nothing factorised; a body held by contact only
+  starts from its rigid placement (:class:`~solver.contact.strategies.
+  floating.RigidPlacement`)."""
 
 import time
 
@@ -77,12 +79,23 @@ def run_frictionless(problem, geometry, engine, method="min", tol=1e-10,
     if iterative:
         from .active_set import solve_active_set
 
+        floating = None
+        if problem.floating:  # the load checked, the rigid placement
+            from ..strategies.floating import RigidPlacement
+
+            floating = RigidPlacement(problem, geometry)
         result, lam_free, un_free = solve_active_set(
             problem, geometry, engine.multigrid(problem), tol, max_iter, x0,
-            gap_scale, stiffness, load_norm)
+            gap_scale, stiffness, load_norm, floating)
         result = OptimizeResult(result)
         u = result.x
         linear_solver, name = engine.linear_solver, "none"
+        if floating is not None:  # held by contact only: its rigid motion
+            from ...problem.rigid import rigid_motion
+
+            result.rigid_body = rigid_motion(problem, u)
+            result.rigid_body["start_nodes"] = floating.start_nodes
+            result.rigid_body["weakly_held"] = floating.weakly_held
     elif candidates:
         from ..strategies.candidates import solve_on_candidates
 

@@ -85,7 +85,8 @@ from ..geometry import rotation
 
 __all__ = ["FloatingSystem", "check_load", "check_friction_load",
            "held_condensation", "placed", "placement", "rigid_start",
-           "unresisted", "warn_weakly_held"]
+           "unresisted", "warn_weakly_held", "RigidPlacement",
+           "lagged_unheld"]
 
 #: Gaps below this × the body's size count as touching in the start.
 TOUCH_RTOL = 1e-9
@@ -341,20 +342,8 @@ class FloatingSystem:
         no answer exists (the body slides away: :func:`~solver.problem.
         rigid.step_unheld` with the lagged bound f_c λ_{κ−1}; the implicit
         bound's cones were checked before the run)."""
-        if coulomb != "lagged":
-            return None
-        bounds = step_friction * lumped * np.asarray(state.p, float)
-        found = step_unheld(self.problem, self.N, self.T, load, bounds)
-        if found is None:
-            return None
-        motion, component = found
-        return (f"the load has a component {component:.6g} along the "
-                f"rigid-body motion {mode_text(self.problem, motion)} "
-                "that the previous step's contact pressure cannot hold "
-                "by friction (coulomb='lagged' bounds the friction by "
-                "it): the body would slide away; apply the tangential "
-                "load after the normal one (a load path), in more steps, "
-                "or use coulomb='implicit'")
+        return lagged_unheld(self.problem, self.N, self.T, load,
+                             step_friction, state, lumped, coulomb)
 
     def step_start(self, system, du, u_previous, load):
         """The first iterate of a friction load step: the predictor
@@ -529,3 +518,119 @@ def rigid_start(system, N, gap, Rc, problem):
         step = newton_direction(sp.vstack(
             [JE, sp.diags(wa) @ JA + sp.diags(wb) @ JB], format="csc"), rhs)
     return (x0 if step is None else x0 + step), int(touching.sum())
+
+
+def _rank(N, rtol=1e-10):
+    """The rank of N with :func:`unresisted`'s tolerance."""
+    if not N.size:
+        return 0
+    s = np.linalg.svd(N, compute_uv=False)
+    return int((s > rtol * s.max()).sum()) if s.max() > 0 else 0
+
+
+class RigidPlacement:
+    r"""What a Krylov path needs of a body held by contact only (the
+    iterative active set method, :mod:`solver.contact.frictionless.
+    active_set`), with nothing factorised: the load checked as on the
+    factorisation paths (:func:`check_load`: a load no contact holds is
+    refused in the same line), ``u`` the rigid body put onto the obstacle
+    (:func:`placed`, u = Rα, not sliding along a mode no normal sees) and
+    ``touching`` its nodes there, the first active set (they hold every
+    mode the contact can hold: the programme's vertex), ``free`` the
+    modes no normal sees in u (n, k; orthonormal, R being so), ``N`` the
+    modes' normal displacements at the contact nodes, ``start_nodes`` and
+    ``weakly_held`` as :class:`FloatingSystem`'s.
+
+    :meth:`hold` keeps every later active set holding the modes the
+    contact holds: a set A whose N_A has lower rank than N on the held
+    modes leaves K̂_FF singular along a rigid motion that the load pushes
+    (its system has no solution), so the nodes of largest λ − c(s − u_n)
+    are added until the rank is N's; this shapes only the Newton path
+    (the stopping test is the method's)."""
+
+    def __init__(self, problem, geometry, friction=None):
+        if friction is None:  # friction: checked by the front
+            check_load(problem, geometry)
+        R, _ = problem.rigid_modes()
+        self.modes, self._gap = R, geometry.gap
+        self._problem, self._fixed = problem, None
+        self.N = _normal_rows(problem, geometry)
+        self.T = _tangential_rows(problem, geometry)
+        self.weakly_held = warn_weakly_held(
+            problem, self.N, R[geometry.free_dofs()], friction)
+        self.free = R @ unresisted(self.N)
+        self._rank = _rank(self.N)
+        self.u, self.touching = self.place(problem.f)
+        if self.u is None and friction is None:
+            raise ProblemError("f: the body cannot be put onto the "
+                               "obstacle as a rigid body")
+        self.start_nodes = None if self.touching is None \
+            else int(self.touching.sum())
+
+    def place(self, load):
+        """(u, touching): the rigid body put onto the obstacle by ``load``
+        (:func:`placed`) and the nodes it touches; (None, None) if the
+        programme has no solution."""
+        y, touching = placed(self.N, self._gap, self.modes.T @ load,
+                             self.modes)
+        if y is None:
+            return None, None
+        return y[:self.modes.shape[0]], touching
+
+    def unheld(self, rows):
+        """Z (k, n) sparse, or None: for the k modes that the sparse
+        ``rows`` (constraints or springs, on u) do not see, the rows that
+        read their amplitudes α_V = Vᵀ R_F⁻¹ u_F from the r DOFs F of
+        K⁺ (:meth:`~solver.problem.ContactProblem.held_stiffness`), as the
+        factorisation path's unknowns α do (:meth:`FloatingSystem.
+        _friction_jacobian` keeps Δα_V = 0); Z R V = I, so a Newton
+        system held at Z u = Z u_start is regular."""
+        V = unresisted(np.asarray(rows @ self.modes)) if rows.shape[0] \
+            else np.eye(self.modes.shape[1])
+        if not V.size:
+            return None
+        if self._fixed is None:
+            self._fixed = self._problem.fixed_dofs()
+        Z = np.linalg.solve(self.modes[self._fixed].T, V).T  # (k, r)
+        n, k, r = self.modes.shape[0], V.shape[1], len(self._fixed)
+        return sp.csr_matrix((Z.ravel(), (np.repeat(np.arange(k), r),
+                                          np.tile(self._fixed, k))),
+                             shape=(k, n))
+
+    def hold(self, active, score):
+        """``active`` (a boolean mask of the contact nodes), with the nodes
+        of largest ``score`` (λ − c(s − u_n)) added until the active
+        normals see every mode the contact can hold (class docstring)."""
+        if _rank(self.N[active]) >= self._rank:
+            return active
+        active = active.copy()
+        for node in np.argsort(-score, kind="stable"):
+            if active[node]:
+                continue
+            active[node] = True
+            if _rank(self.N[active]) >= self._rank:
+                break
+        return active
+
+
+def lagged_unheld(problem, N, T, load, step_friction, state, lumped,
+                  coulomb):
+    """Before a friction load step of a floating ``problem`` (N, T the
+    modes' normal and tangential displacements at the contact nodes):
+    None, or the one-line reason why no answer exists under the lagged
+    bound f_c λ_{κ−1} (:func:`~solver.problem.rigid.step_unheld`; the
+    implicit bound's cones were checked before the run)."""
+    if coulomb != "lagged":
+        return None
+    bounds = step_friction * lumped * np.asarray(state.p, float)
+    found = step_unheld(problem, N, T, load, bounds)
+    if found is None:
+        return None
+    motion, component = found
+    return (f"the load has a component {component:.6g} along the "
+            f"rigid-body motion {mode_text(problem, motion)} "
+            "that the previous step's contact pressure cannot hold "
+            "by friction (coulomb='lagged' bounds the friction by "
+            "it): the body would slide away; apply the tangential "
+            "load after the normal one (a load path), in more steps, "
+            "or use coulomb='implicit'")
