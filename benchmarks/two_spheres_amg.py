@@ -83,6 +83,8 @@ def child(npz, path, friction, steps, out):
         "solver": result.linear_solver, "njev": int(result.njev),
         "krylov": [int(k) for k in krylov], "krylov_total": int(total),
         "ok": bool(result.success and result.verification["passed"]),
+        "steps": len(result.records) if friction else 1,
+        "message": str(result.message),
         "a_moment": check["a_moment"], "p0_fit": check["p0_fit"],
         **clock.times}))
 
@@ -118,7 +120,8 @@ def row(npz, path, friction, steps, out):
         "p₀ (fit) vs Hertz": f"{r['p0_fit']:+.2%}",
         "load": f"{load:.1f} → {os.getloadavg()[0]:.1f}"}
     if not r["ok"]:
-        cells["path"] += " NOT CONVERGED"
+        cells["path"] += (f" NOT CONVERGED (steps done: {r.get('steps')}; "
+                          f"{r.get('message', '')[:60]})")
     return cells, r
 
 
@@ -140,11 +143,15 @@ def level(a_over_h, folder, paths, friction, steps):
         cells, record = row(npz, path, friction, steps, out)
         ok &= record["ok"]
         if rows:
-            u, reference = np.load(out), np.load(
-                folder / f"{mesh.stem}.{tag}.{paths[0]}.npy")
-            error = np.linalg.norm(u - reference) / np.linalg.norm(
-                reference)
-            cells["‖Δu‖/‖u‖"] = f"{error:.1e}"
+            # the last load step's u (a friction run keeps every step's);
+            # if a run stopped early, the last step both reached
+            u, reference = (np.atleast_2d(np.load(f)) for f in (
+                out, folder / f"{mesh.stem}.{tag}.{paths[0]}.npy"))
+            step = min(len(u), len(reference))
+            error = np.linalg.norm(u[step - 1] - reference[step - 1]) / \
+                np.linalg.norm(reference[step - 1])
+            cells["‖Δu‖/‖u‖"] = f"{error:.1e}" + (
+                "" if len(u) == len(reference) else f" (step {step})")
         rows.append(cells)
     return rows, ok
 
