@@ -22,11 +22,13 @@ included) is the path's own. One Markdown row per path:
   solve reports (``auto`` takes AMG when the factor would not fit);
 * **Newton systems / Jacobians**: ``njev`` (summed over the load steps);
 * **CG per system (mean, max)**: the AMG path's Krylov iterations per
-  Newton system;
+  Newton system (with friction the mean alone: a load step's record
+  keeps its total);
 * **CPU s, wall s**: the solve alone (process CPU time, all threads),
   without start-up and loading; **peak RSS**: the whole child;
 * **‖Δu‖/‖u‖**: ‖u_amg − u_auto‖₂ / ‖u_auto‖₂ of the final displacement
-  (on the AMG row);
+  (on the AMG row; "(step k)" if a friction run stopped early: the last
+  load step both reached);
 * **a, p₀ vs Hertz**: :func:`solver.studies3d.hertz_checks`, a from the
   first moment of the nodal forces and p₀ from the fit of (a, p₀) to the
   nodal pressures, relative to Hertz's values for the pair's total force
@@ -95,8 +97,9 @@ def row(npz, path, friction, steps, out):
     from processes import run_measured
 
     load = os.getloadavg()[0]
-    run = run_measured([sys.executable, HERE / "two_spheres_amg.py", "--child", npz,
-                        path, str(int(friction)), str(steps), out])
+    run = run_measured([sys.executable, HERE / "two_spheres_amg.py",
+                        "--child", npz, path, str(int(friction)),
+                        str(steps), out])
     r = json.loads(run["stdout"].strip().splitlines()[-1])
     systems = r["njev"]
     if r["krylov"]:
@@ -135,7 +138,8 @@ def level(a_over_h, folder, paths, friction, steps):
     mesh = folder / f"two_spheres_{float(a_over_h):g}.mesh"
     npz = folder / (mesh.stem + ".npz")
     if not npz.exists():  # the export in its own process too
-        run_measured([sys.executable, HERE / "two_spheres_amg.py", "--prepare", mesh])
+        run_measured([sys.executable, HERE / "two_spheres_amg.py",
+                      "--prepare", mesh])
     rows, ok = [], True
     tag = "friction" if friction else "frictionless"
     for path in paths:
