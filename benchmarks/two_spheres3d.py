@@ -66,6 +66,26 @@ def export(mesh, npz):
                        mesh=str(mesh), output=str(npz))
 
 
+def prepare(mesh, folder):
+    """(the exported problem file, seconds taken) of ``mesh``, a
+    ``two_spheres_<a/h>.mesh`` in ``folder``: the mesh is made by
+    ``meshes/two_spheres.py`` if missing and exported if its ``.npz`` is
+    missing (each reused otherwise, then 0 s)."""
+    clock = time.perf_counter()
+    mesh = Path(mesh)
+    if not mesh.exists():
+        import subprocess
+        a_over_h = mesh.stem.rsplit("_", 1)[-1]
+        subprocess.run([sys.executable,
+                        str(ROOT / "meshes" / "two_spheres.py"),
+                        "--a-over-h", a_over_h, "-o", str(mesh)],
+                       check=True)
+    npz = Path(folder) / (mesh.stem + ".npz")
+    if not npz.exists():
+        export(mesh, npz)
+    return npz, time.perf_counter() - clock
+
+
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--a-over-h", default="22",
@@ -105,18 +125,7 @@ def measure(mesh, folder, backends):
     from solver.studies3d import hertz_checks
 
     load = os.getloadavg()[0]
-    clock = time.perf_counter()
-    if not mesh.exists():
-        import subprocess
-        a_over_h = mesh.stem.rsplit("_", 1)[-1]
-        subprocess.run([sys.executable,
-                        str(ROOT / "meshes" / "two_spheres.py"),
-                        "--a-over-h", a_over_h, "-o", str(mesh)],
-                       check=True)
-    npz = folder / (mesh.stem + ".npz")
-    if not npz.exists():
-        export(mesh, npz)
-    prepared = time.perf_counter() - clock
+    npz, prepared = prepare(mesh, folder)
     problem = load_problem(npz)
     floors = {b: floor(problem, b) for b in backends}
     fastest = min(floors, key=lambda b: floors[b]["time"])
