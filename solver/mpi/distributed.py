@@ -39,7 +39,8 @@ from ..contact.verify import (describe_failure, force_scale,
                               verify_contact)
 from ..errors import ProblemError
 from ..ncp import MESSAGES, solve_ncp
-from ..problem.partitioned import load_contact, read_partitioned_meta
+from ..problem.partitioned import (load_contact, original_nodes,
+                                   read_partitioned_meta)
 from .layout import gather_vector
 from .pivots import schur_cholesky
 from .schur import interior
@@ -413,6 +414,7 @@ def _load(service, payload, local):
     viewer = _reader(os.path.join(folder, "K.petsc"), comm)
     A.load(viewer)
     viewer.destroy()
+    service.mark("load_partitioned.K")
     f = PETSc.Vec().create(comm=comm)
     f.setSizes((b - a, n))
     f.setType(PETSc.Vec.Type.MPI)
@@ -552,8 +554,8 @@ def _write(service, payload, local):
         contact = service.comm.bcast(local, root=0)
     at = np.searchsorted(points, contact["node"])
     mine = (at < n) & (points[np.minimum(at, n - 1)] == contact["node"])
-    data = dict(u=np.c_[u, np.zeros((n, 3 - dim))], node=points.astype(
-        np.int64), contact_force=np.zeros(n), in_contact=np.zeros(
+    data = dict(u=np.c_[u, np.zeros((n, 3 - dim))], node=original_nodes(
+        folder, points), contact_force=np.zeros(n), in_contact=np.zeros(
             n, np.int32), initial_gap=np.full(n, np.nan))
     data["contact_force"][at[mine]] = contact["force"][mine]
     data["in_contact"][at[mine]] = contact["in_contact"][mine]

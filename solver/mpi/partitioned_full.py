@@ -341,6 +341,7 @@ def _setup(service, payload, local):
         options.setValue("matptap_via", PTAP_VIA)  # also GAMG's products
     K_hat = A.ptap(P)  # Pᵀ K P = R K Rᵀ
     P.destroy()
+    service.mark("partitioned_full_setup.ptap")
     if K_hat.getBlockSize() != dim:
         K_hat.setBlockSize(dim)
     diagonal = K_hat.getDiagonal()
@@ -353,6 +354,7 @@ def _setup(service, payload, local):
             v = K_hat.createVecLeft()
             v.setArray(np.ascontiguousarray(Z[:, j]))
             vecs.append(v)
+    service.mark("partitioned_full_setup.modes")
     newton_ksp(service, K_hat, payload["ksp"], float(scale), vecs)
     obj.update(R=R, geometry=geometry, arrays=arrays)
     service.objects.setdefault("counts", {}).update(
