@@ -499,12 +499,13 @@ def _displacement(service, payload, local):
                 finite=bool(finite))
 
 
-def _local_mesh(folder, rank, size):
+def _local_mesh(folder, rank, size, root_share=ROOT_SHARE):
     """This rank's share of the cells (:func:`shares` of the cells sorted
-    by their smallest node: each cell in one piece, neighbours together)
-    and their nodes, memory-mapped from the folder."""
+    by their smallest node: each cell in one piece, neighbours together;
+    rank 0's ``root_share``, as its share of the rows) and their nodes,
+    memory-mapped from the folder."""
     cells = np.load(os.path.join(folder, "cells.npy"), mmap_mode="r")
-    lo, hi = shares(len(cells), size)[rank:rank + 2]
+    lo, hi = shares(len(cells), size, root_share)[rank:rank + 2]
     cells = np.array(cells[lo:hi])
     points = np.unique(cells)
     coordinates = np.array(np.load(os.path.join(folder, "nodes.npy"),
@@ -538,8 +539,9 @@ def _write(service, payload, local):
     import meshio
 
     folder, dim = payload["folder"], payload["dim"]
-    points, cells, coordinates = _local_mesh(folder, service.rank,
-                                             service.size)
+    points, cells, coordinates = _local_mesh(
+        folder, service.rank, service.size,
+        payload.get("root_share", ROOT_SHARE))
     rows = (points[:, None] * dim + np.arange(dim)).ravel()
     u = _values_at(service, service.objects[KEY]["u"], rows).reshape(-1, dim)
     n = len(points)
