@@ -350,8 +350,13 @@ def _setup(service, payload, local):
     options = PETSc.Options()
     if service.size > 1 and not options.hasName("matptap_via"):
         options.setValue("matptap_via", PTAP_VIA)  # also GAMG's products
-    K_hat = A.ptap(P)  # Pᵀ K P = R K Rᵀ
+    product = A.ptap(P)  # Pᵀ K P = R K Rᵀ
     P.destroy()
+    # a copy without the product's data: PETSc's product keeps K, P and
+    # PtAP's intermediates for a numeric re-product that never comes, so
+    # K would outlive its own destroy (petsc4py 3.18 has no productClear)
+    K_hat = product.duplicate(copy=True)
+    product.destroy()
     service.mark("partitioned_full_setup.ptap")
     if K_hat.getBlockSize() != dim:
         K_hat.setBlockSize(dim)
