@@ -33,6 +33,7 @@ def partitioned_job(args, plan, open_folder, emit, write_summary,
     ``progress_bar(total)`` (:class:`solver.cli.jobs.Progress`); print
     the summary line."""
     from ..mpi.distributed import write_pvtu
+    from ..problem.partitioned import original_nodes
     from ..output.folder import atomic_path
     from ..output.vtk import write_pvd
 
@@ -57,8 +58,10 @@ def partitioned_job(args, plan, open_folder, emit, write_summary,
     for name in result.piece_names():  # listed if interrupted once written
         folder.file(name)
     pieces = result.write_pieces(folder.path)
+    contact = dict(result.contact)  # the .npz's node numbers
+    contact["node"] = original_nodes(result.folder, contact["node"])
     with atomic_path(folder.file("contact.npz")) as tmp:
-        np.savez(tmp, **result.contact)
+        np.savez(tmp, **contact)
     with atomic_path(folder.file("result.pvtu")) as tmp:
         write_pvtu(tmp, pieces)
     if plan.friction is not None and result.timesteps:
@@ -95,7 +98,8 @@ def partitioned_job(args, plan, open_folder, emit, write_summary,
 
 
 def convert_main(argv):
-    """``python -m solver convert X.npz DIR [--gap obstacle|body]``."""
+    """``python -m solver convert X.npz DIR [--gap obstacle|body]
+    [--renumber]``."""
     parser = argparse.ArgumentParser(
         prog="python -m solver convert",
         description="Write a rigid-obstacle problem file as the partitioned "
@@ -108,11 +112,17 @@ def convert_main(argv):
     parser.add_argument("--gap", choices=("obstacle", "body"),
                         default="obstacle",
                         help="gaps and normals as the solver's --gap")
+    parser.add_argument("--renumber", action="store_true",
+                        help="number the nodes in reverse Cuthill-McKee "
+                             "order first, so that each rank's node range "
+                             "is a compact piece of the body (the whole "
+                             "problem in memory); outputs keep the .npz's "
+                             "node numbers")
     args = parser.parse_args(argv)
-    from ..mpi.convert import convert
+    from ..mpi.convert import CUT_WARN, convert
 
     try:
-        meta = convert(args.problem, args.folder, args.gap)
+        meta = convert(args.problem, args.folder, args.gap, args.renumber)
     except SolverError as exc:
         print(f"error: {_one_line(exc)}", file=sys.stderr)
         return EXIT_INPUT
@@ -121,5 +131,12 @@ def convert_main(argv):
               f"{_one_line(exc.strerror or exc)}", file=sys.stderr)
         return EXIT_OUTPUT
     print(f"{args.folder}: {meta['n']} rows ({meta['n_free']} free DOFs), "
-          f"{meta['nnz']} nonzeros, {meta['n_nodes']} nodes")
+          f"{meta['nnz']} nonzeros, {meta['n_nodes']} nodes"
+          + (", renumbered" if meta["renumbered"] else ""))
+    if not meta["renumbered"] and meta["cut_cells"] > CUT_WARN:
+        print(f"note: {100 * meta['cut_cells']:.0f} % of the cells have "
+              f"nodes in both halves of the node numbering, so on 2 ranks "
+              f"or more each rank's rows of K couple to most of the others' "
+              f"and its memory grows with the whole problem: convert with "
+              f"--renumber for the Krylov path (--system full)")
     return EXIT_OK

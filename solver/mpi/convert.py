@@ -41,7 +41,8 @@ from ..problem import load_problem
 from ..problem.archive import Archive
 from ..problem.core import validate_arrays
 from ..problem.format import KEYS
-from ..problem.partitioned import (MASS_FILE, MAT_CLASSID,
+from ..problem.renumber import cut_cells, renumbered
+from ..problem.partitioned import (MASS_FILE, MAT_CLASSID, NODE_IDS,
                                    PARTITIONED_VERSION,
                                    write_contact_by_node, write_petsc_matrix,
                                    write_petsc_vector)
@@ -54,6 +55,11 @@ __all__ = ["convert", "CELL_KINDS", "stored_members", "compressed_members",
 #: each in flight (read, renumbered, byte-swapped), ≈ 60 MB a block.
 BLOCK_NNZ = 1 << 21
 
+#: The share of the cells across the two halves of the node numbering
+#: above which :func:`convert` says to renumber (a gmsh block: 75 %; the
+#: same in reverse Cuthill–McKee order: 0.4 %).
+CUT_WARN = 0.05
+
 #: (dimension, nodes per cell) -> VTK cell name (meshio's).
 CELL_KINDS = {(2, 3): "triangle", (2, 4): "quad", (3, 4): "tetra",
               (3, 8): "hexahedron"}
@@ -65,13 +71,26 @@ def _padded_rows(rows, red_to_pad):
     return np.where(rows >= 0, red_to_pad[np.maximum(rows, 0)], -1)
 
 
-def convert(source, folder, gap="obstacle"):
+def convert(source, folder, gap="obstacle", renumber=False):
     """Write the partitioned folder ``folder`` from the problem file
     ``source`` (a path or a loaded problem); returns ``problem.json``'s
     contents. One rigid body against a rigid obstacle only (ProblemError
     otherwise); the nodes with a Dirichlet DOF take part as rollers, as
     :func:`solver.solve`'s default. A path to a ``.npz`` is streamed
-    (module docstring; ``meta``'s ``"streamed"`` says whether it was)."""
+    (module docstring; ``meta``'s ``"streamed"`` says whether it was).
+    ``renumber``: the nodes in reverse Cuthill–McKee order first
+    (:mod:`solver.problem.renumber`; the whole problem in memory), their
+    ``.npz`` numbers kept in ``node_ids.npy``. ``meta``'s ``"cut_cells"``:
+    the share of the cells with nodes in both halves of the numbering
+    (:func:`~solver.problem.renumber.cut_cells`; the command line says to
+    renumber above :data:`CUT_WARN`)."""
+    if renumber:
+        problem = source if not isinstance(source, (str, os.PathLike)) \
+            else load_problem(source)
+        if problem.kind != "mesh":
+            return _convert(problem, folder, gap, None)  # refused there
+        problem, order = renumbered(problem)
+        return _convert(problem, folder, gap, None, order)
     if not isinstance(source, (str, os.PathLike)):
         return _convert(source, folder, gap, None)
     try:
@@ -86,11 +105,13 @@ def convert(source, folder, gap="obstacle"):
     return _convert(load_problem(source), folder, gap, None)
 
 
-def _convert(problem, folder, gap, stream):
+def _convert(problem, folder, gap, stream, node_ids=None):
     if problem.kind != "mesh" or problem.n_bodies != 1 or problem.is_mortar:
         raise ProblemError("convert: the partitioned problem holds one "
                            "elastic body against a rigid obstacle (a mesh "
                            "problem without mortar interfaces)")
+    n_nodes = len(problem.nodes)
+    cut = cut_cells(problem.cells, np.array([0, n_nodes // 2, n_nodes]))
     geometry = contact_geometry(problem, gap, rollers=True)
     layout = Layout(problem, 1)
     os.makedirs(folder, exist_ok=True)
@@ -129,6 +150,11 @@ def _convert(problem, folder, gap, stream):
     # Γc's boundary mass matrix (n_contact², sparse): friction's lumped D
     # and M⁻¹λ (solver.mpi.partitioned_friction)
     sp.save_npz(os.path.join(folder, MASS_FILE), sp.csr_matrix(problem.M))
+    ids = os.path.join(folder, NODE_IDS)
+    if node_ids is not None:
+        np.save(ids, np.asarray(node_ids, np.int64))
+    elif os.path.exists(ids):  # a folder converted again without it
+        os.unlink(ids)
     meta = dict(
         partitioned=PARTITIONED_VERSION, dim=int(problem.dim),
         n_nodes=int(len(problem.nodes)), n=int(layout.n),
@@ -140,7 +166,8 @@ def _convert(problem, folder, gap, stream):
         excluded=int(len(geometry.excluded["index"])),
         load_path=problem.load_path is not None,
         meta=problem.meta, source=str(problem.source),
-        streamed=stream is not None)
+        streamed=stream is not None, renumbered=node_ids is not None,
+        cut_cells=round(cut, 4))
     with open(os.path.join(folder, "problem.json"), "w") as stream_:
         json.dump(meta, stream_, indent=1, sort_keys=True)
     return meta

@@ -39,7 +39,8 @@ from ..contact.verify import (describe_failure, force_scale,
                               verify_contact)
 from ..errors import ProblemError
 from ..ncp import MESSAGES, solve_ncp
-from ..problem.partitioned import load_contact, read_partitioned_meta
+from ..problem.partitioned import (load_contact, original_nodes,
+                                   read_partitioned_meta)
 from .layout import gather_vector
 from .pivots import schur_cholesky
 from .schur import interior
@@ -413,6 +414,7 @@ def _load(service, payload, local):
     viewer = _reader(os.path.join(folder, "K.petsc"), comm)
     A.load(viewer)
     viewer.destroy()
+    service.mark("load_partitioned.K")
     f = PETSc.Vec().create(comm=comm)
     f.setSizes((b - a, n))
     f.setType(PETSc.Vec.Type.MPI)
@@ -497,12 +499,13 @@ def _displacement(service, payload, local):
                 finite=bool(finite))
 
 
-def _local_mesh(folder, rank, size):
+def _local_mesh(folder, rank, size, root_share=ROOT_SHARE):
     """This rank's share of the cells (:func:`shares` of the cells sorted
-    by their smallest node: each cell in one piece, neighbours together)
-    and their nodes, memory-mapped from the folder."""
+    by their smallest node: each cell in one piece, neighbours together;
+    rank 0's ``root_share``, as its share of the rows) and their nodes,
+    memory-mapped from the folder."""
     cells = np.load(os.path.join(folder, "cells.npy"), mmap_mode="r")
-    lo, hi = shares(len(cells), size)[rank:rank + 2]
+    lo, hi = shares(len(cells), size, root_share)[rank:rank + 2]
     cells = np.array(cells[lo:hi])
     points = np.unique(cells)
     coordinates = np.array(np.load(os.path.join(folder, "nodes.npy"),
@@ -536,8 +539,9 @@ def _write(service, payload, local):
     import meshio
 
     folder, dim = payload["folder"], payload["dim"]
-    points, cells, coordinates = _local_mesh(folder, service.rank,
-                                             service.size)
+    points, cells, coordinates = _local_mesh(
+        folder, service.rank, service.size,
+        payload.get("root_share", ROOT_SHARE))
     rows = (points[:, None] * dim + np.arange(dim)).ravel()
     u = _values_at(service, service.objects[KEY]["u"], rows).reshape(-1, dim)
     n = len(points)
@@ -552,8 +556,8 @@ def _write(service, payload, local):
         contact = service.comm.bcast(local, root=0)
     at = np.searchsorted(points, contact["node"])
     mine = (at < n) & (points[np.minimum(at, n - 1)] == contact["node"])
-    data = dict(u=np.c_[u, np.zeros((n, 3 - dim))], node=points.astype(
-        np.int64), contact_force=np.zeros(n), in_contact=np.zeros(
+    data = dict(u=np.c_[u, np.zeros((n, 3 - dim))], node=original_nodes(
+        folder, points), contact_force=np.zeros(n), in_contact=np.zeros(
             n, np.int32), initial_gap=np.full(n, np.nan))
     data["contact_force"][at[mine]] = contact["force"][mine]
     data["in_contact"][at[mine]] = contact["in_contact"][mine]

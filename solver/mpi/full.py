@@ -294,6 +294,8 @@ def _check_spd_cg(service, payload, local):
     ksp.setOperators(A)
     ksp.setNormType(PETSc.KSP.NormType.UNPRECONDITIONED)  # of K x − b
     ksp.setTolerances(rtol=CHECK_RTOL, max_it=CHECK_MAX_IT)
+    ksp.setUp()
+    service.mark("check_spd_cg.setup")
     ksp.solve(b, x)
     reason = ksp.getConvergedReason()
     ksp.setTolerances(rtol=CG_RTOL, max_it=5000)

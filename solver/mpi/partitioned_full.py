@@ -8,7 +8,9 @@ Every rank reads its rows of K and f (``MatLoad`` / ``VecLoad``, as
 geometry of the contact nodes in its own node range; rows are blocked by
 nodes, so a node's frame, its normal row and its NCP row live on one
 rank. Each rank makes its block of R (thesis (58)-(60)) and K̂ = R K Rᵀ
-is one PETSc ``PtAP``; the rigid-body modes, rotated into the frames and
+is one PETSc ``PtAP``, after which K is freed (K u = Rᵀ K̂ R u, R
+orthogonal: one matrix of K's size less on every rank); the rigid-body
+modes, rotated into the frames and
 orthonormalised by a 6 × 6 Gram matrix summed over the ranks, are GAMG's
 near-null space (from each rank's own nodes).
 
@@ -89,7 +91,10 @@ def solve_partitioned_full(svc, folder, ksp="gamg", tol=1e-10, max_iter=100):
         input="partitioned", per_rank=stats, n=int(meta["n"]),
         krylov_per_newton=float(np.mean(its)) if its else 0.0, **krylov)
     result = PartitionedResult(summary, svc, folder, meta, contact)
-    result.write_options = dict(fields=True, threshold=out["threshold"])
+    # the pieces cut as the rows: equal shares (rank 0 holds no Schur
+    # complement here)
+    result.write_options = dict(fields=True, threshold=out["threshold"],
+                                root_share=1.0)
     return result
 
 
@@ -147,17 +152,18 @@ class LocalSystem:
     r"""This rank's rows of the frictionless system (67) in the padded
     numbering (as :class:`~solver.contact.frictionless.system.
     FrictionlessSystem`, which holds the whole K): E = X(RKu − Rf),
-    A = −Y(RKu − Rf), B = c(s − YRu) on the rank's rows, K u by PETSc's
-    distributed product; its Jacobian solves the Newton systems on every
-    rank (:func:`~.full.solve_newton_system`). Every call is collective."""
+    A = −Y(RKu − Rf), B = c(s − YRu) on the rank's rows, from K̂ = RKRᵀ
+    (``K_hat``, distributed: RKu = K̂Ru, R orthogonal; K itself is not
+    kept); its Jacobian solves the Newton systems on every rank
+    (:func:`~.full.solve_newton_system`). Every call is collective."""
 
-    def __init__(self, service, A, f, R, geometry, gap_scale, stiffness,
+    def __init__(self, service, K_hat, f, R, geometry, gap_scale, stiffness,
                  load_norm, reduction):
-        self.service, self.A, self.R = service, A, R
+        self.service, self.A, self.R = service, K_hat, R
         self.geometry, self.gap_scale = geometry, float(gap_scale)
         self.stiffness, self.load_norm = float(stiffness), float(load_norm)
         self.reduction = reduction
-        self.lo = A.getOwnershipRange()[0]
+        self.lo = K_hat.getOwnershipRange()[0]
         n = R.shape[0]
         _, _, _, self.y_rows = rotation(n, geometry)
         keep = np.ones(n, bool)
@@ -165,16 +171,21 @@ class LocalSystem:
         self.x_rows = np.flatnonzero(keep)
         self.f = f.getArray().copy()
         self.Rf = R @ self.f
-        self.u_vec, self.Ku_vec = A.createVecRight(), A.createVecLeft()
+        self.u_vec = K_hat.createVecRight()
+        self.Ku_vec = K_hat.createVecLeft()
 
-    def Ku(self, u):
-        """(K u) on this rank's rows (collective)."""
-        self.u_vec.setArray(u)
+    def rotated(self, v):
+        """(K̂ v) on this rank's rows, v in the node frames (collective)."""
+        self.u_vec.setArray(v)
         self.A.mult(self.u_vec, self.Ku_vec)
         return self.Ku_vec.getArray().copy()
 
+    def Ku(self, u):
+        """(K u) = Rᵀ K̂ R u on this rank's rows (collective)."""
+        return self.R.T @ self.rotated(self.R @ u)
+
     def residual(self, u):
-        r = self.R @ self.Ku(u) - self.Rf
+        r = self.rotated(self.R @ u) - self.Rf
         gap = self.geometry.gap - (self.R @ u)[self.y_rows]
         return r[self.x_rows], -r[self.y_rows], self.gap_scale * gap
 
@@ -363,8 +374,14 @@ def _setup(service, payload, local):
     options = PETSc.Options()
     if service.size > 1 and not options.hasName("matptap_via"):
         options.setValue("matptap_via", PTAP_VIA)  # also GAMG's products
-    K_hat = A.ptap(P)  # Pᵀ K P = R K Rᵀ
+    product = A.ptap(P)  # Pᵀ K P = R K Rᵀ
     P.destroy()
+    # a copy without the product's data: PETSc's product keeps K, P and
+    # PtAP's intermediates for a numeric re-product that never comes, so
+    # K would outlive its own destroy (petsc4py 3.18 has no productClear)
+    K_hat = product.duplicate(copy=True)
+    product.destroy()
+    service.mark("partitioned_full_setup.ptap")
     if K_hat.getBlockSize() != dim:
         K_hat.setBlockSize(dim)
     diagonal = K_hat.getDiagonal()
@@ -377,7 +394,12 @@ def _setup(service, payload, local):
             v = K_hat.createVecLeft()
             v.setArray(np.ascontiguousarray(Z[:, j]))
             vecs.append(v)
+    service.mark("partitioned_full_setup.modes")
     newton_ksp(service, K_hat, payload["ksp"], float(scale), vecs)
+    # K̂ stands for K from here on (LocalSystem): K and the direct path's
+    # work vectors are freed
+    for key in ("A", "x", "b"):
+        obj.pop(key).destroy()
     obj.update(R=R, geometry=geometry, arrays=arrays)
     service.objects.setdefault("counts", {}).update(
         contact_nodes=int(len(arrays["gap"])))
@@ -391,7 +413,8 @@ def _newton(service, payload, local):
     obj = service.objects[KEY]
     red = Reduction(service.comm)
     k = payload["stiffness"]
-    system = LocalSystem(service, obj["A"], obj["f"], obj["R"],
+    K_hat = service.objects["newton"]["A"]
+    system = LocalSystem(service, K_hat, obj["f"], obj["R"],
                          obj["geometry"], k, k, payload["load_norm"], red)
     result = solve_ncp(system.residual, system.jacobian,
                        np.zeros(obj["R"].shape[0]), method="min",
@@ -405,17 +428,17 @@ def _newton(service, payload, local):
     verification = verify_on_ranks(system, u, lam, payload["tol"])
     if "u" in obj:
         obj.pop("u").destroy()
-    obj["u"] = obj["A"].createVecRight()
+    obj["u"] = K_hat.createVecRight()
     obj["u"].setArray(u)
     # (λ, s) at each contact node's first row, NaN elsewhere: the writer's
-    g, dim = obj["geometry"], obj["A"].getBlockSize()
+    g, dim = obj["geometry"], K_hat.getBlockSize()
     fields = np.full(len(u), np.nan)
     first = (obj["arrays"]["node"] * dim - system.lo).astype(np.int64)
     fields[first] = lam
     fields[first + 1] = g.gap
     if "fields" in obj:
         obj.pop("fields").destroy()
-    obj["fields"] = obj["A"].createVecRight()
+    obj["fields"] = K_hat.createVecRight()
     obj["fields"].setArray(fields)
     u_n = (system.R @ u)[system.y_rows]
     touching = lam > threshold

@@ -26,6 +26,10 @@ A rigid-obstacle mesh problem is written once, by
 * ``mass.npz`` (optional: folders converted before friction ran on them
   lack it): Γc's boundary mass matrix M (SciPy's ``save_npz``), for
   friction's lumped D and M⁻¹λ.
+* ``node_ids.npy`` (only with ``convert --renumber``,
+  :mod:`solver.problem.renumber`): the ``.npz``'s number of each of the
+  folder's nodes; the outputs' ``node`` fields give these
+  (:func:`original_nodes`).
 
 This module defines the layout, writes and checks PETSc's binary headers
 with NumPy alone (no petsc4py), and validates a folder before any rank
@@ -43,7 +47,8 @@ __all__ = ["PARTITIONED_VERSION", "FILES", "MASS_FILE", "load_mass",
            "write_petsc_matrix", "write_petsc_vector", "petsc_header",
            "read_partitioned_meta", "load_contact", "is_partitioned",
            "PartitionedProblem", "write_contact_by_node",
-           "load_contact_slice", "CONTACT_DIR"]
+           "load_contact_slice", "CONTACT_DIR", "NODE_IDS",
+           "original_nodes"]
 
 #: Version of the folder's layout (``problem.json``'s ``"partitioned"``).
 PARTITIONED_VERSION = 1
@@ -58,6 +63,20 @@ FILES = ("problem.json", "K.petsc", "f.petsc", "nodes.npy", "cells.npy",
 
 #: Γc's boundary mass matrix (optional, friction only).
 MASS_FILE = "mass.npz"
+
+#: The ``.npz``'s node numbers of a renumbered folder's nodes (optional).
+NODE_IDS = "node_ids.npy"
+
+
+def original_nodes(folder, nodes):
+    """The ``.npz``'s numbers of the folder's ``nodes`` (the same numbers
+    unless the folder was converted with ``--renumber``: its
+    :data:`NODE_IDS`, memory-mapped, only ``nodes`` read)."""
+    path = os.path.join(folder, NODE_IDS)
+    nodes = np.asarray(nodes, np.int64)
+    if not os.path.exists(path):
+        return nodes
+    return np.asarray(np.load(path, mmap_mode="r")[nodes], np.int64)
 
 #: ``contact.npz``: name -> (dtype kind, meaning).
 CONTACT_KEYS = {
