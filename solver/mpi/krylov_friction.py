@@ -76,8 +76,10 @@ class RankProjection(LaggedProjection):
     """The projection formulation of one load step on this rank's rows
     (module docstring): the serial system with an empty local K (nothing
     of it is used), K u by the distributed ``A`` and the norms of the
-    stopping test over the ranks (``reduction``). Its residual is
-    collective: every rank calls it together."""
+    stopping test over the ranks (``reduction``). ``A`` is K̂ = R K Rᵀ
+    (the folder's setup frees K once K̂ is made), so K u = Rᵀ K̂ R u, R
+    orthogonal. Its residual is collective: every rank calls it
+    together."""
 
     def __init__(self, A, f, geometry, lumped, friction, stiffness,
                  reduction):
@@ -94,10 +96,10 @@ class RankProjection(LaggedProjection):
         self.lumped_t = np.repeat(self.lumped, self.dim - 1)
 
     def Ku(self, u):
-        """(K u) on this rank's rows (collective)."""
-        self.u_vec.setArray(u)
+        """(K u) = Rᵀ K̂ R u on this rank's rows (collective)."""
+        self.u_vec.setArray(self.R @ u)
         self.A.mult(self.u_vec, self.Ku_vec)
-        return self.Ku_vec.getArray().copy()
+        return self.R.T @ self.Ku_vec.getArray()
 
     def _force(self, du):
         """r = R(K u − f_κ), u = u_{κ−1} + Δu, by the distributed product;
@@ -242,7 +244,8 @@ def _setup(service, payload, local):
     lumped = np.asarray(M[np.asarray(arrays["index"], np.int64)].sum(
         axis=1)).ravel()
     red = Reduction(service.comm)
-    system = RankProjection(obj["A"], obj["f"].getArray().copy(),
+    system = RankProjection(service.objects["newton"]["A"],
+                            obj["f"].getArray().copy(),
                             obj["geometry"], lumped, payload["friction"],
                             payload["stiffness"], red)
     service.objects[STATE] = dict(
@@ -262,7 +265,8 @@ def _step(service, payload, local):
     factor, friction = float(payload["factor"]), float(payload["friction"])
     load_norm = state["load_norm"]  # max(‖f‖, ‖f_κ‖) = ‖f‖, κ ≤ κc
     system.set_step(state["u"], factor, state["p"], friction, load_norm)
-    result = _iterate(system, service.objects["newton"], obj["A"],
+    K_hat = service.objects["newton"]["A"]
+    result = _iterate(system, service.objects["newton"], K_hat,
                       payload["tol"], payload["max_iter"])
     u = state["u"] + result["du"]
     r = system._force(result["du"])
@@ -286,7 +290,7 @@ def _step(service, payload, local):
         state["u"], state["p"] = u, fields["contact_pressure"]
     if "u" in obj:
         obj.pop("u").destroy()
-    obj["u"] = obj["A"].createVecRight()
+    obj["u"] = K_hat.createVecRight()
     obj["u"].setArray(u)
     fields["tangential_displacement"] = system.tangential(system.R @ u)
     arrays = obj["arrays"]
