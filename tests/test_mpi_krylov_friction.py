@@ -102,26 +102,3 @@ def test_2d_block_same_steps_as_serial(block, tmp_path, ranks, ksp):
         assert np.abs(t[k][slip] - bound[slip]).max() <= \
             RTOL * force[k - 1].max()
 
-
-def test_implicit_bound_on_the_full_system_is_refused(block, tmp_path,
-                                                     capsys):
-    """The implicit bound (nonsymmetric Newton systems) has no Krylov
-    path under mpiexec yet: the front refuses it before any rank works
-    (one line naming the option; the command line exits 2). In process:
-    the refusal comes before PETSc is loaded."""
-    from solver import load_problem
-    from solver.cli import build_parser
-    from solver.cli.run import run
-    from solver.errors import SolverError
-
-    _, folder, _ = block
-    with pytest.raises(SolverError, match="coulomb='implicit'"):
-        solve(load_problem(folder), engine="petsc", system="full",
-              ksp="gamg", friction=FRICTION, coulomb="implicit")
-    args = build_parser().parse_args([
-        str(folder), "--engine", "petsc", "--system", "full", "--ksp",
-        "gamg", "--friction", "0.3", "--coulomb", "implicit", "-o",
-        str(tmp_path / "out")])
-    assert run(args) == 2
-    err = capsys.readouterr().err
-    assert err.count("\n") == 1 and "coulomb" in err, err
