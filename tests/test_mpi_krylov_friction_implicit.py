@@ -41,16 +41,17 @@ def block_implicit(block):
     return problem, folder, serial
 
 
-@pytest.mark.parametrize("ranks", [1, 2])
+@pytest.mark.parametrize("ranks,ksp", [(1, "gamg"), (2, "gamg")])
 def test_2d_block_implicit_same_steps_as_serial(block_implicit, tmp_path,
-                                                ranks):
+                                                ranks, ksp):
     problem, folder, serial = block_implicit
     out = tmp_path / "out"
     code, summary, stdout, err = run_krylov_friction(folder, out, ranks,
-                                                     "gamg", *IMPLICIT)
+                                                     ksp, *IMPLICIT)
     assert code == 0, err[-2000:]
     assert summary["coulomb"] == "implicit"
     assert summary["engine"]["ranks"] == ranks
+    assert summary["engine"]["ksp"] == ksp
     steps = assert_same_steps(problem, serial, out, summary, stdout)
     # full slip: D|g| = f_c λ_κ at every node in contact (its own step's)
     assert summary["n_slip"] == summary["n_in_contact"] > 0

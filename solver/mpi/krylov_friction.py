@@ -13,8 +13,8 @@ frictionless full system (:mod:`.partitioned_full`), whose Newton KSP
 BoomerAMG) solves every Newton system here too. Step κ loads κ/κc · f
 and starts from u_{κ−1}. The step's system is the serial
 :class:`~solver.contact.friction.active_set.LaggedProjection` on the
-rank's rows (:class:`RankProjection`): its residual, Coulomb rows and
-stopping measure are the serial code's, K u is PETSc's distributed
+rank's rows (:class:`RankProjection`, either bound): its residual,
+Coulomb rows and stopping measure are the serial code's, K u is PETSc's distributed
 product and every norm of the stopping test is summed over the ranks
 (:attr:`~solver.contact.friction.system.FrictionSystem.reduction`). The
 sets are decided node by node by the serial code
@@ -39,9 +39,22 @@ included) and written as the condensed friction path writes it
 (``steps/step_KKKK-RANK.vtu`` and ``.pvtu``, ``result.pvd``, the step
 fields in ``contact.npz``, the records in ``summary.json``).
 
-Not here: the implicit bound (``coulomb="implicit"``, nonsymmetric
-Newton systems) and the ``.npz`` under ``mpiexec`` (refused by the
-front's rules)."""
+The implicit bound (``coulomb="implicit"``) is the serial path's
+nonsymmetric Newton system: the radii of the sets are
+:func:`~solver.contact.friction.active_set.implicit_radius` at the
+iterate, the slip nodes carry no load but the rows N of
+:func:`~solver.contact.friction.active_set.bound_rows` (f_c ŵ times the
+node's normal row in its tangent rows), so the matrix is K̂ + S + N K̂.
+A node's normal row is owned by the rank that owns the node, so each
+rank's rows of N K̂ are its N times its own rows of K̂
+(:func:`_coupling`); :func:`~.full.solve_newton_system` eliminates the
+fixed rows and columns from it and from its symmetric part alike and
+solves by right-preconditioned GMRES with the preconditioner built on
+the symmetric part, as the serial
+:func:`~solver.linalg.amg.projected_gmres` with the V-cycle of K̂ + S.
+
+Not here: the ``.npz`` under ``mpiexec`` (refused by the front's
+rules)."""
 
 import os
 import time
