@@ -22,7 +22,7 @@ import pytest
 from solver import solve
 from test_mpi import REASON
 from test_mpi_krylov_friction import block  # noqa: F401 (fixture)
-from test_mpi_krylov_friction import (FRICTION, RTOL, STEPS,
+from test_mpi_krylov_friction import (FRICTION, STEPS, assert_full_slip,
                                       assert_same_steps,
                                       run_krylov_friction)
 
@@ -54,17 +54,7 @@ def test_2d_block_implicit_same_steps_as_serial(block_implicit, tmp_path,
     assert summary["engine"]["ksp"] == ksp
     steps = assert_same_steps(problem, serial, out, summary, stdout)
     # full slip: D|g| = f_c λ_κ at every node in contact (its own step's)
-    assert summary["n_slip"] == summary["n_in_contact"] > 0
-    force = steps["step_contact_force"]
-    t = np.abs(steps["step_friction_traction"]) * (
-        force / np.where(steps["step_contact_pressure"] > 0,
-                         steps["step_contact_pressure"], 1.0))  # D g
-    for k in range(STEPS):
-        slip = steps["step_slip"][k]
-        assert slip.any()
-        bound = FRICTION * np.maximum(force[k], 0.0)
-        assert np.abs(t[k][slip] - bound[slip]).max() <= \
-            RTOL * force[k].max()
+    assert_full_slip(summary, steps, lag=0)
 
 
 @pytest.fixture(scope="module")
