@@ -88,40 +88,21 @@ def test_2d_block_same_steps_as_serial(block, tmp_path, ranks, ksp):
     assert summary["engine"]["ranks"] == ranks
     assert summary["engine"]["ksp"] == ksp
     steps = assert_same_steps(problem, serial, out, summary, stdout)
-    # full slip: |t| = f_c λ_{κ−1} at every node in contact (lagged bound)
+    assert_full_slip(summary, steps, lag=1)
+
+
+def assert_full_slip(summary, steps, lag):
+    """Full slip: every node in contact slips, its friction force D|g| =
+    f_c λ of the step ``lag`` steps back (1: the lagged bound's λ_{κ−1},
+    0: the implicit bound's own λ_κ) to 1e-8 of the largest λ there."""
     assert summary["n_slip"] == summary["n_in_contact"] > 0
     force = steps["step_contact_force"]
     t = np.abs(steps["step_friction_traction"]) * (
-        steps["step_contact_force"] / np.where(
-            steps["step_contact_pressure"] > 0,
-            steps["step_contact_pressure"], 1.0))  # D g = g λ/p
-    for k in range(1, STEPS):
+        force / np.where(steps["step_contact_pressure"] > 0,
+                         steps["step_contact_pressure"], 1.0))  # D g
+    for k in range(lag, STEPS):
         slip = steps["step_slip"][k]
         assert slip.any()
-        bound = FRICTION * np.maximum(force[k - 1], 0.0)
+        bound = FRICTION * np.maximum(force[k - lag], 0.0)
         assert np.abs(t[k][slip] - bound[slip]).max() <= \
-            RTOL * force[k - 1].max()
-
-
-def test_implicit_bound_on_the_full_system_is_refused(block, tmp_path,
-                                                     capsys):
-    """The implicit bound (nonsymmetric Newton systems) has no Krylov
-    path under mpiexec yet: the front refuses it before any rank works
-    (one line naming the option; the command line exits 2). In process:
-    the refusal comes before PETSc is loaded."""
-    from solver import load_problem
-    from solver.cli import build_parser
-    from solver.cli.run import run
-    from solver.errors import SolverError
-
-    _, folder, _ = block
-    with pytest.raises(SolverError, match="coulomb='implicit'"):
-        solve(load_problem(folder), engine="petsc", system="full",
-              ksp="gamg", friction=FRICTION, coulomb="implicit")
-    args = build_parser().parse_args([
-        str(folder), "--engine", "petsc", "--system", "full", "--ksp",
-        "gamg", "--friction", "0.3", "--coulomb", "implicit", "-o",
-        str(tmp_path / "out")])
-    assert run(args) == 2
-    err = capsys.readouterr().err
-    assert err.count("\n") == 1 and "coulomb" in err, err
+            RTOL * force[k - lag].max()

@@ -192,13 +192,6 @@ PARTITIONED_RULES = (
                  "pieces are written to DIR/steps/ by the command line "
                  "(PartitionedPlan.run(outdir=DIR))",
                  lambda c, s, g: "on_step" in g),
-    _partitioned("coulomb", "friction on the full system of a folder by "
-                 "Krylov (system='full') runs the lagged bound (its Newton "
-                 "systems SPD, by CG); the implicit bound runs condensed "
-                 "(without system='full')", lambda c, s, g:
-                 c.contact == "friction" and s["system"] == "full"
-                 and s["coulomb"] == "implicit",
-                 "coulomb='implicit' with system='full'"),
     _partitioned("system", "on a folder the full system runs by Krylov, "
                  "ksp='gamg' or 'hypre' (no rank factorises the whole K); "
                  "without system='full' the system condensed onto Γc "

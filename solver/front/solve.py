@@ -221,7 +221,7 @@ class PartitionedPlan:
             return solve_partitioned_krylov_friction(
                 service(), self.problem.path, self.friction, s["steps"],
                 s["ksp"], s["tol"], s["max_iter"], outdir=outdir,
-                progress=progress or s["progress"])
+                progress=progress or s["progress"], coulomb=s["coulomb"])
         if self.friction is not None:
             from ..mpi.partitioned_friction import solve_partitioned_friction
 

@@ -18,6 +18,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..contact.geometry import rotate_stiffness
+from ..linalg.amg import GMRES_RESTART
 from ..linalg.base import PIVOT_RTOL
 from .layout import gather_vector, scatter_matrix, scatter_vector
 from .service import EngineError, command
@@ -203,7 +204,7 @@ def _newton_solve(service, payload, local):
     return gather_vector(service, obj["x"])
 
 
-def solve_newton_system(obj, rows, added=None):
+def solve_newton_system(obj, rows, added=None, coupling=None):
     """(every rank) K̂ with the diagonal shifts and fixed rows of
     :func:`newton_rows` (``rows``: global row numbers, each rank keeps
     those it owns) solved for ``obj["b"]`` into ``obj["x"]`` (``obj`` of
@@ -211,7 +212,14 @@ def solve_newton_system(obj, rows, added=None):
     system stays SPD; a failed CG falls back to MUMPS (iteration count
     0, module docstring). Records the Krylov iterations. ``added``: a
     distributed matrix inside K̂'s pattern added to it first (friction's
-    slip springs, :mod:`.krylov_friction`)."""
+    slip springs, :mod:`.krylov_friction`). ``coupling``: a distributed
+    nonsymmetric matrix added on top (the implicit friction bound's rows
+    N K̂, :mod:`.krylov_friction`): the system, its fixed rows and columns
+    eliminated the same way, is then solved by right-preconditioned
+    GMRES (:func:`gmres_ksp`) whose preconditioner is built on the
+    symmetric part without it, as the serial
+    :func:`~solver.linalg.amg.projected_gmres`'s; no MUMPS fallback
+    there (a failure raises EngineError)."""
     from petsc4py import PETSc
 
     A, M, ksp, x, b = (obj[k] for k in ("A", "M", "ksp", "x", "b"))
@@ -233,8 +241,24 @@ def solve_newton_system(obj, rows, added=None):
     x.set(0.0)
     x.setValues(index[own].astype(PETSc.IntType), vals[own])
     x.assemble()
-    M.zeroRowsColumns(index[own].astype(PETSc.IntType), diag=obj["scale"],
-                      x=x, b=b)
+    fixed = index[own].astype(PETSc.IntType)
+    if coupling is not None:
+        full = M.duplicate(copy=True)
+        full.axpy(1.0, coupling,
+                  structure=PETSc.Mat.Structure.DIFFERENT_NONZERO_PATTERN)
+        full.zeroRowsColumns(fixed, diag=obj["scale"], x=x, b=b)
+        M.zeroRowsColumns(fixed, diag=obj["scale"])
+        ksp = gmres_ksp(obj)
+        ksp.setOperators(full, M)
+        x.set(0.0)
+        ksp.solve(b, x)
+        full.destroy()
+        if ksp.getConvergedReason() < 0:
+            raise EngineError(f"GMRES failed on a Newton system (reason "
+                              f"{ksp.getConvergedReason()})")
+        obj["its"].append(ksp.getIterationNumber())
+        return
+    M.zeroRowsColumns(fixed, diag=obj["scale"], x=x, b=b)
     ksp.setOperators(M)
     x.set(0.0)
     ksp.solve(b, x)
@@ -245,6 +269,34 @@ def solve_newton_system(obj, rows, added=None):
         raise EngineError(f"KSP failed on a Newton system (reason "
                           f"{ksp.getConvergedReason()})")
     obj["its"].append(its)
+
+
+def gmres_ksp(obj):
+    """(every rank) The nonsymmetric Newton systems' KSP of ``obj``
+    (:func:`newton_ksp`'s, made once): restarted GMRES preconditioned on
+    the right, so that its residual is the true one, with the CG KSP's
+    preconditioner type and options (GAMG with the near-null space of the
+    preconditioning matrix, or hypre) and its relative tolerance; options
+    prefix ``newton_gmres_`` ($PETSC_OPTIONS wins)."""
+    from petsc4py import PETSc
+
+    if "gmres" not in obj:
+        base = obj["ksp"]
+        ksp = PETSc.KSP().create(comm=base.getComm())
+        ksp.setType("gmres")
+        ksp.setGMRESRestart(GMRES_RESTART)
+        ksp.setPCSide(PETSc.PC.Side.RIGHT)
+        ksp.getPC().setType(base.getPC().getType())
+        options = PETSc.Options()
+        for name, value in (GAMG_OPTIONS if base.getPC().getType() ==
+                            "gamg" else HYPRE_OPTIONS).items():
+            if not options.hasName(f"newton_gmres_{name}"):
+                options.setValue(f"newton_gmres_{name}", value)
+        ksp.setTolerances(rtol=CG_RTOL, atol=0.0, max_it=5000)
+        ksp.setOptionsPrefix("newton_gmres_")
+        ksp.setFromOptions()
+        obj["gmres"] = ksp
+    return obj["gmres"]
 
 
 def _direct(obj, M):

@@ -13,8 +13,8 @@ frictionless full system (:mod:`.partitioned_full`), whose Newton KSP
 BoomerAMG) solves every Newton system here too. Step κ loads κ/κc · f
 and starts from u_{κ−1}. The step's system is the serial
 :class:`~solver.contact.friction.active_set.LaggedProjection` on the
-rank's rows (:class:`RankProjection`): its residual, Coulomb rows and
-stopping measure are the serial code's, K u is PETSc's distributed
+rank's rows (:class:`RankProjection`, either bound): its residual,
+Coulomb rows and stopping measure are the serial code's, K u is PETSc's distributed
 product and every norm of the stopping test is summed over the ranks
 (:attr:`~solver.contact.friction.system.FrictionSystem.reduction`). The
 sets are decided node by node by the serial code
@@ -39,9 +39,22 @@ included) and written as the condensed friction path writes it
 (``steps/step_KKKK-RANK.vtu`` and ``.pvtu``, ``result.pvd``, the step
 fields in ``contact.npz``, the records in ``summary.json``).
 
-Not here: the implicit bound (``coulomb="implicit"``, nonsymmetric
-Newton systems) and the ``.npz`` under ``mpiexec`` (refused by the
-front's rules)."""
+The implicit bound (``coulomb="implicit"``) is the serial path's
+nonsymmetric Newton system: the radii of the sets are
+:func:`~solver.contact.friction.active_set.implicit_radius` at the
+iterate, the slip nodes carry no load but the rows N of
+:func:`~solver.contact.friction.active_set.bound_rows` (f_c ŵ times the
+node's normal row in its tangent rows), so the matrix is K̂ + S + N K̂.
+A node's normal row is owned by the rank that owns the node, so each
+rank's rows of N K̂ are its N times its own rows of K̂
+(:func:`_coupling`); :func:`~.full.solve_newton_system` eliminates the
+fixed rows and columns from it and from its symmetric part alike and
+solves by right-preconditioned GMRES with the preconditioner built on
+the symmetric part, as the serial
+:func:`~solver.linalg.amg.projected_gmres` with the V-cycle of K̂ + S.
+
+Not here: the ``.npz`` under ``mpiexec`` (refused by the front's
+rules)."""
 
 import os
 import time
@@ -52,7 +65,8 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as sla
 
 from ..contact.friction.active_set import (LaggedProjection, SlipRule,
-                                           constrained_rows,
+                                           bound_rows, constrained_rows,
+                                           implicit_radius,
                                            iterate_measure, slip_loads,
                                            slip_springs, stopping)
 from ..contact.friction.steps import FIELDS, STOPPING_TEST, step_fields
@@ -82,11 +96,11 @@ class RankProjection(LaggedProjection):
     together."""
 
     def __init__(self, A, f, geometry, lumped, friction, stiffness,
-                 reduction):
+                 reduction, coulomb="lagged"):
         n = len(f)
         self.reduction = reduction
         super().__init__(sp.csr_matrix((n, n)), f, geometry, lumped,
-                         friction, "lagged", 1.0, stiffness)
+                         friction, coulomb, 1.0, stiffness)
         self.A = A
         self.u_vec, self.Ku_vec = A.createVecRight(), A.createVecLeft()
         # c_t = k̄/mean(D) over all of Γc, as the serial full system's
@@ -119,9 +133,11 @@ class RankProjection(LaggedProjection):
 
 def solve_partitioned_krylov_friction(svc, folder, friction, steps=None,
                                       ksp="gamg", tol=1e-10, max_iter=100,
-                                      outdir=None, progress=None):
+                                      outdir=None, progress=None,
+                                      coulomb="lagged"):
     """(rank 0, inside :func:`~solver.mpi.engine.spmd`) Coulomb friction,
-    lagged bound, with coefficient ``friction`` in ``steps`` load steps
+    ``coulomb`` bound (lagged or implicit), with coefficient ``friction``
+    in ``steps`` load steps
     on the partitioned problem ``folder`` by Krylov (module docstring);
     with ``outdir`` each step's pieces go to ``outdir/steps/`` as it
     completes. Returns a :class:`~.distributed.PartitionedResult`."""
@@ -135,7 +151,8 @@ def solve_partitioned_krylov_friction(svc, folder, friction, steps=None,
     load_norm = float(meta["load_norm"])
     svc.call(f"{STATE}_setup", dict(
         folder=os.fspath(folder), n_contact=n_contact, friction=friction,
-        stiffness=float(meta["stiffness"]), load_norm=load_norm))
+        stiffness=float(meta["stiffness"]), load_norm=load_norm,
+        coulomb=coulomb))
     kept = {key: [] for key in STEP_FIELDS_SAVED}
     records, checks, stoppings, timesteps, files = [], [], [], [], []
     totals = dict(njev=0, nfev=0, nit=0, krylov=0)
@@ -213,7 +230,7 @@ def solve_partitioned_krylov_friction(svc, folder, friction, steps=None,
         status="converged" if converged else "not_converged",
         converged=converged, message=message, friction=float(friction),
         steps=steps, steps_completed=n_done, failed_step=failed,
-        formulation="projection", coulomb="lagged", method="active set",
+        formulation="projection", coulomb=coulomb, method="active set",
         nit=totals["nit"], njev=totals["njev"], nfev=totals["nfev"],
         n_dofs=int(meta["n_free"]), n_contact_dofs=out["n_contact_dofs"],
         n_in_contact=int(last["n_contact"]) if last else 0,
@@ -247,7 +264,8 @@ def _setup(service, payload, local):
     system = RankProjection(service.objects["newton"]["A"],
                             obj["f"].getArray().copy(),
                             obj["geometry"], lumped, payload["friction"],
-                            payload["stiffness"], red)
+                            payload["stiffness"], red,
+                            payload.get("coulomb", "lagged"))
     service.objects[STATE] = dict(
         system=system, u=np.zeros(system.n), p=np.zeros(system.m),
         load_norm=float(payload["load_norm"]))
@@ -267,12 +285,12 @@ def _step(service, payload, local):
     system.set_step(state["u"], factor, state["p"], friction, load_norm)
     K_hat = service.objects["newton"]["A"]
     result = _iterate(system, service.objects["newton"], K_hat,
-                      payload["tol"], payload["max_iter"])
+                      payload["tol"], payload["max_iter"], state)
     u = state["u"] + result["du"]
     r = system._force(result["du"])
     lam = -r[system.n_rows]
     g = result["g"]
-    shared = SimpleNamespace(lumped=system.lumped, coulomb="lagged",
+    shared = SimpleNamespace(lumped=system.lumped, coulomb=system.coulomb,
                              geometry=system.geometry)
     fields = step_fields(shared, lam, g, friction, state["p"], load_norm,
                          system)
@@ -323,10 +341,11 @@ def _step(service, payload, local):
                 stopping=result["stopping"], n_contact_dofs=int(counts[3]))
 
 
-def _iterate(system, newton, A, tol, max_iter):
+def _iterate(system, newton, A, tol, max_iter, state):
     """The active set iteration of one load step on every rank (the serial
     ``K_hat`` branch of :mod:`solver.contact.friction.active_set`, module
-    docstring); returns Δu, g and the counts."""
+    docstring); returns Δu, g and the counts. ``state``: the rank's run
+    state, which keeps its rows of K̂ for the implicit bound's coupling."""
     from petsc4py import PETSc
 
     red = system.reduction
@@ -338,6 +357,7 @@ def _iterate(system, newton, A, tol, max_iter):
     s, c = system.geometry.gap, system.stiffness
     u_previous = system.u_previous
     y_previous = R @ u_previous
+    implicit = system.coulomb == "implicit"
     b, _ = system.bound(np.zeros(n), derivative=False)  # f_c p_{κ−1}
     Rf = system._Rf_step
     rule = SlipRule(k)
@@ -357,13 +377,16 @@ def _iterate(system, newton, A, tol, max_iter):
         lam = -r[n_rows]
         y = R @ u
         active = lam - c * (s - y[n_rows]) > 0
+        if implicit:  # f_c p at the iterate, by the active set's measure
+            b = implicit_radius(system, lam, y[n_rows])
         slide = np.zeros(system.mt)
         slide[t_free] = (R @ du)[free_rows]
         w = ((g - c_t * slide) * t_free).reshape(m, k)
         stick, slip, hat, size = rule(w, b)
         rhs = Rf.copy()
-        force = slip_loads(system.lumped, b, hat, slip)
-        rhs[free_rows] += force[t_free]
+        if not implicit:  # the lagged bound's loads
+            force = slip_loads(system.lumped, b, hat, slip)
+            rhs[free_rows] += force[t_free]
         springs = None
         if k == 2 and not red.all(not slip.any()):  # collective
             E, stiff, _ = slip_springs(system, b, slip, hat, size,
@@ -387,12 +410,21 @@ def _iterate(system, newton, A, tol, max_iter):
         rhs -= r + Rf
         if springs is not None:
             rhs -= S @ y
+        coupling = None
+        if implicit and not red.all(not slip.any()):  # collective
+            # the rows N r of the slip nodes' bound (serial bound_rows),
+            # in the correction's residual and as N K̂ in its matrix
+            N = bound_rows(system, slip, hat, n)
+            rhs -= N @ r
+            coupling = _coupling(N, newton["A"], state)
         newton["b"].setArray(rhs)
         solve_newton_system(newton, dict(
             shift_rows=np.zeros(0, np.int64), shift=np.zeros(0),
-            fixed_rows=fixed + lo, fixed=values - y[fixed]), springs)
-        if springs is not None:
-            springs.destroy()
+            fixed_rows=fixed + lo, fixed=values - y[fixed]), springs,
+            coupling)
+        for matrix in (springs, coupling):
+            if matrix is not None:
+                matrix.destroy()
         krylov += its[-1]
         u = R.T @ (y + newton["x"].getArray())
         njev += 1
@@ -405,3 +437,26 @@ def _iterate(system, newton, A, tol, max_iter):
                               absolute=float(err),
                               relative=float(err / scale) if scale > 0
                               else 0.0))
+
+
+def _coupling(N, A, state):
+    """(every rank) N K̂ as a distributed matrix (module docstring): N
+    (the rank's rows and columns, :func:`~solver.contact.friction.
+    active_set.bound_rows`) couples a slip node's tangent rows to its own
+    normal row, which this rank owns, so the rank's rows of N K̂ are N
+    times its own rows of K̂ (kept in ``state`` from the first call)."""
+    from petsc4py import PETSc
+
+    if "K_hat_rows" not in state:
+        indptr, indices, data = A.getValuesCSR()
+        state["K_hat_rows"] = sp.csr_matrix(
+            (data, indices, indptr), shape=(A.getLocalSize()[0],
+                                            A.getSize()[1]))
+    C = (N @ state["K_hat_rows"]).tocsr()
+    C.sort_indices()
+    matrix = PETSc.Mat().createAIJ(
+        size=(A.getSizes()[0], A.getSizes()[1]),
+        csr=(C.indptr.astype(PETSc.IntType), C.indices.astype(PETSc.IntType),
+             C.data), comm=A.getComm())
+    matrix.assemble()
+    return matrix

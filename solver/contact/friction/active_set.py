@@ -50,7 +50,7 @@ answer is that of the factorisation path.
 The implicit bound b = f_c p(u) (``coulomb="implicit"``): p = −r_n/D is
 linear in u, so the slip rows g·ŵ = b are the linear rows
 r_t·ŵ + f_c r_n = 0, the normal reaction's row added f_c ŵ times to the
-node's tangential rows (N of :func:`_bound_rows`): the Newton matrix is
+node's tangential rows (N of :func:`bound_rows`): the Newton matrix is
 K + S + Rᵀ N R K, nonsymmetric, and is solved by right-preconditioned
 GMRES (:func:`~solver.linalg.amg.projected_gmres`) with the V-cycle of
 its symmetric part K + S, the same hierarchy as the lagged bound's. The
@@ -115,7 +115,8 @@ from .projection import ProjectionSystem
 
 __all__ = ["IterativeSpace", "FloatingIterativeSpace", "LaggedProjection",
            "solve_step", "SPRING_CAP", "SlipRule", "slip_loads",
-           "slip_springs", "constrained_rows", "iterate_measure", "stopping"]
+           "slip_springs", "constrained_rows", "iterate_measure", "stopping",
+           "implicit_radius", "bound_rows"]
 
 #: A slip node whose spring q/(1 − q)·D c_t would exceed this multiple of
 #: D c_t (≈ the diagonal of K; q → 1 at the edge of the stick set) gets
@@ -318,6 +319,16 @@ def constrained_rows(system, active, stick):
             system.t_free.reshape(m, k)[stick]]])
 
 
+def implicit_radius(system, lam, un):
+    """The implicit bound's radii of the sets at the iterate, b = f_c
+    max(λ − c(s − u_n), 0)/D (λ = −r_n, u_n the normal rows of R u;
+    module docstring): the active set's measure, f_c p at a fixed point.
+    Nodewise, as :class:`SlipRule`."""
+    return system.friction * np.maximum(
+        lam - system.stiffness * (system.geometry.gap - un), 0.0) \
+        / system.lumped
+
+
 def iterate_measure(system, u, r):
     """At the iterate u, r = R(K u − f_κ): g = r_t/D on the free tangents
     (eliminated exactly, module docstring), x = [Δu; g/c_t] and the
@@ -370,7 +381,7 @@ class _Coupled:
         return self.A @ x + self.R.T @ (self.N @ (self.R @ (self.K @ x)))
 
 
-def _bound_rows(system, slip, hat, n):
+def bound_rows(system, slip, hat, n):
     """N (n, n) sparse in rotated coordinates: f_c ŵ_j in the row of each
     free tangent j of a slip node and the column of its normal, so that
     the rows r_t + N r (r = R(Ku − f)) say D g·ŵ = r_t·ŵ = −f_c r_n, the
@@ -424,8 +435,7 @@ def _iterate(system, multigrid, x0, load, tol, max_iter, hertz, K_hat,
         un = C_n @ u
         active = lam - c * (s - un) > 0
         if implicit:  # f_c p at the iterate, by the active set's measure
-            b = system.friction * np.maximum(lam - c * (s - un), 0.0) \
-                / lumped
+            b = implicit_radius(system, lam, un)
         if free_solve:  # the free solution was just solved: Hertz's set
             free_solve, first = False, hertz_start(un - s)
             if first is not None:
@@ -469,7 +479,7 @@ def _iterate(system, multigrid, x0, load, tol, max_iter, hertz, K_hat,
         force = np.zeros(system.mt)
         N = None
         if implicit:  # D g·ŵ = −f_c r_n: rows N of the Newton system
-            N = _bound_rows(system, slip, hat, n)
+            N = bound_rows(system, slip, hat, n)
             rhs = f.copy()
         else:
             force = slip_loads(lumped, b, hat, slip)
