@@ -98,8 +98,11 @@ def test_friction_eliminated_against_projected(sphere_4, monkeypatch):
     """The a/h 4 sphere, f_c = 0.3, 10 load steps: the eliminated Newton
     systems (the default where R is orthogonal) and the projected ones
     (forced by declaring R not orthogonal) give the same u to 1e-8 and the
-    same stick and slip sets; the eliminated CG needs fewer iterations in
-    all."""
+    same stick and slip sets up to nodes on the cone's edge (|g| = b to
+    1e-6: stick with |g| = b and slip with no slide are the same state;
+    the projected path ends a step with a node there, |g|/b = 1.000,
+    since a 3D slip node turned back twice is stuck); the eliminated CG
+    needs fewer iterations in all."""
     from solver.contact.friction import active_set
 
     eliminated = solve(sphere_4, friction=0.3, steps=10, backend="amg")
@@ -109,9 +112,14 @@ def test_friction_eliminated_against_projected(sphere_4, monkeypatch):
         assert result.success and result.verification["passed"]
     for a, b in zip(eliminated.displacement, projected.displacement):
         assert np.linalg.norm(a - b) <= 1e-8 * np.linalg.norm(b)
-    for key in ("stick", "slip"):
-        for a, b in zip(getattr(eliminated, key), getattr(projected, key)):
-            assert np.array_equal(a, b), key
+    for step in range(len(eliminated.displacement)):
+        g = np.linalg.norm(np.reshape(
+            eliminated.friction_traction[step],
+            (len(eliminated.stick[step]), -1)), axis=1)
+        edge = g >= (1 - 1e-6) * eliminated.friction_bound[step]
+        for key in ("stick", "slip"):
+            a, b = (getattr(r, key)[step] for r in (eliminated, projected))
+            assert np.array_equal(a[~edge], b[~edge]), (key, step)
     cg = [sum(r["krylov"] for r in result.records)
           for result in (eliminated, projected)]
     assert cg[0] < cg[1]

@@ -26,11 +26,13 @@ method (semismooth Newton with φ_min on the projection rows g = P(w)):
   direction carries the bound as a load, and the direction across it a
   spring k_e = D c_t q/(1 − q) ≥ 0. In 2D the slip rows are pure loads.
   A zero radius (b = 0: no contact at step κ−1) leaves the node free.
-  In 2D, a slip node whose direction turned against the last iterate's
-  (ŵ = −ŵ_prev) twice in a row is put in the stick set for the next
-  system: there ŵ is a sign, and a node whose answer sticks can
-  otherwise alternate between the two slip directions for ever (seen on
-  the Hertz cylinders between two bodies: 40 systems without progress).
+  A slip node whose direction turned back against the last iterate's
+  (ŵ·ŵ_prev < 0) twice in a row is put in the stick set for the next
+  system: a node whose answer sticks can otherwise alternate between two
+  opposite slip directions for ever, the sets unchanged and the error
+  constant (in 2D, where ŵ is a sign: the Hertz cylinders between two
+  bodies, 40 systems without progress; in 3D: the two unequal spheres,
+  ŵ = −ŵ_prev to three digits on every system until the Newton limit).
   Like the spring, this shapes only the Newton path; the stopping test
   is the formulation's.
 
@@ -244,11 +246,11 @@ def solve_step(system, multigrid, x0, load, tol, max_iter, hertz=False,
 class SlipRule:
     """The stick and slip sets of the method from w = g − c_t Δu_t (m, k)
     and the radii b (m,) (module docstring): stick |w| < b, slip |w| ≥ b
-    where b > 0, with ŵ = w/|w|; in 2D a node whose slip turned back twice
-    in a row is put in the stick set. One per load step: it remembers the
-    last iterates' directions. Nodewise, so the ranks of a distributed run
-    each call it on their own nodes and take the same decisions
-    (:mod:`solver.mpi.krylov_friction`)."""
+    where b > 0, with ŵ = w/|w|; a node whose slip turned back
+    (ŵ·ŵ_prev < 0) twice in a row is put in the stick set. One per load
+    step: it remembers the last iterates' directions. Nodewise, so the
+    ranks of a distributed run each call it on their own nodes and take
+    the same decisions (:mod:`solver.mpi.krylov_friction`)."""
 
     def __init__(self, k):
         self.k = k
@@ -266,7 +268,7 @@ class SlipRule:
         hat = np.divide(w, size[:, None], out=np.zeros_like(w),
                         where=size[:, None] > 0)
         turned = np.zeros(len(b), bool)
-        if self.hat is not None and self.k == 1:  # the slip turned back
+        if self.hat is not None:  # the slip turned back (2D and 3D)
             turned = slip & self.slip & (
                 np.einsum("ij,ij->i", hat, self.hat) < 0)
         self.hat, self.slip = hat, slip
