@@ -136,16 +136,13 @@ def test_hypre_boomeramg(block, tmp_path):
 
 
 def test_options_that_do_not_apply_are_refused(block):
-    """Friction's implicit bound on this path has its own row (the lagged
-    bound runs, tests/test_mpi_krylov_friction.py); the full system needs
-    a Krylov ksp, a ksp needs the full system, φ_FB is refused: each one
-    line before any collective step."""
+    """The full system needs a Krylov ksp, a ksp needs the full system,
+    φ_FB is refused: each one line before any collective step (friction,
+    both bounds, runs: tests/test_mpi_krylov_friction*.py)."""
     from solver.errors import SolverError
 
     problem = load_problem(block[2])
     for options, text in (
-            (dict(system="full", ksp="gamg", friction=0.3,
-                  coulomb="implicit"), "runs the lagged bound"),
             (dict(system="full"), "the full system runs by Krylov"),
             (dict(system="full", ksp="mumps"),
              "the full system runs by Krylov"),
