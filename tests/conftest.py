@@ -19,6 +19,26 @@ BLOCK_PROBLEM = ROOT / "sfepy_problems" / "block_obstacle.py"
 THESIS_MESHES = (118, 454, 1878)
 
 
+#: Modules that initialise MPI when imported. In the pytest process they
+#: would make Open MPI's singleton environment, which breaks every later
+#: ``mpiexec`` launch of the session (exit 1, empty stderr): PETSc runs in
+#: a subprocess only.
+MPI_MODULES = ("petsc4py.PETSc", "mpi4py.MPI")
+
+
+@pytest.fixture(autouse=True)
+def _no_mpi_in_process(request):
+    """Fail the test that imported PETSc or MPI in the pytest process
+    (:data:`MPI_MODULES`), where it happened, not in a later file."""
+    before = [m for m in MPI_MODULES if m in sys.modules]
+    yield
+    after = [m for m in MPI_MODULES if m in sys.modules and m not in before]
+    if after:
+        pytest.fail(f"{request.node.nodeid} imported {after} in the pytest "
+                    "process; run PETSc under mpiexec in a subprocess",
+                    pytrace=False)
+
+
 def assert_pasteable(block):
     """A shell block of the docs parses (bash -n) and holds no
     alternatives ``[a|b]`` or placeholders ``<NAME>`` to fill in."""
