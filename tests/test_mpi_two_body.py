@@ -82,11 +82,14 @@ def main(paths, cases, fields, out):
         for key in fields:
             if key in r:
                 arrays[f"{name}/{key}"] = np.asarray(r[key], float)
-    try:  # a discrete problem (no mesh): its own row
-        solver.solve(solver.examples.two_dof_bar(), engine="petsc")
-        said["discrete"] = "solved"
-    except solver.SolverError as exc:
-        said["discrete"] = str(exc)
+    for name in ("discrete", "pulled"):  # refused: one line each
+        problem = solver.examples.two_dof_bar() if name == "discrete" \
+            else solver.load_problem(paths[name])
+        try:
+            solver.solve(problem, engine="petsc")
+            said[name] = ["solved"]
+        except solver.SolverError as exc:
+            said[name] = [str(exc), type(exc).__name__]
     json.dump(said, open(out + ".json", "w"))
     np.savez(out + ".npz", **arrays)
 
@@ -109,6 +112,7 @@ def problems():
                                       squeeze=0.0)[0],
         "floating-cylinder": two_cylinders(R, MATERIALS, force=P,
                                            h0=0.008)[0],
+        "pulled": two_cylinders(R, MATERIALS, force=-P, h0=0.008)[0],
     }
 
 
@@ -177,12 +181,21 @@ def test_same_answer_as_the_serial_engine(runs, serial, name):
         assert np.asarray(ref.stick)[-1].any()
 
 
-def test_discrete_problem_refused_by_its_row(runs):
-    """A problem without a mesh stays on the serial engine, one line."""
-    said = runs[1]["discrete"]
-    assert said.startswith("engine='petsc' is not supported for 2D, "
-                           "discrete"), said
-    assert "partitions a mesh by nodes" in said
+def test_refusals_are_the_serial_ones(runs, paths):
+    """A problem without a mesh stays on the serial engine, by its row
+    (one line); the upper cylinder pulled away from the lower one (no
+    contact resists its upward motion) is refused by the serial engine's
+    ProblemError, the same line."""
+    said = runs[1]
+    message, kind = said["discrete"]
+    assert message.startswith("engine='petsc' is not supported for 2D, "
+                              "discrete"), message
+    assert "partitions a mesh by nodes" in message
+    message, kind = said["pulled"]
+    with pytest.raises(solver.errors.ProblemError) as info:
+        solver.solve(solver.load_problem(paths["pulled"]))
+    assert kind == "ProblemError" and message == str(info.value)
+    assert "\n" not in message
 
 
 def test_command_line_writes_the_serial_outputs(paths, tmp_path):
