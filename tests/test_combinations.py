@@ -283,7 +283,7 @@ def test_what_is_refused_is_refused_for_a_reason(problems):
         ("2d-rollers", dict(friction=0.3, formulation="thesis"),
          "does not take roller nodes"),
         ("2d-rigid", dict(margin=0.1), "margin=0.1"),
-        ("2d-two-body", dict(engine="petsc"), "engine='petsc'"),
+        ("2d-discrete", dict(engine="petsc"), "engine='petsc'"),
     ]
     for name, options, phrase in cases:
         with pytest.raises(solver.SolverError) as info:

@@ -123,7 +123,8 @@ def _pairs(pairs, segments):
 
 def equivalent_problem(problem, coupling, friction=False):
     """(discrete problem in v, T⁻¹ sparse, covered): module docstring.
-    Without a floating body the problem in v also carries
+    The problem in v carries ``bodies`` (``problem``, whose ``nodes`` and
+    ``dof_map`` number its DOFs too) and ``near_null_space``. Without a floating body the problem in v also carries
     ``change_of_variables`` = (K, f, E) of the bodies, from which its
     candidates can be condensed with K's own factor
     (:mod:`solver.contact.strategies.bordered`)."""
@@ -172,6 +173,9 @@ def equivalent_problem(problem, coupling, friction=False):
         load_path_friction=problem.load_path_friction,
         source=problem.source)
     equivalent.node_graph = lambda: _node_graph(problem, extra)
+    # v keeps the bodies' reduced DOF numbering: the petsc engine lays it
+    # out by their mesh's nodes (solver.mpi.layout.mesh_of)
+    equivalent.bodies = problem
     equivalent.near_null_space = lambda: near_null_space(problem, E)
     if problem.floating:  # a body held by contact only: its modes in v
         _floating_modes(equivalent, problem, T_inv, E)

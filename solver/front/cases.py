@@ -235,12 +235,12 @@ RULES = tuple(
              and (c.bodies != "rigid" or c.dim != 2)),
         Rule("variant", "one body", "it chooses the coupling of two bodies",
              lambda c, s, g: "variant" in g and c.bodies != "two-body"),
-        Rule("engine", "two bodies, discrete problems",
-             "the petsc engine partitions one meshed body against a rigid "
-             "obstacle; this runs on the serial engine",
+        Rule("engine", "discrete problems",
+             "the petsc engine partitions a mesh by nodes (one body against "
+             "a rigid obstacle, or two bodies by the dual mortar); a "
+             "problem without a mesh runs on the serial engine",
              lambda c, s, g: c.engine == "petsc"
-             and c.bodies in ("two-body", "discrete"),
-             "engine='petsc'"),
+             and c.bodies == "discrete", "engine='petsc'"),
         Rule("formulation", "3D",
              "the thesis's split formulation (Δu_t⁺, Δu_t⁻) is 2D-only; "
              "use formulation='projection'",

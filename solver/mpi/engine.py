@@ -102,8 +102,12 @@ def engine_summary(svc, layout, extra):
 
 
 def check_problem(problem):
-    """SolverError unless the engine can partition ``problem`` (a mesh)."""
-    if problem.kind != "mesh":
+    """SolverError unless the engine can partition ``problem``: a mesh, or
+    two bodies' nodewise problem in the numbering of their mesh
+    (:func:`~solver.mpi.layout.mesh_of`)."""
+    from .layout import mesh_of
+
+    if mesh_of(problem) is None:
         raise SolverError("the petsc engine partitions a mesh by nodes: a "
                           "discrete problem (no mesh) runs on the serial "
                           "engine")

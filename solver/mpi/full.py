@@ -46,7 +46,14 @@ HYPRE_OPTIONS = {"pc_hypre_boomeramg_nodal_coarsen": "6",
 
 def rigid_modes(problem, layout, R):
     """Orthonormal rigid-body modes (2D: 3, 3D: 6) in the padded numbering,
-    rotated into the node frames at the free DOFs: (n_pad, k)."""
+    rotated into the node frames at the free DOFs: (n_pad, k). Two bodies'
+    nodewise problem gives its own near-null space (each body's modes in
+    v = Tu, :func:`solver.contact.two_body.near_null_space`; 6 in 2D, 12
+    in 3D), zero at the Dirichlet rows."""
+    near = getattr(problem, "near_null_space", None)  # two bodies
+    if near is not None:
+        Z = layout.pad(R @ near())
+        return np.linalg.qr(Z)[0]
     x = np.asarray(problem.nodes, float)[:, :layout.dim]
     x = x - x.mean(axis=0)
     d, n = layout.dim, len(x)

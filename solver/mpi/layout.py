@@ -10,20 +10,34 @@ send each rank its rows, :func:`gather_vector` brings a vector back."""
 import numpy as np
 import scipy.sparse as sp
 
-__all__ = ["Layout", "scatter_matrix", "scatter_vector", "gather_vector"]
+__all__ = ["Layout", "mesh_of", "scatter_matrix", "scatter_vector",
+           "gather_vector"]
+
+
+def mesh_of(problem):
+    """The problem whose ``nodes`` and ``dof_map`` number the DOFs of
+    ``problem``: itself, or for the nodewise problem of two bodies in
+    v = Tu (:mod:`solver.contact.two_body`, whose K̃ keeps the bodies'
+    reduced DOF numbering) the bodies' own problem (its ``bodies``);
+    None for a discrete problem without a mesh."""
+    bodies = getattr(problem, "bodies", None)
+    mesh = problem if bodies is None else bodies
+    return mesh if getattr(mesh, "nodes", None) is not None else None
 
 
 class Layout:
     """The padded numbering of ``problem`` on ``size`` ranks (rank 0):
     ``red_to_pad`` (reduced DOF → padded row), ``starts`` (each rank's first
-    row), ``dirichlet`` (the rows of prescribed DOFs)."""
+    row), ``dirichlet`` (the rows of prescribed DOFs). Two bodies' nodewise
+    problem is laid out by the bodies' mesh (:func:`mesh_of`)."""
 
     def __init__(self, problem, size):
-        self.dim = problem.dim
-        n_nodes = len(problem.nodes)
+        mesh = mesh_of(problem)
+        self.dim = mesh.dim
+        n_nodes = len(mesh.nodes)
         self.n = n_nodes * self.dim
-        self.red_to_pad = (problem.dof_map[:, 0] * self.dim
-                           + problem.dof_map[:, 1]).astype(np.int64)
+        self.red_to_pad = (mesh.dof_map[:, 0] * self.dim
+                           + mesh.dof_map[:, 1]).astype(np.int64)
         node_starts = (np.arange(size + 1) * n_nodes) // size
         self.starts = node_starts * self.dim
         free = np.zeros(self.n, bool)
