@@ -30,6 +30,9 @@ DEFLATE_RATIO = 1100
 #: Largest central directory accepted (a problem file has ~30 members).
 MAX_DIRECTORY = 2 ** 20
 
+#: Most nodes a file may declare: the total's worth of 3 coordinates.
+MAX_NODES = MAX_TOTAL_BYTES // 24
+
 _CHUNK = 2 ** 24
 _SLACK = 64  # entries beyond the expected size (the validation names them)
 
@@ -174,7 +177,10 @@ class Archive(Mapping):
             return MAX_STAGES
         n = self._dim("K_shape", default=0)
         nc = self._dim("M_shape", default=0)
-        n_nodes = min(self._dim("nodes", default=0), 5 * n + 1000)
+        # a meshed body whose every node is prescribed (a rigid master)
+        # has nodes but no free DOFs: the nodes are bounded by the total
+        # only (MAX_TOTAL_BYTES), not by Ñ
+        n_nodes = min(self._dim("nodes", default=0), MAX_NODES)
         stages = min(self._dim("load_path_steps", default=0), MAX_STAGES)
         per_dof = 3 * (n + n_nodes + nc) + _SLACK
         if key in ("K_data", "K_indices"):
@@ -184,7 +190,7 @@ class Archive(Mapping):
             nnz = self._last("M_indptr")
             return (3 * nc + _SLACK) ** 2 if nnz is None else nnz
         if key == "nodes":  # at most 3 coordinates per node
-            return 3 * (5 * n + 1000)
+            return 3 * MAX_NODES
         if key == "cells":  # a tetrahedral mesh has ~6 tetrahedra per node
             return 4 * (8 * n_nodes + _SLACK)
         if key == "contact_faces":  # ~2 surface triangles per surface node
