@@ -125,7 +125,7 @@ class Progress:
 def solve_job(args, problem, open_folder, emit, write_summary):
     """Check, solve, write summary.json, result.npz, result.vtu (friction:
     result.pvd and steps/), figures; print the summary."""
-    from ..front import prepare
+    from ..front import ConvertedPlan, prepare
     from ..output import StepOutputs, write_all
     from ..output.report import format_friction_result, format_result
 
@@ -138,6 +138,12 @@ def solve_job(args, problem, open_folder, emit, write_summary):
 
         return partitioned_job(args, plan, open_folder, emit, write_summary,
                                Progress)
+    if isinstance(plan, ConvertedPlan):  # a .npz's friction, full, petsc
+        from .partitioned import converted_job
+
+        return converted_job(args, plan, open_folder(
+            args.outdir or default_outdir(args, plan)), emit, write_summary,
+            Progress)
     folder = open_folder(args.outdir or default_outdir(args, plan))
     result = None
     if plan.friction is None:

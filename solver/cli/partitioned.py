@@ -15,7 +15,7 @@ import numpy as np
 from ..errors import SolverError
 from .codes import EXIT_INPUT, EXIT_NOT_CONVERGED, EXIT_OK, EXIT_OUTPUT
 
-__all__ = ["partitioned_job", "convert_main"]
+__all__ = ["partitioned_job", "converted_job", "convert_main"]
 
 
 def _one_line(text):
@@ -95,6 +95,31 @@ def partitioned_job(args, plan, open_folder, emit, write_summary,
               file=sys.stderr)
         return EXIT_NOT_CONVERGED
     return EXIT_OK
+
+
+def converted_job(args, plan, folder, emit, write_summary,
+                  progress_bar=None):
+    """Friction on the full system of a ``.npz`` on the petsc engine
+    (:class:`solver.front.ConvertedPlan`): say which path runs, convert
+    into a temporary folder beside the output folder ``folder`` (opened
+    and locked, so that a full disk during the conversion is an output
+    error, exit 4), run :func:`partitioned_job` on it, and remove it
+    however the run ends (:mod:`solver.mpi.on_the_fly`). ``summary.json``
+    says what was converted (``"converted"``)."""
+    workdir = os.path.dirname(os.path.abspath(folder.path))
+    ksp = plan.settings["ksp"]
+    emit(f"path: friction on the full system by Krylov (CG/GMRES + {ksp}) "
+         f"on the ranks' rows of a partitioned folder converted on the "
+         f"fly from {args.problem} (in {workdir}/, removed at the end)")
+    with plan.converted(workdir) as (folder_plan, info):
+        info["folder"] = os.path.relpath(info["folder"], workdir)
+
+        def summary_with_conversion(summary):
+            summary.update(problem=args.problem, converted=info)
+            write_summary(summary)
+        local = argparse.Namespace(**dict(vars(args), outdir=folder.path))
+        return partitioned_job(local, folder_plan, lambda outdir: folder,
+                               emit, summary_with_conversion, progress_bar)
 
 
 def convert_main(argv):

@@ -20,7 +20,7 @@ from ..errors import SolverError
 from ..linalg import BACKENDS, ITERATIVE
 
 __all__ = ["Case", "Rule", "RULES", "AMG_REFUSALS", "PARTITIONED_RULES",
-           "auto_eligible",
+           "CONVERTED_RULES", "converted", "auto_eligible",
            "DEFAULTS", "METHODS", "SYSTEMS",
            "STARTS", "ENGINES", "KSPS", "VARIANTS", "case_of", "given_options",
            "resolve", "check_geometry_rules", "support_table"]
@@ -216,6 +216,57 @@ PARTITIONED_RULES = (
                  "MUMPS", lambda c, s, g: s["backend"] != "auto",
                  "backend"),)
 
+def converted(case, settings):
+    """Whether a call runs by conversion on the fly
+    (:mod:`solver.mpi.on_the_fly`): friction on the full system of one
+    supported body against a rigid obstacle (a ``.npz``) on the petsc
+    engine; its folder then runs :mod:`solver.mpi.krylov_friction`."""
+    return (case.engine == "petsc" and case.contact == "friction"
+            and case.bodies == "rigid" and case.support == "supported"
+            and not settings["condense"])
+
+
+def _on_the_fly(option, reason, applies, label=None):
+    return Rule(option, "friction on the petsc engine's full system from "
+                "a .npz (converted on the fly)", reason,
+                lambda c, s, g: converted(c, s) and applies(c, s, g), label)
+
+
+_ON_THE_FLY = ("the .npz is converted on the fly to a partitioned folder "
+               "(gaps by gap='obstacle' or 'body', roller nodes kept), "
+               "whose full system runs each load step from the previous "
+               "one; convert it yourself (python -m solver convert) for "
+               "other gaps, or use the condensed system")
+
+#: What friction on the full system of a ``.npz`` under the petsc engine
+#: does not do: it converts the ``.npz`` to a folder on the fly and runs
+#: the folder's Krylov friction (:mod:`solver.mpi.krylov_friction`), so
+#: it refuses what the folder refuses, but maps ``gap`` to the
+#: conversion's and keeps the roller nodes (``rollers=True``).
+CONVERTED_RULES = (
+    _on_the_fly("formulation", "the Krylov friction runs the projection "
+                "formulation (formulation='projection'); the thesis's "
+                "split runs on the serial engine",
+                lambda c, s, g: s["formulation"] == "thesis",
+                "formulation='thesis'"),
+    _on_the_fly("method", "the Krylov friction is the active set method "
+                "(φ_min)", lambda c, s, g: s["method"] != "min",
+                "method='fb'"),
+    _on_the_fly("ksp", "friction on the full system runs by Krylov on "
+                "the ranks' rows (ksp='gamg' or 'hypre'); MUMPS would "
+                "factorise the whole K for every Newton system: give "
+                "ksp='gamg' or 'hypre', or use the condensed system",
+                lambda c, s, g: s["ksp"] not in ("gamg", "hypre"),
+                "system='full' without ksp='gamg' or 'hypre'"),
+    _on_the_fly("rollers", _ON_THE_FLY,
+                lambda c, s, g: "rollers" in g and not s["rollers"],
+                "rollers=False"),
+) + tuple(
+    _on_the_fly(name, _ON_THE_FLY, lambda c, s, g, name=name: name in g)
+    for name in ("search_interval", "gap_scale", "options", "geometry",
+                 "on_step"))
+
+
 #: The refused combinations, checked in order (the first that applies is
 #: reported).
 RULES = tuple(
@@ -316,16 +367,7 @@ RULES = tuple(
              "its modes' amplitudes are condensed with every DOF of Γc",
              lambda c, s, g: c.support == "floating" and s["candidates"],
              "candidates=True"),
-        Rule("system", "friction on the petsc engine from a .npz",
-             "friction on the full system of a .npz (the thesis's "
-             "formulation runs there) has no distributed Newton solve: use "
-             "the condensed projection formulation, the serial engine, or "
-             "convert it (python -m solver convert) and run the folder with "
-             "system='full'",
-             lambda c, s, g: c.engine == "petsc" and c.contact == "friction"
-             and not s["condense"] and c.bodies != "partitioned",
-             "system='full'"),
-    ])
+    ] + list(CONVERTED_RULES))
 
 
 def _choice(name, value, allowed):
@@ -469,7 +511,8 @@ def check_geometry_rules(case, settings, geometry):
             f"system='full' is not supported for {case}: the petsc "
             f"engine's full system needs orthogonal node frames, and "
             f"{rollers} contact nodes are rollers; use the condensed "
-            "system")
+            "system (friction on the full system, ksp='gamg' or 'hypre', "
+            "converts the .npz on the fly and keeps them)")
 
 
 def _first(values, count=5):
@@ -494,8 +537,10 @@ def support_table():
                 "| the split formulation has no row to drop for a "
                 "roller's constrained tangent (rollers=False makes them "
                 "supports) |")
-    rows.append("| `system='full'`, petsc engine | roller nodes | its node "
-                "frames must be orthogonal |")
+    rows.append("| `system='full'`, petsc engine, frictionless | roller "
+                "nodes | its node frames must be orthogonal (friction on "
+                "the full system converts the .npz on the fly and keeps "
+                "them) |")
     rows.append("| `friction` | oblique nodes (a prescribed DOF with a share "
                 "of the contact normal) | the Coulomb cone does not survive "
                 "the projection onto the free DOFs |")

@@ -17,9 +17,9 @@ from ..contact import (IterativeEngine, SerialEngine, TwoBodyMap,
 from ..contact.friction.driver import check_friction
 from ..errors import SolverError
 from .cases import (DEFAULTS, auto_eligible, case_of, check_geometry_rules,
-                    resolve)
+                    converted, resolve)
 
-__all__ = ["solve", "prepare", "Plan", "PartitionedPlan",
+__all__ = ["solve", "prepare", "Plan", "PartitionedPlan", "ConvertedPlan",
            "solve_frictionless",
            "solve_friction", "solve_two_body", "make_engine"]
 
@@ -241,6 +241,74 @@ class PartitionedPlan:
                                  s["tol"], s["max_iter"])
 
 
+class ConvertedPlan:
+    """A checked call of :func:`solve` with friction on the full system of
+    a ``.npz`` (one supported body against a rigid obstacle) on the petsc
+    engine: the problem is converted on the fly to a partitioned folder in
+    a temporary folder (:mod:`solver.mpi.on_the_fly`) whose Krylov
+    friction runs unchanged (:class:`PartitionedPlan`), the same answer
+    as the folder run; the folder is removed at the end. ``converted``
+    gives the folder's plan for as long as the caller needs the folder
+    (the command line writes the ranks' pieces from it)."""
+
+    def __init__(self, problem, case, settings, given):
+        from .. import mpi
+
+        reason = mpi.missing()
+        if reason:
+            raise SolverError(reason)
+        self.problem, self.case, self.settings = problem, case, settings
+        self.friction = settings["friction"]
+        check_friction(problem, self.friction, settings["steps"])
+        # the folder's options: gap and rollers went into the conversion
+        self.options = {name: value for name, value in given.items()
+                        if name not in ("gap", "rollers")}
+
+    def source(self):
+        """The ``.npz`` to convert, streamed (its path), when the problem
+        is that file's; else the problem in memory."""
+        import os
+
+        path = self.problem.source
+        if isinstance(path, str) and os.path.isfile(path):
+            return path
+        return self.problem
+
+    def converted(self, workdir=None):
+        """Context manager: convert into a temporary folder under
+        ``workdir`` (``$TMPDIR`` when None), yield (the folder's
+        :class:`PartitionedPlan`, the conversion's ``info``), remove the
+        folder on leaving."""
+        import contextlib
+        import os
+
+        from ..mpi.on_the_fly import converted_folder
+        from ..problem import load_problem
+
+        @contextlib.contextmanager
+        def block():
+            source = self.source()
+            name = os.path.splitext(os.path.basename(
+                self.problem.source or "problem"))[0]
+            with converted_folder(source, self.settings["gap"], workdir,
+                                  name) as (folder, info):
+                plan = prepare(load_problem(folder), **self.options)
+                yield plan, info
+        return block()
+
+    def run(self, outdir=None, progress=None, workdir=None):
+        """Convert, solve on the ranks, remove the folder; the result
+        (``"converted"``: what was converted). Its pieces are written
+        while the folder exists: give ``outdir`` (each step's pieces in
+        ``outdir/steps/``, u in ``outdir/result-RANK.vtu``)."""
+        with self.converted(workdir) as (plan, info):
+            result = plan.run(outdir=outdir, progress=progress)
+            if outdir is not None:
+                result.write_pieces(outdir)
+        result["converted"] = info
+        return result
+
+
 def prepare(problem, **options):
     """Check a call of :func:`solve` (same arguments) and make what it
     needs before any solving: the case, its settings, the engine, the contact
@@ -258,6 +326,8 @@ def prepare(problem, **options):
     settings = resolve(case, given)
     if case.bodies == "partitioned":
         return PartitionedPlan(problem, case, settings, friction)
+    if converted(case, settings):  # friction, full system, petsc: a folder
+        return ConvertedPlan(problem, case, settings, given)
     if auto_eligible(case, given) and problem.kind == "mesh":
         settings = _choose_path(problem, case, given, settings)
     if settings["backend"] == "amg":

@@ -53,8 +53,8 @@ solves by right-preconditioned GMRES with the preconditioner built on
 the symmetric part, as the serial
 :func:`~solver.linalg.amg.projected_gmres` with the V-cycle of K̂ + S.
 
-Not here: the ``.npz`` under ``mpiexec`` (refused by the front's
-rules)."""
+The ``.npz`` under ``mpiexec`` runs here too, converted on the fly into
+a temporary folder (:mod:`.on_the_fly`)."""
 
 import os
 import time
