@@ -13,7 +13,7 @@ symmetrically (``MatZeroRowsColumns``), so every Newton system is SPD:
 MUMPS (Cholesky, refactorised on the same pattern) or CG + GAMG with the
 rotated rigid-body modes as near-null space (``--ksp gamg``).
 
-Inexact Newton on the partitioned folder (issue 33; :mod:`.partitioned_full`,
+Inexact Newton on the partitioned folder (:mod:`.partitioned_full`,
 :mod:`.krylov_friction`): a Krylov Newton system is solved to
 ‖r‖ ≤ η_k·err_k (r its unpreconditioned residual, err_k the stopping
 measure at the iterate with the contact rows unweighted, in the units of
@@ -22,10 +22,9 @@ r) with the in-process AMG path's forcing term
 Eisenstat & Walker's choice 2 with its safeguards, η_0 = 10⁻³), kept by
 :class:`ForcingTerm`; once the active set repeats after a full step, the
 system is the last one and is solved to :data:`CG_RTOL` as before, so
-the answer is the exact path's to round-off (the in-process path stops
-at half the stopping test's bound instead; here that gave another
-stick set than the serial answer's on the 3D sphere).
-The stopping test of the Newton iteration is unchanged. Each system
+that the answer stays the exact path's (the in-process path stops at
+half the stopping test's bound instead, which gave a stick set other
+than the serial answer's: docs/mpi.md). The stopping test of the Newton iteration is unchanged. Each system
 starts from the iterate moved onto its constraints, or after a damped
 step from the last system's answer (:meth:`ForcingTerm.step`). Not on
 the ``.npz``'s Newton iteration here (rank 0's serial ``condense=False``

@@ -22,7 +22,9 @@ the line search and every other decision are summed over the ranks
 (:class:`Reduction`), and each Newton system is
 :mod:`.full`'s (:func:`~.full.newton_rows`: the Jacobian's rows in the
 node frames, :func:`~.full.solve_newton_system`: the shifted, eliminated
-K̂ by CG + GAMG or BoomerAMG). The answer is verified on every node of
+K̂ by CG + GAMG or BoomerAMG), inexactly: to the in-process path's
+forcing term, the last system of an active set to 10⁻¹², warm-started
+(:class:`~.full.ForcingTerm`). The answer is verified on every node of
 every rank, the measures reduced by MPI (:func:`verify_on_ranks`); each
 rank writes its piece of ``result.pvtu`` with the contact fields read
 from the ranks (:mod:`.distributed`'s writer)."""
