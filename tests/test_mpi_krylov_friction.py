@@ -23,6 +23,7 @@ import pytest
 from solver import save_problem, solve
 from test_mpi import REASON, mpirun
 from test_mpi_distributed_friction import assert_steps_as_serial
+from test_mpi_forcing import assert_forcing_steps
 
 pytestmark = pytest.mark.skipif(REASON is not None, reason=str(REASON))
 
@@ -89,6 +90,7 @@ def test_2d_block_same_steps_as_serial(block, tmp_path, ranks, ksp):
     assert summary["engine"]["ksp"] == ksp
     steps = assert_same_steps(problem, serial, out, summary, stdout)
     assert_full_slip(summary, steps, lag=1)
+    assert_forcing_steps(summary)  # inexact Newton, the same steps
 
 
 def assert_full_slip(summary, steps, lag):

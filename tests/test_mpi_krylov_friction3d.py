@@ -16,6 +16,7 @@ import pytest
 
 from solver import solve
 from test_mpi import REASON
+from test_mpi_forcing import assert_forcing
 from test_mpi_krylov_friction import (FRICTION, STEPS, assert_same_steps,
                                       run_krylov_friction)
 
@@ -51,3 +52,4 @@ def test_3d_sphere_with_rollers_same_steps_as_serial(sphere, tmp_path,
     assert summary["engine"]["ranks"] == ranks
     assert summary["n_stick"] > 0 and summary["n_slip"] > 0
     assert_same_steps(problem, serial, out, summary, stdout)
+    assert_forcing(summary["engine"])  # inexact Newton, the same steps

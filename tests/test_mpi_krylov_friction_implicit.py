@@ -21,6 +21,7 @@ import pytest
 
 from solver import solve
 from test_mpi import REASON
+from test_mpi_forcing import assert_forcing
 from test_mpi_krylov_friction import block  # noqa: F401 (fixture)
 from test_mpi_krylov_friction import (FRICTION, STEPS, assert_full_slip,
                                       assert_same_steps,
@@ -53,6 +54,7 @@ def test_2d_block_implicit_same_steps_as_serial(block_implicit, tmp_path,
     assert summary["engine"]["ranks"] == ranks
     assert summary["engine"]["ksp"] == ksp
     steps = assert_same_steps(problem, serial, out, summary, stdout)
+    assert_forcing(summary["engine"])  # inexact Newton (GMRES)
     # full slip: D|g| = f_c λ_κ at every node in contact (its own step's)
     assert_full_slip(summary, steps, lag=0)
 
@@ -85,3 +87,4 @@ def test_3d_sphere_implicit_same_steps_as_serial(sphere_implicit, tmp_path,
     assert summary["coulomb"] == "implicit"
     assert summary["n_slip"] > 0
     assert_same_steps(problem, serial, out, summary, stdout)
+    assert_forcing(summary["engine"])

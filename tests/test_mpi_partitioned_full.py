@@ -17,6 +17,7 @@ import pytest
 from solver import load_problem, save_problem, solve
 from test_mpi import REASON, mpirun
 from test_mpi_distributed import read_pvtu
+from test_mpi_forcing import assert_forcing
 
 pytestmark = pytest.mark.skipif(REASON is not None, reason=str(REASON))
 
@@ -106,6 +107,7 @@ def test_block_1_2_4_ranks_same_u_and_krylov_counts(block, tmp_path):
         summary = run_full(folder, out, ranks)
         check_answer(problem, result, out, summary, ranks)
         assert summary["engine"]["ksp_fallbacks"] == 0
+        assert_forcing(summary["engine"])  # inexact Newton, same u
         krylov[ranks] = (summary["nit"],
                          summary["engine"]["krylov_per_newton"])
     assert len({nit for nit, _ in krylov.values()}) == 1

@@ -11,23 +11,96 @@ K̂_{n_i,:} + c(w_b/w_a)e_{n_i}ᵀ, a non-negative diagonal shift; with
 w_a = 0 it fixes v_{n_i} = Φ_i/(c w_b). The fixed rows are eliminated
 symmetrically (``MatZeroRowsColumns``), so every Newton system is SPD:
 MUMPS (Cholesky, refactorised on the same pattern) or CG + GAMG with the
-rotated rigid-body modes as near-null space (``--ksp gamg``,
-:data:`CG_RTOL`)."""
+rotated rigid-body modes as near-null space (``--ksp gamg``).
+
+Inexact Newton on the partitioned folder (:mod:`.partitioned_full`,
+:mod:`.krylov_friction`): a Krylov Newton system is solved to
+‖r‖ ≤ η_k·err_k (r its unpreconditioned residual, err_k the stopping
+measure at the iterate with the contact rows unweighted, in the units of
+r) with the in-process AMG path's forcing term
+(:func:`~solver.contact.frictionless.active_set.forcing_term`,
+Eisenstat & Walker's choice 2 with its safeguards, η_0 = 10⁻³), kept by
+:class:`ForcingTerm`; once the active set repeats after a full step, the
+system is the last one and is solved to :data:`CG_RTOL` as before, so
+that the answer stays the exact path's (the in-process path stops at
+half the stopping test's bound instead, which gave a stick set other
+than the serial answer's: docs/mpi.md). The stopping test of the Newton iteration is unchanged. Each system
+starts from the iterate moved onto its constraints, or after a damped
+step from the last system's answer (:meth:`ForcingTerm.step`). Not on
+the ``.npz``'s Newton iteration here (rank 0's serial ``condense=False``
+iterates, c = 1, φ_min or Fischer–Burmeister): inexact systems made its
+φ_min cycle between active sets (c = 1 weighs a force error against a
+gap in length units) and its FB stall, so its systems stay exact."""
 
 import numpy as np
 import scipy.sparse as sp
 
+from ..contact.frictionless.active_set import ETA_MAX, forcing_term
 from ..contact.geometry import rotate_stiffness
 from ..linalg.amg import GMRES_RESTART
 from ..linalg.base import PIVOT_RTOL
+from ..ncp.newton import LocalReduction
 from .layout import gather_vector, scatter_matrix, scatter_vector
 from .service import EngineError, command
 
 __all__ = ["full_jacobian", "ksp_statistics", "rigid_modes", "CG_RTOL",
-           "newton_rows", "newton_ksp", "solve_newton_system"]
+           "newton_rows", "newton_ksp", "solve_newton_system",
+           "ForcingTerm"]
 
-#: Relative residual of a CG + GAMG Newton solve.
+#: Relative residual of a CG + GAMG Newton solve: the last one's where
+#: tol is not known, and the floor of every one (module docstring).
 CG_RTOL = 1e-12
+
+
+class ForcingTerm:
+    """The absolute tolerances of successive Newton systems of one Newton
+    iteration (module docstring): η_k by
+    :func:`~solver.contact.frictionless.active_set.forcing_term` while
+    the sets change, from η_0 = :data:`~solver.contact.frictionless.
+    active_set.ETA_MAX`. ``history`` holds each system's tolerance
+    relative to err_k (the in-process path's ``forcing``; :data:`CG_RTOL`
+    where it is solved to that relative tolerance)."""
+
+    def __init__(self, reduction=None):
+        self.eta, self.previous_error = ETA_MAX, None
+        self.history = []
+        self.reduction = reduction or LocalReduction()
+        self.target, self.pattern = None, None
+
+    def step(self, x, pattern):
+        """(final, guess) of the semismooth Newton's next system at the
+        iterate ``x`` with the active set ``pattern`` (this rank's
+        rows): ``final`` when the set repeats after a full step (φ_min's
+        Jacobian is constant on a set, so a damped step leaves the same
+        linear system unsolved, not solved); ``guess`` the correction
+        from x to the last system's solution (:attr:`target`, set by the
+        caller; None before the first): zero after a full step, (1 − α)
+        times the last correction after a damped one, which is that
+        system's answer again while the set holds."""
+        red, target = self.reduction, self.target
+        full = red.all(target is not None and np.array_equal(x, target))
+        final = full and red.all(self.pattern is not None and
+                                 np.array_equal(pattern, self.pattern))
+        self.pattern = pattern
+        return final, None if target is None or full else target - x
+
+    def tolerance(self, err, final, weight=1.0, turning=False):
+        """The next system's absolute tolerance on its residual at the
+        iterate's stopping measure ``err``: η·err/``weight`` (``weight``:
+        the contact rows' weight in err, friction's); 0 when ``final``
+        (every set repeats: :data:`CG_RTOL` relative), but where
+        ``turning`` (3D slip directions still turn) Newton's own rate,
+        capped, as the in-process friction path does."""
+        previous, self.previous_error = self.previous_error, err
+        if previous is not None and not final:
+            self.eta = forcing_term(self.eta, err, previous)
+        eta = self.eta
+        if final:
+            eta = forcing_term(self.eta, err, previous, False) \
+                if turning and previous else 0.0
+        atol = eta * err / weight
+        self.history.append(eta if atol > 0 else CG_RTOL)
+        return atol
 
 #: GAMG's Chebyshev smoothers: eigenvalue bounds by CG with a 1.5 safety
 #: factor (PETSc's defaults made the preconditioner indefinite where rows
@@ -148,11 +221,14 @@ def full_jacobian(service, layout, problem, geometry, system, ksp):
 
 def ksp_statistics(service, ksp):
     """The engine's record of the full-system Newton solves: the Krylov
-    iterations of each, their number and the CG solves that fell back to
-    MUMPS."""
+    iterations of each (0 for a warm start that already meets its
+    tolerance, and for a fallback), their number, the CG solves that fell
+    back to MUMPS and each one's forcing term (:class:`ForcingTerm`)."""
     its = service.call("ksp_iterations")
+    record = service.call("ksp_record")
     return dict(ksp_iterations=its, newton_solves=len(its),
-                ksp_fallbacks=its.count(0) if ksp == "gamg" else 0)
+                ksp_fallbacks=record["fallbacks"] if ksp == "gamg" else 0,
+                ksp_forcing=record["forcing"])
 
 
 @command("newton_setup")
@@ -200,6 +276,8 @@ def newton_ksp(service, A, ksp_type, scale, modes=()):
     ksp.setFromOptions()
     x, b = M.createVecs()
     service.objects["newton"] = dict(A=A, M=M, ksp=ksp, x=x, b=b, its=[],
+                                     forcing=[], fallbacks=0,
+                                     norm=ksp.getNormType(),
                                      scale=scale, krylov=ksp_type != "mumps")
 
 
@@ -207,11 +285,13 @@ def newton_ksp(service, A, ksp_type, scale, modes=()):
 def _newton_solve(service, payload, local):
     obj = service.objects["newton"]
     scatter_vector(service, local, obj["b"])
-    solve_newton_system(obj, payload)
+    solve_newton_system(obj, payload)  # exact: module docstring
+    obj["forcing"].append(CG_RTOL)
     return gather_vector(service, obj["x"])
 
 
-def solve_newton_system(obj, rows, added=None, coupling=None):
+def solve_newton_system(obj, rows, added=None, coupling=None, atol=None,
+                        start=None):
     """(every rank) K̂ with the diagonal shifts and fixed rows of
     :func:`newton_rows` (``rows``: global row numbers, each rank keeps
     those it owns) solved for ``obj["b"]`` into ``obj["x"]`` (``obj`` of
@@ -226,7 +306,12 @@ def solve_newton_system(obj, rows, added=None, coupling=None):
     GMRES (:func:`gmres_ksp`) whose preconditioner is built on the
     symmetric part without it, as the serial
     :func:`~solver.linalg.amg.projected_gmres`'s; no MUMPS fallback
-    there (a failure raises EngineError)."""
+    there (a failure raises EngineError). ``atol``: inexact Newton's
+    absolute tolerance on the unpreconditioned residual
+    (:class:`ForcingTerm`; None or 0: :data:`CG_RTOL` relative only).
+    ``start``: this rank's rows of the Krylov method's start (a warm
+    start), its fixed rows replaced by their values (:func:`_start`);
+    None: from 0."""
     from petsc4py import PETSc
 
     A, M, ksp, x, b = (obj[k] for k in ("A", "M", "ksp", "x", "b"))
@@ -257,7 +342,11 @@ def solve_newton_system(obj, rows, added=None, coupling=None):
         M.zeroRowsColumns(fixed, diag=obj["scale"])
         ksp = gmres_ksp(obj)
         ksp.setOperators(full, M)
-        x.set(0.0)
+        _start(obj, ksp, atol, start, fixed, vals[own])
+        if _met(full, x, b, atol):  # the warm start is the answer
+            full.destroy()
+            obj["its"].append(0)
+            return
         ksp.solve(b, x)
         full.destroy()
         if ksp.getConvergedReason() < 0:
@@ -267,15 +356,60 @@ def solve_newton_system(obj, rows, added=None, coupling=None):
         return
     M.zeroRowsColumns(fixed, diag=obj["scale"], x=x, b=b)
     ksp.setOperators(M)
-    x.set(0.0)
+    if obj.get("krylov"):
+        _start(obj, ksp, atol, start, fixed, vals[own])
+        if _met(M, x, b, atol):  # the warm start is the answer
+            obj["its"].append(0)
+            return
+    else:
+        x.set(0.0)
     ksp.solve(b, x)
     its = ksp.getIterationNumber()
     if ksp.getConvergedReason() < 0 and obj.get("krylov"):
         ksp, its = _direct_solve(obj, M, b, x), 0  # CG failed: counted
+        obj["fallbacks"] += 1
     if ksp.getConvergedReason() < 0:
         raise EngineError(f"KSP failed on a Newton system (reason "
                           f"{ksp.getConvergedReason()})")
     obj["its"].append(its)
+
+
+def _start(obj, ksp, atol, start, fixed, values):
+    """(every rank) The Krylov solve's tolerances (``atol`` on the true
+    residual, :func:`solve_newton_system`) and its start in ``obj["x"]``:
+    0 when ``start`` is None, else ``start`` with the ``fixed`` rows at
+    their ``values`` (on the constraints, as the in-process path's
+    starts)."""
+    from petsc4py import PETSc
+
+    x = obj["x"]
+    if atol:
+        ksp.setNormType(PETSc.KSP.NormType.UNPRECONDITIONED)
+    elif ksp is obj["ksp"]:
+        ksp.setNormType(obj["norm"])
+    ksp.setTolerances(rtol=CG_RTOL, atol=float(atol or 0.0), max_it=5000)
+    if start is None:
+        x.set(0.0)
+        ksp.setInitialGuessNonzero(False)
+        return
+    x.setArray(start)
+    x.setValues(fixed, values)
+    x.assemble()
+    ksp.setInitialGuessNonzero(True)
+
+
+def _met(A, x, b, atol):
+    """(every rank) Whether the start x already meets ``atol``:
+    ‖b − A x‖ ≤ atol; then neither the solve nor the preconditioner's
+    set-up (GAMG's hierarchy, rebuilt for each Newton system) is run."""
+    if not atol:
+        return False
+    r = b.duplicate()
+    A.mult(x, r)
+    r.aypx(-1.0, b)
+    met = r.norm() <= atol
+    r.destroy()
+    return bool(met)
 
 
 def gmres_ksp(obj):
@@ -376,3 +510,15 @@ def _its(service, payload, local):
     its = list(service.objects["newton"]["its"])
     service.objects["newton"]["its"].clear()
     return its
+
+
+@command("ksp_record")
+def _record(service, payload, local):
+    """Each Newton system's tolerance relative to err_k
+    (:attr:`ForcingTerm.history`, as the Newton loops recorded it) and
+    the number of CG solves that fell back to MUMPS."""
+    obj = service.objects["newton"]
+    out = dict(forcing=list(obj["forcing"]), fallbacks=obj["fallbacks"])
+    obj["forcing"].clear()
+    obj["fallbacks"] = 0
+    return out

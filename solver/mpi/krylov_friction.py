@@ -29,9 +29,16 @@ serial path's ``K_hat`` branch: K̂ plus the 3D slip springs (a 2 × 2 block
 per slip node, inside K̂'s pattern), the active normal and stick tangent
 rows of y = R u fixed symmetrically (``MatZeroRowsColumns``), solved by
 :func:`~.full.solve_newton_system` for the correction from the iterate,
-to its relative tolerance of the residual there (no forcing term: the
-Newton path may differ from the serial one, the answer of each step does
-not).
+inexactly: to η_k·err_k/w (w the contact rows' weight in the stopping
+measure) with the in-process path's forcing term (:class:`~.full.
+ForcingTerm`, Eisenstat & Walker's choice 2 and its safeguards), as the
+serial AMG path (:mod:`solver.contact.friction.active_set`), and once
+the sets repeat to the relative 10⁻¹² as before. Warm starts as there: a
+step from u_{κ−1}, each system from the iterate moved onto its
+constraints (the correction 0 but at the fixed rows; the last step's
+increment as the first system's start took more CG iterations,
+benchmarks/README.md). The Newton path may differ from the serial one,
+the answer of each step does not (the same stopping test).
 
 Every converged step is verified on every node of every rank
 (:func:`~.partitioned_full.verify_on_ranks`, the Coulomb bound
@@ -70,12 +77,12 @@ from ..contact.friction.active_set import (LaggedProjection, SlipRule,
                                            iterate_measure, slip_loads,
                                            slip_springs, stopping)
 from ..contact.friction.steps import FIELDS, STOPPING_TEST, step_fields
-from ..contact.verify import (describe_failure, verification_tolerance,
-                              worst_verification)
+from ..contact.verify import (contact_weight, describe_failure,
+                              verification_tolerance, worst_verification)
 from ..ncp import MESSAGES
 from ..problem.partitioned import load_mass
 from .distributed import KEY, PartitionedResult, write_pvtu
-from .full import ksp_statistics, solve_newton_system
+from .full import ForcingTerm, ksp_statistics, solve_newton_system
 from .partitioned_friction import STEP_FIELDS_SAVED
 from .partitioned_full import Reduction, set_up_ranks, verify_on_ranks
 from .service import command
@@ -364,6 +371,7 @@ def _iterate(system, newton, A, tol, max_iter, state):
     u = u_previous.copy()
     status, detail, njev, nfev, krylov = 1, "", 0, 0, 0
     its = newton["its"]
+    forcing, previous_sets = ForcingTerm(red), None
     while True:
         du = u - u_previous
         r = system._force(du)
@@ -383,6 +391,15 @@ def _iterate(system, newton, A, tol, max_iter, state):
         slide[t_free] = (R @ du)[free_rows]
         w = ((g - c_t * slide) * t_free).reshape(m, k)
         stick, slip, hat, size = rule(w, b)
+        sets = (active, stick, slip)
+        final = red.all(previous_sets is not None and all(
+            np.array_equal(a, p) for a, p in zip(sets, previous_sets)))
+        previous_sets = sets
+        weight = contact_weight(system.load_norm, system.lambda_plus(lam),
+                                system.gathered(system.lumped_t * g))
+        atol = forcing.tolerance(err, final, weight, final and k == 2
+                                 and not red.all(not slip.any()))
+        newton["forcing"].append(forcing.history[-1])
         rhs = Rf.copy()
         if not implicit:  # the lagged bound's loads
             force = slip_loads(system.lumped, b, hat, slip)
@@ -421,7 +438,7 @@ def _iterate(system, newton, A, tol, max_iter, state):
         solve_newton_system(newton, dict(
             shift_rows=np.zeros(0, np.int64), shift=np.zeros(0),
             fixed_rows=fixed + lo, fixed=values - y[fixed]), springs,
-            coupling)
+            coupling, atol=atol, start=np.zeros(n))
         for matrix in (springs, coupling):
             if matrix is not None:
                 matrix.destroy()

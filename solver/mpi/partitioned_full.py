@@ -22,7 +22,9 @@ the line search and every other decision are summed over the ranks
 (:class:`Reduction`), and each Newton system is
 :mod:`.full`'s (:func:`~.full.newton_rows`: the Jacobian's rows in the
 node frames, :func:`~.full.solve_newton_system`: the shifted, eliminated
-K̂ by CG + GAMG or BoomerAMG). The answer is verified on every node of
+K̂ by CG + GAMG or BoomerAMG), inexactly: to the in-process path's
+forcing term, the last system of an active set to 10⁻¹², warm-started
+(:class:`~.full.ForcingTerm`). The answer is verified on every node of
 every rank, the measures reduced by MPI (:func:`verify_on_ranks`); each
 rank writes its piece of ``result.pvtu`` with the contact fields read
 from the ranks (:mod:`.distributed`'s writer)."""
@@ -41,7 +43,7 @@ from ..errors import ProblemError
 from ..ncp import MESSAGES, solve_ncp, stable_norm
 from ..problem.partitioned import load_contact_slice, read_partitioned_meta
 from .distributed import KEY, PartitionedResult, shares
-from .full import (ksp_statistics, newton_ksp, newton_rows,
+from .full import (ForcingTerm, ksp_statistics, newton_ksp, newton_rows,
                    solve_newton_system)
 from .service import command
 
@@ -173,6 +175,7 @@ class LocalSystem:
         self.Rf = R @ self.f
         self.u_vec = K_hat.createVecRight()
         self.Ku_vec = K_hat.createVecLeft()
+        self.forcing, self._last = None, None
 
     def rotated(self, v):
         """(K̂ v) on this rank's rows, v in the node frames (collective)."""
@@ -187,19 +190,29 @@ class LocalSystem:
     def residual(self, u):
         r = self.rotated(self.R @ u) - self.Rf
         gap = self.geometry.gap - (self.R @ u)[self.y_rows]
-        return r[self.x_rows], -r[self.y_rows], self.gap_scale * gap
+        parts = r[self.x_rows], -r[self.y_rows], self.gap_scale * gap
+        self._last = (u, parts)
+        return parts
 
     def jacobian(self, u):
-        return _Jacobian(self)
+        """The Jacobian at u, with the stopping measure there, its
+        contact rows unweighted (the forcing term's err_k, in the Newton
+        system's units; the last residual's when it was at u)."""
+        last = self._last
+        parts = last[1] if self.reduction.all(
+            last is not None and np.array_equal(last[0], u)) \
+            else self.residual(u)
+        return _Jacobian(self, u, self.error(*parts, weighted=False))
 
     def lambda_plus(self, A):
         """‖λ⁺‖₂ over all ranks, as a one-entry array for the scales of
         :mod:`solver.contact.verify` (which read λ only through it)."""
         return np.array([self.reduction.norm(np.maximum(A, 0.0))])
 
-    def error(self, E, A, B):
+    def error(self, E, A, B, weighted=True):
         """:meth:`FrictionlessSystem.error` over all ranks."""
-        w = contact_weight(self.load_norm, self.lambda_plus(A))
+        w = contact_weight(self.load_norm, self.lambda_plus(A)) \
+            if weighted else 1.0
         return float(np.hypot(self.reduction.norm(E), w * self.reduction.norm(
             np.minimum(A, self.stiffness / self.gap_scale * B))))
 
@@ -208,17 +221,18 @@ class LocalSystem:
 
 
 class _Jacobian:
-    def __init__(self, system):
-        self.system = system
+    def __init__(self, system, u, err):
+        self.system, self.u, self.err = system, u, err
 
     def combine(self, wa, wb):
         return _Combined(self.system, np.asarray(wa, float),
-                         np.asarray(wb, float))
+                         np.asarray(wb, float), self)
 
 
 class _Combined:
-    def __init__(self, system, wa, wb):
+    def __init__(self, system, wa, wb, at):
         self.system, self.wa, self.wb = system, wa, wb
+        self.u, self.err = at.u, at.err
 
     def direction(self, F):
         s = self.system
@@ -230,9 +244,17 @@ class _Combined:
         for key in ("shift_rows", "fixed_rows"):
             rows[key] = rows[key] + s.lo  # global rows
         obj = s.service.objects["newton"]
+        atol, guess = None, None
+        if s.forcing is not None:  # inexact Newton, warm start (.full)
+            final, guess = s.forcing.step(self.u, self.wa != 0.0)
+            atol = s.forcing.tolerance(self.err, final)
+            obj["forcing"].append(s.forcing.history[-1])
         obj["b"].setArray(rhs)
-        solve_newton_system(obj, rows)
+        solve_newton_system(obj, rows, atol=atol, start=np.zeros(
+            len(rhs)) if guess is None else s.R @ guess)
         d = s.R.T @ obj["x"].getArray()
+        if s.forcing is not None:
+            s.forcing.target = self.u + d
         return d if s.reduction.all(np.all(np.isfinite(d))) else None
 
 
@@ -416,6 +438,7 @@ def _newton(service, payload, local):
     K_hat = service.objects["newton"]["A"]
     system = LocalSystem(service, K_hat, obj["f"], obj["R"],
                          obj["geometry"], k, k, payload["load_norm"], red)
+    system.forcing = ForcingTerm(red)
     result = solve_ncp(system.residual, system.jacobian,
                        np.zeros(obj["R"].shape[0]), method="min",
                        tol=payload["tol"], max_iter=payload["max_iter"],

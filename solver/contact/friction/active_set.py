@@ -106,9 +106,9 @@ from scipy.optimize import OptimizeResult
 from ...linalg.amg import projected_cg, projected_gmres
 from ...linalg.threads import single_blas_thread
 from ...ncp import MESSAGES
-from ..frictionless.active_set import (ETA_GAMMA, ETA_MAX, ETA_MIN,
-                                       FINAL_FRACTION, KRYLOV_MAX,
-                                       eliminated_step, hertz_start,
+from ..frictionless.active_set import (ETA_MAX, FINAL_FRACTION,
+                                       KRYLOV_MAX, eliminated_step,
+                                       forcing_term, hertz_start,
                                        is_orthogonal, record_krylov)
 from ..geometry import rotate_stiffness
 from ..strategies.reduction import FullSystem
@@ -463,18 +463,15 @@ def _iterate(system, multigrid, x0, load, tol, max_iter, hertz, K_hat,
         history["stick"].append(int(stick.sum()))
         history["slip"].append(int(slip.sum()))
         if previous_error is not None and not final:
-            eta_new = ETA_GAMMA * (err / previous_error) ** 2
-            if ETA_GAMMA * eta ** 2 > 0.1:
-                eta_new = max(eta_new, ETA_GAMMA * eta ** 2)
-            eta = min(max(eta_new, ETA_MIN), ETA_MAX)
+            eta = forcing_term(eta, err, previous_error)
         weight = contact_weight(system.load_norm, lam, lumped_t * g)
         floor = FINAL_FRACTION * tol * scale / weight
         atol = max(eta * err / weight, floor)
         if final and not (k == 2 and slip.any()):
             atol = floor  # the sets repeat: the last, linear system
         elif final:  # 3D slip directions still turn: Newton's own rate
-            atol = max(min(ETA_GAMMA * (err / previous_error) ** 2,
-                           ETA_MAX) * err / weight, floor)
+            atol = max(forcing_term(eta, err, previous_error, False)
+                       * err / weight, floor)
         free_solve = hertz and njev == 0 and not active.any() \
             and not stick.any()
         # the loads and springs of the slip nodes (module docstring)

@@ -90,7 +90,8 @@ from ..geometry import rotate_stiffness, rotation
 from ..verify import force_scale
 
 __all__ = ["solve_active_set", "hertz_start", "eliminated_step",
-           "is_orthogonal", "record_krylov", "ETA_MIN", "ETA_MAX",
+           "is_orthogonal", "record_krylov", "forcing_term", "ETA_MIN",
+           "ETA_MAX",
            "ETA_GAMMA", "FINAL_FRACTION", "KRYLOV_MAX", "START_FRACTION",
            "ORTHOGONAL_TOL"]
 
@@ -112,6 +113,23 @@ START_FRACTION = 0.5
 #: The Newton systems are solved on the eliminated K̂_FF when
 #: max |R Rᵀ − I| is at most this (module docstring), else projected.
 ORTHOGONAL_TOL = 1e-12
+
+
+def forcing_term(eta, err, previous_error, safeguard=True):
+    """Eisenstat & Walker's (SISC 17, 1996) choice 2 for the next Newton
+    system (module docstring): η_k = γ (err_k / err_{k−1})², with
+    ``safeguard`` at least γη_{k−1}² where that exceeds 0.1 and kept
+    within [:data:`ETA_MIN`, :data:`ETA_MAX`], ``eta`` = η_{k−1};
+    without it only capped at :data:`ETA_MAX` (Newton's own rate, the
+    friction path's last systems while 3D slip directions still turn).
+    Shared by every inexact Newton of the project, in process and under
+    ``mpiexec`` (:class:`solver.mpi.full.ForcingTerm`)."""
+    eta_new = ETA_GAMMA * (err / previous_error) ** 2
+    if not safeguard:
+        return min(eta_new, ETA_MAX)
+    if ETA_GAMMA * eta ** 2 > 0.1:
+        eta_new = max(eta_new, ETA_GAMMA * eta ** 2)
+    return min(max(eta_new, ETA_MIN), ETA_MAX)
 
 
 def hertz_start(interference):
@@ -283,10 +301,7 @@ def _iterate(problem, geometry, multigrid, tol, max_iter, x0, gap_scale,
         final = previous_set is not None and np.array_equal(active,
                                                             previous_set)
         if previous_error is not None and not final:
-            eta_new = ETA_GAMMA * (err / previous_error) ** 2
-            if ETA_GAMMA * eta ** 2 > 0.1:
-                eta_new = max(eta_new, ETA_GAMMA * eta ** 2)
-            eta = min(max(eta_new, ETA_MIN), ETA_MAX)
+            eta = forcing_term(eta, err, previous_error)
         floor = FINAL_FRACTION * tol * scale
         atol = floor if final else max(eta * err, floor)
         free = x0 is None and njev == 0 and not active.any() \
