@@ -6,16 +6,12 @@ Reference: the whole-load renumbering of the same problem
 (``solver.problem.renumber.renumbered``: SciPy's fancy indexing of the
 whole K, then ``Layout.matrix``, another code path), whose folder must
 come out byte for byte the same; ``--no-renumber`` against the whole-load
-conversion in the file's order, as before the default changed. Faults: a
-full disk (``ulimit -f``) and SIGTERM during the bucket pass. No PETSc
-here (the 2-rank run on the default folder is tests/test_renumber.py's)."""
+conversion in the file's order, as before the default changed (a full
+disk and signals during the bucket pass: tests/faults/test_fault_convert.py).
+No PETSc here (the 2-rank run on the default folder is tests/test_renumber.py's)."""
 
 import json
 import os
-import signal
-import subprocess
-import sys
-import time
 
 import numpy as np
 import pytest
@@ -125,68 +121,11 @@ def test_no_renumber_keeps_the_files_order(files, tmp_path, capsys):
                                       meta["n_nodes"]])) < 0.05
 
 
-CONVERT = ("import sys; import solver.mpi.convert as c; "
-           "c.BLOCK_NNZ = int(sys.argv[1]); from solver.cli import main; "
-           "sys.exit(main(['convert'] + sys.argv[2:]))")
-
-
-def leftovers(folder):
-    """Files of ``folder`` named like a temporary (a dot first), at any
-    depth, and whether problem.json is there."""
-    hidden = [os.path.join(root, name) for root, dirs, names in
-              os.walk(folder) for name in names + dirs
-              if name.startswith(".")]
-    return hidden, (folder / "problem.json").exists()
-
-
-@pytest.mark.parametrize("again", [False, True])
-def test_full_disk_during_the_buckets(files, tmp_path, again):
-    """A full disk (``ulimit -f`` 64 KiB: the buckets hold ≈ 2 MB) while
-    the buckets are written: exit 4, one line, no bucket left and no
-    problem.json, also when the folder held a complete conversion before
-    (its problem.json goes first, so the mix of old and new files never
-    reads as complete)."""
-    out = tmp_path / "out"
-    if again:
-        conversion.convert(str(files[1]), out)
-        assert (out / "problem.json").exists()
-    done = subprocess.run(
-        f"ulimit -f 64; exec {sys.executable} -c \"{CONVERT}\" 4096 "
-        f"{files[1]} {out}", shell=True, capture_output=True, text=True,
-        executable="/bin/bash", env=dict(os.environ, PYTHONPATH=os.pathsep
-                                         .join(sys.path)))
-    assert done.returncode == 4, done.stderr
-    assert "Traceback" not in done.stderr
-    lines = done.stderr.strip().splitlines()
-    assert len(lines) == 1 and lines[0].startswith("error: cannot write")
-    assert "too large" in lines[0] or "space" in lines[0], lines[0]
-    assert leftovers(out) == ([], False)
-
-
-@pytest.mark.parametrize("signum", [signal.SIGTERM, signal.SIGINT])
-def test_signal_during_the_buckets(files, tmp_path, signum):
-    """SIGTERM / SIGINT once the buckets' folder exists (buckets of 64
-    entries, so the pass lasts): exit 128 + the signal, one line, no
-    bucket left and no problem.json."""
-    out = tmp_path / "out"
-    proc = subprocess.Popen(
-        [sys.executable, "-c", CONVERT, "64", str(files[1]), str(out)],
-        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-        env=dict(os.environ, PYTHONPATH=os.pathsep.join(sys.path)))
-    try:
-        deadline = time.monotonic() + 120
-        while not (out.exists() and any(name.startswith(".K-buckets")
-                                         for name in os.listdir(out))):
-            assert time.monotonic() < deadline and proc.poll() is None, \
-                proc.communicate()
-            time.sleep(0.005)
-        proc.send_signal(signum)
-        _, stderr = proc.communicate(timeout=120)
-    finally:
-        if proc.poll() is None:
-            proc.kill()
-    assert proc.returncode == 128 + signum, stderr
-    assert "Traceback" not in stderr
-    assert stderr.strip().splitlines() == [
-        f"error: interrupted by {signal.Signals(signum).name}"]
-    assert leftovers(out) == ([], False)
+def test_buckets_capped_by_the_open_files(files, whole, tmp_path,
+                                         monkeypatch):
+    """More buckets than files may be open (16 here, with blocks of 97
+    entries: ≈ 1,000 wanted): larger buckets, the same folder."""
+    monkeypatch.setattr(conversion, "BLOCK_NNZ", 97)
+    monkeypatch.setattr(conversion, "_open_files", lambda: 16)
+    conversion.convert(str(files[1]), tmp_path / "c")
+    assert listing(tmp_path / "c") == listing(whole)

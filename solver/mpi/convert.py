@@ -207,6 +207,16 @@ def _convert(problem, folder, gap, stream, node_ids=None):
     return meta
 
 
+def _open_files():
+    """How many bucket files :class:`_RenumberedK` keeps open at most:
+    half the process's limit of open files (1024 by default: 512 buckets,
+    so a block of 2²¹ entries up to ≈ 10⁹ entries of K)."""
+    import resource
+
+    soft, _ = resource.getrlimit(resource.RLIMIT_NOFILE)
+    return max(16, (soft if soft != resource.RLIM_INFINITY else 4096) // 2)
+
+
 def _start_matrix(stream, n, lengths):
     """PETSc's binary AIJ header and row lengths of an n×n matrix written
     to ``stream``; returns the offsets of its column indices and values
@@ -518,8 +528,9 @@ class _RenumberedK:
     external bucket sort (Knuth, *TAOCP* vol. 3, §5.4, external sorting):
     K's rows are read in the file's order by blocks, their rows and
     columns renumbered, and every entry appended to the bucket file of
-    its new block of rows (≈ :data:`BLOCK_NNZ` entries each, in a
-    temporary folder beside K.petsc); then each bucket is read back,
+    its new block of rows (≈ :data:`BLOCK_NNZ` entries each, more when
+    there would be more buckets than :func:`_open_files`; in a temporary
+    folder beside K.petsc); then each bucket is read back,
     sorted by (row, column) and written at its place in K.petsc. Peak
     memory: O(n) vectors plus one block; disk: one more K for the
     buckets, each removed once written. The file equals the whole-load
@@ -545,8 +556,10 @@ class _RenumberedK:
         lengths[new] = np.diff(stream.indptr)
         nnz = int(lengths.sum())
         row_ptr = np.r_[0, np.cumsum(lengths)]
-        # buckets: consecutive padded rows of ≈ BLOCK_NNZ entries
-        cuts = np.searchsorted(row_ptr, np.arange(BLOCK_NNZ, nnz, BLOCK_NNZ),
+        # buckets: consecutive padded rows of ≈ BLOCK_NNZ entries, or
+        # more, so that every bucket file stays open (half the limit)
+        size = max(BLOCK_NNZ, -(-nnz // _open_files()))
+        cuts = np.searchsorted(row_ptr, np.arange(size, nnz, size),
                                "right") - 1
         bounds = np.unique(np.r_[0, cuts, layout.n])
         bucket_of = (np.searchsorted(bounds, np.arange(layout.n), "right")
