@@ -72,14 +72,17 @@ def test_streamed_files_equal_the_whole_load(files, tmp_path, monkeypatch,
                                              capsys, block):
     """Byte for byte the files of the whole load, from the uncompressed
     and the compressed file, in one block and in blocks of 97 entries
-    (rows cut anywhere, Dirichlet rows between)."""
+    (rows cut anywhere, Dirichlet rows between); in the file's order (the
+    renumbered default: tests/test_convert_renumbered.py)."""
     compressed, plain = files
     monkeypatch.setattr(conversion, "BLOCK_NNZ", block)
-    whole = conversion.convert(load_problem(compressed), tmp_path / "whole")
+    whole = conversion.convert(load_problem(compressed), tmp_path / "whole",
+                               renumber=False)
     assert not whole.pop("streamed")
     whole.pop("source")
     for name, source in (("plain", plain), ("deflated", compressed)):
-        streamed = conversion.convert(str(source), tmp_path / name)
+        streamed = conversion.convert(str(source), tmp_path / name,
+                                      renumber=False)
         assert capsys.readouterr().err == ""
         assert streamed.pop("streamed")
         streamed.pop("source")

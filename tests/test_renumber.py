@@ -72,22 +72,25 @@ def test_cut_cells_counts_cells_across_ranges():
 
 @pytest.mark.skipif(REASON is not None, reason=str(REASON))
 def test_renumbered_folder_on_two_ranks(block, tmp_path, capsys):
-    """convert --renumber, then the folder's full system by CG + GAMG on 2
-    ranks: u at every node and the nodes in contact as the serial engine's
-    in the .npz's numbering (node_ids.npy maps the outputs back); the
-    plain conversion prints the note, the renumbered one does not."""
+    """The converter's default (renumbered, streamed), then the folder's
+    full system by CG + GAMG on 2 ranks: u at every node and the nodes in
+    contact as the serial engine's in the .npz's numbering (node_ids.npy
+    maps the outputs back); --no-renumber prints the note, the default
+    does not."""
     from solver import save_problem
 
     problem, result = block
     npz = save_problem(tmp_path / "b.npz", problem)
-    assert main(["convert", str(npz), str(tmp_path / "plain")]) == 0
-    assert "--renumber" in capsys.readouterr().out
+    assert main(["convert", str(npz), str(tmp_path / "plain"),
+                 "--no-renumber"]) == 0
+    assert "--no-renumber" in capsys.readouterr().out
     folder = tmp_path / "ren"
-    assert main(["convert", str(npz), str(folder), "--renumber"]) == 0
+    assert main(["convert", str(npz), str(folder)]) == 0
     out = capsys.readouterr().out
     assert "renumbered" in out and "note" not in out
     meta = json.loads((folder / "problem.json").read_text())
     assert meta["renumbered"] and meta["cut_cells"] < CUT_WARN
+    assert meta["streamed"]
     summary = run_full(folder, tmp_path / "o", 2)
     n_nodes, dim = problem.nodes.shape
     u, cells = read_pvtu(tmp_path / "o" / "result.pvtu", n_nodes, dim)

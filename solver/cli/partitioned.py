@@ -8,6 +8,7 @@ folder, marks it "running" and turns every outcome into an exit code);
 
 import argparse
 import os
+import signal
 import sys
 
 import numpy as np
@@ -122,9 +123,32 @@ def converted_job(args, plan, folder, emit, write_summary,
                                emit, summary_with_conversion, progress_bar)
 
 
+#: The signals that stop the converter (as they stop a run: cli/run.py).
+_SIGNALS = (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)
+
+
+class _Stopped(BaseException):
+    """A signal of :data:`_SIGNALS` arrived during the conversion (the
+    converter's ``finally`` clauses then remove its temporary files;
+    cli/run.py's ``Interrupted`` is not imported: run imports this
+    module's job)."""
+
+    def __init__(self, signum):
+        super().__init__(signum)
+        self.signum = signum
+
+
+def _stop(signum, frame):
+    for other in _SIGNALS:  # once: the clean-up runs unbroken
+        signal.signal(other, signal.SIG_IGN)
+    raise _Stopped(signum)
+
+
 def convert_main(argv):
     """``python -m solver convert X.npz DIR [--gap obstacle|body]
-    [--renumber]``."""
+    [--no-renumber]``. SIGINT, SIGTERM and SIGHUP end it as they end a
+    run (exit 128 + the signal, one line), after the converter has
+    removed its temporary files and any ``problem.json``."""
     parser = argparse.ArgumentParser(
         prog="python -m solver convert",
         description="Write a rigid-obstacle problem file as the partitioned "
@@ -137,17 +161,27 @@ def convert_main(argv):
     parser.add_argument("--gap", choices=("obstacle", "body"),
                         default="obstacle",
                         help="gaps and normals as the solver's --gap")
-    parser.add_argument("--renumber", action="store_true",
+    parser.add_argument("--renumber", action=argparse.BooleanOptionalAction,
+                        default=True,
                         help="number the nodes in reverse Cuthill-McKee "
-                             "order first, so that each rank's node range "
-                             "is a compact piece of the body (the whole "
-                             "problem in memory); outputs keep the .npz's "
-                             "node numbers")
+                             "order, so that each rank's node range is a "
+                             "compact piece of the body (the default; "
+                             "streamed, K never in memory); outputs keep "
+                             "the .npz's node numbers. --no-renumber keeps "
+                             "the file's order")
     args = parser.parse_args(argv)
     from ..mpi.convert import CUT_WARN, convert
 
+    saved = {signum: signal.signal(signum, _stop) for signum in _SIGNALS}
     try:
         meta = convert(args.problem, args.folder, args.gap, args.renumber)
+    except KeyboardInterrupt:
+        print("error: interrupted by SIGINT", file=sys.stderr)
+        return 128 + signal.SIGINT
+    except _Stopped as exc:
+        print(f"error: interrupted by {signal.Signals(exc.signum).name}",
+              file=sys.stderr)
+        return 128 + exc.signum
     except SolverError as exc:
         print(f"error: {_one_line(exc)}", file=sys.stderr)
         return EXIT_INPUT
@@ -155,6 +189,9 @@ def convert_main(argv):
         print(f"error: cannot write {exc.filename or args.folder}: "
               f"{_one_line(exc.strerror or exc)}", file=sys.stderr)
         return EXIT_OUTPUT
+    finally:
+        for signum, handler in saved.items():
+            signal.signal(signum, handler)
     print(f"{args.folder}: {meta['n']} rows ({meta['n_free']} free DOFs), "
           f"{meta['nnz']} nonzeros, {meta['n_nodes']} nodes"
           + (", renumbered" if meta["renumbered"] else ""))
@@ -162,6 +199,6 @@ def convert_main(argv):
         print(f"note: {100 * meta['cut_cells']:.0f} % of the cells have "
               f"nodes in both halves of the node numbering, so on 2 ranks "
               f"or more each rank's rows of K couple to most of the others' "
-              f"and its memory grows with the whole problem: convert with "
-              f"--renumber for the Krylov path (--system full)")
+              f"and its memory grows with the whole problem: convert "
+              f"without --no-renumber for the Krylov path (--system full)")
     return EXIT_OK

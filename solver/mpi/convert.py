@@ -19,9 +19,16 @@ NumPy's ``.npy`` header; :func:`stored_members`), their pages given back
 after each block (``madvise``); in a compressed one (``save_problem``
 and SfePy's export write ``np.savez_compressed``) they are decompressed
 in order, block by block (:func:`compressed_members`). A K the blocks
-cannot copy as they are (column indices not sorted in a row, or nodes
-renumbered in ``dof_map``) is converted from the whole load instead,
-with one line saying so."""
+cannot copy as they are (column indices not sorted in a row, or, kept
+in the file's order, nodes renumbered in ``dof_map``) is converted from
+the whole load instead, with one line saying so.
+
+By default the nodes are renumbered first, so that each rank's node
+range is a compact piece of the body (:mod:`solver.problem.renumber`):
+the order comes from the cells (reverse Cuthill–McKee on the node
+graph, O(cells)), and K is written in it without being held, by an
+external bucket sort (:class:`_RenumberedK`); ``--no-renumber`` keeps
+the file's order."""
 
 import json
 import mmap
@@ -71,38 +78,59 @@ def _padded_rows(rows, red_to_pad):
     return np.where(rows >= 0, red_to_pad[np.maximum(rows, 0)], -1)
 
 
-def convert(source, folder, gap="obstacle", renumber=False):
+def convert(source, folder, gap="obstacle", renumber=True):
     """Write the partitioned folder ``folder`` from the problem file
     ``source`` (a path or a loaded problem); returns ``problem.json``'s
     contents. One rigid body against a rigid obstacle only (ProblemError
     otherwise); the nodes with a Dirichlet DOF take part as rollers, as
     :func:`solver.solve`'s default. A path to a ``.npz`` is streamed
     (module docstring; ``meta``'s ``"streamed"`` says whether it was).
-    ``renumber``: the nodes in reverse Cuthill–McKee order first
-    (:mod:`solver.problem.renumber`; the whole problem in memory), their
-    ``.npz`` numbers kept in ``node_ids.npy``. ``meta``'s ``"cut_cells"``:
-    the share of the cells with nodes in both halves of the numbering
-    (:func:`~solver.problem.renumber.cut_cells`; the command line says to
-    renumber above :data:`CUT_WARN`)."""
-    if renumber:
-        problem = source if not isinstance(source, (str, os.PathLike)) \
-            else load_problem(source)
-        if problem.kind != "mesh":
-            return _convert(problem, folder, gap, None)  # refused there
-        problem, order = renumbered(problem)
-        return _convert(problem, folder, gap, None, order)
+    ``renumber`` (the default): the nodes in reverse Cuthill–McKee order
+    (:mod:`solver.problem.renumber`), their ``.npz`` numbers kept in
+    ``node_ids.npy``; from a path, streamed too (:class:`_RenumberedK`);
+    ``renumber=False`` keeps the file's order. ``meta``'s
+    ``"cut_cells"``: the share of the cells with nodes in both halves of
+    the numbering (:func:`~solver.problem.renumber.cut_cells`; the
+    command line says to renumber above :data:`CUT_WARN`).
+
+    ``problem.json`` is written last and removed first (when the folder
+    is written again), so a conversion cut short (a full disk, a signal)
+    leaves no folder that reads as complete; the temporary buckets of the
+    renumbered K are removed on every way out but SIGKILL."""
+    try:
+        return _converted(source, folder, gap, renumber)
+    except BaseException:
+        try:  # a problem.json cut short by a full disk
+            os.unlink(os.path.join(folder, "problem.json"))
+        except OSError:
+            pass
+        raise
+
+
+def _converted(source, folder, gap, renumber):
     if not isinstance(source, (str, os.PathLike)):
+        if renumber and source.kind == "mesh":
+            problem, order = renumbered(source)
+            return _convert(problem, folder, gap, None, order)
         return _convert(source, folder, gap, None)
     try:
         stream = _StreamedK.open(source)
         try:
+            if renumber and stream.problem.kind == "mesh":
+                problem, order = renumbered(stream.problem)
+                return _convert(problem, folder, gap,
+                                _RenumberedK(stream, order), order)
             return _convert(stream.problem, folder, gap, stream)
         finally:
             stream.close()
     except _WholeLoad as exc:
         print(f"{os.fspath(source)}: {exc}: converting it from the whole "
               f"problem in memory", file=sys.stderr)
-    return _convert(load_problem(source), folder, gap, None)
+    problem = load_problem(source)
+    if renumber and problem.kind == "mesh":
+        problem, order = renumbered(problem)
+        return _convert(problem, folder, gap, None, order)
+    return _convert(problem, folder, gap, None)
 
 
 def _convert(problem, folder, gap, stream, node_ids=None):
@@ -115,6 +143,10 @@ def _convert(problem, folder, gap, stream, node_ids=None):
     geometry = contact_geometry(problem, gap, rollers=True)
     layout = Layout(problem, 1)
     os.makedirs(folder, exist_ok=True)
+    try:  # the folder of an earlier conversion reads as complete no more
+        os.unlink(os.path.join(folder, "problem.json"))
+    except FileNotFoundError:
+        pass
     K = problem.K  # streamed: diag(K), which is all that is read of it here
     scale = float(np.mean(K.diagonal())) if K.shape[0] else 1.0
     if stream is None:
@@ -167,10 +199,42 @@ def _convert(problem, folder, gap, stream, node_ids=None):
         load_path=problem.load_path is not None,
         meta=problem.meta, source=str(problem.source),
         streamed=stream is not None, renumbered=node_ids is not None,
+        node_order="reverse Cuthill-McKee" if node_ids is not None
+        else "file",
         cut_cells=round(cut, 4))
     with open(os.path.join(folder, "problem.json"), "w") as stream_:
         json.dump(meta, stream_, indent=1, sort_keys=True)
     return meta
+
+
+def _open_files():
+    """How many bucket files :class:`_RenumberedK` keeps open at most:
+    half the process's limit of open files (1024 by default: 512 buckets,
+    so a block of 2²¹ entries up to ≈ 10⁹ entries of K)."""
+    import resource
+
+    soft, _ = resource.getrlimit(resource.RLIMIT_NOFILE)
+    return max(16, (soft if soft != resource.RLIM_INFINITY else 4096) // 2)
+
+
+def _start_matrix(stream, n, lengths):
+    """PETSc's binary AIJ header and row lengths of an n×n matrix written
+    to ``stream``; returns the offsets of its column indices and values
+    (filled by :func:`_write_entries`)."""
+    header = np.dtype(">i4")
+    nnz = int(lengths.sum())
+    np.array([MAT_CLASSID, n, n, nnz], header).tofile(stream)
+    lengths.astype(header).tofile(stream)
+    base_i = stream.tell()
+    return base_i, base_i + 4 * nnz
+
+
+def _write_entries(stream, bases, offset, cols, vals):
+    """Entries ``offset``.. of the matrix started by :func:`_start_matrix`."""
+    stream.seek(bases[0] + 4 * offset)
+    cols.astype(">i4").tofile(stream)
+    stream.seek(bases[1] + 8 * offset)
+    vals.astype(">f8").tofile(stream)
 
 
 #: The members that stay mapped (every other one is read: O(n) vectors).
@@ -431,13 +495,8 @@ class _StreamedK:
         lengths = np.ones(layout.n, np.int64)
         lengths[r] = np.diff(self.indptr)
         nnz = int(lengths.sum())
-        header = np.dtype(">i4")
         with open(path, "wb") as stream:
-            np.array([MAT_CLASSID, layout.n, layout.n, nnz],
-                     header).tofile(stream)
-            lengths.astype(header).tofile(stream)
-            base_i = stream.tell()
-            base_v = base_i + 4 * nnz
+            bases = _start_matrix(stream, layout.n, lengths)
             row_ptr = np.r_[0, np.cumsum(lengths)]
             done = 0  # padded rows written
             for r0, r1, cols, vals in self._blocks(0, self.n):
@@ -456,10 +515,109 @@ class _StreamedK:
                 copied[at] = False
                 out_i[copied], out_v[copied] = r[cols], vals
                 out_i[at], out_v[at] = rows[dirichlet], scale
-                offset = int(row_ptr[done])
-                stream.seek(base_i + 4 * offset)
-                out_i.astype(header).tofile(stream)
-                stream.seek(base_v + 8 * offset)
-                out_v.astype(">f8").tofile(stream)
+                _write_entries(stream, bases, int(row_ptr[done]), out_i,
+                               out_v)
                 done = stop
         return nnz
+
+
+class _RenumberedK:
+    """K of a streamed file (:class:`_StreamedK`) written in the renumbered
+    order (:func:`~solver.problem.renumber.renumbered` of its stand-in,
+    ``problem``; ``order``: the nodes' order) without K in memory, by an
+    external bucket sort (Knuth, *TAOCP* vol. 3, §5.4, external sorting):
+    K's rows are read in the file's order by blocks, their rows and
+    columns renumbered, and every entry appended to the bucket file of
+    its new block of rows (≈ :data:`BLOCK_NNZ` entries each, more when
+    there would be more buckets than :func:`_open_files`; in a temporary
+    folder beside K.petsc); then each bucket is read back,
+    sorted by (row, column) and written at its place in K.petsc. Peak
+    memory: O(n) vectors plus one block; disk: one more K for the
+    buckets, each removed once written. The file equals the whole-load
+    conversion of the renumbered problem byte for byte."""
+
+    def __init__(self, stream, order):
+        from ..problem.renumber import dof_order
+
+        self.stream = stream
+        dofs = dof_order(stream.problem.dof_map, order)
+        self.dof_new = np.empty(len(dofs), np.int64)
+        self.dof_new[dofs] = np.arange(len(dofs))
+
+    def write_padded(self, path, layout, scale):
+        """As :meth:`_StreamedK.write_padded`, K's rows and columns in the
+        renumbered padded numbering; returns its number of entries."""
+        import shutil
+        import tempfile
+
+        stream = self.stream
+        new = layout.red_to_pad[self.dof_new]  # file's DOF -> padded row
+        lengths = np.ones(layout.n, np.int64)
+        lengths[new] = np.diff(stream.indptr)
+        nnz = int(lengths.sum())
+        row_ptr = np.r_[0, np.cumsum(lengths)]
+        # buckets: consecutive padded rows of ≈ BLOCK_NNZ entries, or
+        # more, so that every bucket file stays open (half the limit)
+        size = max(BLOCK_NNZ, -(-nnz // _open_files()))
+        cuts = np.searchsorted(row_ptr, np.arange(size, nnz, size),
+                               "right") - 1
+        bounds = np.unique(np.r_[0, cuts, layout.n])
+        bucket_of = (np.searchsorted(bounds, np.arange(layout.n), "right")
+                     - 1).astype(np.int32)
+        index = np.int32 if layout.n < 2 ** 31 else np.int64
+        entry = np.dtype([("row", index), ("col", index), ("val", "<f8")])
+        temp = tempfile.mkdtemp(prefix=".K-buckets-",
+                                dir=os.path.dirname(os.path.abspath(path)))
+        try:
+            names = [os.path.join(temp, f"{k}.bin")
+                     for k in range(len(bounds) - 1)]
+            files = [open(name, "wb") for name in names]
+            try:
+                for r0, r1, cols, vals in stream._blocks(0, stream.n):
+                    rows = np.repeat(new[r0:r1],
+                                     np.diff(stream.indptr[r0:r1 + 1]))
+                    part = np.empty(len(rows), entry)
+                    part["row"], part["col"], part["val"] = \
+                        rows, new[cols], vals
+                    del rows, cols, vals
+                    which = bucket_of[part["row"]]
+                    by = np.argsort(which, kind="stable")
+                    part, which = part[by], which[by]
+                    ends = np.searchsorted(which, np.arange(len(files) + 1))
+                    for k in np.flatnonzero(np.diff(ends)):  # (write,
+                        # not tofile: a full disk then says so, errno set)
+                        files[k].write(part[ends[k]:ends[k + 1]].data)
+                    del part, which, by
+            finally:
+                for file in files:
+                    file.close()
+            with open(path, "wb") as out:
+                bases = _start_matrix(out, layout.n, lengths)
+                dirichlet = np.ones(layout.n, bool)
+                dirichlet[new] = False
+                for k, name in enumerate(names):
+                    self._write_bucket(out, np.fromfile(name, entry),
+                                       bounds[k], bounds[k + 1], row_ptr,
+                                       dirichlet, scale, bases)
+                    os.unlink(name)  # the disk back as the file grows
+        finally:
+            shutil.rmtree(temp, ignore_errors=True)
+        return nnz
+
+    @staticmethod
+    def _write_bucket(out, part, first, end, row_ptr, dirichlet, scale,
+                      bases):
+        """Rows first:end of K.petsc from their bucket ``part``: sorted by
+        (row, column), an identity row (``scale``) at each Dirichlet row."""
+        key = part["row"].astype(np.int64) * len(dirichlet) + part["col"]
+        part = part[np.argsort(key, kind="stable")]
+        del key
+        a, b = int(row_ptr[first]), int(row_ptr[end])
+        out_i, out_v = np.empty(b - a, np.int64), np.empty(b - a)
+        copied = np.ones(b - a, bool)
+        rows = np.arange(first, end)[dirichlet[first:end]]
+        at = row_ptr[rows] - a
+        copied[at] = False
+        out_i[copied], out_v[copied] = part["col"], part["val"]
+        out_i[at], out_v[at] = rows, scale
+        _write_entries(out, bases, a, out_i, out_v)

@@ -199,7 +199,8 @@ def solve_partitioned_krylov_friction(svc, folder, friction, steps=None,
             os.makedirs(where, exist_ok=True)
             pieces = svc.call("partitioned_write", dict(
                 folder=os.fspath(folder), outdir=where,
-                kind=meta["cell_kind"], dim=dim, name=name), contact)
+                kind=meta["cell_kind"], dim=dim, name=name,
+                root_share=1.0), contact)
             path = os.path.join(where, f"{name}.pvtu")
             write_pvtu(path, pieces)
             files += [os.path.join("steps", os.path.basename(p))
@@ -253,6 +254,10 @@ def solve_partitioned_krylov_friction(svc, folder, friction, steps=None,
         input="partitioned", per_rank=stats, n=int(meta["n"]),
         krylov_per_newton=float(np.mean(its)) if its else 0.0, **krylov)
     result = PartitionedResult(summary, svc, folder, meta, final)
+    # every piece cut as the rows (equal shares, as the frictionless full
+    # system's): with the direct path's ROOT_SHARE rank 1 of 2 wrote 2/3
+    # of the cells and fetched u of rank 0's rows for them
+    result.write_options = dict(root_share=1.0)
     result.timesteps = timesteps
     return result
 

@@ -26,7 +26,7 @@ A rigid-obstacle mesh problem is written once, by
 * ``mass.npz`` (optional: folders converted before friction ran on them
   lack it): Γc's boundary mass matrix M (SciPy's ``save_npz``), for
   friction's lumped D and M⁻¹λ.
-* ``node_ids.npy`` (only with ``convert --renumber``,
+* ``node_ids.npy`` (only in a renumbered folder, the converter's default,
   :mod:`solver.problem.renumber`): the ``.npz``'s number of each of the
   folder's nodes; the outputs' ``node`` fields give these
   (:func:`original_nodes`).
@@ -70,7 +70,7 @@ NODE_IDS = "node_ids.npy"
 
 def original_nodes(folder, nodes):
     """The ``.npz``'s numbers of the folder's ``nodes`` (the same numbers
-    unless the folder was converted with ``--renumber``: its
+    unless the folder was renumbered, the converter's default: its
     :data:`NODE_IDS`, memory-mapped, only ``nodes`` read)."""
     path = os.path.join(folder, NODE_IDS)
     nodes = np.asarray(nodes, np.int64)

@@ -1,6 +1,10 @@
 r"""A mesh problem with its nodes renumbered so that consecutive node
 ranges are compact pieces of the body (``python -m solver convert X.npz
-DIR --renumber``).
+DIR`` does by default; ``--no-renumber`` keeps the file's order). The
+order is computed from the cells alone (:func:`node_order`), so the
+converter renumbers a streamed file's stand-in problem (K's diagonal in
+K's place) here and writes K itself in the new order by blocks
+(the bucket pass of :mod:`solver.mpi.convert`; :func:`dof_order`).
 
 The partitioned folder gives every rank a consecutive range of nodes
 (:mod:`solver.problem.partitioned`). A mesh generator's numbering need not
@@ -28,7 +32,7 @@ from scipy.sparse import csgraph
 from ..errors import ProblemError
 from .core import validate_arrays
 
-__all__ = ["renumbered", "node_order", "cut_cells"]
+__all__ = ["renumbered", "node_order", "dof_order", "cut_cells"]
 
 
 def node_order(cells, n_nodes):
@@ -43,6 +47,18 @@ def node_order(cells, n_nodes):
                           shape=(n_nodes, n_nodes))
     return np.asarray(csgraph.reverse_cuthill_mckee(
         graph, symmetric_mode=True), np.int64)
+
+
+def dof_order(dof_map, order):
+    """The reduced DOFs in the renumbered problem's order: ``dofs[j]`` is
+    the original reduced DOF that becomes reduced DOF j (sorted by new
+    node, then component; ``dof_map``'s rows are (node, component),
+    ``order`` is :func:`node_order`'s)."""
+    dof_map = np.asarray(dof_map, np.int64)
+    new = np.empty(len(order), np.int64)
+    new[order] = np.arange(len(order))
+    d = int(dof_map[:, 1].max()) + 1 if len(dof_map) else 1
+    return np.argsort(new[dof_map[:, 0]] * d + dof_map[:, 1], kind="stable")
 
 
 def cut_cells(cells, starts):
@@ -64,13 +80,12 @@ def renumbered(problem):
         raise ProblemError("renumber: a problem without a mesh has no "
                            "nodes to renumber")
     arrays = problem.to_arrays()
-    n_nodes, d = np.shape(arrays["nodes"])
+    n_nodes = len(arrays["nodes"])
     order = node_order(arrays["cells"], n_nodes)
     new = np.empty(n_nodes, np.int64)
     new[order] = np.arange(n_nodes)
     dof_map = np.asarray(arrays["dof_map"], np.int64)
-    # reduced DOFs sorted by their new node, then component
-    dofs = np.argsort(new[dof_map[:, 0]] * d + dof_map[:, 1], kind="stable")
+    dofs = dof_order(dof_map, order)
     dof_new = np.empty(len(dofs), np.int64)
     dof_new[dofs] = np.arange(len(dofs))
     K = sp.csr_matrix((arrays["K_data"], arrays["K_indices"],
