@@ -63,7 +63,7 @@ def partitioned_job(args, plan, open_folder, emit, write_summary,
     with atomic_path(folder.file("contact.npz")) as tmp:
         np.savez(tmp, **contact)
     with atomic_path(folder.file("result.pvtu")) as tmp:
-        write_pvtu(tmp, pieces)
+        write_pvtu(tmp, pieces, bool(result.meta.get("mortar")))
     if plan.friction is not None and result.timesteps:
         with atomic_path(folder.file("result.pvd")) as tmp:
             write_pvd(tmp, result.timesteps)

@@ -329,6 +329,11 @@ class PartitionedProblem:
         """ProblemError (one line) if friction cannot run on this folder:
         no Γc mass matrix (converted by an earlier version), or the
         ``.npz`` had a load path, which the folder does not keep."""
+        if self.meta.get("interface_shift"):
+            raise ProblemError(f"{self.path}: prescribed displacements at "
+                               "the mortar interface enter its gaps at the "
+                               "full load, and friction steps scale them; "
+                               "not supported with friction (as the .npz)")
         if self.meta.get("load_path"):
             raise ProblemError(f"{self.path}: the problem file has a load "
                                "path, which the partitioned folder does not "
