@@ -213,3 +213,11 @@ def test_refusals_are_one_line(curved, tmp_path, capsys):
     err = capsys.readouterr().err
     assert "held by contact only" in err and len(err.strip().splitlines()) \
         == 1
+    # a two-body folder missing a file of mortar/: one line at load
+    import shutil
+
+    broken = tmp_path / "broken"
+    shutil.copytree(folder, broken)
+    (broken / "mortar" / "E_val.npy").unlink()
+    with pytest.raises(SolverError, match="missing mortar/E_val.npy"):
+        load_problem(broken)

@@ -102,8 +102,8 @@ def convert_main(argv):
     [--renumber]``."""
     parser = argparse.ArgumentParser(
         prog="python -m solver convert",
-        description="Write a rigid-obstacle problem file as the partitioned "
-                    "folder that mpiexec -n N python -m solver DIR --engine "
+        description="Write a rigid-obstacle or two-body (dual mortar) "
+                    "problem file as the partitioned folder that mpiexec -n N python -m solver DIR --engine "
                     "petsc reads in part: K and f in PETSc's binary format, "
                     "the mesh as .npy, the contact geometry as contact.npz "
                     "(docs/npz-format.md, 'The partitioned problem').")

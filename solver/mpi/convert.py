@@ -43,11 +43,12 @@ from ..problem.archive import Archive
 from ..problem.core import validate_arrays
 from ..problem.format import KEYS
 from ..problem.renumber import cut_cells, renumbered
-from ..problem.partitioned import (MASS_FILE, MAT_CLASSID, NODE_IDS,
+from ..problem.partitioned import (MASS_FILE, MAT_CLASSID, MORTAR_DIR,
+                                   NODE_IDS,
                                    PARTITIONED_VERSION,
                                    write_contact_by_node, write_petsc_matrix,
                                    write_petsc_vector)
-from .convert_mortar import MORTAR_DIR, MortarConversion
+from .convert_mortar import MortarConversion
 from .layout import Layout
 
 __all__ = ["convert", "CELL_KINDS", "stored_members", "compressed_members",

@@ -33,11 +33,9 @@ from ..contact.geometry import contact_geometry
 from ..contact.two_body import TwoBodyMap
 from ..errors import ProblemError
 from ..ncp import stable_norm
+from ..problem.partitioned import MORTAR_DIR
 
-__all__ = ["MortarConversion", "MORTAR_DIR"]
-
-#: The folder's sub-folder of the coupling's arrays.
-MORTAR_DIR = "mortar"
+__all__ = ["MortarConversion"]
 
 
 class MortarConversion:

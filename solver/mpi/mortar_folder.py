@@ -27,7 +27,7 @@ import os
 
 import numpy as np
 
-from .convert_mortar import MORTAR_DIR
+from ..problem.partitioned import MORTAR_DIR
 
 __all__ = ["read_E", "coupled_map", "body_modes", "in_bodies"]
 
