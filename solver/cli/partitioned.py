@@ -64,7 +64,7 @@ def partitioned_job(args, plan, open_folder, emit, write_summary,
     with atomic_path(folder.file("contact.npz")) as tmp:
         np.savez(tmp, **contact)
     with atomic_path(folder.file("result.pvtu")) as tmp:
-        write_pvtu(tmp, pieces)
+        write_pvtu(tmp, pieces, bool(result.meta.get("mortar")))
     if plan.friction is not None and result.timesteps:
         with atomic_path(folder.file("result.pvd")) as tmp:
             write_pvd(tmp, result.timesteps)
@@ -151,8 +151,8 @@ def convert_main(argv):
     removed its temporary files and any ``problem.json``."""
     parser = argparse.ArgumentParser(
         prog="python -m solver convert",
-        description="Write a rigid-obstacle problem file as the partitioned "
-                    "folder that mpiexec -n N python -m solver DIR --engine "
+        description="Write a rigid-obstacle or two-body (dual mortar) "
+                    "problem file as the partitioned folder that mpiexec -n N python -m solver DIR --engine "
                     "petsc reads in part: K and f in PETSc's binary format, "
                     "the mesh as .npy, the contact geometry as contact.npz "
                     "(docs/npz-format.md, 'The partitioned problem').")

@@ -58,6 +58,7 @@ class Case:
     contact: str
     engine: str
     support: str = "supported"  # or "floating": K has rigid-body modes
+    coupling: str = "none"  # "mortar": a folder of two bodies
 
     def __str__(self):
         held = ", held by contact only" if self.support == "floating" \
@@ -74,9 +75,11 @@ def case_of(problem, friction, engine):
     name = engine if isinstance(engine, str) or engine is None \
         else engine.name
     floating = bodies in ("rigid", "two-body") and problem.floating
+    mortar = bodies == "partitioned" and bool(problem.meta.get("mortar"))
     return Case(problem.dim, bodies,
                 "frictionless" if friction is None else "friction",
-                name or "serial", "floating" if floating else "supported")
+                name or "serial", "floating" if floating else "supported",
+                "mortar" if mortar else "none")
 
 
 def given_options(options):
@@ -203,6 +206,13 @@ PARTITIONED_RULES = (
                  "system (system='full'); the condensed system factorises "
                  "with MUMPS", lambda c, s, g: "ksp" in g
                  and s["system"] != "full", "ksp without system='full'"),
+    Rule("system", "a partitioned problem of two bodies (a folder)",
+         "the ranks solve the nodewise problem in v = Tu on the full system "
+         "(K̂ = PᵀKP, P = T⁻¹Rᵀ): system='full' with ksp='gamg' or "
+         "ksp='hypre', frictionless or with friction; the condensed path "
+         "(MUMPS's Schur complement of K) does not take the coupling",
+         lambda c, s, g: c.coupling == "mortar" and s["system"] != "full",
+         "system (condensed) on two bodies"),
     _partitioned("method", "the full system of a folder runs φ_min (its "
                  "Newton decisions reduced over the ranks)",
                  lambda c, s, g: s["system"] == "full"

@@ -33,6 +33,7 @@ the file's order."""
 import json
 import mmap
 import os
+import shutil
 import struct
 import sys
 import zipfile
@@ -49,10 +50,12 @@ from ..problem.archive import Archive
 from ..problem.core import validate_arrays
 from ..problem.format import KEYS
 from ..problem.renumber import cut_cells, renumbered
-from ..problem.partitioned import (MASS_FILE, MAT_CLASSID, NODE_IDS,
+from ..problem.partitioned import (MASS_FILE, MAT_CLASSID, MORTAR_DIR,
+                                   NODE_IDS,
                                    PARTITIONED_VERSION,
                                    write_contact_by_node, write_petsc_matrix,
                                    write_petsc_vector)
+from .convert_mortar import MortarConversion
 from .layout import Layout
 
 __all__ = ["convert", "CELL_KINDS", "stored_members", "compressed_members",
@@ -134,13 +137,18 @@ def _converted(source, folder, gap, renumber):
 
 
 def _convert(problem, folder, gap, stream, node_ids=None):
-    if problem.kind != "mesh" or problem.n_bodies != 1 or problem.is_mortar:
+    if problem.kind != "mesh" or (problem.n_bodies != 1
+                                  and not problem.is_mortar):
         raise ProblemError("convert: the partitioned problem holds one "
-                           "elastic body against a rigid obstacle (a mesh "
-                           "problem without mortar interfaces)")
+                           "elastic body against a rigid obstacle, or two "
+                           "bodies coupled by a mortar interface (a mesh "
+                           "problem)")
     n_nodes = len(problem.nodes)
     cut = cut_cells(problem.cells, np.array([0, n_nodes // 2, n_nodes]))
-    geometry = contact_geometry(problem, gap, rollers=True)
+    # two bodies: the nodewise problem in v = T u (convert_mortar)
+    mortar = MortarConversion(problem) if problem.is_mortar else None
+    geometry = mortar.geometry if mortar else contact_geometry(
+        problem, gap, rollers=True)
     layout = Layout(problem, 1)
     os.makedirs(folder, exist_ok=True)
     try:  # the folder of an earlier conversion reads as complete no more
@@ -181,7 +189,12 @@ def _convert(problem, folder, gap, stream, node_ids=None):
     write_contact_by_node(folder, contact)
     # Γc's boundary mass matrix (n_contact², sparse): friction's lumped D
     # and M⁻¹λ (solver.mpi.partitioned_friction)
-    sp.save_npz(os.path.join(folder, MASS_FILE), sp.csr_matrix(problem.M))
+    sp.save_npz(os.path.join(folder, MASS_FILE), sp.csr_matrix(
+        mortar.mass if mortar else problem.M))
+    if mortar:
+        mortar.write(folder, layout.red_to_pad)
+    elif os.path.isdir(os.path.join(folder, MORTAR_DIR)):  # converted again
+        shutil.rmtree(os.path.join(folder, MORTAR_DIR))
     ids = os.path.join(folder, NODE_IDS)
     if node_ids is not None:
         np.save(ids, np.asarray(node_ids, np.int64))
@@ -192,8 +205,10 @@ def _convert(problem, folder, gap, stream, node_ids=None):
         n_nodes=int(len(problem.nodes)), n=int(layout.n),
         n_free=int(problem.n_dofs), nnz=nnz,
         cell_kind=CELL_KINDS[problem.dim, cells.shape[1]],
-        dirichlet_scale=scale, load_norm=float(stable_norm(problem.f)),
-        stiffness=float(contact_stiffness(K, geometry)), gap_mode=gap,
+        dirichlet_scale=scale, load_norm=mortar.load_norm if mortar
+        else float(stable_norm(problem.f)),
+        stiffness=float(contact_stiffness(K, geometry)),
+        gap_mode="given" if mortar else gap,
         n_contact=int(problem.n_contact),
         excluded=int(len(geometry.excluded["index"])),
         load_path=problem.load_path is not None,
@@ -201,7 +216,7 @@ def _convert(problem, folder, gap, stream, node_ids=None):
         streamed=stream is not None, renumbered=node_ids is not None,
         node_order="reverse Cuthill-McKee" if node_ids is not None
         else "file",
-        cut_cells=round(cut, 4))
+        cut_cells=round(cut, 4), **(mortar.meta() if mortar else {}))
     with open(os.path.join(folder, "problem.json"), "w") as stream_:
         json.dump(meta, stream_, indent=1, sort_keys=True)
     return meta

@@ -42,6 +42,7 @@ from ..ncp import MESSAGES, solve_ncp
 from ..problem.partitioned import (load_contact, original_nodes,
                                    read_partitioned_meta)
 from .layout import gather_vector
+from .mortar_folder import in_bodies
 from .pivots import schur_cholesky
 from .schur import interior
 from .service import command
@@ -354,14 +355,16 @@ VTK_TYPES = {("f", 8): "Float64", ("i", 8): "Int64", ("i", 4): "Int32",
              ("u", 1): "UInt8"}
 
 
-def write_pvtu(path, pieces):
+def write_pvtu(path, pieces, mortar=False):
     """The ``.pvtu`` index of the pieces ``pieces`` (file names beside it,
     one per rank; point arrays as :func:`piece_mesh` writes them) that
-    ParaView opens as one unstructured grid."""
+    ParaView opens as one unstructured grid; ``mortar``: a two-body
+    folder's, whose pieces also hold the mortar forces."""
     fields = "".join(
         f'      <PDataArray type="{kind}" Name="{name}" '
         f'NumberOfComponents="{components}"/>\n'
-        for name, kind, components in POINT_ARRAYS)
+        for name, kind, components in POINT_ARRAYS
+        + (MORTAR_ARRAYS if mortar else ()))
     sources = "".join(f'    <Piece Source="{os.path.basename(p)}"/>\n'
                       for p in pieces)
     text = ('<?xml version="1.0"?>\n'
@@ -381,6 +384,10 @@ POINT_ARRAYS = (("u", "Float64", 3), ("node", "Int64", 1),
                 ("contact_force", "Float64", 1),
                 ("in_contact", "Int32", 1),
                 ("initial_gap", "Float64", 1))
+
+#: A two-body folder's further point array: the mortar forces in u, K u − f
+#: (:func:`~.mortar_folder.in_bodies`).
+MORTAR_ARRAYS = (("mortar_force", "Float64", 3),)
 
 
 def _reader(path, comm):
@@ -543,7 +550,8 @@ def _write(service, payload, local):
         folder, service.rank, service.size,
         payload.get("root_share", ROOT_SHARE))
     rows = (points[:, None] * dim + np.arange(dim)).ravel()
-    u = _values_at(service, service.objects[KEY]["u"], rows).reshape(-1, dim)
+    u_vec, force = in_bodies(service.objects[KEY])  # two bodies: T⁻¹v
+    u = _values_at(service, u_vec, rows).reshape(-1, dim)
     n = len(points)
     if payload.get("fields"):  # on the ranks: (λ, s) at a node's 1st rows
         values = _values_at(service, service.objects[KEY]["fields"],
@@ -562,6 +570,13 @@ def _write(service, payload, local):
     data["contact_force"][at[mine]] = contact["force"][mine]
     data["in_contact"][at[mine]] = contact["in_contact"][mine]
     data["initial_gap"][at[mine]] = contact["gap"][mine]
+    if force is not None:  # two bodies: the mortar forces in u
+        data["mortar_force"] = np.c_[_values_at(service, force, rows)
+                                     .reshape(-1, dim), np.zeros((n, 3 - dim))]
+    if u_vec is not service.objects[KEY]["u"]:
+        u_vec.destroy()
+        if force is not None:
+            force.destroy()
     name = payload.get("name", "result")  # a friction step's: step_KKKK
     path = os.path.join(payload["outdir"], f"{name}-{service.rank}.vtu")
     # a temporary name until complete (swept by the output folder if cut

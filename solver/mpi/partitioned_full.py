@@ -45,6 +45,7 @@ from ..problem.partitioned import load_contact_slice, read_partitioned_meta
 from .distributed import KEY, PartitionedResult, shares
 from .full import (ForcingTerm, ksp_statistics, newton_ksp, newton_rows,
                    solve_newton_system)
+from .mortar_folder import body_modes, coupled_map
 from .service import command
 
 __all__ = ["solve_partitioned_full", "Reduction", "LocalSystem",
@@ -115,7 +116,7 @@ def set_up_ranks(svc, folder, ksp):
                                       ranges=ranges, dim=dim))
     svc.call("partitioned_full_setup", dict(
         folder=os.fspath(folder), dim=dim, ksp=ksp,
-        gap_mode=meta["gap_mode"]))
+        gap_mode=meta["gap_mode"], mortar=bool(meta.get("mortar"))))
     svc.call("check_spd_cg", dict(key="newton"))  # K̂ SPD? (full.py)
     return meta
 
@@ -287,6 +288,7 @@ def verify_on_ranks(system, u, lam, tol, friction=None):
         contact[dofs] = -lam[:, None] * g.normal
         if t is not None:
             contact[dofs] += (t[:, :, None] * g.tangents).sum(axis=1)
+    system.contact_force = contact[:-1]  # f_v (two bodies' outputs)
     r = system.Ku(u) - f - contact[:-1]
     off = r.copy()  # the rows off Γc: ‖·‖/‖f‖ as the direct path's
     off[dofs[dofs >= 0]] = 0.0
@@ -393,6 +395,9 @@ def _setup(service, payload, local):
              (RT.indices + lo).astype(PETSc.IntType), RT.data),
         comm=A.getComm())
     P.assemble()
+    if payload.get("mortar"):  # two bodies: P = T⁻¹Rᵀ, f̃ = T⁻ᵀf
+        RT_mat, P = P, coupled_map(obj, payload["folder"], A, P)
+        RT_mat.destroy()
     options = PETSc.Options()
     if service.size > 1 and not options.hasName("matptap_via"):
         options.setValue("matptap_via", PTAP_VIA)  # also GAMG's products
@@ -411,7 +416,9 @@ def _setup(service, payload, local):
     diagonal.destroy()
     vecs = []
     if payload["ksp"] == "gamg":
-        Z = _rigid_modes(payload["folder"], lo, hi, dim, R, service.comm)
+        Z = body_modes(payload["folder"], lo, hi, dim, R, obj["T_inv"],
+                       service.comm) if payload.get("mortar") else \
+            _rigid_modes(payload["folder"], lo, hi, dim, R, service.comm)
         for j in range(Z.shape[1]):
             v = K_hat.createVecLeft()
             v.setArray(np.ascontiguousarray(Z[:, j]))
@@ -424,7 +431,8 @@ def _setup(service, payload, local):
         obj.pop(key).destroy()
     obj.update(R=R, geometry=geometry, arrays=arrays)
     service.objects.setdefault("counts", {}).update(
-        contact_nodes=int(len(arrays["gap"])))
+        contact_nodes=int(len(arrays["gap"])),
+        E_entries=int(obj.pop("E_entries", 0)))
 
 
 @command("partitioned_full_newton")
@@ -449,6 +457,7 @@ def _newton(service, payload, local):
     threshold = 1e-9 * force_scale(system.load_norm,
                                    system.lambda_plus(lam))
     verification = verify_on_ranks(system, u, lam, payload["tol"])
+    obj["force_v"] = system.contact_force  # the writer's mortar forces
     if "u" in obj:
         obj.pop("u").destroy()
     obj["u"] = K_hat.createVecRight()

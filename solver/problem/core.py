@@ -239,6 +239,12 @@ class ContactProblem:
             self._modes = (self.K, modes)
         return self._modes[1]
 
+    def held_by_supports(self):
+        """Whether the Dirichlet conditions alone hold every body (no rigid
+        motion left free), known without K (:meth:`_pinned`): the
+        partitioned converter's test, which streams K."""
+        return self._pinned()
+
     def _pinned(self):
         """Whether every body's Dirichlet DOFs stop all its rigid motions
         (:func:`solver.linalg.kernel.pinned`, on the DOFs of the cells'

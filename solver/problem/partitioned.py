@@ -1,7 +1,7 @@
 r"""The partitioned problem: a folder that each rank of ``mpiexec`` reads
 in part (docs/npz-format.md, "The partitioned problem").
 
-A rigid-obstacle mesh problem is written once, by
+A rigid-obstacle (or two-body mortar) mesh problem is written once, by
 ``python -m solver convert X.npz DIR`` (:mod:`solver.mpi.convert`), as
 
 * ``K.petsc``, ``f.petsc``: K and f in **PETSc's binary format**
@@ -26,6 +26,11 @@ A rigid-obstacle mesh problem is written once, by
 * ``mass.npz`` (optional: folders converted before friction ran on them
   lack it): Γc's boundary mass matrix M (SciPy's ``save_npz``), for
   friction's lumped D and M⁻¹λ.
+* ``mortar/`` (only for two bodies, ``problem.json``'s ``"mortar"``;
+  :mod:`solver.mpi.convert_mortar`): E of the mortar's change of
+  variables u = (I + E) v by rows, each node's body, D and the covered
+  flags; then ``contact/`` and ``mass.npz`` are the nodewise problem's
+  (the slave nodes' gaps s_j, normals and diag(D)).
 * ``node_ids.npy`` (only in a renumbered folder, the converter's default,
   :mod:`solver.problem.renumber`): the ``.npz``'s number of each of the
   folder's nodes; the outputs' ``node`` fields give these
@@ -48,7 +53,7 @@ __all__ = ["PARTITIONED_VERSION", "FILES", "MASS_FILE", "load_mass",
            "read_partitioned_meta", "load_contact", "is_partitioned",
            "PartitionedProblem", "write_contact_by_node",
            "load_contact_slice", "CONTACT_DIR", "NODE_IDS",
-           "original_nodes"]
+           "original_nodes", "MORTAR_DIR", "MORTAR_FILES"]
 
 #: Version of the folder's layout (``problem.json``'s ``"partitioned"``).
 PARTITIONED_VERSION = 1
@@ -60,6 +65,12 @@ MAT_CLASSID, VEC_CLASSID = 1211216, 1211214
 #: The folder's files.
 FILES = ("problem.json", "K.petsc", "f.petsc", "nodes.npy", "cells.npy",
          "contact.npz")
+
+#: A two-body folder's sub-folder of the coupling, and its files
+#: (:mod:`solver.mpi.convert_mortar`).
+MORTAR_DIR = "mortar"
+MORTAR_FILES = ("E_row.npy", "E_col.npy", "E_val.npy", "body.npy", "D.npy",
+                "covered.npy")
 
 #: Γc's boundary mass matrix (optional, friction only).
 MASS_FILE = "mass.npz"
@@ -198,6 +209,11 @@ def read_partitioned_meta(folder):
         raise ProblemError(f"{path}: n must be n_nodes × dim")
     _check_binary(folder, "K.petsc", MAT_CLASSID, (n, n, nnz))
     _check_binary(folder, "f.petsc", VEC_CLASSID, (n,))
+    if meta.get("mortar"):  # two bodies: E and the bodies, by rows
+        for name in MORTAR_FILES:
+            if not os.path.isfile(os.path.join(folder, MORTAR_DIR, name)):
+                raise ProblemError(f"{folder}: a two-body folder missing "
+                                   f"mortar/{name}: convert the .npz again")
     for name, shape in (("nodes.npy", (int(meta["n_nodes"]),
                                        int(meta["dim"]))),
                         ("cells.npy", None)):
@@ -329,6 +345,11 @@ class PartitionedProblem:
         """ProblemError (one line) if friction cannot run on this folder:
         no Γc mass matrix (converted by an earlier version), or the
         ``.npz`` had a load path, which the folder does not keep."""
+        if self.meta.get("interface_shift"):
+            raise ProblemError(f"{self.path}: prescribed displacements at "
+                               "the mortar interface enter its gaps at the "
+                               "full load, and friction steps scale them; "
+                               "not supported with friction (as the .npz)")
         if self.meta.get("load_path"):
             raise ProblemError(f"{self.path}: the problem file has a load "
                                "path, which the partitioned folder does not "
