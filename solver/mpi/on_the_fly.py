@@ -77,13 +77,15 @@ FULL = 1 << 20
 
 
 def _with_errno(exc, root):
-    """The conversion's ``OSError`` with an errno and a file name, for the
-    command line's one line: NumPy's ``tofile`` reports a short write
+    """The conversion's ``OSError`` with an errno and a file name (the
+    temporary folder's where it has none), for the command line's one
+    line: NumPy's ``tofile`` reports a short write
     (a full disk) as "N requested and M written", without either; it is
     ENOSPC when the disk under ``root`` has (almost) no room left, else
     EIO."""
-    if exc.errno is not None:
-        return exc
+    if exc.errno is not None:  # a write into an open file names none
+        return exc if exc.filename else OSError(
+            exc.errno, exc.strerror or os.strerror(exc.errno), root)
     try:
         disk = os.statvfs(root)
         full = disk.f_bavail * disk.f_frsize < FULL
