@@ -165,3 +165,47 @@ def test_options_that_do_not_apply_are_refused(block):
         with pytest.raises(SolverError, match="partitioned") as info:
             solve(problem, engine="petsc", **options)
         assert text in str(info.value)
+
+
+#: Three solves of one folder in one mpiexec launch (``solver.solve``
+#: inside ``spmd``): frictionless, friction, frictionless again.
+AGAIN = """
+import json, sys
+import numpy as np
+import solver
+from solver.mpi.engine import spmd
+
+def main(folder, out):
+    said = []
+    for options in ({}, {"friction": 0.3, "steps": 2}, {}):
+        r = solver.solve(solver.load_problem(folder), engine="petsc",
+                         system="full", ksp="gamg", **options)
+        said.append([bool(r.success), r["nit"]])
+        np.savez(f"{out}-{len(said)}.npz", **r.contact)
+    with open(out + ".json", "w") as stream:
+        json.dump(said, stream)
+
+spmd(main, sys.argv[1], sys.argv[2])
+"""
+
+
+def test_solves_again_in_one_process(block, tmp_path):
+    """An API user's second and third solve of a folder in the same
+    ``mpiexec`` processes: the ranks' objects of the first are replaced,
+    not reused (a second solve once failed on every rank: the first
+    solve's node frames were taken for PETSc objects), and the third
+    equals the first (frictionless, u_n and forces to 1e-12)."""
+    _, _, folder = block
+    script = tmp_path / "again.py"
+    script.write_text(AGAIN)
+    out = tmp_path / "again"
+    code, _, err = mpirun(2, [script, folder, out])
+    assert code == 0, err[-2000:]
+    said = json.loads(out.with_suffix(".json").read_text())
+    assert all(ok for ok, _ in said), said
+    assert said[0][1] == said[2][1]
+    first, third = (np.load(f"{out}-{k}.npz") for k in (1, 3))
+    for name in ("force", "u_n"):
+        scale = np.abs(first[name]).max()
+        assert np.abs(first[name] - third[name]).max() <= 1e-12 * scale
+    assert np.array_equal(first["in_contact"], third["in_contact"])

@@ -409,9 +409,10 @@ def _load(service, payload, local):
     comm = PETSc.COMM_WORLD
     ranges = [tuple(r) for r in payload["ranges"]]
     service.objects["ranges"] = ranges
-    old = service.objects.pop(KEY, {})
-    for item in old.values():
-        item.destroy()
+    old = service.objects.pop(KEY, {})  # an earlier solve's in this process
+    for item in old.values():  # PETSc's objects; the rest (R, the
+        if hasattr(item, "destroy"):  # geometry) goes with the dict
+            item.destroy()
     a, b = ranges[service.rank]
     n = ranges[-1][1]
     folder = payload["folder"]
