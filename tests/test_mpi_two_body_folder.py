@@ -124,9 +124,11 @@ def check_frictionless(problem, reference, folder, out, summary):
     check_rows(folder, summary, dim)
 
 
-def frictionless_on(problem, folder, tmp_path, rank_counts):
+def frictionless_on(problem, folder, tmp_path, rank_counts, krylov=None):
     """The serial run's answer on each of ``rank_counts`` (check_…), the
-    same Newton count on every rank count; returns the reference."""
+    same Newton count on every rank count; returns the reference.
+    ``krylov``: a dict that receives each rank count's CG iterations per
+    Newton system."""
     reference = solve(problem)
     assert reference.success
     counts = set()
@@ -135,6 +137,8 @@ def frictionless_on(problem, folder, tmp_path, rank_counts):
         summary = run(folder, out, ranks)
         check_frictionless(problem, reference, folder, out, summary)
         counts.add(summary["nit"])
+        if krylov is not None:
+            krylov[ranks] = summary["engine"]["krylov_per_newton"]
     assert len(counts) == 1
     return reference
 

@@ -30,15 +30,25 @@ def test_frictionless_1_2_ranks_as_the_serial_engine(boxes, tmp_path):
     """u, D_jj λ_j, the mortar forces in u and the contact set of the
     serial run to 1e-8 on 1 rank, and on 2 from the folder converted with
     ``--renumber`` (E, the bodies and Γc renumbered with the nodes; the
-    outputs in the .npz's numbers; measured ≤ 1.5e-12)."""
+    outputs in the .npz's numbers; measured ≤ 1.5e-12); CG per Newton
+    system within ±10 % on 1 and 2 ranks and no more than GAMG with its
+    aggregation threshold gives (a regression guard, measured values in
+    the test)."""
     from solver.cli import main
 
     problem, folder = boxes
-    frictionless_on(problem, folder, tmp_path / "plain", (1,))
+    krylov = {}
+    frictionless_on(problem, folder, tmp_path / "plain", (1,), krylov)
     renumbered = tmp_path / "renumbered"
     assert main(["convert", str(problem.source), str(renumbered),
                  "--renumber"]) == 0
-    frictionless_on(problem, renumbered, tmp_path / "rcm", (2,))
+    frictionless_on(problem, renumbered, tmp_path / "rcm", (2,), krylov)
+    # issue 33: Krylov counts independent of the rank count within ±10 %;
+    # CG per Newton system measured 15.3 / 14.3 with GAMG's threshold
+    # 0.02 (full.GAMG_OPTIONS), 18.3 / 17.3 with PETSc's default 0, whose
+    # aggregates made the two-sphere folder's counts grow 1.34x at 2 ranks
+    assert max(krylov.values()) <= 1.1 * min(krylov.values()), krylov
+    assert max(krylov.values()) <= 16.5, krylov
 
 
 @pytest.mark.parametrize("coulomb, ranks", [("lagged", 4),

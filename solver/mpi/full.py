@@ -105,9 +105,15 @@ class ForcingTerm:
 #: GAMG's Chebyshev smoothers: eigenvalue bounds by CG with a 1.5 safety
 #: factor (PETSc's defaults made the preconditioner indefinite where rows
 #: with w_a → 0 carry large shifts). Where CG still fails MUMPS solves
-#: (counted in ``ksp_fallbacks``, iteration count 0).
+#: (counted in ``ksp_fallbacks``, iteration count 0). The aggregation
+#: graph drops couplings weaker than 2 % of the diagonal's scale
+#: (``pc_gamg_threshold``, PETSc's default 0 keeps them all): on two
+#: bodies the weak couplings that T⁻¹ spreads across the contact surface
+#: otherwise decide the aggregates, which GAMG builds per rank, so the
+#: Krylov counts then depend on where the rank ranges cut the bodies.
 GAMG_OPTIONS = {"mg_levels_ksp_chebyshev_esteig": "0,0.2,0,1.5",
-                "mg_levels_esteig_ksp_type": "cg"}
+                "mg_levels_esteig_ksp_type": "cg",
+                "pc_gamg_threshold": "0.02"}
 
 #: hypre's BoomerAMG on elasticity (``--ksp hypre``): the nodal
 #: (unknown-blocked) coarsening and interpolation for systems (hypre's
