@@ -45,7 +45,7 @@ from .service import EngineError, command
 
 __all__ = ["full_jacobian", "ksp_statistics", "rigid_modes", "CG_RTOL",
            "newton_rows", "newton_ksp", "solve_newton_system",
-           "ForcingTerm"]
+           "ForcingTerm", "GAMG_OPTIONS", "TWO_BODY_GAMG"]
 
 #: Relative residual of a CG + GAMG Newton solve: the last one's where
 #: tol is not known, and the floor of every one (module docstring).
@@ -106,14 +106,35 @@ class ForcingTerm:
 #: factor (PETSc's defaults made the preconditioner indefinite where rows
 #: with w_a → 0 carry large shifts). Where CG still fails MUMPS solves
 #: (counted in ``ksp_fallbacks``, iteration count 0). The aggregation
-#: graph drops couplings weaker than 2 % of the diagonal's scale
-#: (``pc_gamg_threshold``, PETSc's default 0 keeps them all): on two
-#: bodies the weak couplings that T⁻¹ spreads across the contact surface
-#: otherwise decide the aggregates, which GAMG builds per rank, so the
-#: Krylov counts then depend on where the rank ranges cut the bodies.
+#: graph keeps every coupling (``pc_gamg_threshold`` 0, PETSc's default)
+#: except on two bodies (:data:`TWO_BODY_GAMG`).
 GAMG_OPTIONS = {"mg_levels_ksp_chebyshev_esteig": "0,0.2,0,1.5",
                 "mg_levels_esteig_ksp_type": "cg",
-                "pc_gamg_threshold": "0.02"}
+                "pc_gamg_threshold": "0"}
+
+#: Two bodies: the aggregation graph drops couplings weaker than 2 % of
+#: the diagonal's scale. Otherwise the weak couplings that T⁻¹ spreads
+#: across the contact surface decide the aggregates, which GAMG builds
+#: per rank, so the Krylov counts depend on where the rank ranges cut
+#: the bodies. One body keeps 0: on the 1.93·10⁶-DOF block at 2 ranks,
+#: 0.02 made CG fail and MUMPS solve (benchmarks/README.md).
+TWO_BODY_GAMG = dict(GAMG_OPTIONS, pc_gamg_threshold="0.02")
+
+#: The option names this process set (``$PETSC_OPTIONS`` wins over the
+#: defaults above; a later solve in the process resets what an earlier
+#: one set, e.g. two bodies' threshold).
+_DEFAULTED = set()
+
+
+def _set_defaults(prefix, defaults):
+    from petsc4py import PETSc
+
+    options = PETSc.Options()
+    for name, value in defaults.items():
+        key = prefix + name
+        if key in _DEFAULTED or not options.hasName(key):
+            options.setValue(key, value)
+            _DEFAULTED.add(key)
 
 #: hypre's BoomerAMG on elasticity (``--ksp hypre``): the nodal
 #: (unknown-blocked) coarsening and interpolation for systems (hypre's
@@ -252,10 +273,11 @@ def _setup(service, payload, local):
     newton_ksp(service, A, payload["ksp"], payload["scale"], vecs)
 
 
-def newton_ksp(service, A, ksp_type, scale, modes=()):
+def newton_ksp(service, A, ksp_type, scale, modes=(), gamg=None):
     """(every rank) The Newton systems' KSP on the distributed K̂ ``A``
     (kept as ``objects["newton"]``): CG + GAMG with the near-null space
-    ``modes`` (PETSc vectors), CG + hypre's BoomerAMG, or MUMPS's
+    ``modes`` (PETSc vectors) and the options ``gamg``
+    (:data:`GAMG_OPTIONS` when None), CG + hypre's BoomerAMG, or MUMPS's
     Cholesky; options prefix ``newton_`` ($PETSC_OPTIONS wins)."""
     from petsc4py import PETSc
 
@@ -268,11 +290,9 @@ def newton_ksp(service, A, ksp_type, scale, modes=()):
                                                         comm=A.getComm()))
         ksp.setType("cg")
         pc.setType(ksp_type)
-        options = PETSc.Options()
-        for name, value in (GAMG_OPTIONS if ksp_type == "gamg" else
-                            HYPRE_OPTIONS).items():
-            if not options.hasName(f"newton_{name}"):  # $PETSC_OPTIONS wins
-                options.setValue(f"newton_{name}", value)
+        gamg = GAMG_OPTIONS if gamg is None else gamg
+        _set_defaults("newton_", gamg if ksp_type == "gamg" else
+                      HYPRE_OPTIONS)
         ksp.setTolerances(rtol=CG_RTOL, atol=0.0, max_it=5000)
     else:
         ksp.setType("preonly")
@@ -282,6 +302,7 @@ def newton_ksp(service, A, ksp_type, scale, modes=()):
     ksp.setFromOptions()
     x, b = M.createVecs()
     service.objects["newton"] = dict(A=A, M=M, ksp=ksp, x=x, b=b, its=[],
+                                     gamg=gamg,
                                      forcing=[], fallbacks=0,
                                      norm=ksp.getNormType(),
                                      scale=scale, krylov=ksp_type != "mumps")
@@ -434,11 +455,8 @@ def gmres_ksp(obj):
         ksp.setGMRESRestart(GMRES_RESTART)
         ksp.setPCSide(PETSc.PC.Side.RIGHT)
         ksp.getPC().setType(base.getPC().getType())
-        options = PETSc.Options()
-        for name, value in (GAMG_OPTIONS if base.getPC().getType() ==
-                            "gamg" else HYPRE_OPTIONS).items():
-            if not options.hasName(f"newton_gmres_{name}"):
-                options.setValue(f"newton_gmres_{name}", value)
+        _set_defaults("newton_gmres_", (obj.get("gamg") or GAMG_OPTIONS)
+                      if base.getPC().getType() == "gamg" else HYPRE_OPTIONS)
         ksp.setTolerances(rtol=CG_RTOL, atol=0.0, max_it=5000)
         ksp.setOptionsPrefix("newton_gmres_")
         ksp.setFromOptions()

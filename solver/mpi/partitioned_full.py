@@ -43,8 +43,8 @@ from ..errors import ProblemError
 from ..ncp import MESSAGES, solve_ncp, stable_norm
 from ..problem.partitioned import load_contact_slice, read_partitioned_meta
 from .distributed import KEY, PartitionedResult, shares
-from .full import (ForcingTerm, ksp_statistics, newton_ksp, newton_rows,
-                   solve_newton_system)
+from .full import (TWO_BODY_GAMG, ForcingTerm, ksp_statistics, newton_ksp,
+                   newton_rows, solve_newton_system)
 from .mortar_folder import body_modes, coupled_map
 from .service import command
 
@@ -424,7 +424,8 @@ def _setup(service, payload, local):
             v.setArray(np.ascontiguousarray(Z[:, j]))
             vecs.append(v)
     service.mark("partitioned_full_setup.modes")
-    newton_ksp(service, K_hat, payload["ksp"], float(scale), vecs)
+    newton_ksp(service, K_hat, payload["ksp"], float(scale), vecs,
+               gamg=TWO_BODY_GAMG if payload.get("mortar") else None)
     # K̂ stands for K from here on (LocalSystem): K and the direct path's
     # work vectors are freed
     for key in ("A", "x", "b"):
