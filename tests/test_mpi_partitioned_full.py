@@ -149,6 +149,32 @@ def test_hypre_boomeramg(block, tmp_path):
     assert summary["engine"]["ksp"] == "hypre"
 
 
+def test_gamg_smoothers_estimate_their_own_eigenvalues(block, tmp_path,
+                                                        monkeypatch):
+    """Every Chebyshev smoother of GAMG's hierarchy bounds its spectrum
+    by its own CG estimate times the documented transform (0, 0.2; 0,
+    1.5), as ``solver.mpi.full.GAMG_OPTIONS`` says, not by the estimate
+    GAMG made for its prolongators (PETSc ≥ 3.17's default, manual page
+    PCGAMGSetUseSAEstEig): with that one CG's preconditioner was
+    indefinite on 7 of 8 Newton systems of two spheres at 1.3·10⁵ DOFs
+    and on a system of the 4.8·10⁵-DOF block at 2 ranks, and MUMPS
+    factorised them (benchmarks/README.md, "GAMG's smoothers"). Read
+    from PETSc's own view of the Newton KSP ($PETSC_OPTIONS), 2 ranks."""
+    problem, result, folder = block
+    view = tmp_path / "ksp.txt"
+    monkeypatch.setenv("PETSC_OPTIONS", f"-newton_ksp_view ascii:{view}")
+    out = tmp_path / "viewed"
+    summary = run_full(folder, out, 2)
+    check_answer(problem, result, out, summary, 2, folder)
+    text = view.read_text()
+    smoothers = text.count("type: chebyshev")
+    assert smoothers >= 2, text[:2000]  # GAMG made at least two levels
+    assert "eigenvalues provided" not in text
+    assert text.count("eigenvalues estimated via cg") == smoothers
+    assert text.count("estimated using cg with transform: "
+                      "[0. 0.2; 0. 1.5]") == smoothers
+
+
 def test_options_that_do_not_apply_are_refused(block):
     """The full system needs a Krylov ksp, a ksp needs the full system,
     φ_FB is refused: each one line before any collective step (friction,

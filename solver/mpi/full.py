@@ -102,14 +102,22 @@ class ForcingTerm:
         self.history.append(eta if atol > 0 else CG_RTOL)
         return atol
 
-#: GAMG's Chebyshev smoothers: eigenvalue bounds by CG with a 1.5 safety
-#: factor (PETSc's defaults made the preconditioner indefinite where rows
-#: with w_a → 0 carry large shifts). Where CG still fails MUMPS solves
-#: (counted in ``ksp_fallbacks``, iteration count 0). The aggregation
-#: graph keeps every coupling (``pc_gamg_threshold`` 0, PETSc's default)
-#: except on two bodies (:data:`TWO_BODY_GAMG`).
+#: GAMG's Chebyshev smoothers: eigenvalue bounds by each level's own CG
+#: estimate with a 1.5 safety factor (PETSc's defaults made the
+#: preconditioner indefinite where rows with w_a → 0 carry large
+#: shifts). ``pc_gamg_use_sa_esteig`` false: since PETSc 3.17 the
+#: smoothers otherwise reuse the estimate GAMG made for smoothing its
+#: prolongators (manual page PCGAMGSetUseSAEstEig), the level's own
+#: estimate never runs, and that reused bound left CG's preconditioner
+#: indefinite (DIVERGED_INDEFINITE_PC) on most Newton systems of larger
+#: problems, where MUMPS then factorised (benchmarks/README.md, "GAMG's
+#: smoothers"). Where CG still fails MUMPS solves (counted in
+#: ``ksp_fallbacks``, iteration count 0). The aggregation graph keeps
+#: every coupling (``pc_gamg_threshold`` 0, PETSc's default) except on
+#: two bodies (:data:`TWO_BODY_GAMG`).
 GAMG_OPTIONS = {"mg_levels_ksp_chebyshev_esteig": "0,0.2,0,1.5",
                 "mg_levels_esteig_ksp_type": "cg",
+                "pc_gamg_use_sa_esteig": "false",
                 "pc_gamg_threshold": "0"}
 
 #: Two bodies: the aggregation graph drops couplings weaker than 2 % of
