@@ -225,3 +225,52 @@ def test_refusals_are_one_line(curved, tmp_path, capsys):
     (broken / "mortar" / "E_val.npy").unlink()
     with pytest.raises(SolverError, match="missing mortar/E_val.npy"):
         load_problem(broken)
+
+
+#: Three solves in one mpiexec launch, each followed by the product
+#: algorithm PETSc's options then hold for GAMG's Galerkin products.
+PRODUCTS = """
+import json, sys
+import solver
+from solver.mpi.engine import spmd
+
+def main(folders, out):
+    from petsc4py import PETSc
+
+    said = []
+    for folder in folders:
+        r = solver.solve(solver.load_problem(folder), engine="petsc",
+                         system="full", ksp="gamg")
+        said.append([bool(r.success),
+                     PETSc.Options().getString("matptap_via", "")])
+    with open(out, "w") as stream:
+        json.dump(said, stream)
+
+spmd(main, json.loads(sys.argv[1]), sys.argv[2])
+"""
+
+
+def test_gamg_products_by_body_count(curved, refined_block, tmp_path,
+                                     monkeypatch):
+    """GAMG's Galerkin products on 2 ranks: PETSc's "scalable" on two
+    bodies (each body's rigid modes make GAMG's prolongator twice as wide,
+    where "allatonce" took ten times as long: benchmarks/README.md), the
+    memory-lean "allatonce" on one body (issue 33's 0.6× memory at 2
+    ranks), switched back and forth by solves in one launch; a user's
+    ``-matptap_via`` in $PETSC_OPTIONS wins over both."""
+    _, two = curved
+    (tmp_path / "one").mkdir()
+    _, one = converted(refined_block(1), tmp_path / "one")
+    script = tmp_path / "products.py"
+    script.write_text(PRODUCTS)
+    folders = json.dumps([str(two), str(one), str(two)])
+    for user, expected in ((None, ["scalable", "allatonce", "scalable"]),
+                           ("nonscalable", ["nonscalable"] * 3)):
+        if user:
+            monkeypatch.setenv("PETSC_OPTIONS", f"-matptap_via {user}")
+        out = tmp_path / f"said-{user}.json"
+        code, _, err = mpirun(2, [script, folders, out])
+        assert code == 0, err[-2000:]
+        said = json.loads(out.read_text())
+        assert [ok for ok, _ in said] == [True] * 3, said
+        assert [via for _, via in said] == expected, said

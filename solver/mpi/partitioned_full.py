@@ -54,11 +54,37 @@ __all__ = ["solve_partitioned_full", "Reduction", "LocalSystem",
 #: The Krylov preconditioners of this path (``ksp=``).
 KRYLOV = ("gamg", "hypre")
 
-#: PETSc's algorithm of the distributed products PᵀAP (K̂ and GAMG's
-#: Galerkin coarse operators) on more than one rank: "allatonce" keeps no
-#: intermediate AP, which the default builds on every rank
-#: (benchmarks/README.md, "The full system on the partitioned folder").
+#: PETSc's algorithm of the distributed products PᵀAP (K̂ and, on one
+#: body, GAMG's Galerkin coarse operators) on more than one rank:
+#: "allatonce" keeps no intermediate AP, which the default builds on
+#: every rank (benchmarks/README.md, "The full system on the partitioned
+#: folder"). It costs time: on one body GAMG's set-ups took about twice
+#: the default's, where the memory of 2 ranks stays within 0.6× of one.
 PTAP_VIA = "allatonce"
+
+#: GAMG's coarse products on two bodies: PETSc's default, "scalable".
+#: With each body's rigid modes (twelve near-null vectors in 3D, so
+#: twelve columns per aggregate in GAMG's prolongator) "allatonce" took
+#: ten times as long, and those products were nine tenths of the Newton
+#: loop (benchmarks/README.md, "GAMG's smoothers estimate their own
+#: eigenvalues").
+TWO_BODY_PTAP_VIA = "scalable"
+
+#: Whether this module set ``matptap_via`` in this process ($PETSC_OPTIONS
+#: wins over its values; a later solve resets what an earlier one set).
+_PTAP_SET = []
+
+
+def _ptap_via(service, value):
+    """(every rank) PETSc's ``matptap_via`` = ``value`` on more than one
+    rank, unless the user set it."""
+    from petsc4py import PETSc
+
+    options = PETSc.Options()
+    if service.size > 1 and (_PTAP_SET or
+                             not options.hasName("matptap_via")):
+        options.setValue("matptap_via", value)
+        _PTAP_SET.append(value)
 
 
 def solve_partitioned_full(svc, folder, ksp="gamg", tol=1e-10, max_iter=100):
@@ -398,9 +424,7 @@ def _setup(service, payload, local):
     if payload.get("mortar"):  # two bodies: P = T⁻¹Rᵀ, f̃ = T⁻ᵀf
         RT_mat, P = P, coupled_map(obj, payload["folder"], A, P)
         RT_mat.destroy()
-    options = PETSc.Options()
-    if service.size > 1 and not options.hasName("matptap_via"):
-        options.setValue("matptap_via", PTAP_VIA)  # also GAMG's products
+    _ptap_via(service, PTAP_VIA)
     product = A.ptap(P)  # Pᵀ K P = R K Rᵀ
     P.destroy()
     # a copy without the product's data: PETSc's product keeps K, P and
@@ -424,6 +448,8 @@ def _setup(service, payload, local):
             v.setArray(np.ascontiguousarray(Z[:, j]))
             vecs.append(v)
     service.mark("partitioned_full_setup.modes")
+    _ptap_via(service, TWO_BODY_PTAP_VIA if payload.get("mortar") else
+              PTAP_VIA)  # GAMG's products
     newton_ksp(service, K_hat, payload["ksp"], float(scale), vecs,
                gamg=TWO_BODY_GAMG if payload.get("mortar") else None)
     # K̂ stands for K from here on (LocalSystem): K and the direct path's
