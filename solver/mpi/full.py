@@ -124,8 +124,10 @@ GAMG_OPTIONS = {"mg_levels_ksp_chebyshev_esteig": "0,0.2,0,1.5",
 #: the diagonal's scale. Otherwise the weak couplings that T⁻¹ spreads
 #: across the contact surface decide the aggregates, which GAMG builds
 #: per rank, so the Krylov counts depend on where the rank ranges cut
-#: the bodies. One body keeps 0: on the 1.93·10⁶-DOF block at 2 ranks,
-#: 0.02 made CG fail and MUMPS solve (benchmarks/README.md).
+#: the bodies. One body keeps 0: its counts stay within ±10 % over 1, 2
+#: and 4 ranks with either (benchmarks/README.md, "GAMG's smoothers
+#: estimate their own eigenvalues"; the CG failures that 0.02 once met
+#: on one body were the smoothers' reused bound, above).
 TWO_BODY_GAMG = dict(GAMG_OPTIONS, pc_gamg_threshold="0.02")
 
 #: The option names this process set (``$PETSC_OPTIONS`` wins over the
