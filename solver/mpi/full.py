@@ -45,7 +45,7 @@ from .service import EngineError, command
 
 __all__ = ["full_jacobian", "ksp_statistics", "rigid_modes", "CG_RTOL",
            "newton_rows", "newton_ksp", "solve_newton_system",
-           "ForcingTerm", "GAMG_OPTIONS", "TWO_BODY_GAMG"]
+           "ForcingTerm", "GAMG_OPTIONS", "TWO_BODY_GAMG", "set_defaults"]
 
 #: Relative residual of a CG + GAMG Newton solve: the last one's where
 #: tol is not known, and the floor of every one (module docstring).
@@ -111,10 +111,10 @@ class ForcingTerm:
 #: estimate never runs, and that reused bound left CG's preconditioner
 #: indefinite (DIVERGED_INDEFINITE_PC) on most Newton systems of larger
 #: problems, where MUMPS then factorised (benchmarks/README.md, "GAMG's
-#: smoothers"). Where CG still fails MUMPS solves (counted in
-#: ``ksp_fallbacks``, iteration count 0). The aggregation graph keeps
-#: every coupling (``pc_gamg_threshold`` 0, PETSc's default) except on
-#: two bodies (:data:`TWO_BODY_GAMG`).
+#: smoothers estimate their own eigenvalues"). Where CG still fails
+#: MUMPS solves (counted in ``ksp_fallbacks``, iteration count 0). The
+#: aggregation graph keeps every coupling (``pc_gamg_threshold`` 0,
+#: PETSc's default) except on two bodies (:data:`TWO_BODY_GAMG`).
 GAMG_OPTIONS = {"mg_levels_ksp_chebyshev_esteig": "0,0.2,0,1.5",
                 "mg_levels_esteig_ksp_type": "cg",
                 "pc_gamg_use_sa_esteig": "false",
@@ -136,7 +136,10 @@ TWO_BODY_GAMG = dict(GAMG_OPTIONS, pc_gamg_threshold="0.02")
 _DEFAULTED = set()
 
 
-def _set_defaults(prefix, defaults):
+def set_defaults(prefix, defaults):
+    """(every rank) PETSc options ``prefix + name`` = value for each of
+    ``defaults``: a user's value ($PETSC_OPTIONS) wins, one this process
+    set earlier is replaced (:data:`_DEFAULTED`)."""
     from petsc4py import PETSc
 
     options = PETSc.Options()
@@ -301,7 +304,7 @@ def newton_ksp(service, A, ksp_type, scale, modes=(), gamg=None):
         ksp.setType("cg")
         pc.setType(ksp_type)
         gamg = GAMG_OPTIONS if gamg is None else gamg
-        _set_defaults("newton_", gamg if ksp_type == "gamg" else
+        set_defaults("newton_", gamg if ksp_type == "gamg" else
                       HYPRE_OPTIONS)
         ksp.setTolerances(rtol=CG_RTOL, atol=0.0, max_it=5000)
     else:
@@ -465,7 +468,7 @@ def gmres_ksp(obj):
         ksp.setGMRESRestart(GMRES_RESTART)
         ksp.setPCSide(PETSc.PC.Side.RIGHT)
         ksp.getPC().setType(base.getPC().getType())
-        _set_defaults("newton_gmres_", (obj.get("gamg") or GAMG_OPTIONS)
+        set_defaults("newton_gmres_", (obj.get("gamg") or GAMG_OPTIONS)
                       if base.getPC().getType() == "gamg" else HYPRE_OPTIONS)
         ksp.setTolerances(rtol=CG_RTOL, atol=0.0, max_it=5000)
         ksp.setOptionsPrefix("newton_gmres_")

@@ -43,7 +43,8 @@ from ..errors import ProblemError
 from ..ncp import MESSAGES, solve_ncp, stable_norm
 from ..problem.partitioned import load_contact_slice, read_partitioned_meta
 from .distributed import KEY, PartitionedResult, shares
-from .full import (TWO_BODY_GAMG, ForcingTerm, ksp_statistics, newton_ksp,
+from .full import (TWO_BODY_GAMG, ForcingTerm, set_defaults,
+                   ksp_statistics, newton_ksp,
                    newton_rows, solve_newton_system)
 from .mortar_folder import body_modes, coupled_map
 from .service import command
@@ -70,21 +71,14 @@ PTAP_VIA = "allatonce"
 #: eigenvalues").
 TWO_BODY_PTAP_VIA = "scalable"
 
-#: Whether this module set ``matptap_via`` in this process ($PETSC_OPTIONS
-#: wins over its values; a later solve resets what an earlier one set).
-_PTAP_SET = []
 
 
 def _ptap_via(service, value):
     """(every rank) PETSc's ``matptap_via`` = ``value`` on more than one
-    rank, unless the user set it."""
-    from petsc4py import PETSc
-
-    options = PETSc.Options()
-    if service.size > 1 and (_PTAP_SET or
-                             not options.hasName("matptap_via")):
-        options.setValue("matptap_via", value)
-        _PTAP_SET.append(value)
+    rank ($PETSC_OPTIONS wins; a later solve resets what an earlier one
+    set, as the Newton KSP's defaults)."""
+    if service.size > 1:
+        set_defaults("", {"matptap_via": value})
 
 
 def solve_partitioned_full(svc, folder, ksp="gamg", tol=1e-10, max_iter=100):
