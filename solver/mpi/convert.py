@@ -30,12 +30,15 @@ graph, O(cells)), and K is written in it without being held, by an
 external bucket sort (:class:`_RenumberedK`); ``--no-renumber`` keeps
 the file's order."""
 
+import contextlib
 import json
 import mmap
 import os
 import shutil
+import signal
 import struct
 import sys
+import threading
 import zipfile
 import zlib
 
@@ -59,7 +62,41 @@ from .convert_mortar import MortarConversion
 from .layout import Layout
 
 __all__ = ["convert", "CELL_KINDS", "stored_members", "compressed_members",
-           "BLOCK_NNZ"]
+           "BLOCK_NNZ", "temporary_folder"]
+
+#: The signals that stop the command line (exit 128 + the signal:
+#: solver/cli/codes.py), held while a temporary folder is made.
+STOP_SIGNALS = (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)
+
+
+@contextlib.contextmanager
+def temporary_folder(prefix, where=None):
+    """A new folder ``tempfile.mkdtemp(prefix=prefix, dir=where)``,
+    removed with its content when the block ends, however it ends. The
+    stop signals are held from before the folder exists until its removal
+    is armed: a stop raised between the two (the handlers of
+    solver/cli raise at the next Python call, mkdtemp's own included)
+    would leave the folder behind, and one did, a SIGINT right after
+    mkdtemp. A stop that arrives meanwhile is raised once they are
+    released, and the folder is removed."""
+    import tempfile
+
+    hold = (hasattr(signal, "pthread_sigmask")
+            and threading.current_thread() is threading.main_thread())
+    mask = signal.pthread_sigmask(signal.SIG_BLOCK, STOP_SIGNALS) \
+        if hold else None
+    try:
+        path = tempfile.mkdtemp(prefix=prefix, dir=where)
+    except BaseException:
+        if hold:
+            signal.pthread_sigmask(signal.SIG_SETMASK, mask)
+        raise
+    try:
+        if hold:
+            signal.pthread_sigmask(signal.SIG_SETMASK, mask)
+        yield path
+    finally:
+        shutil.rmtree(path, ignore_errors=True)
 
 #: K's entries per block of rows of the streamed conversion: ≈ 28 bytes
 #: each in flight (read, renumbered, byte-swapped), ≈ 60 MB a block.
@@ -562,9 +599,6 @@ class _RenumberedK:
     def write_padded(self, path, layout, scale):
         """As :meth:`_StreamedK.write_padded`, K's rows and columns in the
         renumbered padded numbering; returns its number of entries."""
-        import shutil
-        import tempfile
-
         stream = self.stream
         new = layout.red_to_pad[self.dof_new]  # file's DOF -> padded row
         lengths = np.ones(layout.n, np.int64)
@@ -581,9 +615,8 @@ class _RenumberedK:
                      - 1).astype(np.int32)
         index = np.int32 if layout.n < 2 ** 31 else np.int64
         entry = np.dtype([("row", index), ("col", index), ("val", "<f8")])
-        temp = tempfile.mkdtemp(prefix=".K-buckets-",
-                                dir=os.path.dirname(os.path.abspath(path)))
-        try:
+        with temporary_folder(".K-buckets-",
+                              os.path.dirname(os.path.abspath(path))) as temp:
             names = [os.path.join(temp, f"{k}.bin")
                      for k in range(len(bounds) - 1)]
             files = [open(name, "wb") for name in names]
@@ -615,8 +648,6 @@ class _RenumberedK:
                                        bounds[k], bounds[k + 1], row_ptr,
                                        dirichlet, scale, bases)
                     os.unlink(name)  # the disk back as the file grows
-        finally:
-            shutil.rmtree(temp, ignore_errors=True)
         return nnz
 
     @staticmethod

@@ -27,8 +27,6 @@ a SIGKILL leaves it: its name says what it is."""
 import contextlib
 import errno
 import os
-import shutil
-import tempfile
 import time
 
 __all__ = ["converted_folder", "PREFIX"]
@@ -46,10 +44,9 @@ def converted_folder(source, gap="obstacle", workdir=None, name="problem"):
     ``info`` saying what was converted (``summary.json``'s
     ``"converted"``); remove the folder on leaving, however the block
     ends (an exception or a stop signal included)."""
-    from .convert import convert
+    from .convert import convert, temporary_folder
 
-    root = tempfile.mkdtemp(prefix=f".{name}-{PREFIX}", dir=workdir)
-    try:
+    with temporary_folder(f".{name}-{PREFIX}", workdir) as root:
         folder = os.path.join(root, "folder")
         clock, cpu = time.perf_counter(), time.process_time()
         try:
@@ -68,8 +65,6 @@ def converted_folder(source, gap="obstacle", workdir=None, name="problem"):
             cpu_seconds=round(time.process_time() - cpu, 3),
             removed=True)
         yield folder, info
-    finally:
-        shutil.rmtree(root, ignore_errors=True)
 
 
 #: Free bytes below which a short write is taken for a full disk.

@@ -96,3 +96,34 @@ def test_signal_during_the_buckets(plain, tmp_path, signum):
     assert stderr.strip().splitlines() == [
         f"error: interrupted by {signal.Signals(signum).name}"]
     assert leftovers(out) == ([], False)
+
+
+#: CONVERT with a stop signal sent to itself the moment the buckets'
+#: folder exists (inside tempfile.mkdtemp, after its mkdir): the worst
+#: moment, where the polling test above sometimes lands.
+SELF_STOP = ("import os, sys, tempfile; made = tempfile.mkdtemp\n"
+             "stop = int(sys.argv.pop(1))\n"
+             "def mkdtemp(*args, **kwargs):\n"
+             "    path = made(*args, **kwargs)\n"
+             "    if '.K-buckets' in path:\n"
+             "        os.kill(os.getpid(), stop)\n"
+             "    return path\n"
+             "tempfile.mkdtemp = mkdtemp\n" + CONVERT.replace("; ", "\n"))
+
+
+@pytest.mark.parametrize("signum", [signal.SIGTERM, signal.SIGINT])
+def test_signal_as_the_buckets_folder_is_made(plain, tmp_path, signum):
+    """A stop raised right after the buckets' folder is made, before the
+    cleanup could be armed (solver.mpi.convert.temporary_folder holds the
+    stop signals over that gap): exit 128 + the signal, one line, no
+    folder left and no problem.json. Before the fix the folder stayed
+    (found by the test above on a quiet machine)."""
+    out = tmp_path / "out"
+    done = subprocess.run(
+        [sys.executable, "-c", SELF_STOP, str(int(signum)), "64",
+         str(plain), str(out)], capture_output=True, text=True, timeout=300,
+        env=dict(os.environ, PYTHONPATH=os.pathsep.join(sys.path)))
+    assert done.returncode == 128 + signum, done.stderr
+    assert done.stderr.strip().splitlines() == [
+        f"error: interrupted by {signal.Signals(signum).name}"]
+    assert leftovers(out) == ([], False)
