@@ -3,10 +3,20 @@
 All errors a user can cause by bad input derive from :class:`SolverError`, so
 that the command line can turn them into a one-line message and exit code 2
 instead of a traceback. Warnings about questionable but solvable input
-derive from :class:`SolverWarning`; library code never prints, it warns."""
+derive from :class:`SolverWarning`; library code never prints, it warns.
+:data:`STOP_SIGNALS` are the signals that stop the command line (exit
+128 + the signal, solver/cli/codes.py) and that the converter holds
+while it makes a temporary folder."""
+
+import signal
 
 __all__ = ["SolverError", "ProblemError", "ExpressionError",
-           "GeometryError", "SolverWarning", "InitialPenetrationWarning"]
+           "GeometryError", "SolverWarning", "InitialPenetrationWarning",
+           "STOP_SIGNALS"]
+
+#: The signals that stop a run or a conversion (exit code 128 + the
+#: signal's number).
+STOP_SIGNALS = (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)
 
 
 class SolverError(Exception):

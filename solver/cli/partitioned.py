@@ -13,7 +13,7 @@ import sys
 
 import numpy as np
 
-from ..errors import SolverError
+from ..errors import STOP_SIGNALS, SolverError
 from .codes import EXIT_INPUT, EXIT_NOT_CONVERGED, EXIT_OK, EXIT_OUTPUT
 
 __all__ = ["partitioned_job", "converted_job", "convert_main"]
@@ -123,15 +123,11 @@ def converted_job(args, plan, folder, emit, write_summary,
                                emit, summary_with_conversion, progress_bar)
 
 
-#: The signals that stop the converter (as they stop a run: cli/run.py).
-_SIGNALS = (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)
-
-
 class _Stopped(BaseException):
-    """A signal of :data:`_SIGNALS` arrived during the conversion (the
-    converter's ``finally`` clauses then remove its temporary files;
-    cli/run.py's ``Interrupted`` is not imported: run imports this
-    module's job)."""
+    """A signal of :data:`~solver.errors.STOP_SIGNALS` arrived during
+    the conversion (the converter's ``finally`` clauses then remove its
+    temporary files; cli/run.py's ``Interrupted`` is not imported: run
+    imports this module's job)."""
 
     def __init__(self, signum):
         super().__init__(signum)
@@ -139,7 +135,7 @@ class _Stopped(BaseException):
 
 
 def _stop(signum, frame):
-    for other in _SIGNALS:  # once: the clean-up runs unbroken
+    for other in STOP_SIGNALS:  # once: the clean-up runs unbroken
         signal.signal(other, signal.SIG_IGN)
     raise _Stopped(signum)
 
@@ -172,7 +168,8 @@ def convert_main(argv):
     args = parser.parse_args(argv)
     from ..mpi.convert import CUT_WARN, convert
 
-    saved = {signum: signal.signal(signum, _stop) for signum in _SIGNALS}
+    saved = {signum: signal.signal(signum, _stop)
+             for signum in STOP_SIGNALS}
     try:
         meta = convert(args.problem, args.folder, args.gap, args.renumber)
     except KeyboardInterrupt:

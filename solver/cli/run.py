@@ -14,7 +14,7 @@ import sys
 import traceback
 import warnings
 
-from ..errors import SolverError
+from ..errors import STOP_SIGNALS, SolverError
 from .codes import (EXIT_CODES_TEXT, EXIT_INPUT, EXIT_INTERNAL,
                     EXIT_NOT_CONVERGED, EXIT_OK, EXIT_OUTPUT, EXIT_PIPE,
                     MAX_ITER, MAX_STEPS, MIN_TOL)
@@ -31,10 +31,6 @@ class Interrupted(BaseException):
     def __init__(self, signum):
         super().__init__(signal.Signals(signum).name)
         self.signum = signum
-
-
-#: The signals that stop a run (exit code 128 + the signal's number).
-STOP_SIGNALS = (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)
 
 
 def _raise_interrupted(signum, frame):

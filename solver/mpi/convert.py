@@ -46,7 +46,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..contact.geometry import contact_geometry, contact_stiffness
-from ..errors import ProblemError
+from ..errors import STOP_SIGNALS, ProblemError
 from ..ncp import stable_norm
 from ..problem import load_problem
 from ..problem.archive import Archive
@@ -63,11 +63,6 @@ from .layout import Layout
 
 __all__ = ["convert", "CELL_KINDS", "stored_members", "compressed_members",
            "BLOCK_NNZ", "temporary_folder"]
-
-#: The signals that stop the command line (exit 128 + the signal:
-#: solver/cli/codes.py), held while a temporary folder is made.
-STOP_SIGNALS = (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)
-
 
 @contextlib.contextmanager
 def temporary_folder(prefix, where=None):
